@@ -1,0 +1,2 @@
+"""radscene."""
+__version__ = "0.1.0"
