@@ -1,0 +1,224 @@
+"""Top-of-atmosphere solar spectral irradiance, 0.25-20 µm.
+
+Source
+------
+0.28-4.0 µm: the extraterrestrial column of ASTM G173-03 as shipped with pvlib
+(``pvlib.spectrum.get_reference_spectra``), 2002 samples at 0.5-5 nm spacing, converted
+from W m-2 nm-1 to W m-2 um-1. The column is Gueymard's (2004) synthetic extraterrestrial
+spectrum, normalised to a solar constant of 1366.1 W m-2 over all wavelengths.
+
+Beyond 4.0 µm (up to 20 µm) the Sun is a blackbody disk at the IAU 2015 nominal effective
+temperature 5772 K, seen at 1 AU under ``SUN_SOLID_ANGLE``, scaled so that its mean over
+3.5-4.0 µm equals the measured mean there (scale 0.9587; the join at 4.0 µm then steps by
+0.9 %). Below 0.28 µm (down to 0.25 µm) the same blackbody is scaled to the measured mean
+over 0.280-0.285 µm (scale 0.356; this window averages over the Mg II h and k absorption
+lines at 0.2796/0.2803 µm, so the join at 0.28 µm steps up from the line core). Between
+table samples the spectrum is linear.
+
+The integral over 0.25-20 µm, :func:`solar_constant`, is 1366.0 W m-2: 0.38 % above the
+TSI of Kopp & Lean (2011), 1360.8 W m-2, as expected from the 1366.1 W m-2 normalisation of
+the source.
+
+References
+----------
+ASTM G173-03(2020), Standard Tables for Reference Solar Spectral Irradiances.
+C. A. Gueymard, "The sun's total and spectral irradiance for solar energy applications and
+solar radiation models", Solar Energy 76, 423-453 (2004),
+https://doi.org/10.1016/j.solener.2003.08.039
+G. Kopp and J. L. Lean, "A new, lower value of total solar irradiance", Geophys. Res. Lett.
+38, L01706 (2011), https://doi.org/10.1029/2010GL045777
+E. E. Mamajek et al., IAU 2015 Resolution B3 on nominal solar values,
+https://arxiv.org/abs/1510.07674
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from radscene.errors import ConfigError
+from radscene.radiometry.planck import band_radiance, spectral_radiance
+
+__all__ = [
+    "SUN_RADIUS",
+    "ASTRONOMICAL_UNIT",
+    "SUN_SOLID_ANGLE",
+    "SUN_TEMPERATURE",
+    "SOLAR_WAVELENGTH_RANGE",
+    "toa_solar_irradiance",
+    "toa_solar_spectrum",
+    "solar_constant",
+    "sun_radiance",
+]
+
+#: Nominal solar radius [m] (IAU 2015 Resolution B3).
+SUN_RADIUS = 6.957e8
+#: Astronomical unit [m] (IAU 2012 Resolution B2, exact).
+ASTRONOMICAL_UNIT = 1.495978707e11
+#: Solid angle of the solar disk seen from 1 AU [sr], π (R_sun / AU)².
+SUN_SOLID_ANGLE = math.pi * (SUN_RADIUS / ASTRONOMICAL_UNIT) ** 2
+#: Nominal effective temperature of the Sun [K] (IAU 2015 Resolution B3).
+SUN_TEMPERATURE = 5772.0
+#: Wavelengths [um] covered by :func:`toa_solar_irradiance`.
+SOLAR_WAVELENGTH_RANGE = (0.25, 20.0)
+
+_HEAD_WINDOW = (0.280, 0.285)  # [um] window the short-wave blackbody is scaled to
+_TAIL_WINDOW = (3.5, 4.0)  # [um] window the long-wave blackbody is scaled to
+_HEAD_STEP = 0.0005  # [um] sampling of the blackbody head in toa_solar_spectrum
+_TAIL_STEP = 0.005  # [um] sampling of the blackbody tail in toa_solar_spectrum
+
+
+def _disk(wavelength):
+    """Irradiance of the 5772 K blackbody disk at 1 AU [W m-2 um-1]."""
+    return spectral_radiance(wavelength, SUN_TEMPERATURE) * SUN_SOLID_ANGLE
+
+
+@lru_cache(maxsize=1)
+def _measured():
+    """(wavelength [um], irradiance [W m-2 um-1], head scale, tail scale), read once."""
+    from pvlib.spectrum import get_reference_spectra
+
+    table = get_reference_spectra(standard="ASTM G173-03")
+    wavelength = table.index.to_numpy(dtype=float) / 1000.0
+    irradiance = table["extraterrestrial"].to_numpy(dtype=float) * 1e3
+    wavelength.flags.writeable = False
+    irradiance.flags.writeable = False
+
+    def scale(window):
+        m = (wavelength >= window[0]) & (wavelength <= window[1])
+        measured = np.trapezoid(irradiance[m], wavelength[m])
+        model = np.trapezoid(_disk(wavelength[m]), wavelength[m])
+        return float(measured / model)
+
+    return wavelength, irradiance, scale(_HEAD_WINDOW), scale(_TAIL_WINDOW)
+
+
+def _check_distance(distance):
+    d = np.asarray(distance, dtype=float)
+    if np.any(~(d > 0)):
+        raise ConfigError(f"must be > 0 AU; got {distance!r}", key="distance")
+    return d
+
+
+def toa_solar_irradiance(wavelength, distance=1.0):
+    """Solar spectral irradiance at the top of the atmosphere, normal to the beam.
+
+    Parameters
+    ----------
+    wavelength : array_like
+        Wavelength [um], 0.25-20.
+    distance : array_like
+        Earth-Sun distance [AU], > 0 (see :func:`radscene.sun.earth_sun_distance`).
+        Broadcast against `wavelength`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Spectral irradiance [W m-2 um-1], scaled by 1 / distance².
+
+    Raises
+    ------
+    ConfigError
+        A wavelength outside 0.25-20 um or a distance <= 0.
+
+    Notes
+    -----
+    See the module docstring for the source and the blackbody extensions.
+
+    Examples
+    --------
+    >>> round(float(toa_solar_irradiance(0.5)), 1)
+    1916.0
+    """
+    wl = np.asarray(wavelength, dtype=float)
+    lo, hi = SOLAR_WAVELENGTH_RANGE
+    if np.any(np.isnan(wl)):
+        raise ConfigError(f"must lie in {lo:g}-{hi:g} um; got NaN", key="wavelength")
+    if np.any((wl < lo) | (wl > hi)):
+        raise ConfigError(
+            f"must lie in {lo:g}-{hi:g} um; got {wl.min():g}-{wl.max():g} um",
+            key="wavelength",
+        )
+    d = _check_distance(distance)
+    table_wl, table_e, head, tail = _measured()
+    disk = _disk(wl)
+    irradiance = np.where(
+        wl < table_wl[0],
+        head * disk,
+        np.where(wl > table_wl[-1], tail * disk, np.interp(wl, table_wl, table_e)),
+    )
+    return irradiance / d**2
+
+
+def toa_solar_spectrum():
+    """The solar spectrum at 1 AU on its native sampling, for exact band integration.
+
+    Returns
+    -------
+    wavelength : numpy.ndarray
+        Wavelength [um], 0.25-20, strictly increasing: 0.5 nm steps below 0.28 um, the
+        ASTM G173 samples to 4 um, 5 nm steps beyond.
+    irradiance : numpy.ndarray
+        Spectral irradiance [W m-2 um-1] at 1 AU, equal to :func:`toa_solar_irradiance`.
+
+    Examples
+    --------
+    >>> wl, e = toa_solar_spectrum()
+    >>> (float(wl[0]), float(wl[-1]))
+    (0.25, 20.0)
+    """
+    table_wl, _, _, _ = _measured()
+    lo, hi = SOLAR_WAVELENGTH_RANGE
+    head = lo + _HEAD_STEP * np.arange(round((table_wl[0] - lo) / _HEAD_STEP))
+    tail = table_wl[-1] + _TAIL_STEP * np.arange(1, round((hi - table_wl[-1]) / _TAIL_STEP) + 1)
+    wavelength = np.concatenate((head, table_wl, tail))
+    wavelength[-1] = hi
+    return wavelength, toa_solar_irradiance(wavelength)
+
+
+def solar_constant() -> float:
+    """Solar irradiance at 1 AU integrated over 0.25-20 um [W m-2].
+
+    The measured part is integrated exactly (trapezoid of the piecewise-linear table), the
+    blackbody parts with :func:`radscene.radiometry.band_radiance`. Result: 1366.0 W m-2.
+
+    Examples
+    --------
+    >>> round(solar_constant(), 1)
+    1366.0
+    """
+    table_wl, table_e, head, tail = _measured()
+    lo, hi = SOLAR_WAVELENGTH_RANGE
+    measured = float(np.trapezoid(table_e, table_wl))
+    head_part = head * SUN_SOLID_ANGLE * band_radiance(lo, table_wl[0], SUN_TEMPERATURE)
+    tail_part = tail * SUN_SOLID_ANGLE * band_radiance(table_wl[-1], hi, SUN_TEMPERATURE)
+    return measured + float(head_part) + float(tail_part)
+
+
+def sun_radiance(wavelength, distance=1.0):
+    """Mean spectral radiance of the solar disk.
+
+    Parameters
+    ----------
+    wavelength : array_like
+        Wavelength [um], 0.25-20.
+    distance : array_like
+        Earth-Sun distance [AU], > 0. Radiance is conserved along the beam, so the result
+        does not depend on it: irradiance and solid angle both scale as 1 / distance².
+
+    Returns
+    -------
+    numpy.ndarray
+        Spectral radiance [W m-2 sr-1 um-1], ``toa_solar_irradiance(wavelength, 1) /
+        SUN_SOLID_ANGLE`` broadcast against `distance`.
+
+    Examples
+    --------
+    >>> round(float(sun_radiance(0.5)) / 1e7, 3)
+    2.82
+    """
+    d = _check_distance(distance)
+    irradiance = toa_solar_irradiance(wavelength, d)
+    return irradiance / (SUN_SOLID_ANGLE / d**2)
