@@ -1,2 +1,32 @@
-"""radscene."""
+"""radscene: radiometrically correct EO/IR scene and sensor simulation, 0.4–20 µm.
+
+>>> import radscene
+>>> scene = radscene.load_scene(radscene.example_path("demo"))   # doctest: +SKIP
+>>> images = radscene.render(scene, "map")                        # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
 __version__ = "0.1.0"
+
+from radscene.io import write_netcdf  # noqa: E402
+from radscene.render import render, render_all  # noqa: E402  (the function shadows the package name)
+from radscene.scene import load_scene  # noqa: E402
+
+__all__ = ["__version__", "load_scene", "render", "render_all", "example_path", "write_netcdf"]
+
+
+def example_path(name: str) -> Path:
+    """Path of a bundled example scene (``radscene examples`` lists them)."""
+    from radscene.errors import ConfigError
+
+    path = Path(str(resources.files("radscene") / "examples" / f"{name}.yaml"))
+    if not path.is_file():
+        known = sorted(p.name.removesuffix(".yaml")
+                       for p in (resources.files("radscene") / "examples").iterdir()
+                       if p.name.endswith(".yaml"))
+        raise ConfigError(f"unknown example {name!r}; known: {', '.join(known)}", key="name")
+    return path

@@ -1,1 +1,68 @@
+"""Atmospheres: the interface, its engines and their registry.
 
+Engines are chosen by a type-tagged dict, the same from Python, YAML and the CLI::
+
+    make_atmosphere({"type": "uniform", "transmittance": 0.9})
+"""
+
+from __future__ import annotations
+
+from radscene.atmosphere.base import (
+    Atmosphere,
+    PathNodes,
+    PathSpectra,
+    SkyGeometry,
+    SunSpectra,
+    zenith_hat_weights,
+)
+from radscene.atmosphere.uniform import UniformAtmosphere, VacuumAtmosphere
+from radscene.errors import ConfigError
+
+__all__ = [
+    "Atmosphere",
+    "PathNodes",
+    "PathSpectra",
+    "SkyGeometry",
+    "SunSpectra",
+    "UniformAtmosphere",
+    "VacuumAtmosphere",
+    "ENGINES",
+    "make_atmosphere",
+    "zenith_hat_weights",
+]
+
+#: Registered atmosphere engines by (lower-case) type name.
+ENGINES: dict[str, type[Atmosphere]] = {
+    "none": VacuumAtmosphere,
+    "uniform": UniformAtmosphere,
+}
+
+
+def make_atmosphere(spec: dict | None, key: str = "environment.atmosphere") -> Atmosphere:
+    """Build an atmosphere engine from a type-tagged dict.
+
+    Parameters
+    ----------
+    spec : dict or None
+        ``{"type": name, **parameters}``; None means ``{"type": "none"}``.
+    key : str
+        Key path used in error messages.
+
+    Returns
+    -------
+    Atmosphere
+    """
+    if spec is None:
+        spec = {"type": "none"}
+    if not isinstance(spec, dict) or "type" not in spec:
+        raise ConfigError(f"a mapping with a 'type' key, one of: {', '.join(ENGINES)}", key=key)
+    params = dict(spec)
+    name = str(params.pop("type")).lower()
+    if name not in ENGINES:
+        raise ConfigError(
+            f"unknown atmosphere engine {name!r}; known: {', '.join(ENGINES)}", key=f"{key}.type"
+        )
+    try:
+        return ENGINES[name](**params)
+    except TypeError as err:
+        raise ConfigError(f"bad parameters for the {name!r} engine: {err}", key=key) from None

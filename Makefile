@@ -1,0 +1,31 @@
+# radscene — `make demo` and `make test` are all a fresh machine needs (Python >= 3.11).
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed-stamp
+
+.PHONY: demo test validate bench lint clean
+
+$(STAMP): pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q -e '.[dev]'
+	@touch $(STAMP)
+
+demo: $(STAMP)  ## render the bundled demo scene into out/demo
+	$(BIN)/radscene render src/radscene/examples/demo.yaml -o out/demo
+
+test: $(STAMP)  ## the test suite (unit, system, regression, validation), minus slow cases
+	$(BIN)/python -m pytest -q -m "not slow"
+
+validate: $(STAMP)  ## every test, the long validations included
+	$(BIN)/python -m pytest -q
+
+bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
+	$(BIN)/python benchmarks/bench_render.py
+
+lint: $(STAMP)
+	$(BIN)/ruff check src tests benchmarks
+
+clean:
+	rm -rf out build dist .pytest_cache .ruff_cache

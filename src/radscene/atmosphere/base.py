@@ -1,0 +1,264 @@
+"""The ``Atmosphere`` interface that every engine implements.
+
+An atmosphere answers three vectorised queries, each spectral over a wavelength array [um]
+that is always the last axis of the result:
+
+``path``
+    The line of sight between an observer and a target: transmittance τ_a and path radiance
+    (thermal emission and scattered sunlight) [W m-2 sr-1 um-1].
+``sun``
+    The sun-to-target path: transmittance τ_so and the direct solar irradiance on a surface
+    normal to the beam at the target [W m-2 um-1].
+``sky``
+    The radiance of the sky seen from a target in given directions, scattered and emitted
+    [W m-2 sr-1 um-1].
+
+Speed comes from separating the spectrum from space (ARCHITECTURE.md): the renderer integrates
+spectra over each band once per *node* and only interpolates between nodes per pixel. An engine
+therefore also tells the renderer its nodes:
+
+* ``path_nodes`` maps each pixel's line-of-sight geometry to a few node geometries and weights;
+  an engine whose path does not depend on geometry returns a single node;
+* ``sky_zenith_nodes`` are the sky zenith angles [deg] at which the sky radiance is tabulated;
+  between them the renderer interpolates linearly in zenith (a single node means an isotropic
+  sky).
+"""
+
+from __future__ import annotations
+
+import abc
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Atmosphere", "PathSpectra", "SunSpectra", "PathNodes", "SkyGeometry"]
+
+
+@dataclass(frozen=True)
+class PathSpectra:
+    """Spectra of a line of sight; every array has wavelength on its last axis.
+
+    Attributes
+    ----------
+    transmittance : numpy.ndarray
+        Target-to-observer transmittance τ_a [-].
+    thermal_radiance : numpy.ndarray
+        Path radiance emitted by the atmosphere [W m-2 sr-1 um-1].
+    scattered_radiance : numpy.ndarray
+        Path radiance of sunlight scattered into the line of sight [W m-2 sr-1 um-1].
+    """
+
+    transmittance: np.ndarray
+    thermal_radiance: np.ndarray
+    scattered_radiance: np.ndarray
+
+    @property
+    def radiance(self) -> np.ndarray:
+        """Total path radiance, thermal plus scattered [W m-2 sr-1 um-1]."""
+        return self.thermal_radiance + self.scattered_radiance
+
+
+@dataclass(frozen=True)
+class SunSpectra:
+    """Spectra of the sun-to-target path (wavelength on the last axis).
+
+    Attributes
+    ----------
+    transmittance : numpy.ndarray
+        Sun-to-target transmittance τ_so [-].
+    irradiance : numpy.ndarray
+        Direct solar irradiance at the target on a surface normal to the beam,
+        τ_so times the top-of-atmosphere irradiance [W m-2 um-1].
+    """
+
+    transmittance: np.ndarray
+    irradiance: np.ndarray
+
+
+@dataclass(frozen=True)
+class PathNodes:
+    """Line-of-sight geometries at which an engine evaluates its spectra, and how pixels mix them.
+
+    Attributes
+    ----------
+    observer_altitude, target_altitude : numpy.ndarray
+        Node geometry, shape (n_nodes,) [m].
+    view_zenith : numpy.ndarray
+        Zenith angle of the direction from target to observer at each node, shape (n_nodes,)
+        [deg].
+    index : numpy.ndarray
+        Shape (n_pixels, k) int: the nodes each pixel mixes.
+    weight : numpy.ndarray
+        Shape (n_pixels, k): their weights, summing to 1 per pixel [-].
+    """
+
+    observer_altitude: np.ndarray
+    target_altitude: np.ndarray
+    view_zenith: np.ndarray
+    index: np.ndarray
+    weight: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of nodes."""
+        return int(np.size(self.view_zenith))
+
+
+@dataclass(frozen=True)
+class SkyGeometry:
+    """Where the sky is seen from and where the sun stands.
+
+    Attributes
+    ----------
+    target_altitude : float
+        Altitude of the surface that sees the sky [m].
+    sun_zenith, sun_azimuth : float
+        Sun position [deg].
+    """
+
+    target_altitude: float = 0.0
+    sun_zenith: float = 0.0
+    sun_azimuth: float = 0.0
+
+
+class Atmosphere(abc.ABC):
+    """Base class of atmosphere engines.
+
+    Subclasses set ``name`` and ``wavelength_range`` and implement ``path``, ``sun`` and
+    ``sky``; they may override ``path_nodes`` and ``sky_zenith_nodes``.
+    """
+
+    #: Registry name of the engine (the ``type`` in a scene file).
+    name: str = ""
+    #: Wavelength range the engine covers [um].
+    wavelength_range: tuple[float, float] = (0.0, np.inf)
+    #: Whether path spectra depend on the line-of-sight geometry.
+    geometry_dependent: bool = False
+
+    # -- queries -------------------------------------------------------------------------
+    @abc.abstractmethod
+    def path(self, observer_altitude, target_altitude, view_zenith, wavelength) -> PathSpectra:
+        """Line-of-sight spectra, broadcast over the geometry arrays.
+
+        Parameters
+        ----------
+        observer_altitude, target_altitude : array_like
+            Altitudes above sea level [m].
+        view_zenith : array_like
+            Zenith angle of the direction from target to observer [deg].
+        wavelength : array_like
+            Wavelengths, 1-D [um].
+
+        Returns
+        -------
+        PathSpectra
+            Arrays of shape ``geometry_shape + (n_wavelength,)``.
+        """
+
+    @abc.abstractmethod
+    def sun(self, target_altitude, sun_zenith, wavelength, toa_irradiance) -> SunSpectra:
+        """Sun-to-target spectra.
+
+        Parameters
+        ----------
+        target_altitude : array_like
+            Altitude of the target [m].
+        sun_zenith : array_like
+            Solar zenith angle at the target [deg].
+        wavelength : array_like
+            Wavelengths, 1-D [um].
+        toa_irradiance : array_like
+            Top-of-atmosphere solar irradiance normal to the beam at ``wavelength``
+            [W m-2 um-1], already scaled to the day's Earth–Sun distance.
+
+        Returns
+        -------
+        SunSpectra
+        """
+
+    @abc.abstractmethod
+    def sky(self, zenith, azimuth, wavelength, geometry: SkyGeometry) -> np.ndarray:
+        """Sky radiance seen from the target looking towards (zenith, azimuth).
+
+        Parameters
+        ----------
+        zenith, azimuth : array_like
+            Direction of view from the target towards the sky [deg].
+        wavelength : array_like
+            Wavelengths, 1-D [um].
+        geometry : SkyGeometry
+            Target altitude and sun position.
+
+        Returns
+        -------
+        numpy.ndarray
+            Radiance, shape ``broadcast(zenith, azimuth).shape + (n_wavelength,)``
+            [W m-2 sr-1 um-1].
+        """
+
+    # -- nodes for the spectral-spatial separation ------------------------------------------
+    def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
+        """Nodes at which path spectra are evaluated, and each pixel's weights on them.
+
+        The default, for engines whose path does not depend on geometry, is one node at the
+        mean geometry.
+        """
+        n = np.size(view_zenith)
+        return PathNodes(
+            observer_altitude=np.atleast_1d(np.mean(observer_altitude) if n else 0.0),
+            target_altitude=np.atleast_1d(np.mean(target_altitude) if n else 0.0),
+            view_zenith=np.atleast_1d(np.mean(view_zenith) if n else 0.0),
+            index=np.zeros((n, 1), dtype=np.int64),
+            weight=np.ones((n, 1)),
+        )
+
+    def sky_zenith_nodes(self) -> np.ndarray:
+        """Sky zenith angles [deg] at which the sky radiance is tabulated (one: isotropic)."""
+        return np.array([0.0])
+
+    # -- helpers ---------------------------------------------------------------------------
+    def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
+        """Return ``wavelength`` as a float array, or raise if outside the engine's range."""
+        from radscene.errors import ConfigError
+
+        wl = np.asarray(wavelength, dtype=float)
+        lo, hi = self.wavelength_range
+        if wl.size and (np.nanmin(wl) < lo or np.nanmax(wl) > hi):
+            raise ConfigError(
+                f"the {self.name!r} atmosphere covers {lo:g}–{hi:g} um; asked for "
+                f"{np.nanmin(wl):g}–{np.nanmax(wl):g} um",
+                key=key,
+            )
+        return wl
+
+
+def zenith_hat_weights(zenith, nodes) -> np.ndarray:
+    """Linear-interpolation ("hat") weights of zenith angles on a node grid.
+
+    Parameters
+    ----------
+    zenith : array_like
+        Zenith angles [deg], any shape.
+    nodes : array_like
+        Increasing node zenith angles [deg], shape (k,). A single node gives weight 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``zenith.shape + (k,)``; rows sum to 1; outside the node range the end node
+        takes the whole weight (the table's stated rule: constant beyond its ends).
+    """
+    z = np.asarray(zenith, dtype=float)
+    nodes = np.asarray(nodes, dtype=float)
+    k = nodes.size
+    out = np.zeros(z.shape + (k,))
+    if k == 1:
+        out[...] = 1.0
+        return out
+    zc = np.clip(z, nodes[0], nodes[-1])
+    i = np.clip(np.searchsorted(nodes, zc, side="right") - 1, 0, k - 2)
+    frac = (zc - nodes[i]) / (nodes[i + 1] - nodes[i])
+    np.put_along_axis(out, i[..., None], (1.0 - frac)[..., None], axis=-1)
+    lower = np.take_along_axis(out, (i + 1)[..., None], axis=-1)
+    np.put_along_axis(out, (i + 1)[..., None], lower + frac[..., None], axis=-1)
+    return out

@@ -1,0 +1,171 @@
+"""The ``radscene`` command line."""
+
+from __future__ import annotations
+
+import shutil
+import sys
+import time
+from importlib import resources
+from pathlib import Path
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.table import Table
+
+from radscene import __version__
+from radscene.errors import ConfigError
+
+app = typer.Typer(
+    name="radscene",
+    help="Render what an EO/IR sensor records of a scene, 0.4–20 µm.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+console = Console()
+err_console = Console(stderr=True)
+
+
+def _fail(err: Exception) -> None:
+    err_console.print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
+    raise typer.Exit(code=2)
+
+
+def _version(value: bool):
+    if value:
+        console.print(f"radscene {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def main(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+):
+    """radscene: radiometric EO/IR scene and sensor simulation."""
+
+
+@app.command()
+def render(
+    scene_file: Path = typer.Argument(..., help="Scene YAML file."),
+    output: Path = typer.Option(Path("out"), "-o", "--output", help="Output folder."),
+    observer: list[str] = typer.Option(None, "--observer", help="Render only these observers."),
+    quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
+):
+    """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT."""
+    from radscene.io import band_quicklooks, terms_figure, truth_figure, write_netcdf
+    from radscene.render.integrator import _SceneTables
+    from radscene.render.integrator import render as render_one
+    from radscene.scene import load_scene
+
+    try:
+        scene = load_scene(scene_file)
+        names = observer or [o.name for o in scene.observers]
+        for name in names:
+            scene.observer(name)
+        started = time.perf_counter()
+        tables = _SceneTables(scene)
+        results = {}
+        with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                      TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
+                      TimeRemainingColumn(), console=err_console, transient=False) as bar:
+            for name in names:
+                task = bar.add_task(f"render {name}", total=1)
+
+                def progress(done, total, task=task):
+                    bar.update(task, completed=done, total=total)
+
+                results[name] = render_one(scene, name, progress=progress, _tables=tables)
+    except ConfigError as err:
+        _fail(err)
+    written = []
+    for name, ds in results.items():
+        written.append(write_netcdf(ds, output / f"{name}.nc"))
+        if quicklooks:
+            written.extend(band_quicklooks(ds, output / name))
+            written.append(terms_figure(ds, output / f"{name}_terms.png"))
+            written.append(truth_figure(ds, output / f"{name}_truth.png"))
+    table = Table(title=f"{scene.name}: {len(results)} observer(s) in "
+                        f"{time.perf_counter() - started:.1f} s")
+    for col in ("observer", "band", "λ [um]", "mean L [W m-2 sr-1]", "min", "max", "mean BT [K]"):
+        table.add_column(col, justify="right" if col != "observer" and col != "band" else "left")
+    for name, ds in results.items():
+        for band in ds["band"].values:
+            sel = ds.sel(band=band)
+            rad = sel["radiance"].values
+            bt = sel["brightness_temperature"].values
+            table.add_row(name, str(band), f"{float(sel['wavelength_center']):.3g}",
+                          f"{rad.mean():.4g}", f"{rad.min():.4g}", f"{rad.max():.4g}",
+                          f"{float(bt[bt == bt].mean()):.2f}" if (bt == bt).any() else "—")
+    console.print(table)
+    console.print(f"wrote {len(written)} files under {output}/")
+
+
+@app.command()
+def check(scene_file: Path = typer.Argument(..., help="Scene YAML file.")):
+    """Validate a scene file and summarise what it holds, without rendering."""
+    from radscene.render import sun_geometry
+    from radscene.scene import load_scene
+
+    try:
+        scene = load_scene(scene_file)
+        sun = sun_geometry(scene)
+    except ConfigError as err:
+        _fail(err)
+    n_tri = sum(len(o.mesh.faces) for o in scene.objects)
+    console.print(f"[bold]{scene.name}[/]: valid")
+    console.print(f"  objects: {len(scene.objects)} ({n_tri:,} triangles)")
+    console.print(f"  materials: {', '.join(scene.material_names)}")
+    console.print(f"  bands: {', '.join(b.name for b in scene.bands)}")
+    for obs in scene.observers:
+        console.print(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
+                      f" px, supersample {obs.supersample}")
+    console.print(f"  atmosphere: {scene.atmosphere.name}")
+    console.print(f"  sun: zenith {sun.zenith:.2f}°, azimuth {sun.azimuth:.2f}°, "
+                  f"{sun.distance:.5f} AU")
+
+
+def _examples() -> dict[str, Path]:
+    folder = resources.files("radscene") / "examples"
+    return {p.name.removesuffix(".yaml"): Path(str(p)) for p in folder.iterdir()
+            if p.name.endswith(".yaml")}
+
+
+@app.command()
+def examples(
+    name: str = typer.Argument(None, help="Example to copy."),
+    copy_to: Path = typer.Option(None, "--copy", help="Folder to copy the example into."),
+):
+    """List the bundled example scenes, or copy one (with its data files) to a folder."""
+    found = _examples()
+    if name is None:
+        table = Table(title="bundled example scenes")
+        table.add_column("name")
+        table.add_column("description")
+        for key, path in sorted(found.items()):
+            import yaml
+
+            desc = (yaml.safe_load(path.read_text()) or {}).get("description", "")
+            table.add_row(key, desc.strip().splitlines()[0] if desc else "")
+        console.print(table)
+        console.print("copy one with: radscene examples NAME --copy DIR")
+        return
+    if name not in found:
+        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}",
+                          key="name"))
+    dest = copy_to or Path.cwd()
+    dest.mkdir(parents=True, exist_ok=True)
+    src = found[name]
+    shutil.copy(src, dest / src.name)
+    data = src.parent / name
+    if data.is_dir():
+        shutil.copytree(data, dest / name, dirs_exist_ok=True)
+    console.print(f"copied {name} to {dest / src.name}")
+
+
+def run() -> None:  # pragma: no cover - console entry
+    try:
+        app()
+    except KeyboardInterrupt:
+        sys.exit(130)

@@ -1,0 +1,325 @@
+"""The ray engine: ray-triangle queries on Embree (via embreex), in batches, on threads.
+
+Precision. Embree works in float32. The scene is therefore moved into a local frame centred on
+the centre of its bounding box, and every ray is first clipped, in float64, to that box (grown
+by a small margin): rays that miss it are never traced, and rays that start outside are
+advanced to where they enter it, the advance being added back to the distance. What Embree sees
+is then always within the scene's own size of the local origin, so an observer 700 km away
+gets the same (sub-millimetre, for a km-size scene) accuracy as one standing in the scene.
+
+Robust mode. Embree's robust flag makes its ray-triangle test watertight (no ray slips between
+two triangles that share an edge, as a ray aimed exactly at a terrain grid vertex may). It is
+on by default; measured on the development machine it cost 1-5 % for intersection and
+about 10-18 % for occlusion queries, a fair price for no light leaks through terrain seams.
+
+Cost. embreex traces one ray at a time in C and releases the GIL, so batches are cut into
+chunks that a thread pool runs in parallel. A ray with NaN components or a zero direction
+costs Embree milliseconds; such input is refused with :class:`ConfigError`.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+
+import numpy as np
+
+from radscene.errors import ConfigError
+from radscene.geometry.mesh import Mesh
+
+__all__ = ["Hits", "RayTracer"]
+
+
+@dataclass
+class Hits:
+    """First intersections of a batch of N rays.
+
+    Attributes
+    ----------
+    distance : numpy.ndarray
+        (N,) float64, distance from the ray origin along the unit direction [m]; inf on miss.
+    object : numpy.ndarray
+        (N,) int32, index of the mesh hit in the list given to :class:`RayTracer`; -1 on miss.
+    primitive : numpy.ndarray
+        (N,) int32, index of the face within that mesh; -1 on miss.
+    u, v : numpy.ndarray
+        (N,) float32 barycentric coordinates [-]: the point is
+        ``(1 - u - v) v0 + u v1 + v v2`` of the face's vertices; 0 on miss.
+    normal : numpy.ndarray
+        (N, 3) float64 unit geometric normal of the face (right-hand rule, i.e. outward for
+        outward-wound meshes, *not* flipped towards the ray) [-]; zeros on miss.
+    position : numpy.ndarray
+        (N, 3) float64 ``origin + distance * direction`` in the world frame [m]; NaN on miss.
+    hit : numpy.ndarray
+        (N,) bool, whether the ray hit anything.
+    """
+
+    distance: np.ndarray
+    object: np.ndarray
+    primitive: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+    normal: np.ndarray
+    position: np.ndarray
+    hit: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.distance)
+
+
+def _rays(origins, directions) -> tuple[np.ndarray, np.ndarray]:
+    """Broadcast to (N, 3) float64, refuse non-finite input and zero directions, normalise."""
+    try:
+        o, d = np.broadcast_arrays(np.asarray(origins, dtype=np.float64),
+                                   np.asarray(directions, dtype=np.float64))
+    except ValueError:
+        raise ConfigError(f"origins {np.shape(origins)} and directions {np.shape(directions)} "
+                          "do not broadcast together", key="origins, directions") from None
+    if o.ndim != 2 or o.shape[1] != 3:
+        raise ConfigError(f"rays must have shape (N, 3), got {o.shape}", key="origins")
+    for name, a in (("origins", o), ("directions", d)):
+        bad = ~np.isfinite(a).all(axis=1)
+        if bad.any():
+            raise ConfigError(f"{int(bad.sum())} rays are not finite, first is ray "
+                              f"{int(np.argmax(bad))}: {a[np.argmax(bad)]}", key=name)
+    length = np.linalg.norm(d, axis=1)
+    zero = length == 0
+    if zero.any():
+        raise ConfigError(f"{int(zero.sum())} directions have zero length, first is ray "
+                          f"{int(np.argmax(zero))}", key="directions")
+    return o, d / length[:, None]
+
+
+class RayTracer:
+    """One Embree scene of several meshes; mesh ``k`` is object ``k``.
+
+    Parameters
+    ----------
+    meshes : sequence of Mesh
+        The geometry, in the world (east-north-up) frame [m]. Meshes without faces are allowed
+        and never hit.
+    robust : bool
+        Use Embree's watertight ray-triangle test (see the module notes); default True.
+    chunk_size : int
+        Rays per Embree call and per thread-pool task.
+    threads : int, optional
+        Worker threads; default ``os.cpu_count()``.
+
+    Examples
+    --------
+    >>> from radscene.geometry import plate
+    >>> rt = RayTracer([plate(10.0, 10.0)])
+    >>> round(float(rt.intersect([[0.0, 0.0, 5.0]], [[0.0, 0.0, -1.0]]).distance[0]), 6)
+    5.0
+    """
+
+    def __init__(self, meshes: Sequence[Mesh], robust: bool = True, chunk_size: int = 65536,
+                 threads: int | None = None):
+        from embreex import mesh_construction, rtcore_scene
+
+        meshes = list(meshes)
+        for k, m in enumerate(meshes):
+            if not isinstance(m, Mesh):
+                raise ConfigError(f"must be a radscene Mesh, got {type(m).__name__}",
+                                  key=f"meshes[{k}]")
+        if int(chunk_size) < 1:
+            raise ConfigError(f"must be a positive integer, got {chunk_size!r}", key="chunk_size")
+        self.meshes = tuple(meshes)
+        self.chunk_size = int(chunk_size)
+        self.threads = int(threads) if threads else (os.cpu_count() or 1)
+        self.robust = bool(robust)
+
+        filled = [k for k, m in enumerate(meshes) if len(m.faces)]
+        if filled:
+            lo = np.min([meshes[k].bounds[0] for k in filled], axis=0)
+            hi = np.max([meshes[k].bounds[1] for k in filled], axis=0)
+        else:
+            lo = hi = np.zeros(3)
+        self._bounds = (lo, hi)
+        self._center = 0.5 * (lo + hi)
+        # Margin around the box, so the clipped origin lies outside every surface even after
+        # rounding to float32 (relative 6e-8): 1e-5 of the size plus 1 mm.
+        margin = 1e-5 * float(np.linalg.norm(hi - lo)) + 1e-3
+        self._half = 0.5 * (hi - lo) + margin
+
+        self._scene = rtcore_scene.EmbreeScene(robust=self.robust)
+        # geomID -> object index, and object -> offset of its faces in the stacked normals.
+        self._object_of_geom = np.array(filled, dtype=np.int32)
+        face_counts = np.array([len(m.faces) for m in meshes], dtype=np.int64)
+        self._face_offset = np.concatenate([[0], np.cumsum(face_counts)[:-1]]).astype(np.int64)
+        normals = [m.face_normals for m in meshes]
+        self._normals = np.concatenate(normals) if normals else np.zeros((0, 3))
+        for k in filled:
+            local = (meshes[k].vertices - self._center).astype(np.float32)
+            mesh_construction.TriangleMesh(self._scene, local, meshes[k].faces.astype(np.int32))
+        self._empty = not filled
+        if not self._empty:  # embreex commits the scene on its first query: do it here, once
+            self._scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32))
+
+    def __repr__(self) -> str:
+        return (f"RayTracer({len(self.meshes)} meshes, "
+                f"{sum(len(m.faces) for m in self.meshes)} faces, robust={self.robust})")
+
+    @property
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(min (3,), max (3,))`` of the vertices of all meshes with faces, world frame [m]."""
+        return self._bounds[0].copy(), self._bounds[1].copy()
+
+    # -- clipping ---------------------------------------------------------------------------
+
+    def _clip(self, o, d):
+        """Local origins, box entry and exit distances [m] (entry > exit: the box is missed)."""
+        local = o - self._center
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = 1.0 / d
+            t1 = (-self._half - local) * inv
+            t2 = (self._half - local) * inv
+        # A ray parallel to a slab (d = 0) gets t = -inf, +inf inside it and the same
+        # infinity twice outside; 0 * inf = NaN on its boundary is skipped by fmin / fmax.
+        t_lo, t_hi = np.fmin(t1, t2), np.fmax(t1, t2)
+        t_in = np.fmax(np.fmax(np.fmax(t_lo[:, 0], t_lo[:, 1]), t_lo[:, 2]), 0.0)
+        t_out = np.fmin(np.fmin(t_hi[:, 0], t_hi[:, 1]), t_hi[:, 2])
+        return local, t_in, t_out
+
+    def _starts(self, o, d, t_end=None):
+        """Rays of one chunk that reach the box, as float32 (start, direction) for Embree.
+
+        Returns the indices of those rays within the chunk, their box-entry advance [m] and the
+        float32 start points and directions.
+        """
+        local, t_in, t_out = self._clip(o, d)
+        if t_end is not None:
+            t_out = np.minimum(t_end, t_out)
+        reach = t_in <= t_out
+        if reach.all():
+            traced = np.arange(len(o))
+        else:
+            traced = np.flatnonzero(reach)
+            local, d, t_in, t_out = local[traced], d[traced], t_in[traced], t_out[traced]
+        start = local + t_in[:, None] * d
+        return traced, t_in, t_out, start.astype(np.float32), d.astype(np.float32)
+
+    def _run_chunks(self, n: int, work) -> None:
+        starts = range(0, n, self.chunk_size)
+        if n <= self.chunk_size or self.threads == 1:
+            for s in starts:
+                work(slice(s, min(s + self.chunk_size, n)))
+            return
+        with ThreadPoolExecutor(max_workers=min(self.threads, len(starts))) as pool:
+            for _ in pool.map(lambda s: work(slice(s, min(s + self.chunk_size, n))), starts):
+                pass
+
+    # -- queries ----------------------------------------------------------------------------
+
+    def intersect(self, origins, directions) -> Hits:
+        """First hit along each ray.
+
+        Parameters
+        ----------
+        origins : array_like
+            Ray origins, shape ``(N, 3)`` (or broadcastable with ``directions``) [m].
+        directions : array_like
+            Ray directions, shape ``(N, 3)``, any non-zero length (normalised here) [-].
+
+        Returns
+        -------
+        Hits
+            Distances are along the unit direction [m]; a surface at the origin itself is hit at
+            distance 0 (offset secondary-ray origins yourself).
+
+        Raises
+        ------
+        ConfigError
+            A ray with a non-finite component or a zero direction.
+        """
+        o, d = _rays(origins, directions)
+        n = len(o)
+        distance = np.full(n, np.inf)
+        obj = np.full(n, -1, dtype=np.int32)
+        prim = np.full(n, -1, dtype=np.int32)
+        u = np.zeros(n, dtype=np.float32)
+        v = np.zeros(n, dtype=np.float32)
+        normal = np.zeros((n, 3))
+        position = np.full((n, 3), np.nan)
+
+        def work(sl):
+            traced, t_in, _, start, direction = self._starts(o[sl], d[sl])
+            if self._empty or not len(traced):
+                return
+            res = self._scene.run(start, direction, output=1)
+            geom, tfar = res["geomID"], res["tfar"]
+            size = sl.stop - sl.start
+            if len(traced) < size:  # spread the traced rays back over the chunk
+                geom = np.full(size, -1, dtype=np.int32)
+                geom[traced] = res["geomID"]
+                tfar = np.zeros(size, np.float32)
+                tfar[traced] = res["tfar"]
+                advance = np.zeros(size)
+                advance[traced] = t_in
+                t_in = advance
+                for key in ("primID", "u", "v"):
+                    full = np.zeros(size, dtype=res[key].dtype)
+                    full[traced] = res[key]
+                    res[key] = full
+            got = geom >= 0
+            k = np.where(got, self._object_of_geom[np.maximum(geom, 0)], -1)
+            t = np.where(got, t_in + tfar, np.inf)
+            distance[sl] = t
+            obj[sl] = k
+            prim[sl] = np.where(got, res["primID"], -1)
+            u[sl] = np.where(got, res["u"], 0)
+            v[sl] = np.where(got, res["v"], 0)
+            face = np.where(got, self._face_offset[np.maximum(k, 0)] + res["primID"], 0)
+            normal[sl] = np.where(got[:, None], self._normals[face], 0.0)
+            position[sl] = np.where(got[:, None], o[sl] + np.where(got, t, 0)[:, None] * d[sl],
+                                    np.nan)
+
+        self._run_chunks(n, work)
+        return Hits(distance, obj, prim, u, v, normal, position, obj >= 0)
+
+    def occluded(self, origins, directions, t_max=None) -> np.ndarray:
+        """Whether anything lies on each ray between its origin and ``t_max``.
+
+        Parameters
+        ----------
+        origins : array_like
+            Ray origins, shape ``(N, 3)`` [m].
+        directions : array_like
+            Ray directions, shape ``(N, 3)``, any non-zero length [-].
+        t_max : float or array_like, optional
+            Distance along the unit direction up to which to look, scalar or ``(N,)``, >= 0
+            (inf allowed) [m]; default inf.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) bool. A surface at the origin itself counts as occluding.
+        """
+        o, d = _rays(origins, directions)
+        n = len(o)
+        if t_max is None:
+            t_max = np.full(n, np.inf)
+        else:
+            try:
+                t_max = np.broadcast_to(np.asarray(t_max, dtype=np.float64), (n,))
+            except ValueError:
+                raise ConfigError(f"must be a scalar or shape ({n},), got shape "
+                                  f"{np.shape(t_max)}", key="t_max") from None
+            bad = np.isnan(t_max) | (t_max < 0)
+            if bad.any():
+                raise ConfigError(f"must be >= 0 (inf allowed) [m], {int(bad.sum())} are not, "
+                                  f"first is ray {int(np.argmax(bad))}", key="t_max")
+        out = np.zeros(n, dtype=bool)
+
+        def work(sl):
+            traced, t_in, t_end, start, direction = self._starts(o[sl], d[sl], t_max[sl])
+            if self._empty or not len(traced):
+                return
+            dists = (t_end - t_in).astype(np.float32)
+            res = self._scene.run(start, direction, dists=dists, query="OCCLUDED")
+            out[sl.start + traced] = res >= 0
+
+        self._run_chunks(n, work)
+        return out

@@ -1,0 +1,288 @@
+"""Spatial texture: a multiplier field over the ground plane (Δρ, Δε, Δτ of seed 000 eq. 1 / seed
+001 eq. 4).
+
+A :class:`Texture` maps an image onto a rectangle of the local east-north-up ground plane:
+``size = (width, height)`` [m] with its south-west corner at ``origin = (x0, y0)`` [m]. Image row 0
+lies along the **north** edge (y = y0 + height), column 0 along the **west** edge (x = x0), as an
+image looks on a map with north up. Each pixel's value sits at its centre; :meth:`Texture.sample`
+interpolates bilinearly between centres. With ``wrap=True`` the image tiles the whole plane
+periodically (interpolation wraps across the edges); with ``wrap=False`` only points inside the
+rectangle may be sampled (within half a pixel of the edge the edge pixels' values are held), and
+any other point raises :class:`~radscene.errors.ConfigError`.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from pathlib import Path
+
+import numpy as np
+
+from radscene.errors import ConfigError
+
+__all__ = ["Texture", "LUMINANCE_WEIGHTS"]
+
+#: Weights of R, G, B in the luminance of a colour image, ITU-R BT.709 [-].
+LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
+
+_IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg")
+
+
+def _pair(value, key: str, positive: bool) -> tuple[float, float]:
+    try:
+        a, b = value
+        a, b = float(a), float(b)
+    except (TypeError, ValueError):
+        raise ConfigError(f"expected a pair of numbers [m]; got {value!r}", key=key) from None
+    if not (math.isfinite(a) and math.isfinite(b)) or (positive and (a <= 0 or b <= 0)):
+        need = "finite positive" if positive else "finite"
+        raise ConfigError(f"expected {need} numbers [m]; got {value!r}", key=key)
+    return a, b
+
+
+class Texture:
+    """A multiplier field over the ground plane, bilinear between pixel centres.
+
+    Parameters
+    ----------
+    values : array_like
+        2-D array of finite multipliers ≥ 0 [-]; row 0 north, column 0 west.
+    size : (float, float)
+        ``(width, height)`` of the image on the ground, east-west and north-south [m].
+    origin : (float, float), optional
+        ``(x0, y0)``, the south-west corner [m]; default (0, 0).
+    wrap : bool, optional
+        Tile the plane periodically (default) or refuse points outside the rectangle.
+    name : str, optional
+        Name (e.g. the file) used in error messages.
+
+    Examples
+    --------
+    >>> t = Texture([[1.0, 3.0]], size=(2.0, 1.0))
+    >>> t.sample([0.5, 1.0, 1.5], 0.5)
+    array([1., 2., 3.])
+    """
+
+    __slots__ = ("_values", "_size", "_origin", "_wrap", "_name")
+
+    def __init__(self, values, size, origin=(0.0, 0.0), wrap: bool = True, name: str = ""):
+        key = name or "texture"
+        try:
+            v = np.array(values, dtype=float)
+        except (TypeError, ValueError):
+            raise ConfigError("values must be a 2-D array of numbers", key=key) from None
+        if v.ndim != 2 or v.shape[0] < 1 or v.shape[1] < 1:
+            raise ConfigError(f"values must be a non-empty 2-D array; got shape {v.shape}", key=key)
+        if not np.all(np.isfinite(v)):
+            raise ConfigError("values must be finite", key=key)
+        if np.any(v < 0.0):
+            raise ConfigError(f"multipliers must be >= 0; minimum is {v.min():.6g}", key=key)
+        if not isinstance(wrap, bool | np.bool_):
+            raise ConfigError(f"wrap must be true or false; got {wrap!r}", key=f"{key}.wrap")
+        v.setflags(write=False)
+        self._values = v
+        self._size = _pair(size, f"{key}.size", positive=True)
+        self._origin = _pair(origin, f"{key}.origin", positive=False)
+        self._wrap = bool(wrap)
+        self._name = str(name)
+
+    @classmethod
+    def from_image(cls, path, size, origin=(0.0, 0.0), contrast=None, wrap: bool = True) -> Texture:
+        """Read a texture from a PNG/JPEG image or a ``.npy`` array.
+
+        Parameters
+        ----------
+        path : str or path-like
+            ``.png``, ``.jpg``/``.jpeg`` (read with :func:`matplotlib.image.imread`) or ``.npy``.
+            Colour images become luminance with the BT.709 weights :data:`LUMINANCE_WEIGHTS`
+            (alpha dropped); integer images are divided by their type's maximum (uint8: 255)
+            so pixel values lie in [0, 1].
+        size : (float, float)
+            ``(width, height)`` on the ground [m].
+        origin : (float, float), optional
+            South-west corner [m].
+        contrast : float, optional
+            None: the pixel values are the multipliers (they must be ≥ 0). A number c: the
+            multiplier is :math:`1 + c\\,(v - \\bar v)/(v_{max} - v_{min})`, whose mean is 1
+            and whose peak-to-peak range is |c|.
+        wrap : bool, optional
+            Tile the plane (default) or refuse points outside.
+
+        Returns
+        -------
+        Texture
+
+        Raises
+        ------
+        ConfigError
+            Naming the file: unreadable or unknown format, not 2-D/RGB(A), non-finite values,
+            negative multipliers, or a contrast on an image without variation.
+        """
+        path = Path(path)
+        key = str(path)
+        suffix = path.suffix.lower()
+        try:
+            if suffix == ".npy":
+                image = np.load(path, allow_pickle=False)
+            elif suffix in _IMAGE_SUFFIXES:
+                import matplotlib.image as mpimg
+
+                image = mpimg.imread(path)
+            else:
+                raise ConfigError(
+                    f"unknown texture format {suffix!r}; accepted: .png, .jpg, .jpeg, .npy",
+                    key=key,
+                )
+        except ConfigError:
+            raise
+        except (OSError, ValueError) as exc:
+            raise ConfigError(f"cannot read texture image: {exc}", key=key) from exc
+        image = np.asarray(image)
+        if np.issubdtype(image.dtype, np.integer):
+            image = image.astype(float) / float(np.iinfo(image.dtype).max)
+        elif image.dtype == bool or not np.issubdtype(image.dtype, np.number):
+            raise ConfigError(f"texture must hold numbers; got dtype {image.dtype}", key=key)
+        image = image.astype(float)
+        if image.ndim == 3 and image.shape[2] in (3, 4):
+            image = image[..., :3] @ np.asarray(LUMINANCE_WEIGHTS)
+        elif image.ndim == 3 and image.shape[2] in (1, 2):
+            image = image[..., 0]
+        if image.ndim != 2:
+            raise ConfigError(
+                f"texture must be a 2-D (grey) or RGB(A) image; got shape {image.shape}", key=key
+            )
+        if not np.all(np.isfinite(image)):
+            raise ConfigError("texture values must be finite", key=key)
+        if contrast is None:
+            if np.any(image < 0.0):
+                raise ConfigError(
+                    f"texture multipliers must be >= 0; minimum is {image.min():.6g} (give a "
+                    "contrast to use the image as a pattern around 1)",
+                    key=key,
+                )
+            values = image
+        else:
+            if (
+                isinstance(contrast, bool)
+                or not isinstance(contrast, numbers.Real)
+                or not math.isfinite(contrast)
+            ):
+                raise ConfigError(
+                    f"contrast must be a finite number; got {contrast!r}", key=f"{key}.contrast"
+                )
+            vmin, vmax, vmean = float(image.min()), float(image.max()), float(image.mean())
+            if vmax == vmin:
+                raise ConfigError(
+                    "image has no variation (max == min), so a contrast cannot be applied; "
+                    "use contrast: null for a uniform multiplier",
+                    key=key,
+                )
+            values = 1.0 + float(contrast) * (image - vmean) / (vmax - vmin)
+            if np.any(values < 0.0):
+                spread = (vmean - vmin) if contrast > 0 else (vmax - vmean)
+                limit = (vmax - vmin) / spread
+                raise ConfigError(
+                    f"contrast {contrast:g} makes multipliers negative (minimum "
+                    f"{values.min():.4g}); with this image |contrast| must not exceed "
+                    f"{limit:.4g}",
+                    key=key,
+                )
+        return cls(values, size=size, origin=origin, wrap=wrap, name=key)
+
+    # ------------------------------------------------------------------ attributes
+    @property
+    def values(self) -> np.ndarray:
+        """The multipliers, row 0 north, column 0 west (read-only) [-]."""
+        return self._values
+
+    @property
+    def size(self) -> tuple[float, float]:
+        """``(width, height)`` on the ground [m]."""
+        return self._size
+
+    @property
+    def origin(self) -> tuple[float, float]:
+        """``(x0, y0)``, the south-west corner [m]."""
+        return self._origin
+
+    @property
+    def wrap(self) -> bool:
+        """Whether the image tiles the plane."""
+        return self._wrap
+
+    @property
+    def name(self) -> str:
+        """Name used in messages."""
+        return self._name
+
+    @property
+    def pixel_size(self) -> tuple[float, float]:
+        """Ground size of one pixel, ``(dx, dy)`` [m]."""
+        rows, cols = self._values.shape
+        return (self._size[0] / cols, self._size[1] / rows)
+
+    # ------------------------------------------------------------------ sampling
+    def sample(self, x, y) -> np.ndarray:
+        """Bilinear multiplier at ground points.
+
+        Parameters
+        ----------
+        x, y : array_like
+            East and north coordinates [m], broadcastable. NaN gives NaN.
+
+        Returns
+        -------
+        numpy.ndarray
+            Multipliers [-], shape ``broadcast(x, y).shape``.
+
+        Raises
+        ------
+        ConfigError
+            With ``wrap=False``, a finite point outside the rectangle.
+        """
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        rows, cols = self._values.shape
+        x0, y0 = self._origin
+        width, height = self._size
+        finite = np.isfinite(x) & np.isfinite(y)
+        if not self._wrap:
+            outside = finite & ((x < x0) | (x > x0 + width) | (y < y0) | (y > y0 + height))
+            if np.any(outside):
+                i = np.argmax(outside.ravel())
+                raise ConfigError(
+                    f"point ({x.ravel()[i]:g}, {y.ravel()[i]:g}) m is outside the texture, which "
+                    f"covers x in [{x0:g}, {x0 + width:g}] m and y in [{y0:g}, {y0 + height:g}] "
+                    "m (wrap=False)",
+                    key=self._name or "texture",
+                )
+        xs = np.where(finite, x, x0)
+        ys = np.where(finite, y, y0)
+        # continuous pixel coordinates, integer values at pixel centres
+        u = (xs - x0) / width * cols - 0.5
+        v = (y0 + height - ys) / height * rows - 0.5
+        c0 = np.floor(u)
+        r0 = np.floor(v)
+        fu = u - c0
+        fv = v - r0
+        c0 = c0.astype(np.int64)
+        r0 = r0.astype(np.int64)
+        c1 = c0 + 1
+        r1 = r0 + 1
+        if self._wrap:
+            c0, c1, r0, r1 = c0 % cols, c1 % cols, r0 % rows, r1 % rows
+        else:
+            c0, c1 = np.clip(c0, 0, cols - 1), np.clip(c1, 0, cols - 1)
+            r0, r1 = np.clip(r0, 0, rows - 1), np.clip(r1, 0, rows - 1)
+        t = self._values
+        out = (1.0 - fv) * ((1.0 - fu) * t[r0, c0] + fu * t[r0, c1]) + fv * (
+            (1.0 - fu) * t[r1, c0] + fu * t[r1, c1]
+        )
+        return np.where(finite, out, np.nan)
+
+    def __repr__(self) -> str:
+        rows, cols = self._values.shape
+        return (
+            f"Texture({rows}x{cols} px, size={self._size} m, origin={self._origin} m, "
+            f"wrap={self._wrap})"
+        )

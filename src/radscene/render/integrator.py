@@ -1,0 +1,477 @@
+"""Render one observer of a scene: rays → hits → signature terms → band radiance Dataset.
+
+The work is done in tiles of ray samples (no Python loop over pixels): each tile is traced in
+one batch, its secondary rays (shadow, sky, lobe) in a few more, and its terms are gathered
+from the per-material band coefficients. Pixel values are weighted sums of their sub-samples.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import time as _time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from radscene.atmosphere import SkyGeometry, zenith_hat_weights
+from radscene.render import illumination, terms
+from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
+
+__all__ = ["render", "render_all", "SunGeometry", "sun_geometry", "TERMS", "TILE_SAMPLES"]
+
+#: Output layer names of the signature terms, in the order they are summed.
+TERMS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance")
+TERM_LONG_NAMES = {
+    "sun_diffuse": "directly reflected sunlight, diffuse",
+    "sun_specular": "directly reflected sunlight, specular",
+    "thermal_emission": "self-emitted thermal radiance",
+    "sky_reflected": "reflected sky radiance",
+    "path_radiance": "atmospheric path radiance (sky radiance where a ray leaves the scene)",
+}
+#: Ray samples per tile.
+TILE_SAMPLES = 1 << 17
+#: Bands whose response centre is at or beyond this wavelength get a brightness temperature [um].
+THERMAL_BAND_START = 2.5
+
+
+@dataclass(frozen=True)
+class SunGeometry:
+    """Where the sun is for a render: angles [deg], Earth–Sun distance [AU], unit vector to it."""
+
+    zenith: float
+    azimuth: float
+    distance: float
+
+    @property
+    def direction(self) -> np.ndarray:
+        from radscene.geometry.frames import direction_from_angles
+
+        return direction_from_angles(self.zenith, self.azimuth)
+
+
+def sun_geometry(scene) -> SunGeometry:
+    """The sun of a scene: the hand-placed one, or the ephemeris at its place and time."""
+    if scene.sun is not None:
+        return SunGeometry(scene.sun.zenith, scene.sun.azimuth, scene.sun.distance)
+    from radscene.sun import sun_position
+
+    pos = sun_position(
+        scene.time, scene.location.latitude, scene.location.longitude, scene.location.altitude
+    )
+    return SunGeometry(float(pos.zenith), float(pos.azimuth), float(pos.distance))
+
+
+class _SceneTables:
+    """Per-scene data shared by all observers: the ray tracer and per-face lookups."""
+
+    def __init__(self, scene):
+        from radscene.geometry import RayTracer
+
+        self.scene = scene
+        self.tracer = RayTracer([obj.mesh for obj in scene.objects])
+        sizes = [len(obj.face_material) for obj in scene.objects]
+        self.face_offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self.face_material = np.concatenate([obj.face_material for obj in scene.objects])
+        self.face_temperature = np.concatenate([obj.face_temperature for obj in scene.objects])
+        lo, hi = self.tracer.bounds
+        self.epsilon = 1e-4 + 2e-6 * float(np.linalg.norm(np.asarray(hi) - np.asarray(lo)))
+        self.sun = sun_geometry(scene)
+        self.exponent = np.array([m.specular_exponent for m in scene.materials], dtype=float)
+
+
+def _breakpoints(scene) -> np.ndarray:
+    """Every table wavelength that enters a band integral: materials, atmosphere, sun."""
+    from radscene.sun import spectrum as sun_spectrum
+
+    solar_wl, _ = sun_spectrum.toa_solar_spectrum()
+    # the measured part has kinks at its samples; the blackbody head and tail are smooth
+    points = [solar_wl[(solar_wl >= 0.28) & (solar_wl <= 4.0)]]
+    for m in scene.materials:
+        for spec in (m.diffuse_reflectance, m.specular_reflectance, m.transmittance):
+            if spec.wavelength is not None:
+                points.append(np.asarray(spec.wavelength, dtype=float))
+    for attr in ("transmittance", "sun_transmittance", "path_radiance", "sky_radiance"):
+        spec = getattr(scene.atmosphere, attr, None)
+        if spec is not None and getattr(spec, "wavelength", None) is not None:
+            points.append(np.asarray(spec.wavelength, dtype=float))
+    return np.unique(np.concatenate(points))
+
+
+class _BandSetup:
+    """Quadrature and coefficient tables for the bands of one render."""
+
+    def __init__(self, scene, tables: _SceneTables, bands, path_nodes):
+        from radscene.sun import toa_solar_irradiance
+
+        atm = scene.atmosphere
+        sun = tables.sun
+        breakpoints = _breakpoints(scene)
+        zen_nodes = atm.sky_zenith_nodes()
+        sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
+        target_alt = float(np.mean(path_nodes.target_altitude))
+        n_m, n_b, n_j, n_k = len(scene.materials), len(bands), path_nodes.size, zen_nodes.size
+        shape = (n_m, n_b, n_j)
+        c = BandCoefficients(
+            sun_diffuse=np.zeros(shape), sun_specular=np.zeros(shape),
+            sky_diffuse=np.zeros(shape + (n_k,)), sky_specular=np.zeros(shape + (n_k,)),
+            path=np.zeros((n_b, n_j)), transmittance=np.zeros((n_b, n_j)),
+            sky_view=np.zeros((n_b, n_k)),
+        )
+        self.quadrature = []
+        self.emissivity_tau = []
+        for b, band in enumerate(bands):
+            nodes, weights = band_quadrature(band.response, breakpoints)
+            atm.check_wavelength(nodes, key=f"bands[{band.name}]")
+            self.quadrature.append((nodes, weights))
+            if sun.zenith < 90.0:
+                toa = toa_solar_irradiance(nodes, sun.distance)
+                e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance  # (q,)
+            else:
+                e_sun = np.zeros_like(nodes)
+            path = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
+                            path_nodes.view_zenith, nodes)  # (j, q)
+            tau = path.transmittance
+            sky = atm.sky(zen_nodes, np.zeros_like(zen_nodes), nodes, sky_geom)  # (k, q)
+            comps = [m.components(nodes) for m in scene.materials]
+            rho_d = np.array([cc["diffuse_reflectance"] for cc in comps])  # (m, q)
+            rho_s = np.array([cc["specular_reflectance"] for cc in comps])
+            eps = np.array([cc["emissivity"] for cc in comps])
+            wt = weights * e_sun
+            c.sun_diffuse[:, b, :] = np.einsum("q,mq,jq->mj", wt, rho_d / np.pi, tau)
+            c.sun_specular[:, b, :] = np.einsum("q,mq,jq->mj", wt, rho_s, tau)
+            c.sky_diffuse[:, b, :, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_d, sky, tau)
+            c.sky_specular[:, b, :, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_s, sky, tau)
+            c.path[b] = path.radiance @ weights
+            c.transmittance[b] = tau @ weights / weights.sum()
+            c.sky_view[b] = sky @ weights
+            self.emissivity_tau.append(eps[:, None, :] * tau[None, :, :])
+        self.coefficients = c
+        self.zenith_nodes = zen_nodes
+
+
+def _gather(table, material, nodes):
+    """Σ_j w_j table[m, :, idx_j, ...] for each sample: (N, n_b, ...)."""
+    out = 0.0
+    for j in range(nodes.index.shape[1]):
+        out = out + nodes.weight[:, j].reshape((-1,) + (1,) * (table.ndim - 2)) * (
+            table[material, :, nodes.index[:, j]]
+        )
+    return out
+
+
+def _gather_band(table, nodes):
+    """Σ_j w_j table[:, idx_j] for each sample: (N, n_b)."""
+    out = 0.0
+    for j in range(nodes.index.shape[1]):
+        out = out + nodes.weight[:, j, None] * table[:, nodes.index[:, j]].T
+    return out
+
+
+def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
+           _tables: _SceneTables | None = None) -> xr.Dataset:
+    """Render one observer of a scene.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene
+        A loaded scene (:func:`radscene.load_scene`).
+    observer : str, optional
+        Name of the observer; the first one by default.
+    progress : callable, optional
+        Called as ``progress(samples_done, samples_total)`` after each tile.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``radiance(band, y, x)`` [W m-2 sr-1], one variable per signature term (same dims),
+        and the truth maps; see ``docs/outputs.md``.
+    """
+    setup = scene.observers[0] if observer is None else scene.observer(observer)
+    tables = _tables or _SceneTables(scene)
+    bands = [scene.band(name) for name in setup.bands]
+    sun = tables.sun
+    sun_dir = sun.direction
+    settings = scene.settings
+    rays = setup.camera.rays(supersample=setup.supersample)
+    ny, nx = rays.shape
+    n_pix = ny * nx
+    n_b = len(bands)
+    started = _time.perf_counter()
+
+    # first pass: primary hits, for the path nodes of the whole image
+    hits = tables.tracer.intersect(rays.origins, rays.directions)
+    hit = hits.hit
+    alt0 = scene.location.altitude
+    obs_alt = rays.origins[hit, 2] + alt0
+    tgt_alt = hits.position[hit, 2] + alt0
+    view_zenith = np.degrees(np.arccos(np.clip(-rays.directions[hit, 2], -1.0, 1.0)))
+    path_nodes_all = scene.atmosphere.path_nodes(obs_alt, tgt_alt, view_zenith)
+    bset = _BandSetup(scene, tables, bands, path_nodes_all)
+    coef = bset.coefficients
+    zen_nodes = bset.zenith_nodes
+
+    sums = {name: np.zeros((n_b, n_pix)) for name in TERMS}
+    transmittance = np.zeros((n_b, n_pix))
+    truth_sum = {k: np.zeros(n_pix) for k in ("cos_incidence", "shadow", "sky_view", "temperature",
+                                               "range", "hit_weight")}
+    # the sub-sample nearest each pixel centre labels ids and normals
+    central = _central_subsample(rays)
+    object_id = np.full(n_pix, -1, dtype=np.int32)
+    material_id = np.full(n_pix, -1, dtype=np.int32)
+    normal_map = np.full((3, n_pix), np.nan)
+
+    hit_rank = np.cumsum(hit) - 1  # index of each hit sample among hits
+    rng = np.random.default_rng(settings.seed)
+    total = len(rays.pixel)
+    for start in range(0, total, TILE_SAMPLES):
+        sl = slice(start, min(start + TILE_SAMPLES, total))
+        pix = rays.pixel[sl]
+        w = rays.weight[sl]
+        d = rays.directions[sl]
+        h = hit[sl]
+        # --- rays that leave the scene see the sky (upwards) or nothing (downwards) --------
+        miss = ~h
+        if np.any(miss):
+            dz = d[miss, 2]
+            zen = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
+            sky_seen = (zenith_hat_weights(zen, zen_nodes) @ coef.sky_view.T) * (dz > 0)[:, None]
+            for b in range(n_b):
+                sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b], n_pix)
+        if not np.any(h):
+            _report(progress, sl.stop, total)
+            continue
+        # --- surface state at the hits -------------------------------------------------
+        hidx = np.nonzero(h)[0] + start
+        rank = hit_rank[hidx]
+        obj = hits.object[hidx]
+        face = tables.face_offset[obj] + hits.primitive[hidx]
+        mat = tables.face_material[face]
+        temp = tables.face_temperature[face]
+        pos = hits.position[hidx]
+        nrm = hits.normal[hidx].copy()
+        dh = rays.directions[hidx]
+        flip = np.einsum("nc,nc->n", nrm, dh) > 0.0  # two-sided: face the viewer
+        nrm[flip] *= -1.0
+        wo = -dh
+        cos_v = np.einsum("nc,nc->n", nrm, wo)
+        cos_i = nrm @ sun_dir
+        tex = _textures(scene, obj, pos)
+        origin = pos + tables.epsilon * nrm
+        # --- shadows ------------------------------------------------------------------
+        lit = np.zeros(len(hidx))
+        facing = (cos_i > 0.0) & (sun.zenith < 90.0)
+        if settings.shadows:
+            lit[facing] = illumination.cast_shadow(tables.tracer, origin[facing], sun_dir)
+        else:
+            lit[facing] = 1.0
+        # --- sky over the hemisphere, and under the specular lobe -----------------------
+        sky_f = illumination.sky_fractions(tables.tracer, origin, nrm, settings.sky_samples,
+                                           zen_nodes, rng)
+        specular = np.any(coef.sun_specular[mat] != 0.0, axis=(1, 2)) | np.any(
+            coef.sky_specular[mat] != 0.0, axis=(1, 2, 3))
+        lobe_f = np.zeros_like(sky_f)
+        if np.any(specular):
+            axis = 2.0 * cos_v[specular, None] * nrm[specular] - wo[specular]
+            lobe_f[specular] = illumination.lobe_sky_fractions(
+                tables.tracer, origin[specular], nrm[specular], axis,
+                tables.exponent[mat[specular]], settings.specular_samples, zen_nodes, rng)
+        # --- terms ----------------------------------------------------------------------
+        nodes = _subset_nodes(path_nodes_all, rank)
+        mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
+        cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
+        lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
+        values = {
+            "sun_diffuse": terms.sun_diffuse(_gather(coef.sun_diffuse, mat, nodes), cos_i, lit,
+                                             tex["reflectance"]),
+            "sun_specular": terms.sun_specular(_gather(coef.sun_specular, mat, nodes), lobe, lit,
+                                               tex["reflectance"]),
+            "thermal_emission": terms.thermal_emission(
+                _emission(bset, mat, temp, nodes), tex["emissivity"]),
+            "sky_reflected": terms.sky_reflected(
+                _gather(coef.sky_diffuse, mat, nodes), sky_f,
+                _gather(coef.sky_specular, mat, nodes), lobe_f, tex["reflectance"]),
+            "path_radiance": terms.path_radiance(_gather_band(coef.path, nodes)),
+        }
+        tau = _gather_band(coef.transmittance, nodes)
+        p = rays.pixel[hidx]
+        wh = rays.weight[hidx]
+        for name, val in values.items():
+            for b in range(n_b):
+                sums[name][b] += np.bincount(p, wh * val[:, b], n_pix)
+        for b in range(n_b):
+            transmittance[b] += np.bincount(p, wh * tau[:, b], n_pix)
+        truth_sum["cos_incidence"] += np.bincount(p, wh * cos_i, n_pix)
+        truth_sum["shadow"] += np.bincount(p, wh * (1.0 - lit), n_pix)
+        truth_sum["sky_view"] += np.bincount(p, wh * sky_f.sum(axis=1), n_pix)
+        truth_sum["temperature"] += np.bincount(p, wh * temp, n_pix)
+        truth_sum["range"] += np.bincount(p, wh * hits.distance[hidx], n_pix)
+        truth_sum["hit_weight"] += np.bincount(p, wh, n_pix)
+        c = central[hidx]
+        object_id[p[c]] = obj[c]
+        material_id[p[c]] = mat[c]
+        normal_map[:, p[c]] = nrm[c].T
+        _report(progress, sl.stop, total)
+
+    elapsed = _time.perf_counter() - started
+    return _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum, object_id,
+                    material_id, normal_map, sun, elapsed)
+
+
+def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
+    """Render every observer of a scene; returns ``{observer name: Dataset}``."""
+    tables = _SceneTables(scene)
+    return {
+        obs.name: render(scene, obs.name, progress=progress, _tables=tables)
+        for obs in scene.observers
+    }
+
+
+# ---------------------------------------------------------------------------------------------
+
+
+def _report(progress, done, total):
+    if progress is not None:
+        progress(done, total)
+
+
+def _central_subsample(rays) -> np.ndarray:
+    """True for the sub-sample of each pixel whose index is the centre of the k×k grid."""
+    k2 = int(np.max(rays.subsample)) + 1
+    k = int(round(np.sqrt(k2)))
+    centre = (k // 2) * k + (k // 2)
+    return rays.subsample == centre
+
+
+def _subset_nodes(nodes, rank):
+    from radscene.atmosphere import PathNodes
+
+    return PathNodes(nodes.observer_altitude, nodes.target_altitude, nodes.view_zenith,
+                     nodes.index[rank], nodes.weight[rank])
+
+
+def _emission(bset, material, temperature, nodes):
+    """(N, n_b) Σ_j w_j ∫ S ε B(T) τ_a,j dλ for each sample."""
+    n = len(material)
+    out = np.zeros((n, len(bset.quadrature)))
+    for b, (q_nodes, q_weights) in enumerate(bset.quadrature):
+        per_node = emission_coefficients(bset.emissivity_tau[b], q_nodes, q_weights, material,
+                                         temperature)  # (N, n_j)
+        out[:, b] = (np.take_along_axis(per_node, nodes.index, axis=1) * nodes.weight).sum(1)
+    return out
+
+
+def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
+    out = {k: np.ones(len(obj)) for k in ("reflectance", "emissivity", "transmittance")}
+    for o, sobj in enumerate(scene.objects):
+        if not sobj.textures:
+            continue
+        sel = obj == o
+        if not np.any(sel):
+            continue
+        for kind, texture in sobj.textures.items():
+            out[kind][sel] = texture.sample(pos[sel, 0], pos[sel, 1])
+    return out
+
+
+def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_id, material_id,
+             normal_map, sun, elapsed) -> xr.Dataset:
+    from radscene import __version__
+    from radscene.radiometry import band_brightness_temperature
+
+    ny, nx = shape
+    n_b = len(bands)
+    cube = {name: s.reshape(n_b, ny, nx) for name, s in sums.items()}
+    total = sum(cube.values())
+    hw = truth_sum["hit_weight"]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = {k: np.where(hw > 0, v / hw, np.nan).reshape(ny, nx) for k, v in truth_sum.items()
+                if k != "hit_weight"}
+        tau_map = np.where(hw > 0, transmittance / hw, np.nan).reshape(n_b, ny, nx)
+    radiance_attrs = {"units": "W m-2 sr-1"}
+    data = {
+        "radiance": (("band", "y", "x"), total, {
+            **radiance_attrs, "long_name": "at-aperture band radiance, sum of the signature terms",
+        }),
+    }
+    for name in TERMS:
+        data[name] = (("band", "y", "x"), cube[name],
+                      {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
+    bt = np.full((n_b, ny, nx), np.nan)
+    for b, band in enumerate(bands):
+        if band.response.center >= THERMAL_BAND_START:
+            bt[b] = band_brightness_temperature(total[b], band.response)
+    data["brightness_temperature"] = (("band", "y", "x"), bt, {
+        "units": "K", "long_name": "band brightness temperature of the total radiance",
+        "comment": f"computed for bands centred at or beyond {THERMAL_BAND_START} um; NaN elsewhere"})
+    data["path_transmittance"] = (("band", "y", "x"), tau_map, {
+        "units": "1", "long_name": "response-weighted target-to-sensor transmittance"})
+    data["object_id"] = (("y", "x"), object_id.reshape(ny, nx), {
+        "long_name": "object index (-1: no object)", "flag_values": np.arange(len(scene.objects), dtype=np.int32),
+        "flag_meanings": " ".join(o.name.replace(" ", "_") for o in scene.objects)})
+    data["material_id"] = (("y", "x"), material_id.reshape(ny, nx), {
+        "long_name": "material index (-1: no material)",
+        "flag_values": np.arange(len(scene.materials), dtype=np.int32),
+        "flag_meanings": " ".join(scene.material_names)})
+    data["range"] = (("y", "x"), mean["range"], {"units": "m", "long_name": "distance from the observer to the surface"})
+    data["surface_normal"] = (("vector", "y", "x"), normal_map.reshape(3, ny, nx), {
+        "units": "1", "long_name": "unit surface normal facing the observer (east, north, up)"})
+    data["cos_incidence"] = (("y", "x"), mean["cos_incidence"], {
+        "units": "1", "long_name": "cosine of the sun's angle of incidence (negative: facing away)"})
+    data["shadow_fraction"] = (("y", "x"), mean["shadow"], {
+        "units": "1", "long_name": "fraction of the pixel not directly sunlit (cast or self shadow)"})
+    data["sky_view_fraction"] = (("y", "x"), mean["sky_view"], {
+        "units": "1", "long_name": "cosine-weighted fraction of the hemisphere that sees sky"})
+    data["surface_temperature"] = (("y", "x"), mean["temperature"], {
+        "units": "K", "standard_name": "surface_temperature", "long_name": "surface temperature"})
+    coords = {
+        "band": ("band", [b.name for b in bands]),
+        "wavelength_center": ("band", [float(b.response.center) for b in bands],
+                              {"units": "um", "long_name": "response centre wavelength"}),
+        "wavelength_min": ("band", [float(b.response.support[0]) for b in bands], {"units": "um"}),
+        "wavelength_max": ("band", [float(b.response.support[1]) for b in bands], {"units": "um"}),
+        "equivalent_width": ("band", [float(b.response.equivalent_width()) for b in bands],
+                             {"units": "um", "long_name": "integral of the response"}),
+        "vector": ("vector", ["east", "north", "up"]),
+    }
+    coords.update(_pixel_coordinates(setup, shape))
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs = {
+        "Conventions": "CF-1.10",
+        "title": f"radscene render of {scene.name!r}, observer {setup.name!r}",
+        "source": f"radscene {__version__}",
+        "history": f"{_dt.datetime.now(_dt.UTC).isoformat(timespec='seconds')} rendered by radscene {__version__}",
+        "scene": scene.name,
+        "observer": setup.name,
+        "observer_type": setup.kind,
+        "time": scene.time.astimezone(_dt.UTC).isoformat() if scene.time else "",
+        "sun_zenith_deg": sun.zenith,
+        "sun_azimuth_deg": sun.azimuth,
+        "earth_sun_distance_au": sun.distance,
+        "atmosphere": scene.atmosphere.name,
+        "latitude_deg": scene.location.latitude,
+        "longitude_deg": scene.location.longitude,
+        "supersample": setup.supersample,
+        "sky_samples": scene.settings.sky_samples,
+        "render_seconds": round(elapsed, 3),
+        "band_radiance_definition": "integral of S(lambda) L(lambda) d lambda with the band "
+                                    "response S (peak 1 for rectangular and Gaussian bands)",
+    }
+    return ds
+
+
+def _pixel_coordinates(setup, shape) -> dict:
+    ny, nx = shape
+    if setup.kind == "orthographic" and getattr(setup.camera, "zenith", 0.0) == 0.0:
+        x, y = setup.camera.pixel_coordinates()
+        x = np.asarray(x)
+        y = np.asarray(y)
+        xs = x[0] if x.ndim == 2 else x
+        ys = y[:, 0] if y.ndim == 2 else y
+        return {"x": ("x", xs, {"units": "m", "long_name": "easting in the scene frame",
+                                "axis": "X"}),
+                "y": ("y", ys, {"units": "m", "long_name": "northing in the scene frame",
+                                "axis": "Y"})}
+    return {"x": ("x", np.arange(nx), {"long_name": "pixel column"}),
+            "y": ("y", np.arange(ny), {"long_name": "pixel row"})}

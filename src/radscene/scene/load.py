@@ -1,0 +1,563 @@
+"""Load a scene file: validate it, resolve materials, files and geometry into a :class:`Scene`.
+
+Every problem is raised as one :class:`~radscene.errors.ConfigError` naming the key path
+(``objects[2].material``) and what would be accepted.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from pydantic import ValidationError
+
+from radscene.atmosphere import Atmosphere, make_atmosphere
+from radscene.errors import ConfigError
+from radscene.scene import schema
+
+__all__ = ["Scene", "SceneObject", "Band", "ObserverSetup", "load_scene", "read_scene_file"]
+
+
+@dataclass
+class SceneObject:
+    """One ray-traceable object: its mesh and per-face material and temperature.
+
+    Attributes
+    ----------
+    name : str
+    mesh : radscene.geometry.Mesh
+    face_material : numpy.ndarray
+        Index into ``Scene.materials`` for each face, shape (n_faces,).
+    face_temperature : numpy.ndarray
+        Surface temperature of each face [K], shape (n_faces,).
+    textures : dict
+        ``{"reflectance"|"emissivity"|"transmittance": Texture}`` multipliers.
+    is_terrain : bool
+    """
+
+    name: str
+    mesh: Any
+    face_material: np.ndarray
+    face_temperature: np.ndarray
+    textures: dict = field(default_factory=dict)
+    is_terrain: bool = False
+
+
+@dataclass
+class Band:
+    """A named spectral band and its response."""
+
+    name: str
+    response: Any
+
+
+@dataclass
+class ObserverSetup:
+    """A camera, its supersampling and the bands it records."""
+
+    name: str
+    camera: Any
+    supersample: int
+    bands: list[str]
+    kind: str
+
+
+@dataclass
+class Scene:
+    """A loaded, validated scene: everything the renderer needs, nothing computed yet."""
+
+    name: str
+    description: str
+    spec: schema.SceneSpec
+    objects: list[SceneObject]
+    materials: list
+    material_names: list[str]
+    bands: list[Band]
+    observers: list[ObserverSetup]
+    atmosphere: Atmosphere
+    location: schema.Location
+    time: _dt.datetime | None
+    sun: schema.SunOverride | None
+    settings: schema.RenderSettings
+    heightfield: Any = None
+    source: Path | None = None
+
+    def band(self, name: str) -> Band:
+        for band in self.bands:
+            if band.name == name:
+                return band
+        raise ConfigError(f"unknown band {name!r}; known: {', '.join(b.name for b in self.bands)}")
+
+    def observer(self, name: str) -> ObserverSetup:
+        for obs in self.observers:
+            if obs.name == name:
+                return obs
+        raise ConfigError(
+            f"unknown observer {name!r}; known: {', '.join(o.name for o in self.observers)}"
+        )
+
+
+# ---------------------------------------------------------------------------------------------
+
+
+def _key(loc: tuple) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        elif isinstance(part, str) and part.endswith("]") is False and part in (
+            "procedural", "dem", "box", "cylinder", "plate", "mesh", "orthographic",
+            "perspective", "file", "noise", "function-after", "function-before",
+        ):
+            continue  # discriminator tags pydantic inserts into the path
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
+def _validation_error(err: ValidationError) -> ConfigError:
+    first = err.errors()[0]
+    msg = first.get("msg", "invalid value")
+    msg = msg.removeprefix("Value error, ")
+    if first.get("type") == "extra_forbidden":
+        msg = "unknown key"
+    elif first.get("type") == "missing":
+        msg = "required key is missing"
+    elif first.get("type") == "union_tag_invalid":
+        ctx = first.get("ctx", {})
+        msg = f"unknown type {ctx.get('tag')!r}; known: {ctx.get('expected_tags')}"
+    elif first.get("type") == "union_tag_not_found":
+        msg = f"a 'type' key is needed, one of: {first.get('ctx', {}).get('discriminator')}"
+    more = len(err.errors()) - 1
+    if more:
+        msg += f" (and {more} more problem{'s' if more > 1 else ''})"
+    return ConfigError(msg, key=_key(first.get("loc", ())) or "scene")
+
+
+def read_scene_file(path: str | Path) -> dict:
+    """Read a scene YAML file into a dict, with clear errors for missing, empty or odd files."""
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"no such scene file: {path}", key="scene")
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as err:
+        mark = getattr(err, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(err, "problem", None) or str(err).splitlines()[0]
+        raise ConfigError(f"malformed YAML{where}: {problem}", key=str(path)) from None
+    if data is None:
+        raise ConfigError("the scene file is empty; expected a mapping with environment, "
+                          "bands, observers and terrain or objects", key=str(path))
+    if not isinstance(data, dict):
+        raise ConfigError(
+            f"a scene is a mapping (key: value), not a {type(data).__name__}", key=str(path)
+        )
+    return data
+
+
+def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) -> Scene:
+    """Load and validate a scene.
+
+    Parameters
+    ----------
+    source : str, pathlib.Path or dict
+        A scene YAML file or the same content as a dict.
+    base_dir : str or pathlib.Path, optional
+        Folder that relative file names are resolved against; by default the scene file's
+        folder (or the working directory for a dict).
+
+    Returns
+    -------
+    Scene
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        With the key path of the first problem and what would be accepted.
+    """
+    path = None
+    if isinstance(source, dict):
+        data = source
+    elif isinstance(source, (str, Path)):
+        path = Path(source)
+        data = read_scene_file(path)
+    else:
+        raise ConfigError(
+            f"a scene is a file path or a mapping, not a {type(source).__name__}", key="scene"
+        )
+    base = Path(base_dir) if base_dir is not None else (path.parent if path else Path.cwd())
+    try:
+        spec = schema.SceneSpec.model_validate(data)
+    except ValidationError as err:
+        raise _validation_error(err) from None
+    return _Resolver(spec, base, path).resolve()
+
+
+class _Resolver:
+    def __init__(self, spec: schema.SceneSpec, base: Path, path: Path | None):
+        self.spec = spec
+        self.base = base
+        self.path = path
+        self.materials: list = []
+        self.material_names: list[str] = []
+
+    # -- helpers ---------------------------------------------------------------------------
+    def file(self, name: str, key: str) -> Path:
+        p = Path(name)
+        if not p.is_absolute():
+            p = self.base / p
+        if not p.is_file():
+            raise ConfigError(f"file not found: {p}", key=key)
+        return p
+
+    def material_index(self, name: str, key: str) -> int:
+        from radscene.materials import get_material, list_materials
+
+        lname = name.lower()
+        if lname in self.material_names:
+            return self.material_names.index(lname)
+        custom = {k.lower(): v for k, v in self.spec.materials.items()}
+        if lname in custom:
+            mspec = custom[lname]
+            from radscene.materials import Material
+
+            try:
+                material = Material.create(
+                    lname,
+                    reflectance=mspec.reflectance,
+                    emissivity=mspec.emissivity,
+                    transmittance=mspec.transmittance,
+                    specular_reflectance=mspec.specular_reflectance,
+                    specular_exponent=mspec.specular_exponent,
+                    source=mspec.source,
+                    description=mspec.description,
+                    base_dir=self.base,
+                )
+            except ConfigError as err:
+                raise ConfigError(err.message, key=f"materials.{name}") from None
+        else:
+            try:
+                material = get_material(lname)
+            except ConfigError:
+                known = sorted(set(list_materials()) | set(custom))
+                raise ConfigError(
+                    f"unknown material {name!r}; known: {', '.join(known)}", key=key
+                ) from None
+        self.materials.append(material)
+        self.material_names.append(lname)
+        return len(self.materials) - 1
+
+    def textures(self, tset: schema.TextureSet, key: str) -> dict:
+        from radscene.materials import Texture
+
+        out = {}
+        for kind in ("reflectance", "emissivity", "transmittance"):
+            tspec = getattr(tset, kind)
+            if tspec is None:
+                continue
+            k = f"{key}.textures.{kind}"
+            try:
+                out[kind] = Texture.from_image(
+                    self.file(tspec.file, f"{k}.file"),
+                    size=tspec.size,
+                    origin=tspec.origin,
+                    contrast=tspec.contrast,
+                )
+            except ConfigError as err:
+                raise ConfigError(err.message, key=err.key if err.key and err.key.startswith(k) else k) from None
+        return out
+
+    # -- parts -----------------------------------------------------------------------------
+    def terrain(self):
+        from radscene.geometry import Heightfield, procedural_terrain
+
+        tspec = self.spec.terrain
+        water = None
+        if isinstance(tspec, schema.ProceduralTerrain):
+            # the generator centres its grid on (0, 0); the scene puts its south-west corner
+            # at `origin`
+            spacing = tspec.spacing
+            shift = tuple(o + 0.5 * round(s / spacing) * spacing
+                          for o, s in zip(tspec.origin, tspec.size, strict=True))
+            hf, water = procedural_terrain(
+                size=tspec.size,
+                spacing=spacing,
+                relief=tspec.relief,
+                seed=tspec.seed,
+                lakes=[(lk.x - shift[0], lk.y - shift[1], lk.radius, lk.depth)
+                       for lk in tspec.lakes],
+            )
+            hf = Heightfield(hf.elevation, origin=(hf.origin[0] + shift[0], hf.origin[1] + shift[1]),
+                             spacing=hf.spacing)
+        else:
+            try:
+                if tspec.file is not None:
+                    fpath = self.file(tspec.file, "terrain.file")
+                    if fpath.suffix.lower() == ".npy":
+                        if tspec.spacing is None:
+                            raise ConfigError("a .npy DEM needs 'spacing' [m, m]", key="terrain.spacing")
+                        hf = Heightfield(np.load(fpath), origin=tspec.origin, spacing=tspec.spacing)
+                    else:
+                        hf = Heightfield.from_geotiff(fpath)
+                else:
+                    hf = Heightfield(
+                        np.asarray(tspec.elevation, dtype=float),
+                        origin=tspec.origin,
+                        spacing=tspec.spacing,
+                    )
+            except ConfigError as err:
+                key = "terrain.file" if tspec.file is not None else "terrain.elevation"
+                raise ConfigError(err.message, key=err.key if err.key and err.key.startswith("terrain") else key) from None
+        mesh = hf.to_mesh(name="terrain")
+        ny, nx = hf.elevation.shape
+        # sample classes per grid node, then per face by the face's first vertex cell
+        classes = self._terrain_classes(tspec, hf)
+        if water is not None and np.any(water):
+            widx = self.material_index(tspec.water_material, "terrain.water_material")
+            classes = np.where(water, widx, classes)
+        face_material = self._face_values(mesh, hf, classes)
+        face_temperature = np.full(len(face_material), tspec.temperature)
+        for mname, temp in tspec.temperatures.items():
+            idx = self.material_index(mname, f"terrain.temperatures.{mname}")
+            face_temperature[face_material == idx] = temp
+        if tspec.temperature_map is not None:
+            key = "terrain.temperature_map"
+            image = _read_image(self.file(tspec.temperature_map, key), key).astype(float)
+            if not np.all(np.isfinite(image)) or np.any(image <= 0):
+                raise ConfigError("temperatures must be finite and > 0 K everywhere", key=key)
+            face_temperature = self._face_values(mesh, hf, _resample_nearest(image, (ny, nx)))
+        return hf, SceneObject(
+            name="terrain",
+            mesh=mesh,
+            face_material=face_material,
+            face_temperature=face_temperature,
+            textures=self.textures(tspec.textures, "terrain"),
+            is_terrain=True,
+        )
+
+    def _terrain_classes(self, tspec, hf) -> np.ndarray:
+        ny, nx = hf.elevation.shape
+        mmap = tspec.material_map
+        if mmap is None:
+            return np.full((ny, nx), self.material_index(tspec.material, "terrain.material"))
+        if isinstance(mmap, schema.MaterialMapNoise):
+            from scipy import ndimage
+
+            idx = np.array(
+                [self.material_index(m, f"terrain.material_map.materials[{i}]") for i, m in enumerate(mmap.materials)]
+            )
+            rng = np.random.default_rng(mmap.seed)
+            field_ = ndimage.gaussian_filter(
+                rng.standard_normal((ny, nx)),
+                sigma=(mmap.scale / hf.spacing[1] / 2.0, mmap.scale / hf.spacing[0] / 2.0),
+                mode="wrap",
+            )
+            edges = np.quantile(field_, np.linspace(0, 1, len(idx) + 1)[1:-1])
+            return idx[np.searchsorted(edges, field_)]
+        # classified image resampled by nearest neighbour onto the grid
+        fpath = self.file(mmap.file, "terrain.material_map.file")
+        image = _read_image(fpath, "terrain.material_map.file")
+        if image.dtype.kind == "f":
+            image = np.round(image * 255 if image.max() <= 1.0 else image)
+        image = image.astype(np.int64)
+        lut = {}
+        for value, mname in mmap.classes.items():
+            lut[value] = self.material_index(mname, f"terrain.material_map.classes.{value}")
+        sampled = _resample_nearest(image, (ny, nx))
+        unknown = sorted(set(np.unique(sampled).tolist()) - set(lut))
+        if unknown:
+            raise ConfigError(
+                f"the image holds class values {unknown} that 'classes' does not map; "
+                f"mapped: {sorted(lut)}",
+                key="terrain.material_map.classes",
+            )
+        out = np.empty_like(sampled, dtype=np.int64)
+        for value, idx in lut.items():
+            out[sampled == value] = idx
+        return out
+
+    @staticmethod
+    def _face_values(mesh, hf, grid_values) -> np.ndarray:
+        centroid = mesh.vertices[mesh.faces].mean(axis=1)
+        row, col = hf.cell_index(centroid[:, 0], centroid[:, 1])
+        return np.asarray(grid_values)[row, col]
+
+    def objects(self, hf) -> list:
+        from radscene.geometry import box, cylinder, load_mesh, plate
+
+        out = []
+        for i, ospec in enumerate(self.spec.objects):
+            key = f"objects[{i}]"
+            shape = ospec.shape
+            if shape.type == "box":
+                mesh = box(shape.size)
+            elif shape.type == "cylinder":
+                mesh = cylinder(shape.radius, shape.height, shape.sections)
+            elif shape.type == "plate":
+                mesh = plate(shape.width, shape.length)
+            else:
+                mesh = load_mesh(self.file(shape.file, f"{key}.shape.file"), name=ospec.name)
+                mesh = mesh.transformed(scale=shape.scale)
+            x, y, z = ospec.position
+            if ospec.on_ground and hf is not None:
+                xmin, xmax, ymin, ymax = hf.extent
+                if not (xmin <= x <= xmax and ymin <= y <= ymax):
+                    raise ConfigError(
+                        f"({x:g}, {y:g}) m lies outside the terrain {hf.extent} m; "
+                        "place it inside or set on_ground: false",
+                        key=f"{key}.position",
+                    )
+                z = z + float(hf.height_at(x, y))
+            mesh = mesh.transformed(translation=(x, y, z), rotation=ospec.rotation)
+            mesh.name = ospec.name
+            midx = self.material_index(ospec.material, f"{key}.material")
+            n = len(mesh.faces)
+            out.append(
+                SceneObject(
+                    name=ospec.name,
+                    mesh=mesh,
+                    face_material=np.full(n, midx, dtype=np.int64),
+                    face_temperature=np.full(n, ospec.temperature),
+                    textures=self.textures(ospec.textures, key),
+                )
+            )
+        return out
+
+    def bands(self) -> list[Band]:
+        from radscene.radiometry import GaussianResponse, RectangularResponse, TabulatedResponse
+
+        out = []
+        for i, b in enumerate(self.spec.bands):
+            try:
+                if b.type == "rectangular":
+                    resp = RectangularResponse(b.min, b.max, name=b.name)
+                elif b.type == "gaussian":
+                    resp = GaussianResponse(b.center, b.fwhm, name=b.name)
+                else:
+                    resp = TabulatedResponse.from_file(self.file(b.file, f"bands[{i}].file"), name=b.name)
+            except ConfigError as err:
+                raise ConfigError(err.message, key=f"bands[{i}]") from None
+            out.append(Band(b.name, resp))
+        return out
+
+    def observers(self, band_names: list[str]) -> list[ObserverSetup]:
+        from radscene.platform import OrthographicCamera, PerspectiveCamera
+
+        out = []
+        for i, o in enumerate(self.spec.observers):
+            key = f"observers[{i}]"
+            bands = o.bands if o.bands is not None else list(band_names)
+            for j, bname in enumerate(bands):
+                if bname not in band_names:
+                    raise ConfigError(
+                        f"unknown band {bname!r}; known: {', '.join(band_names)}",
+                        key=f"{key}.bands[{j}]",
+                    )
+            try:
+                if o.type == "orthographic":
+                    cam = OrthographicCamera(
+                        center=o.center, shape=o.shape, gsd=o.gsd, altitude=o.altitude,
+                        zenith=o.zenith, azimuth=o.azimuth,
+                    )
+                else:
+                    cam = PerspectiveCamera(
+                        position=o.position, shape=o.shape, fov=o.fov, look_at=o.look_at,
+                        attitude=o.attitude,
+                    )
+            except ConfigError as err:
+                raise ConfigError(err.message, key=f"{key}.{err.key}" if err.key else key) from None
+            out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type))
+        return out
+
+    def resolve(self) -> Scene:
+        spec = self.spec
+        try:
+            atmosphere = make_atmosphere(spec.environment.atmosphere)
+        except ConfigError as err:
+            key = err.key or ""
+            if key.startswith("atmosphere"):
+                key = "environment." + key
+            raise ConfigError(err.message, key=key or "environment.atmosphere") from None
+        hf, objects = None, []
+        if spec.terrain is not None:
+            hf, terrain_obj = self.terrain()
+            objects.append(terrain_obj)
+        objects.extend(self.objects(hf))
+        bands = self.bands()
+        observers = self.observers([b.name for b in bands])
+        for m_name, material in zip(self.material_names, self.materials, strict=True):
+            lo = min(b.response.support[0] for b in bands)
+            hi = max(b.response.support[1] for b in bands)
+            mlo, mhi = _material_range(material)
+            if lo < mlo or hi > mhi:
+                raise ConfigError(
+                    f"material {m_name!r} is defined over {mlo:g}–{mhi:g} um but the bands "
+                    f"span {lo:g}–{hi:g} um",
+                    key=f"materials.{m_name}",
+                )
+        return Scene(
+            name=spec.name,
+            description=spec.description,
+            spec=spec,
+            objects=objects,
+            materials=self.materials,
+            material_names=self.material_names,
+            bands=bands,
+            observers=observers,
+            atmosphere=atmosphere,
+            location=spec.environment.location,
+            time=spec.environment.time,
+            sun=spec.environment.sun,
+            settings=spec.render,
+            heightfield=hf,
+            source=self.path,
+        )
+
+
+def _material_range(material) -> tuple[float, float]:
+    lo, hi = 0.0, np.inf
+    for spec in (
+        material.diffuse_reflectance,
+        material.specular_reflectance,
+        material.transmittance,
+    ):
+        slo, shi = spec.range
+        if spec.extend == "error":
+            lo, hi = max(lo, slo), min(hi, shi)
+    return lo, hi
+
+
+def _resample_nearest(image: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
+    """Nearest-neighbour resampling of an image covering the terrain extent onto its grid."""
+    ny, nx = shape
+    rows = np.minimum(((np.arange(ny) + 0.5) * image.shape[0] / ny).astype(int), image.shape[0] - 1)
+    cols = np.minimum(((np.arange(nx) + 0.5) * image.shape[1] / nx).astype(int), image.shape[1] - 1)
+    return image[np.ix_(rows, cols)]
+
+
+def _read_image(path: Path, key: str) -> np.ndarray:
+    """Read a single-band image (.npy, GeoTIFF, PNG/JPEG: first channel)."""
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".npy":
+            image = np.load(path)
+        elif suffix in (".tif", ".tiff"):
+            import rioxarray
+
+            image = rioxarray.open_rasterio(path).values[0]
+        else:
+            import matplotlib.image as mpimg
+
+            image = mpimg.imread(path)
+            if image.ndim == 3:
+                image = image[..., 0]
+    except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
+        raise ConfigError(f"cannot read image {path}: {err}", key=key) from None
+    if image.ndim != 2:
+        raise ConfigError(f"a 2-D single-band image is needed, got shape {image.shape}", key=key)
+    return np.asarray(image)

@@ -1,0 +1,346 @@
+"""The scene file schema (pydantic).
+
+A scene file is YAML; this module says what it may hold. Quantities take unit strings
+(``"300 K"``, ``"25 degC"``, ``"10 um"``, ``"500 m"``, ``"30 deg"``) or bare numbers in the
+canonical unit (K, um, m, deg). Swappable parts are type-tagged (``{type: box, ...}``).
+Nothing is computed here: :mod:`radscene.scene.load` validates with these models, then
+resolves materials, files and meshes.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
+
+from radscene.radiometry.units import parse_quantity
+
+__all__ = ["SceneSpec"]
+
+
+def _quantity(kind: str, minimum: float | None = None, exclusive: bool = False):
+    def parse(value: Any) -> float:
+        if isinstance(value, bool):
+            raise ValueError(f"expected a {kind}, got {value!r}")
+        number = float(parse_quantity(value, kind))
+        if minimum is not None and (number <= minimum if exclusive else number < minimum):
+            op = ">" if exclusive else ">="
+            raise ValueError(f"must be {op} {minimum:g} (canonical unit), got {value!r}")
+        return number
+
+    return BeforeValidator(parse)
+
+
+Temperature = Annotated[float, _quantity("temperature", 0.0, exclusive=True)]
+Length = Annotated[float, _quantity("length")]
+PositiveLength = Annotated[float, _quantity("length", 0.0, exclusive=True)]
+Angle = Annotated[float, _quantity("angle")]
+Wavelength = Annotated[float, _quantity("wavelength", 0.0, exclusive=True)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# ---------------------------------------------------------------------------------------------
+# environment
+
+
+class Location(_Model):
+    """A place on the Earth: WGS84 latitude and longitude [deg], altitude of the scene origin [m]."""
+
+    latitude: Annotated[float, Field(ge=-90, le=90)]
+    longitude: Annotated[float, Field(ge=-180, le=360)]
+    altitude: Length = 0.0
+
+
+class SunOverride(_Model):
+    """A sun placed by hand instead of by ephemeris."""
+
+    zenith: Annotated[Angle, Field(ge=0, le=180)]
+    azimuth: Angle = 180.0
+    distance: Annotated[float, Field(gt=0.9, lt=1.1, description="Earth–Sun distance [AU]")] = 1.0
+
+
+class Environment(_Model):
+    location: Location = Location(latitude=0.0, longitude=0.0)
+    time: _dt.datetime | None = None
+    sun: SunOverride | None = None
+    atmosphere: dict[str, Any] = Field(default_factory=lambda: {"type": "none"})
+
+    @field_validator("time")
+    @classmethod
+    def _aware(cls, value):
+        if value is not None and value.tzinfo is None:
+            raise ValueError(
+                "a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z'"
+            )
+        return value
+
+    @model_validator(mode="after")
+    def _sun_or_time(self):
+        if self.time is None and self.sun is None:
+            raise ValueError("give 'time' (the sun follows from place and time) or 'sun'")
+        return self
+
+
+# ---------------------------------------------------------------------------------------------
+# materials and textures
+
+
+class MaterialSpec(_Model):
+    """A user material; see :meth:`radscene.materials.Material.create`."""
+
+    reflectance: Any = None
+    emissivity: Any = None
+    transmittance: Any = 0.0
+    specular_reflectance: Any = 0.0
+    specular_exponent: Annotated[float, Field(ge=0)] = 0.0
+    description: str = ""
+    source: str = "user"
+
+
+class TextureSpec(_Model):
+    """A multiplier image over the ground plane (Δρ, Δε or Δτ)."""
+
+    file: str
+    size: tuple[PositiveLength, PositiveLength]
+    origin: tuple[Length, Length] = (0.0, 0.0)
+    contrast: Annotated[float, Field(ge=0)] | None = None
+
+
+class TextureSet(_Model):
+    reflectance: TextureSpec | None = None
+    emissivity: TextureSpec | None = None
+    transmittance: TextureSpec | None = None
+
+
+# ---------------------------------------------------------------------------------------------
+# terrain
+
+
+class Lake(_Model):
+    x: Length
+    y: Length
+    radius: PositiveLength
+    depth: PositiveLength = 3.0
+
+
+class MaterialMapFile(_Model):
+    """A classified image over the terrain extent: pixel value → material name."""
+
+    type: Literal["file"] = "file"
+    file: str
+    classes: dict[int, str]
+
+
+class MaterialMapNoise(_Model):
+    """Smooth random patches of the listed materials (procedural land cover)."""
+
+    type: Literal["noise"] = "noise"
+    materials: list[str] = Field(min_length=1)
+    scale: PositiveLength = 100.0
+    seed: int = 0
+
+
+class _TerrainCommon(_Model):
+    origin: tuple[Length, Length] = (0.0, 0.0)
+    material: str = "dry_grass"
+    material_map: Annotated[MaterialMapFile | MaterialMapNoise, Field(discriminator="type")] | None = None
+    water_material: str = "water"
+    temperature: Temperature = 293.15
+    temperatures: dict[str, Temperature] = Field(default_factory=dict)
+    temperature_map: str | None = Field(
+        None, description="image of surface temperature [K] over the terrain extent"
+    )
+    textures: TextureSet = TextureSet()
+
+
+class ProceduralTerrain(_TerrainCommon):
+    """Fractal hills with optional lakes, generated from a seed."""
+
+    type: Literal["procedural"]
+    size: tuple[PositiveLength, PositiveLength] = (1000.0, 1000.0)
+    spacing: PositiveLength = 5.0
+    relief: Annotated[Length, Field(ge=0)] = 40.0
+    seed: int = 0
+    lakes: list[Lake] = Field(default_factory=list)
+
+
+class DemTerrain(_TerrainCommon):
+    """A digital elevation model from a GeoTIFF/.npy file or an inline array."""
+
+    type: Literal["dem"]
+    file: str | None = None
+    elevation: list[list[float]] | None = None
+    spacing: tuple[PositiveLength, PositiveLength] | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (self.file is None) == (self.elevation is None):
+            raise ValueError("give exactly one of 'file' or 'elevation'")
+        if self.elevation is not None and self.spacing is None:
+            raise ValueError("an inline 'elevation' needs 'spacing' [m, m]")
+        return self
+
+
+Terrain = Annotated[ProceduralTerrain | DemTerrain, Field(discriminator="type")]
+
+
+# ---------------------------------------------------------------------------------------------
+# objects
+
+
+class BoxShape(_Model):
+    type: Literal["box"]
+    size: tuple[PositiveLength, PositiveLength, PositiveLength]
+
+
+class CylinderShape(_Model):
+    type: Literal["cylinder"]
+    radius: PositiveLength
+    height: PositiveLength
+    sections: Annotated[int, Field(ge=3)] = 32
+
+
+class PlateShape(_Model):
+    type: Literal["plate"]
+    width: PositiveLength
+    length: PositiveLength
+
+
+class MeshShape(_Model):
+    type: Literal["mesh"]
+    file: str
+    scale: Annotated[float, Field(gt=0)] = 1.0
+
+
+Shape = Annotated[BoxShape | CylinderShape | PlateShape | MeshShape, Field(discriminator="type")]
+
+
+class ObjectSpec(_Model):
+    """An object placed in the scene."""
+
+    name: str
+    shape: Shape
+    position: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    on_ground: bool = Field(
+        True, description="z of position is height above the terrain at (x, y), not altitude"
+    )
+    rotation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
+    material: str
+    temperature: Temperature = 293.15
+    textures: TextureSet = TextureSet()
+
+
+# ---------------------------------------------------------------------------------------------
+# bands and observers
+
+
+class BandSpec(_Model):
+    """A spectral band: a rectangular, Gaussian or tabulated response.
+
+    Shorthands: ``{name, min, max}`` is rectangular, ``{name, center, fwhm}`` Gaussian,
+    ``{name, file}`` tabulated.
+    """
+
+    name: str
+    type: Literal["rectangular", "gaussian", "tabulated"] | None = None
+    min: Wavelength | None = None
+    max: Wavelength | None = None
+    center: Wavelength | None = None
+    fwhm: Wavelength | None = None
+    file: str | None = None
+
+    @model_validator(mode="after")
+    def _complete(self):
+        kind = self.type or (
+            "rectangular"
+            if self.min is not None or self.max is not None
+            else "gaussian"
+            if self.center is not None or self.fwhm is not None
+            else "tabulated"
+            if self.file is not None
+            else None
+        )
+        need = {"rectangular": ("min", "max"), "gaussian": ("center", "fwhm"), "tabulated": ("file",)}
+        if kind is None:
+            raise ValueError("give min and max (rectangular), center and fwhm (gaussian) or file")
+        missing = [k for k in need[kind] if getattr(self, k) is None]
+        if missing:
+            raise ValueError(f"a {kind} band needs {', '.join(need[kind])}; missing {', '.join(missing)}")
+        if kind == "rectangular" and self.max <= self.min:
+            raise ValueError(f"max ({self.max:g} um) must exceed min ({self.min:g} um)")
+        object.__setattr__(self, "type", kind)
+        return self
+
+
+class _ObserverCommon(_Model):
+    name: str
+    shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
+    supersample: Annotated[int, Field(ge=1, le=16)] = 1
+    bands: list[str] | None = None
+
+
+class OrthographicSpec(_ObserverCommon):
+    """A map camera looking down (or along zenith/azimuth) with parallel rays."""
+
+    type: Literal["orthographic"]
+    center: tuple[Length, Length]
+    gsd: PositiveLength
+    altitude: PositiveLength = 10000.0
+    zenith: Annotated[Angle, Field(ge=0, lt=90)] = 0.0
+    azimuth: Angle = 0.0
+
+
+class PerspectiveSpec(_ObserverCommon):
+    """A pinhole frame camera."""
+
+    type: Literal["perspective"]
+    position: tuple[Length, Length, Length]
+    look_at: tuple[Length, Length, Length] | None = None
+    attitude: tuple[Angle, Angle, Angle] | None = None
+    fov: Annotated[Angle, Field(gt=0, lt=180)] = 45.0
+
+    @model_validator(mode="after")
+    def _pointing(self):
+        if (self.look_at is None) == (self.attitude is None):
+            raise ValueError("give exactly one of 'look_at' [x, y, z] or 'attitude' [yaw, pitch, roll]")
+        return self
+
+
+Observer = Annotated[OrthographicSpec | PerspectiveSpec, Field(discriminator="type")]
+
+
+class RenderSettings(_Model):
+    sky_samples: Annotated[int, Field(ge=1, le=4096)] = 16
+    specular_samples: Annotated[int, Field(ge=1, le=4096)] = 16
+    shadows: bool = True
+    seed: int = 0
+
+
+class SceneSpec(_Model):
+    """The whole scene file."""
+
+    name: str = "scene"
+    description: str = ""
+    environment: Environment
+    materials: dict[str, MaterialSpec] = Field(default_factory=dict)
+    terrain: Terrain | None = None
+    objects: list[ObjectSpec] = Field(default_factory=list)
+    bands: list[BandSpec] = Field(min_length=1)
+    observers: list[Observer] = Field(min_length=1)
+    render: RenderSettings = RenderSettings()
+
+    @model_validator(mode="after")
+    def _unique_names(self):
+        for label, items in (("bands", self.bands), ("observers", self.observers), ("objects", self.objects)):
+            seen = set()
+            for item in items:
+                if item.name in seen:
+                    raise ValueError(f"{label}: the name {item.name!r} is used twice")
+                seen.add(item.name)
+        if self.terrain is None and not self.objects:
+            raise ValueError("the scene has neither terrain nor objects")
+        return self

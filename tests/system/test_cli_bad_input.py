@@ -1,0 +1,136 @@
+"""Bad input on the command line: one clear line naming the key, exit code 2, nothing written."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from radscene.cli import app
+
+GOOD = textwrap.dedent("""
+    name: tiny
+    environment:
+      sun: {zenith: 30 deg, azimuth: 180 deg}
+      atmosphere: {type: none}
+    materials:
+      paint: {reflectance: 0.4}
+    objects:
+      - {name: plate, shape: {type: plate, width: 50 m, length: 50 m}, material: paint,
+         temperature: 300 K}
+    bands:
+      - {name: vis, min: 0.5 um, max: 0.6 um}
+      - {name: lwir, min: 8 um, max: 12 um}
+    observers:
+      - {name: nadir, type: orthographic, center: [0, 0], gsd: 1 m, shape: [4, 4]}
+""")
+
+runner = CliRunner()
+
+
+def _run(tmp_path: Path, text: str | None, *extra):
+    scene = tmp_path / "scene.yaml"
+    if text is not None:
+        scene.write_text(text)
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["render", str(scene), "-o", str(out), *extra])
+    return result, out
+
+
+def test_good_scene_renders_and_writes(tmp_path):
+    result, out = _run(tmp_path, GOOD)
+    assert result.exit_code == 0, result.output
+    assert (out / "nadir.nc").is_file()
+    assert (out / "nadir" / "vis.png").is_file()
+    assert (out / "nadir_terms.png").is_file()
+
+
+BAD = {
+    "missing mesh file": (
+        GOOD.replace("shape: {type: plate, width: 50 m, length: 50 m}",
+                     "shape: {type: mesh, file: nowhere.obj}"),
+        "objects[0].shape.file"),
+    "reflectance above one": (GOOD.replace("reflectance: 0.4", "reflectance: 1.4"),
+                              "materials.paint"),
+    "negative temperature": (GOOD.replace("temperature: 300 K", "temperature: -5 K"),
+                             "objects[0].temperature"),
+    "unknown material": (GOOD.replace("material: paint", "material: asfalt"),
+                         "objects[0].material"),
+    "unknown band": (GOOD.replace("shape: [4, 4]}", "shape: [4, 4], bands: [swir]}"),
+                     "observers[0].bands[0]"),
+    "unknown unit": (GOOD.replace("gsd: 1 m", "gsd: 1 furlong"), "observers[0].gsd"),
+    "malformed yaml": ("name: [unclosed\nbands: {", "malformed YAML"),
+    "empty yaml": ("", "empty"),
+    "a list": ("- a\n- b\n", "mapping"),
+    "unknown atmosphere": (GOOD.replace("type: none", "type: modtran9"),
+                           "environment.atmosphere.type"),
+    "naive time": (GOOD.replace("sun: {zenith: 30 deg, azimuth: 180 deg}",
+                                "time: '2026-01-01T12:00:00'"), "environment.time"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(tmp_path, case):
+    text, expected = BAD[case]
+    result, out = _run(tmp_path, text)
+    assert result.exit_code == 2, result.output
+    message = result.output.strip()
+    assert expected in message
+    assert "Traceback" not in message
+    assert len(message.splitlines()) == 1, message
+    assert not out.exists()
+
+
+def test_dem_with_nan_holes_is_refused(tmp_path):
+    import numpy as np
+
+    dem = np.zeros((10, 10))
+    dem[3, 4] = np.nan
+    np.save(tmp_path / "dem.npy", dem)
+    start = GOOD.index("objects:")
+    end = GOOD.index("bands:")
+    text = (GOOD[:start]
+            + "terrain: {type: dem, file: dem.npy, spacing: [10 m, 10 m], material: paint}\n"
+            + GOOD[end:])
+    result, out = _run(tmp_path, text)
+    assert result.exit_code == 2, result.output
+    assert "terrain" in result.output and "NaN" in result.output
+    assert not out.exists()
+
+
+def test_missing_scene_file(tmp_path):
+    result, out = _run(tmp_path, None)
+    assert result.exit_code == 2
+    assert "no such scene file" in result.output
+
+
+def test_check_command_and_version(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(GOOD)
+    result = runner.invoke(app, ["check", str(scene)])
+    assert result.exit_code == 0, result.output
+    assert "valid" in result.output and "2 faces" not in result.output
+    result = runner.invoke(app, ["--version"])
+    assert result.exit_code == 0 and result.output.startswith("radscene ")
+
+
+def test_examples_lists_and_copies(tmp_path):
+    result = runner.invoke(app, ["examples"])
+    assert result.exit_code == 0 and "demo" in result.output
+    result = runner.invoke(app, ["examples", "demo", "--copy", str(tmp_path)])
+    assert result.exit_code == 0
+    assert (tmp_path / "demo.yaml").is_file()
+    result = runner.invoke(app, ["examples", "nosuch"])
+    assert result.exit_code == 2
+
+
+def test_console_script_exit_code_is_2():
+    """The installed entry point, run as a process, exits 2 on a bad scene."""
+    proc = subprocess.run([sys.executable, "-m", "radscene", "check", "/nonexistent.yaml"],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
