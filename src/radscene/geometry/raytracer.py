@@ -167,6 +167,11 @@ class RayTracer:
         """``(min (3,), max (3,))`` of the vertices of all meshes with faces, world frame [m]."""
         return self._bounds[0].copy(), self._bounds[1].copy()
 
+    @property
+    def center(self) -> np.ndarray:
+        """Origin of the tracer's local float32 frame in world coordinates [m]."""
+        return self._center.copy()
+
     # -- clipping ---------------------------------------------------------------------------
 
     def _clip(self, o, d):
@@ -320,6 +325,30 @@ class RayTracer:
             dists = (t_end - t_in).astype(np.float32)
             res = self._scene.run(start, direction, dists=dists, query="OCCLUDED")
             out[sl.start + traced] = res >= 0
+
+        self._run_chunks(n, work)
+        return out
+
+    def occluded_local(self, origins, directions) -> np.ndarray:
+        """Occlusion of rays already in the local frame: the fast path for secondary rays.
+
+        For rays the caller generates itself (shadow, sky and lobe fans from hit points):
+        ``origins`` are world points minus :attr:`center`, and origins and directions are
+        C-contiguous float32 ``(N, 3)``, finite, with unit directions and origins near the
+        scene. Nothing is checked or clipped; rays look to infinity.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) bool.
+        """
+        n = len(origins)
+        out = np.zeros(n, dtype=bool)
+        if self._empty or n == 0:
+            return out
+
+        def work(sl):
+            out[sl] = self._scene.run(origins[sl], directions[sl], query="OCCLUDED") >= 0
 
         self._run_chunks(n, work)
         return out

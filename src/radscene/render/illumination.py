@@ -11,27 +11,46 @@ import numpy as np
 
 from radscene.atmosphere import zenith_hat_weights
 
-__all__ = ["stratified_square", "cast_shadow", "sky_fractions", "lobe_sky_fractions"]
+__all__ = [
+    "stratified_pattern",
+    "stratified_square",
+    "cast_shadow",
+    "sky_fractions",
+    "lobe_sky_fractions",
+    "sky_fractions_reference",
+    "lobe_sky_fractions_reference",
+]
+
+
+def stratified_pattern(n_samples: int) -> np.ndarray:
+    """A stratified pattern of ``n_samples`` points on the unit square, shape (M, 2).
+
+    A square number of samples gets one point at the centre of each cell of a regular grid;
+    otherwise the first coordinate is stratified and the second follows the golden-ratio
+    sequence.
+    """
+    side = int(np.floor(np.sqrt(n_samples)))
+    if side * side == n_samples:
+        i, j = np.divmod(np.arange(n_samples), side)
+        return np.stack([(i + 0.5) / side, (j + 0.5) / side], axis=1)
+    k = np.arange(n_samples)
+    return np.stack([(k + 0.5) / n_samples, (k * 0.6180339887498949) % 1.0], axis=1)
 
 
 def stratified_square(n_points: int, n_samples: int, rng: np.random.Generator):
-    """Stratified points on the unit square, rotated independently for each of ``n_points``.
+    """The stratified pattern, rotated independently for each of ``n_points`` (Cranley–Patterson).
+
+    Draws ``rng.random((n_points, 2))`` once, as the compiled fans do.
 
     Returns
     -------
     u1, u2 : numpy.ndarray
         Shape (n_points, n_samples) in [0, 1).
     """
-    side = int(np.floor(np.sqrt(n_samples)))
-    if side * side == n_samples:
-        i, j = np.divmod(np.arange(n_samples), side)
-        base1, base2 = (i + 0.5) / side, (j + 0.5) / side
-    else:  # stratify the first coordinate, golden-ratio sequence on the second
-        k = np.arange(n_samples)
-        base1, base2 = (k + 0.5) / n_samples, (k * 0.6180339887498949) % 1.0
+    base = stratified_pattern(n_samples)
     shift = rng.random((n_points, 2))
-    u1 = (base1[None, :] + shift[:, :1]) % 1.0
-    u2 = (base2[None, :] + shift[:, 1:]) % 1.0
+    u1 = (base[None, :, 0] + shift[:, :1]) % 1.0
+    u2 = (base[None, :, 1] + shift[:, 1:]) % 1.0
     return u1, u2
 
 
@@ -64,7 +83,7 @@ def _visible_fractions(tracer, origins, directions, weights, zenith_nodes):
     return np.einsum("nm,nmk->nk", visible * weights, hats) / m
 
 
-def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
+def sky_fractions_reference(tracer, origins, normals, n_samples, zenith_nodes, rng):
     """Cosine-weighted visible-sky fractions F_k per sky zenith node.
 
     F_k = (1/π) ∫_{visible sky} h_k(ω) cos θ dω, estimated with ``n_samples`` cosine-
@@ -87,7 +106,8 @@ def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
     return _visible_fractions(tracer, origins, directions, 1.0, zenith_nodes)
 
 
-def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zenith_nodes, rng):
+def lobe_sky_fractions_reference(tracer, origins, normals, axes, exponents, n_samples,
+                                 zenith_nodes, rng):
     """Visible-sky fractions G_k under the Phong lobe about ``axes``.
 
     Directions are drawn from the lobe's own distribution (n+1)/(2π) cosⁿ α, so G_k is the
@@ -110,3 +130,68 @@ def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zen
     directions, _ = phong.sample(axis, expo, u1, u2)
     above_surface = np.einsum("nmc,nc->nm", directions, normals) > 0.0
     return _visible_fractions(tracer, origins, directions, above_surface, zenith_nodes)
+
+
+def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes, rng,
+                   check_normal):
+    from radscene.render import kernels
+
+    n = len(origins)
+    nodes = np.asarray(zenith_nodes, dtype=float)
+    out = np.zeros((n, nodes.size))
+    if n == 0:
+        return out
+    base = stratified_pattern(n_samples)
+    shift = rng.random((n, 2))
+    o32, d32 = kernels.empty_fan(n * n_samples)
+    pos = np.ascontiguousarray(origins, dtype=np.float64)
+    nrm = np.ascontiguousarray(normals, dtype=np.float64)
+    fan(pos, nrm, *extra, tracer.center, 0.0, shift, base, o32, d32)
+    occluded = tracer.occluded_local(o32, d32)
+    kernels.fold_fractions(occluded, d32, nrm, check_normal, nodes, n_samples, out)
+    return out
+
+
+def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
+    """Cosine-weighted visible-sky fractions F_k per sky zenith node (compiled fan).
+
+    Same estimator and the same random numbers as :func:`sky_fractions_reference`: F_k =
+    (1/π) ∫_{visible sky} h_k(ω) cos θ dω from ``n_samples`` stratified cosine-distributed
+    directions per point; directions below the horizon never count as sky.
+
+    Parameters
+    ----------
+    tracer : radscene.geometry.RayTracer
+    origins : (N, 3) ray origins, already offset from the surface [m]
+    normals : (N, 3) unit normals
+    n_samples : int
+    zenith_nodes : (K,) sky zenith nodes [deg]
+    rng : numpy.random.Generator
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N, K) [-].
+    """
+    from radscene.render import kernels
+
+    return _fan_fractions(tracer, kernels.cosine_fan, origins, normals, (), n_samples,
+                          zenith_nodes, rng, False)
+
+
+def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zenith_nodes, rng):
+    """Visible-sky fractions G_k under the Phong lobe about ``axes`` (compiled fan).
+
+    Same estimator and random numbers as :func:`lobe_sky_fractions_reference`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (N, K) [-].
+    """
+    from radscene.render import kernels
+
+    extra = (np.ascontiguousarray(axes, dtype=np.float64),
+             np.ascontiguousarray(exponents, dtype=np.float64))
+    return _fan_fractions(tracer, kernels.lobe_fan, origins, normals, extra, n_samples,
+                          zenith_nodes, rng, True)

@@ -153,6 +153,8 @@ class _BandSetup:
 
 def _gather(table, material, nodes):
     """Σ_j w_j table[m, :, idx_j, ...] for each sample: (N, n_b, ...)."""
+    if table.shape[2] == 1:  # one path node: a plain take along the material axis
+        return np.take(table[:, :, 0], material, axis=0)
     out = 0.0
     for j in range(nodes.index.shape[1]):
         out = out + nodes.weight[:, j].reshape((-1,) + (1,) * (table.ndim - 2)) * (

@@ -1,0 +1,143 @@
+"""Compiled kernels for the secondary-ray fans (numba).
+
+Generating 16 sky rays for each of a million hit points is as costly as tracing them when done
+with numpy temporaries; these kernels write the float32 rays Embree takes directly, in the ray
+tracer's local frame, and fold the visibility back into per-point fractions. Their plain numpy
+counterparts in :mod:`radscene.render.illumination` (``*_reference``) are the oracle they are
+tested against.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+__all__ = ["cosine_fan", "lobe_fan", "fold_fractions"]
+
+_TWO_PI = 2.0 * math.pi
+
+
+@numba.njit(inline="always")
+def _basis(nx, ny, nz):
+    # Duff et al. (2017), JCGT 6(1): branchless orthonormal basis about (nx, ny, nz)
+    sign = 1.0 if nz >= 0.0 else -1.0
+    a = -1.0 / (sign + nz)
+    b = nx * ny * a
+    return (1.0 + sign * nx * nx * a, sign * b, -sign * nx,
+            b, sign + ny * ny * a, -ny)
+
+
+@numba.njit(parallel=True, cache=True)
+def cosine_fan(position, normal, center, epsilon, shift, base, origins, directions):
+    """Cosine-distributed directions about each normal, from offset points, as float32 rays.
+
+    Parameters
+    ----------
+    position, normal : (N, 3) float64 — hit points [m] and unit normals
+    center : (3,) float64 — the ray tracer's local-frame origin [m]
+    epsilon : float — offset of ray origins along the normal [m]
+    shift : (N, 2) float64 — per-point Cranley–Patterson rotation in [0, 1)
+    base : (M, 2) float64 — stratified pattern in [0, 1)
+    origins, directions : (N*M, 3) float32 — written: local-frame origins, unit directions
+    """
+    n = position.shape[0]
+    m = base.shape[0]
+    for i in numba.prange(n):
+        nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
+        tx, ty, tz, bx, by, bz = _basis(nx, ny, nz)
+        ox = position[i, 0] + epsilon * nx - center[0]
+        oy = position[i, 1] + epsilon * ny - center[1]
+        oz = position[i, 2] + epsilon * nz - center[2]
+        for j in range(m):
+            u1 = base[j, 0] + shift[i, 0]
+            u1 = u1 - 1.0 if u1 >= 1.0 else u1
+            u2 = base[j, 1] + shift[i, 1]
+            u2 = u2 - 1.0 if u2 >= 1.0 else u2
+            r = math.sqrt(u1)
+            phi = _TWO_PI * u2
+            lx, ly, lz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(0.0, 1.0 - u1))
+            k = i * m + j
+            origins[k, 0], origins[k, 1], origins[k, 2] = ox, oy, oz
+            directions[k, 0] = lx * tx + ly * bx + lz * nx
+            directions[k, 1] = lx * ty + ly * by + lz * ny
+            directions[k, 2] = lx * tz + ly * bz + lz * nz
+
+
+@numba.njit(parallel=True, cache=True)
+def lobe_fan(position, normal, axis, exponent, center, epsilon, shift, base, origins, directions):
+    """Directions distributed as the Phong lobe (n+1)/(2π) cosⁿ α about ``axis``.
+
+    Parameters as :func:`cosine_fan`, plus ``axis`` (N, 3) unit lobe axes and ``exponent``
+    (N,) lobe exponents n.
+    """
+    n = position.shape[0]
+    m = base.shape[0]
+    for i in numba.prange(n):
+        ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
+        tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
+        ox = position[i, 0] + epsilon * normal[i, 0] - center[0]
+        oy = position[i, 1] + epsilon * normal[i, 1] - center[1]
+        oz = position[i, 2] + epsilon * normal[i, 2] - center[2]
+        power = 1.0 / (exponent[i] + 1.0)
+        for j in range(m):
+            u1 = base[j, 0] + shift[i, 0]
+            u1 = u1 - 1.0 if u1 >= 1.0 else u1
+            u2 = base[j, 1] + shift[i, 1]
+            u2 = u2 - 1.0 if u2 >= 1.0 else u2
+            cos_a = u1**power
+            sin_a = math.sqrt(max(0.0, 1.0 - cos_a * cos_a))
+            phi = _TWO_PI * u2
+            lx, ly = sin_a * math.cos(phi), sin_a * math.sin(phi)
+            k = i * m + j
+            origins[k, 0], origins[k, 1], origins[k, 2] = ox, oy, oz
+            directions[k, 0] = lx * tx + ly * bx + cos_a * ax
+            directions[k, 1] = lx * ty + ly * by + cos_a * ay
+            directions[k, 2] = lx * tz + ly * bz + cos_a * az
+
+
+@numba.njit(parallel=True, cache=True)
+def fold_fractions(occluded, directions, normal, check_normal, nodes, n_samples, out):
+    """Per-point mean of visibility × hat_k(zenith) over its fan; writes ``out`` (N, K).
+
+    A direction counts as sky when it is unoccluded and above the horizon (and, with
+    ``check_normal``, above the surface).
+    """
+    n = out.shape[0]
+    k_nodes = nodes.shape[0]
+    for i in numba.prange(n):
+        for k in range(k_nodes):
+            out[i, k] = 0.0
+        for j in range(n_samples):
+            r = i * n_samples + j
+            dz = directions[r, 2]
+            if occluded[r] or dz <= 0.0:
+                continue
+            if check_normal:
+                dot = (directions[r, 0] * normal[i, 0] + directions[r, 1] * normal[i, 1]
+                       + dz * normal[i, 2])
+                if dot <= 0.0:
+                    continue
+            if k_nodes == 1:
+                out[i, 0] += 1.0
+                continue
+            zen = math.degrees(math.acos(min(1.0, dz)))
+            if zen <= nodes[0]:
+                out[i, 0] += 1.0
+            elif zen >= nodes[k_nodes - 1]:
+                out[i, k_nodes - 1] += 1.0
+            else:
+                lo = 0
+                while nodes[lo + 1] < zen:
+                    lo += 1
+                frac = (zen - nodes[lo]) / (nodes[lo + 1] - nodes[lo])
+                out[i, lo] += 1.0 - frac
+                out[i, lo + 1] += frac
+        for k in range(k_nodes):
+            out[i, k] /= n_samples
+
+
+def empty_fan(n_rays: int):
+    """float32 arrays for a fan of ``n_rays`` rays: (origins, directions)."""
+    return np.empty((n_rays, 3), np.float32), np.empty((n_rays, 3), np.float32)
