@@ -1,4 +1,4 @@
-"""Tests of radscene.materials.brdf.lambertian and .phong (seed 001 eq. 4)."""
+"""Tests of radscene.materials.brdf.lambertian and .phong (Willers et al. 2011, eq. 4."""
 
 import numpy as np
 import pytest

@@ -1,6 +1,6 @@
 """Validation of radscene.radiometry and radscene.sun against published reference figures.
 
-Figures are typed in from shared/reference/cases.json; each test names its case id and the
+Figures are typed in from a collection of published reference cases; each test names its case id and the
 case's source.
 """
 

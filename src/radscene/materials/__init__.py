@@ -7,7 +7,7 @@ Public API
 :class:`Material`
     ρ_d, ρ_s (Phong lobe), n, τ; emissivity by Kirchhoff, ε = 1 − ρ_d − ρ_s − τ.
 :mod:`~radscene.materials.brdf`
-    ``lambertian`` and ``phong`` (OSSIM, seed 001 eq. 4) BRDFs and samplers.
+    ``lambertian`` and ``phong`` (OSSIM, Willers et al. 2011, eq. 4) BRDFs and samplers.
 :class:`Texture`
     Multiplier fields over the ground plane.
 :func:`get_material`, :func:`list_materials`, :func:`library_info`

@@ -3,7 +3,7 @@
 A :class:`Material` holds three spectra (dimensionless, piecewise linear in wavelength [um]):
 
 * ``diffuse_reflectance`` ρ_d — directional-hemispherical reflectance of the Lambertian part;
-* ``specular_reflectance`` ρ_s — albedo of the Phong lobe of OSSIM (seed 001 eq. 4, the
+* ``specular_reflectance`` ρ_s — albedo of the Phong lobe of OSSIM (Willers et al. 2011, eq. 4, the
   "wideband Fresnel reflection"; see :mod:`radscene.materials.brdf.phong`);
 * ``transmittance`` τ — diffuse transmittance;
 

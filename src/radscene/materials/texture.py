@@ -1,4 +1,4 @@
-"""Spatial texture: a multiplier field over the ground plane (Δρ, Δε, Δτ of seed 000 eq. 1 / seed
+"""Spatial texture: a multiplier field over the ground plane (Δρ, Δε, Δτ of the seven-term signature equation (1) / seed
 001 eq. 4).
 
 A :class:`Texture` maps an image onto a rectangle of the local east-north-up ground plane:

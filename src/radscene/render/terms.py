@@ -1,6 +1,6 @@
 """The signature terms, one pure function each, per ray sample and band.
 
-Symbols follow seed 000 eq. (1) and seed 001 eq. (4) (OSSIM): τ_a target→sensor, τ_so
+Symbols follow the seven-term equation (1) and Willers et al. 2011, eq. 4 (OSSIM): τ_a target→sensor, τ_so
 sun→target, Δρ and Δε the texture multipliers. Spectral factors arrive already integrated over
 the band with the sensor response S (:mod:`radscene.render.spectral`); what is left per sample
 is geometry. Every function returns band radiance [W m-2 sr-1], shape (N, n_bands).

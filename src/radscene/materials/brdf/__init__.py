@@ -1,7 +1,7 @@
 """BRDF models, one module each: pure functions over arrays of unit vectors.
 
 * :mod:`~radscene.materials.brdf.lambertian` — ρ/π, cosine-weighted sampling.
-* :mod:`~radscene.materials.brdf.phong` — the normalised Phong lobe of OSSIM (seed 001 eq. 4).
+* :mod:`~radscene.materials.brdf.phong` — the normalised Phong lobe of OSSIM (Willers et al. 2011, eq. 4).
 
 :data:`MODELS` maps a case-insensitive model name to its module; :func:`get_model` looks one up.
 """

@@ -1,8 +1,8 @@
-"""The normalised Phong specular lobe of OSSIM (Willers et al., seed 001, eq. 4).
+"""The normalised Phong specular lobe of OSSIM (Willers, Willers & Lapierre 2011, eq. 4).
 
 Derivation of the specular term
 -------------------------------
-OSSIM writes the sunshine reflected specularly by a surface as (seed 001, eq. 4)
+OSSIM writes the sunshine reflected specularly by a surface as (Willers et al. 2011, eq. 4)
 
 .. math::
     L_{spec} = \\frac{\\alpha_s (n+1) \\rho_s \\cos^n\\theta_r}{2}
@@ -49,7 +49,7 @@ specular_exponent: 50}``.
 References
 ----------
 "Signature modelling and radiometric rendering equations in infrared scene simulation
-systems" (seed 001; C. J. Willers, M. S. Willers, F. Lapierre, Proc. SPIE 8187, 2011).
+systems" (C. J. Willers, M. S. Willers, F. Lapierre, Proc. SPIE 8187, 2011).
 B. T. Phong, "Illumination for computer generated pictures", Commun. ACM 18(6), 311-317 (1975),
 doi:10.1145/360825.360839.
 M. Ashikhmin, P. Shirley, "An anisotropic Phong BRDF model", J. Graphics Tools 5(2), 25-32
