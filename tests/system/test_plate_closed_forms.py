@@ -101,3 +101,23 @@ def test_specular_plate_peaks_in_the_mirror_direction(make_plate_scene):
     expected = _trapz(toa_solar_irradiance(wl) * 0.1 * 51 / (2 * np.pi), wl)
     assert ds["sun_specular"].sel(band="vis").values == pytest.approx(
         np.full((8, 8), expected), rel=REL)
+
+
+def test_texture_multipliers_scale_reflected_and_emitted_terms(make_plate_scene, tmp_path):
+    """Δρ scales the reflected terms and Δε the emitted term, pixel by pixel."""
+    texture = np.full((4, 4), 0.5)
+    np.save(tmp_path / "half.npy", texture)
+    np.save(tmp_path / "double.npy", np.full((4, 4), 1.5))
+    bands = [{"name": "vis", "min": 0.5, "max": 0.6}, {"name": "lwir", "min": 8.0, "max": 12.0}]
+    atmosphere = {"type": "uniform", "sky_radiance": 2.0}
+    plain = make_plate_scene({"reflectance": 0.4}, atmosphere, bands)
+    textured = make_plate_scene({"reflectance": 0.4}, atmosphere, bands)
+    textured["objects"][0]["textures"] = {
+        "reflectance": {"file": str(tmp_path / "half.npy"), "size": [50, 50]},
+        "emissivity": {"file": str(tmp_path / "double.npy"), "size": [50, 50]},
+    }
+    a = render(load_scene(plain))
+    b = render(load_scene(textured))
+    for term, factor in (("sun_diffuse", 0.5), ("sky_reflected", 0.5), ("thermal_emission", 1.5)):
+        assert b[term].values == pytest.approx(factor * a[term].values, rel=1e-12), term
+    assert b["path_radiance"].values == pytest.approx(a["path_radiance"].values, rel=1e-12)
