@@ -227,8 +227,10 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     hit_rank = np.cumsum(hit) - 1  # index of each hit sample among hits
     rng = np.random.default_rng(settings.seed)
     total = len(rays.pixel)
-    for start in range(0, total, TILE_SAMPLES):
-        sl = slice(start, min(start + TILE_SAMPLES, total))
+    per_pixel = setup.supersample**2
+    tile = max(per_pixel, (TILE_SAMPLES // per_pixel) * per_pixel)  # whole pixels per tile
+    for start in range(0, total, tile):
+        sl = slice(start, min(start + tile, total))
         pix = rays.pixel[sl]
         w = rays.weight[sl]
         d = rays.directions[sl]
@@ -299,17 +301,15 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         tau = _gather_band(coef.transmittance, nodes)
         p = rays.pixel[hidx]
         wh = rays.weight[hidx]
-        for name, val in values.items():
-            for b in range(n_b):
-                sums[name][b] += np.bincount(p, wh * val[:, b], n_pix)
-        for b in range(n_b):
-            transmittance[b] += np.bincount(p, wh * tau[:, b], n_pix)
-        truth_sum["cos_incidence"] += np.bincount(p, wh * cos_i, n_pix)
-        truth_sum["shadow"] += np.bincount(p, wh * (1.0 - lit), n_pix)
-        truth_sum["sky_view"] += np.bincount(p, wh * sky_f.sum(axis=1), n_pix)
-        truth_sum["temperature"] += np.bincount(p, wh * temp, n_pix)
-        truth_sum["range"] += np.bincount(p, wh * hits.distance[hidx], n_pix)
-        truth_sum["hit_weight"] += np.bincount(p, wh, n_pix)
+        rows = np.vstack([values[name].T for name in TERMS] + [tau.T, cos_i, 1.0 - lit,
+                          sky_f.sum(axis=1), temp, hits.distance[hidx], np.ones(len(p))])
+        pixels, totals = _pixel_sums(p, wh, rows)
+        for t, name in enumerate(TERMS):
+            sums[name][:, pixels] += totals[t * n_b:(t + 1) * n_b]
+        transmittance[:, pixels] += totals[len(TERMS) * n_b:(len(TERMS) + 1) * n_b]
+        for c, key in enumerate(("cos_incidence", "shadow", "sky_view", "temperature", "range",
+                                 "hit_weight")):
+            truth_sum[key][pixels] += totals[(len(TERMS) + 1) * n_b + c]
         c = central[hidx]
         object_id[p[c]] = obj[c]
         material_id[p[c]] = mat[c]
@@ -336,6 +336,23 @@ def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
 def _report(progress, done, total):
     if progress is not None:
         progress(done, total)
+
+
+def _pixel_sums(pixel, weight, rows):
+    """Weighted sums of sample columns per pixel: (unique pixels, (n_rows, n_unique)).
+
+    ``rows`` is (n_rows, N), one row per quantity. Rays come ordered pixel by pixel (each
+    pixel's sub-samples together), so the samples of a pixel form one contiguous run that
+    ``np.add.reduceat`` sums; with one sample per pixel there is nothing to sum.
+    """
+    weighted = rows * weight[None, :]
+    if len(pixel) > 1 and np.any(pixel[1:] < pixel[:-1]):  # not ordered: sort first
+        order = np.argsort(pixel, kind="stable")
+        pixel, weighted = pixel[order], weighted[:, order]
+    starts = np.flatnonzero(np.r_[True, pixel[1:] != pixel[:-1]])
+    if len(starts) == len(pixel):
+        return pixel, weighted
+    return pixel[starts], np.add.reduceat(weighted, starts, axis=1)
 
 
 def _central_subsample(rays) -> np.ndarray:
