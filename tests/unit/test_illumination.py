@@ -68,3 +68,30 @@ def test_stratified_pattern_covers_every_cell_once():
     assert sorted(cells) == list(range(16))
     q = illumination.stratified_pattern(10)
     assert sorted(np.floor(q[:, 0] * 10).astype(int)) == list(range(10))
+
+
+def test_compiled_fan_with_azimuth_nodes_matches_reference(tracer):
+    origins, normals = _points(300, seed=4)
+    grid = (np.array([0.0, 45.0, 90.0]), np.array([0.0, 90.0, 180.0, 270.0]))
+    fast = illumination.sky_fractions(tracer, origins, normals, 64, grid, np.random.default_rng(9))
+    slow = illumination.sky_fractions_reference(tracer, origins, normals, 64, grid,
+                                                np.random.default_rng(9))
+    assert fast.shape == (len(origins), 12)
+    assert fast == pytest.approx(slow, abs=1e-6)
+    # from points west of the box, only the eastern sky is hidden
+    west = origins[:, 0] < 0.0
+    open_sky = illumination.sky_fractions(RayTracer([plate(200.0, 200.0)]), origins[west],
+                                          normals[west], 64, grid, np.random.default_rng(9))
+    hidden = illumination.sky_fractions(tracer, origins[west], normals[west], 64, grid,
+                                        np.random.default_rng(9))
+    lost = (open_sky - hidden).reshape(-1, 3, 4).sum(axis=(0, 1))
+    assert lost[1] > 0.5 and lost[3] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_azimuth_weights_wrap_around_north():
+    from radscene.atmosphere import azimuth_hat_weights
+
+    w = azimuth_hat_weights(np.array([350.0, 10.0, 180.0]), [0.0, 90.0, 180.0, 270.0])
+    assert w[0] == pytest.approx([80 / 90, 0, 0, 10 / 90])
+    assert w[1] == pytest.approx([80 / 90, 10 / 90, 0, 0])
+    assert w[2] == pytest.approx([0, 0, 1, 0])

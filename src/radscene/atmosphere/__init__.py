@@ -13,6 +13,8 @@ from radscene.atmosphere.base import (
     PathSpectra,
     SkyGeometry,
     SunSpectra,
+    azimuth_hat_weights,
+    sky_node_weights,
     zenith_hat_weights,
 )
 from radscene.atmosphere.uniform import UniformAtmosphere, VacuumAtmosphere
@@ -29,6 +31,8 @@ __all__ = [
     "ENGINES",
     "make_atmosphere",
     "zenith_hat_weights",
+    "azimuth_hat_weights",
+    "sky_node_weights",
 ]
 
 #: Registered atmosphere engines by (lower-case) type name.

@@ -31,7 +31,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Atmosphere", "PathSpectra", "SunSpectra", "PathNodes", "SkyGeometry"]
+__all__ = [
+    "Atmosphere",
+    "PathSpectra",
+    "SunSpectra",
+    "PathNodes",
+    "SkyGeometry",
+    "zenith_hat_weights",
+    "azimuth_hat_weights",
+    "sky_node_weights",
+]
 
 
 @dataclass(frozen=True)
@@ -216,6 +225,14 @@ class Atmosphere(abc.ABC):
         """Sky zenith angles [deg] at which the sky radiance is tabulated (one: isotropic)."""
         return np.array([0.0])
 
+    def sky_azimuth_nodes(self) -> np.ndarray:
+        """Sky azimuths [deg, clockwise from north] of the table (one: no azimuth dependence).
+
+        The renderer evaluates :meth:`sky` on the grid of zenith × azimuth nodes and
+        interpolates linearly between them (periodically in azimuth).
+        """
+        return np.array([0.0])
+
     # -- helpers ---------------------------------------------------------------------------
     def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
         """Return ``wavelength`` as a float array, or raise if outside the engine's range."""
@@ -262,3 +279,51 @@ def zenith_hat_weights(zenith, nodes) -> np.ndarray:
     lower = np.take_along_axis(out, (i + 1)[..., None], axis=-1)
     np.put_along_axis(out, (i + 1)[..., None], lower + frac[..., None], axis=-1)
     return out
+
+
+def azimuth_hat_weights(azimuth, nodes) -> np.ndarray:
+    """Periodic linear-interpolation weights of azimuths on a node grid.
+
+    Parameters
+    ----------
+    azimuth : array_like
+        Azimuths [deg], any shape.
+    nodes : array_like
+        Increasing node azimuths in [0, 360) [deg], shape (l,). A single node gives weight 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``azimuth.shape + (l,)``; rows sum to 1; the last node wraps to the first.
+    """
+    a = np.asarray(azimuth, dtype=float) % 360.0
+    nodes = np.asarray(nodes, dtype=float)
+    n = nodes.size
+    out = np.zeros(a.shape + (n,))
+    if n == 1:
+        out[...] = 1.0
+        return out
+    ext = np.concatenate([nodes, [nodes[0] + 360.0]])
+    shifted = np.where(a < nodes[0], a + 360.0, a)
+    i = np.clip(np.searchsorted(ext, shifted, side="right") - 1, 0, n - 1)
+    frac = (shifted - ext[i]) / (ext[i + 1] - ext[i])
+    j = (i + 1) % n
+    np.put_along_axis(out, i[..., None], (1.0 - frac)[..., None], axis=-1)
+    upper = np.take_along_axis(out, j[..., None], axis=-1)
+    np.put_along_axis(out, j[..., None], upper + frac[..., None], axis=-1)
+    return out
+
+
+def sky_node_weights(zenith, azimuth, zenith_nodes, azimuth_nodes) -> np.ndarray:
+    """Bilinear weights of directions on the zenith × azimuth sky grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``broadcast(zenith, azimuth).shape + (k * l,)``, node (i, j) at index
+        ``i * l + j`` (zenith major), rows summing to 1.
+    """
+    z, a = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(azimuth, float))
+    wz = zenith_hat_weights(z, zenith_nodes)
+    wa = azimuth_hat_weights(a, azimuth_nodes)
+    return (wz[..., :, None] * wa[..., None, :]).reshape(z.shape + (-1,))

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from radscene.atmosphere import zenith_hat_weights
+from radscene.atmosphere import sky_node_weights
 
 __all__ = [
     "stratified_pattern",
@@ -69,8 +69,8 @@ def cast_shadow(tracer, origins, sun_direction) -> np.ndarray:
     return 1.0 - tracer.occluded(origins, dirs).astype(float)
 
 
-def _visible_fractions(tracer, origins, directions, weights, zenith_nodes):
-    """Mean over samples of visibility × weight × hat_k(zenith); directions (N, M, 3)."""
+def _visible_fractions(tracer, origins, directions, weights, sky_nodes):
+    """Mean over samples of visibility × weight × sky-node weight; directions (N, M, 3)."""
     n, m, _ = directions.shape
     up = directions[..., 2] > 0.0
     visible = np.zeros((n, m), dtype=bool)
@@ -78,9 +78,18 @@ def _visible_fractions(tracer, origins, directions, weights, zenith_nodes):
         idx = np.nonzero(up)
         o = np.repeat(origins, m, axis=0).reshape(n, m, 3)[idx]
         visible[idx] = ~tracer.occluded(o, directions[idx])
+    zenith_nodes, azimuth_nodes = _node_grids(sky_nodes)
     zenith = np.degrees(np.arccos(np.clip(directions[..., 2], -1.0, 1.0)))
-    hats = zenith_hat_weights(zenith, zenith_nodes)  # (N, M, K)
+    azimuth = np.degrees(np.arctan2(directions[..., 0], directions[..., 1]))
+    hats = sky_node_weights(zenith, azimuth, zenith_nodes, azimuth_nodes)  # (N, M, K·L)
     return np.einsum("nm,nmk->nk", visible * weights, hats) / m
+
+
+def _node_grids(sky_nodes):
+    """(zenith nodes, azimuth nodes) from either a pair or a bare zenith grid [deg]."""
+    if isinstance(sky_nodes, tuple):
+        return np.asarray(sky_nodes[0], float), np.asarray(sky_nodes[1], float)
+    return np.asarray(sky_nodes, float), np.array([0.0])
 
 
 def sky_fractions_reference(tracer, origins, normals, n_samples, zenith_nodes, rng):
@@ -99,7 +108,8 @@ def sky_fractions_reference(tracer, origins, normals, n_samples, zenith_nodes, r
 
     n = len(origins)
     if n == 0:
-        return np.zeros((0, np.size(zenith_nodes)))
+        zn, an = _node_grids(zenith_nodes)
+        return np.zeros((0, zn.size * an.size))
     u1, u2 = stratified_square(n, n_samples, rng)
     axis = np.repeat(normals[:, None, :], n_samples, axis=1)
     directions, _ = lambertian.sample(axis, u1, u2)
@@ -123,7 +133,8 @@ def lobe_sky_fractions_reference(tracer, origins, normals, axes, exponents, n_sa
 
     n = len(origins)
     if n == 0:
-        return np.zeros((0, np.size(zenith_nodes)))
+        zn, an = _node_grids(zenith_nodes)
+        return np.zeros((0, zn.size * an.size))
     u1, u2 = stratified_square(n, n_samples, rng)
     axis = np.repeat(axes[:, None, :], n_samples, axis=1)
     expo = np.repeat(np.asarray(exponents, dtype=float)[:, None], n_samples, axis=1)
@@ -137,8 +148,8 @@ def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes
     from radscene.render import kernels
 
     n = len(origins)
-    nodes = np.asarray(zenith_nodes, dtype=float)
-    out = np.zeros((n, nodes.size))
+    zen_nodes, az_nodes = _node_grids(zenith_nodes)
+    out = np.zeros((n, zen_nodes.size * az_nodes.size))
     if n == 0:
         return out
     base = stratified_pattern(n_samples)
@@ -148,7 +159,7 @@ def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes
     nrm = np.ascontiguousarray(normals, dtype=np.float64)
     fan(pos, nrm, *extra, tracer.center, 0.0, shift, base, o32, d32)
     occluded = tracer.occluded_local(o32, d32)
-    kernels.fold_fractions(occluded, d32, nrm, check_normal, nodes, n_samples, out)
+    kernels.fold_fractions(occluded, d32, nrm, check_normal, zen_nodes, az_nodes, n_samples, out)
     return out
 
 
@@ -165,7 +176,8 @@ def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
     origins : (N, 3) ray origins, already offset from the surface [m]
     normals : (N, 3) unit normals
     n_samples : int
-    zenith_nodes : (K,) sky zenith nodes [deg]
+    zenith_nodes : (K,) sky zenith nodes [deg], or a pair (zenith nodes, azimuth nodes) of
+        the sky grid; the result has one column per node, zenith major
     rng : numpy.random.Generator
 
     Returns

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from radscene.atmosphere import SkyGeometry, zenith_hat_weights
+from radscene.atmosphere import SkyGeometry, sky_node_weights
 from radscene.render import illumination, terms
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 
@@ -108,10 +108,13 @@ class _BandSetup:
         atm = scene.atmosphere
         sun = tables.sun
         breakpoints = _breakpoints(scene)
-        zen_nodes = atm.sky_zenith_nodes()
+        zen_nodes = np.asarray(atm.sky_zenith_nodes(), dtype=float)
+        az_nodes = np.asarray(atm.sky_azimuth_nodes(), dtype=float)
+        sky_zenith, sky_azimuth = (g.ravel() for g in np.meshgrid(zen_nodes, az_nodes,
+                                                                  indexing="ij"))
         sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
         target_alt = float(np.mean(path_nodes.target_altitude))
-        n_m, n_b, n_j, n_k = len(scene.materials), len(bands), path_nodes.size, zen_nodes.size
+        n_m, n_b, n_j, n_k = len(scene.materials), len(bands), path_nodes.size, sky_zenith.size
         shape = (n_m, n_b, n_j)
         c = BandCoefficients(
             sun_diffuse=np.zeros(shape), sun_specular=np.zeros(shape),
@@ -133,7 +136,7 @@ class _BandSetup:
             path = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
                             path_nodes.view_zenith, nodes)  # (j, q)
             tau = path.transmittance
-            sky = atm.sky(zen_nodes, np.zeros_like(zen_nodes), nodes, sky_geom)  # (k, q)
+            sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k·l, q)
             comps = [m.components(nodes) for m in scene.materials]
             rho_d = np.array([cc["diffuse_reflectance"] for cc in comps])  # (m, q)
             rho_s = np.array([cc["specular_reflectance"] for cc in comps])
@@ -148,7 +151,7 @@ class _BandSetup:
             c.sky_view[b] = sky @ weights
             self.emissivity_tau.append(eps[:, None, :] * tau[None, :, :])
         self.coefficients = c
-        self.zenith_nodes = zen_nodes
+        self.sky_nodes = (zen_nodes, az_nodes)
 
 
 def _gather(table, material, nodes):
@@ -212,7 +215,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     path_nodes_all = scene.atmosphere.path_nodes(obs_alt, tgt_alt, view_zenith)
     bset = _BandSetup(scene, tables, bands, path_nodes_all)
     coef = bset.coefficients
-    zen_nodes = bset.zenith_nodes
+    sky_nodes = bset.sky_nodes
 
     sums = {name: np.zeros((n_b, n_pix)) for name in TERMS}
     transmittance = np.zeros((n_b, n_pix))
@@ -240,7 +243,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         if np.any(miss):
             dz = d[miss, 2]
             zen = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
-            sky_seen = (zenith_hat_weights(zen, zen_nodes) @ coef.sky_view.T) * (dz > 0)[:, None]
+            azi = np.degrees(np.arctan2(d[miss, 0], d[miss, 1]))
+            weights = sky_node_weights(zen, azi, *sky_nodes)
+            sky_seen = (weights @ coef.sky_view.T) * (dz > 0)[:, None]
             for b in range(n_b):
                 sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b], n_pix)
         if not np.any(h):
@@ -272,7 +277,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             lit[facing] = 1.0
         # --- sky over the hemisphere, and under the specular lobe -----------------------
         sky_f = illumination.sky_fractions(tables.tracer, origin, nrm, settings.sky_samples,
-                                           zen_nodes, rng)
+                                           sky_nodes, rng)
         specular = np.any(coef.sun_specular[mat] != 0.0, axis=(1, 2)) | np.any(
             coef.sky_specular[mat] != 0.0, axis=(1, 2, 3))
         lobe_f = np.zeros_like(sky_f)
@@ -280,7 +285,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             axis = 2.0 * cos_v[specular, None] * nrm[specular] - wo[specular]
             lobe_f[specular] = illumination.lobe_sky_fractions(
                 tables.tracer, origin[specular], nrm[specular], axis,
-                tables.exponent[mat[specular]], settings.specular_samples, zen_nodes, rng)
+                tables.exponent[mat[specular]], settings.specular_samples, sky_nodes, rng)
         # --- terms ----------------------------------------------------------------------
         nodes = _subset_nodes(path_nodes_all, rank)
         mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]

@@ -97,44 +97,61 @@ def lobe_fan(position, normal, axis, exponent, center, epsilon, shift, base, ori
             directions[k, 2] = lx * tz + ly * bz + cos_a * az
 
 
-@numba.njit(parallel=True, cache=True)
-def fold_fractions(occluded, directions, normal, check_normal, nodes, n_samples, out):
-    """Per-point mean of visibility × hat_k(zenith) over its fan; writes ``out`` (N, K).
+@numba.njit(inline="always")
+def _hat(value, nodes, periodic):
+    """(lower index, upper index, weight of the upper) of a value on a node grid."""
+    n = nodes.shape[0]
+    if n == 1:
+        return 0, 0, 0.0
+    if periodic:
+        v = value % 360.0
+        if v < nodes[0]:
+            v += 360.0
+        lo = 0
+        while lo < n - 1 and nodes[lo + 1] <= v:
+            lo += 1
+        upper = nodes[lo + 1] if lo < n - 1 else nodes[0] + 360.0
+        return lo, (lo + 1) % n, (v - nodes[lo]) / (upper - nodes[lo])
+    if value <= nodes[0]:
+        return 0, 0, 0.0
+    if value >= nodes[n - 1]:
+        return n - 1, n - 1, 0.0
+    lo = 0
+    while nodes[lo + 1] < value:
+        lo += 1
+    return lo, lo + 1, (value - nodes[lo]) / (nodes[lo + 1] - nodes[lo])
 
-    A direction counts as sky when it is unoccluded and above the horizon (and, with
+
+@numba.njit(parallel=True, cache=True)
+def fold_fractions(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
+                   n_samples, out):
+    """Per-point mean of visibility × bilinear sky-node weight over its fan; writes ``out``.
+
+    ``out`` is (N, K·L) with node (i, j) of the zenith × azimuth grid at ``i * L + j``. A
+    direction counts as sky when it is unoccluded and above the horizon (and, with
     ``check_normal``, above the surface).
     """
     n = out.shape[0]
-    k_nodes = nodes.shape[0]
+    n_az = azimuth_nodes.shape[0]
     for i in numba.prange(n):
-        for k in range(k_nodes):
+        for k in range(out.shape[1]):
             out[i, k] = 0.0
         for j in range(n_samples):
             r = i * n_samples + j
-            dz = directions[r, 2]
+            dx, dy, dz = directions[r, 0], directions[r, 1], directions[r, 2]
             if occluded[r] or dz <= 0.0:
                 continue
-            if check_normal:
-                dot = (directions[r, 0] * normal[i, 0] + directions[r, 1] * normal[i, 1]
-                       + dz * normal[i, 2])
-                if dot <= 0.0:
-                    continue
-            if k_nodes == 1:
-                out[i, 0] += 1.0
+            if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
                 continue
             zen = math.degrees(math.acos(min(1.0, dz)))
-            if zen <= nodes[0]:
-                out[i, 0] += 1.0
-            elif zen >= nodes[k_nodes - 1]:
-                out[i, k_nodes - 1] += 1.0
-            else:
-                lo = 0
-                while nodes[lo + 1] < zen:
-                    lo += 1
-                frac = (zen - nodes[lo]) / (nodes[lo + 1] - nodes[lo])
-                out[i, lo] += 1.0 - frac
-                out[i, lo + 1] += frac
-        for k in range(k_nodes):
+            azi = math.degrees(math.atan2(dx, dy))
+            z0, z1, fz = _hat(zen, zenith_nodes, False)
+            a0, a1, fa = _hat(azi, azimuth_nodes, True)
+            out[i, z0 * n_az + a0] += (1.0 - fz) * (1.0 - fa)
+            out[i, z0 * n_az + a1] += (1.0 - fz) * fa
+            out[i, z1 * n_az + a0] += fz * (1.0 - fa)
+            out[i, z1 * n_az + a1] += fz * fa
+        for k in range(out.shape[1]):
             out[i, k] /= n_samples
 
 
