@@ -32,6 +32,27 @@ def _fail(err: Exception) -> None:
     raise typer.Exit(code=2)
 
 
+def _guarded(function):
+    """Wrap a command so that a ConfigError becomes one line on stderr and exit code 2."""
+    import functools
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except ConfigError as err:
+            _fail(err)
+
+    return wrapper
+
+
+def add_subcommands(sub_app: typer.Typer, name: str, help_text: str) -> None:
+    """Register a package's typer sub-app under ``radscene NAME``, with radscene's error rule."""
+    for info in sub_app.registered_commands:
+        info.callback = _guarded(info.callback)
+    app.add_typer(sub_app, name=name, help=help_text)
+
+
 def _version(value: bool):
     if value:
         console.print(f"radscene {__version__}")
@@ -65,7 +86,6 @@ def render(
         for name in names:
             scene.observer(name)
         started = time.perf_counter()
-        tables = _SceneTables(scene)
         results = {}
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                       TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
@@ -76,7 +96,7 @@ def render(
                 def progress(done, total, task=task):
                     bar.update(task, completed=done, total=total)
 
-                results[name] = render_one(scene, name, progress=progress, _tables=tables)
+                results[name] = render_one(scene, name, progress=progress)
     except ConfigError as err:
         _fail(err)
     written = []

@@ -30,6 +30,8 @@ TERM_LONG_NAMES = {
     "sky_reflected": "reflected sky radiance",
     "path_radiance": "atmospheric path radiance (sky radiance where a ray leaves the scene)",
 }
+#: Per-pixel sums kept for the truth maps (the last is the weight of surface samples).
+TRUTH_SUMS = ("cos_incidence", "shadow", "sky_view", "temperature", "range", "hit_weight")
 #: Ray samples per tile.
 TILE_SAMPLES = 1 << 17
 #: Bands whose response centre is at or beyond this wavelength get a brightness temperature [um].
@@ -194,7 +196,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         and the truth maps; see ``docs/outputs.md``.
     """
     setup = scene.observers[0] if observer is None else scene.observer(observer)
-    tables = _tables or _SceneTables(scene)
+    tables = _tables or scene_tables(scene)
     bands = [scene.band(name) for name in setup.bands]
     sun = tables.sun
     sun_dir = sun.direction
@@ -219,8 +221,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
 
     sums = {name: np.zeros((n_b, n_pix)) for name in TERMS}
     transmittance = np.zeros((n_b, n_pix))
-    truth_sum = {k: np.zeros(n_pix) for k in ("cos_incidence", "shadow", "sky_view", "temperature",
-                                               "range", "hit_weight")}
+    truth_sum = {k: np.zeros(n_pix) for k in TRUTH_SUMS}
     # the sub-sample nearest each pixel centre labels ids and normals
     central = _central_subsample(rays)
     object_id = np.full(n_pix, -1, dtype=np.int32)
@@ -306,15 +307,22 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         tau = _gather_band(coef.transmittance, nodes)
         p = rays.pixel[hidx]
         wh = rays.weight[hidx]
-        rows = np.vstack([values[name].T for name in TERMS] + [tau.T, cos_i, 1.0 - lit,
-                          sky_f.sum(axis=1), temp, hits.distance[hidx], np.ones(len(p))])
-        pixels, totals = _pixel_sums(p, wh, rows)
-        for t, name in enumerate(TERMS):
-            sums[name][:, pixels] += totals[t * n_b:(t + 1) * n_b]
-        transmittance[:, pixels] += totals[len(TERMS) * n_b:(len(TERMS) + 1) * n_b]
-        for c, key in enumerate(("cos_incidence", "shadow", "sky_view", "temperature", "range",
-                                 "hit_weight")):
-            truth_sum[key][pixels] += totals[(len(TERMS) + 1) * n_b + c]
+        truth_rows = (cos_i, 1.0 - lit, sky_f.sum(axis=1), temp, hits.distance[hidx], None)
+        if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
+            for name in TERMS:
+                sums[name][:, p] = (values[name] * wh[:, None]).T
+            transmittance[:, p] = (tau * wh[:, None]).T
+            for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
+                truth_sum[key][p] = wh if row is None else row * wh
+        else:
+            rows = np.vstack([values[name].T for name in TERMS] + [tau.T] + [
+                np.ones(len(p)) if row is None else row for row in truth_rows])
+            pixels, totals = _pixel_sums(p, wh, rows)
+            for t, name in enumerate(TERMS):
+                sums[name][:, pixels] += totals[t * n_b:(t + 1) * n_b]
+            transmittance[:, pixels] += totals[len(TERMS) * n_b:(len(TERMS) + 1) * n_b]
+            for c, key in enumerate(TRUTH_SUMS):
+                truth_sum[key][pixels] += totals[(len(TERMS) + 1) * n_b + c]
         c = central[hidx]
         object_id[p[c]] = obj[c]
         material_id[p[c]] = mat[c]
@@ -326,9 +334,17 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                     material_id, normal_map, sun, elapsed)
 
 
+def scene_tables(scene) -> _SceneTables:
+    """The ray tracer and per-face tables of a scene, built once and kept with the scene."""
+    cached = scene.render_cache.get("tables")
+    if cached is None:
+        cached = scene.render_cache["tables"] = _SceneTables(scene)
+    return cached
+
+
 def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
     """Render every observer of a scene; returns ``{observer name: Dataset}``."""
-    tables = _SceneTables(scene)
+    tables = scene_tables(scene)
     return {
         obs.name: render(scene, obs.name, progress=progress, _tables=tables)
         for obs in scene.observers

@@ -85,6 +85,8 @@ class Scene:
     settings: schema.RenderSettings
     heightfield: Any = None
     source: Path | None = None
+    #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
+    render_cache: dict = field(default_factory=dict, repr=False)
 
     def band(self, name: str) -> Band:
         for band in self.bands:
