@@ -76,7 +76,6 @@ def render(
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT."""
     from radscene.io import band_quicklooks, terms_figure, truth_figure, write_netcdf
-    from radscene.render.integrator import _SceneTables
     from radscene.render.integrator import render as render_one
     from radscene.scene import load_scene
 
