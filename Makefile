@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: demo test validate bench lint clean
+.PHONY: demo test validate bench lint clean lowtran
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -23,6 +23,9 @@ validate: $(STAMP)  ## every test, the long validations included
 
 bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 	$(BIN)/python benchmarks/bench_render.py
+
+lowtran: $(STAMP)  ## build LOWTRAN7 for the `lowtran` atmosphere engine (needs gfortran)
+	$(BIN)/python scripts/build_lowtran.py --check
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

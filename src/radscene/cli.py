@@ -48,9 +48,14 @@ def _guarded(function):
 
 def add_subcommands(sub_app: typer.Typer, name: str, help_text: str) -> None:
     """Register a package's typer sub-app under ``radscene NAME``, with radscene's error rule."""
+    import copy
+
+    guarded = typer.Typer(name=name, help=help_text, no_args_is_help=True)
     for info in sub_app.registered_commands:
-        info.callback = _guarded(info.callback)
-    app.add_typer(sub_app, name=name, help=help_text)
+        entry = copy.copy(info)
+        entry.callback = _guarded(info.callback)
+        guarded.registered_commands.append(entry)
+    app.add_typer(guarded, name=name, help=help_text)
 
 
 def _version(value: bool):
@@ -181,6 +186,15 @@ def examples(
     if data.is_dir():
         shutil.copytree(data, dest / name, dirs_exist_ok=True)
     console.print(f"copied {name} to {dest / src.name}")
+
+
+def _register_subcommands() -> None:
+    from radscene.materials.cli import app as materials_app
+
+    add_subcommands(materials_app, "materials", "Built-in materials and spectral libraries.")
+
+
+_register_subcommands()
 
 
 def run() -> None:  # pragma: no cover - console entry

@@ -1,4 +1,5 @@
-"""System test: every built-in material obeys Kirchhoff's law on 0.4-20 um."""
+"""System test: every built-in material obeys Kirchhoff's law on 0.4-20 um, states its sources and
+has thermal properties."""
 
 import sys
 
@@ -25,6 +26,26 @@ GRID = np.linspace(0.4, 20.0, 3921)  # 5 nm steps
 
 def test_library_has_the_required_materials():
     assert REQUIRED <= set(list_materials())
+    assert len(list_materials()) >= 30  # issue 4, item 4
+
+
+@pytest.mark.parametrize("name", sorted(list_materials()))
+def test_every_source_says_what_is_measured_modelled_or_assumed(name):
+    source = library_info()["materials"][name]["source"]
+    assert any(word in source for word in ("MEASURED", "MODEL", "ASSUMED")), name
+    # every thermal part is labelled: either a model or an assumption, never silent
+    assert "MODEL" in source or "ASSUMED" in source, name
+    assert "doi:" in source or "https://" in source, name
+
+
+@pytest.mark.parametrize("name", sorted(list_materials()))
+def test_every_material_has_thermal_properties(name):
+    from radscene.materials import get_thermal_properties
+
+    tp = get_thermal_properties(name)
+    assert tp.layers and all(layer.source for layer in tp.layers)
+    assert 0.0 < tp.solar_absorptance < 1.0
+    assert 0.0 < tp.longwave_emissivity < 1.0
 
 
 @pytest.mark.parametrize("name", sorted(list_materials()))
@@ -71,7 +92,7 @@ def test_metals_have_specular_lobes_and_aluminium_low_emissivity():
 def test_lookup_is_case_insensitive_and_cached():
     assert get_material("Asphalt") is get_material("asphalt")
     with pytest.raises(
-        ConfigError, match="unknown material 'asfalt'; known: asphalt, bare_aluminium"
+        ConfigError, match="unknown material 'asfalt'; known: asphalt, asphalt_shingle, bare_al"
     ):
         get_material("asfalt")
 

@@ -17,6 +17,7 @@ from radscene.atmosphere.base import (
     sky_node_weights,
     zenith_hat_weights,
 )
+from radscene.atmosphere.lowtran import LowtranAtmosphere
 from radscene.atmosphere.uniform import UniformAtmosphere, VacuumAtmosphere
 from radscene.errors import ConfigError
 
@@ -27,6 +28,7 @@ __all__ = [
     "SkyGeometry",
     "SunSpectra",
     "UniformAtmosphere",
+    "LowtranAtmosphere",
     "VacuumAtmosphere",
     "ENGINES",
     "make_atmosphere",
@@ -39,6 +41,7 @@ __all__ = [
 ENGINES: dict[str, type[Atmosphere]] = {
     "none": VacuumAtmosphere,
     "uniform": UniformAtmosphere,
+    "lowtran": LowtranAtmosphere,
 }
 
 

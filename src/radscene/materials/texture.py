@@ -9,6 +9,23 @@ interpolates bilinearly between centres. With ``wrap=True`` the image tiles the 
 periodically (interpolation wraps across the edges); with ``wrap=False`` only points inside the
 rectangle may be sampled (within half a pixel of the edge the edge pixels' values are held), and
 any other point raises :class:`~radscene.errors.ConfigError`.
+
+Tiling at a given scale: :meth:`Texture.tiled` repeats a small pattern every ``tile_size``
+metres over the whole plane. Procedural fields (:class:`~radscene.materials.noise.NoiseTexture`)
+have the same ``sample(x, y)`` interface. :func:`make_texture` builds any of them from a
+type-tagged mapping (registry :data:`TEXTURE_TYPES`), and :class:`TextureSet` groups the Δρ, Δε
+and Δτ multipliers of a surface:
+
+=========  ==============================================================================
+type       keys
+=========  ==============================================================================
+``image``  ``file``, ``size`` [m], ``origin`` [m], ``contrast``, ``wrap``
+``tile``   ``values`` (2-D list) or ``file``, ``tile_size`` [m], ``origin`` [m]
+``noise``  ``amplitude``, ``scale`` [m], ``octaves``, ``persistence``, ``lacunarity``, ``seed``
+=========  ==============================================================================
+
+Config snippet: ``{reflectance: {type: tile, file: bricks.png, tile_size: [2, 1]},
+emissivity: {type: noise, amplitude: 0.02, scale: 5}}``.
 """
 
 from __future__ import annotations
@@ -21,7 +38,7 @@ import numpy as np
 
 from radscene.errors import ConfigError
 
-__all__ = ["Texture", "LUMINANCE_WEIGHTS"]
+__all__ = ["Texture", "TextureSet", "make_texture", "TEXTURE_TYPES", "TEXTURE_KINDS", "LUMINANCE_WEIGHTS"]
 
 #: Weights of R, G, B in the luminance of a colour image, ITU-R BT.709 [-].
 LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
@@ -190,6 +207,33 @@ class Texture:
                 )
         return cls(values, size=size, origin=origin, wrap=wrap, name=key)
 
+    @classmethod
+    def tiled(cls, values, tile_size, origin=(0.0, 0.0), name: str = "") -> Texture:
+        """A pattern repeated every ``tile_size`` over the whole plane.
+
+        Parameters
+        ----------
+        values : array_like
+            One tile of multipliers ≥ 0 [-] (2-D, row 0 north).
+        tile_size : (float, float)
+            (width, height) of one tile on the ground [m]: the scale of the pattern.
+        origin : (float, float), optional
+            South-west corner of one tile [m].
+        name : str, optional
+
+        Returns
+        -------
+        Texture
+            ``wrap=True``.
+
+        Examples
+        --------
+        >>> t = Texture.tiled([[0.5, 1.5]], tile_size=(2.0, 2.0))
+        >>> t.sample([0.5, 2.5, 100.5], 1.0).tolist()
+        [0.5, 0.5, 0.5]
+        """
+        return cls(values, size=tile_size, origin=origin, wrap=True, name=name)
+
     # ------------------------------------------------------------------ attributes
     @property
     def values(self) -> np.ndarray:
@@ -286,3 +330,163 @@ class Texture:
             f"Texture({rows}x{cols} px, size={self._size} m, origin={self._origin} m, "
             f"wrap={self._wrap})"
         )
+
+
+#: Kinds of multiplier a :class:`TextureSet` holds (Δρ, Δε, Δτ).
+TEXTURE_KINDS = ("reflectance", "emissivity", "transmittance")
+
+_TEXTURE_KEYS = {
+    "image": {"type", "file", "size", "origin", "contrast", "wrap"},
+    "tile": {"type", "values", "file", "tile_size", "origin"},
+    "noise": {"type", "amplitude", "scale", "octaves", "persistence", "lacunarity", "seed"},
+}
+
+
+def _make_image(spec, key, base_dir):
+    path = _resolve(spec, key, base_dir)
+    return Texture.from_image(
+        path,
+        size=_need(spec, "size", key),
+        origin=spec.get("origin", (0.0, 0.0)),
+        contrast=spec.get("contrast"),
+        wrap=spec.get("wrap", True),
+    )
+
+
+def _make_tile(spec, key, base_dir):
+    if ("values" in spec) == ("file" in spec):
+        raise ConfigError("a tile texture takes 'values' or 'file', exactly one", key=key)
+    tile_size = _need(spec, "tile_size", key)
+    if "file" in spec:
+        image = Texture.from_image(_resolve(spec, key, base_dir), size=tile_size)
+        values = image.values
+    else:
+        values = spec["values"]
+    return Texture.tiled(values, tile_size=tile_size, origin=spec.get("origin", (0.0, 0.0)), name=key)
+
+
+def _make_noise(spec, key, base_dir):
+    from radscene.materials.noise import NoiseTexture
+
+    kwargs = {k: v for k, v in spec.items() if k != "type"}
+    for needed in ("amplitude", "scale"):
+        if needed not in kwargs:
+            _missing(needed, key)
+    return NoiseTexture(name=key, **kwargs)
+
+
+def _missing(name, key):
+    raise ConfigError(f"missing {name!r}", key=key)
+
+
+def _need(spec, name, key):
+    if name not in spec:
+        _missing(name, key)
+    return spec[name]
+
+
+def _resolve(spec, key, base_dir):
+    if "file" not in spec:
+        _missing("file", key)
+    path = Path(spec["file"])
+    if base_dir is not None and not path.is_absolute():
+        path = Path(base_dir) / path
+    return path
+
+
+#: Registered texture types: name -> factory(spec, key, base_dir).
+TEXTURE_TYPES = {"image": _make_image, "tile": _make_tile, "noise": _make_noise}
+
+
+def make_texture(spec, key: str = "texture", base_dir=None):
+    """A multiplier field from a type-tagged mapping (see the module table).
+
+    Parameters
+    ----------
+    spec : mapping or Texture or NoiseTexture
+        ``{"type": "image" | "tile" | "noise", ...}``; a ready field is returned as it is.
+    key : str
+        Config key path for messages.
+    base_dir : path-like, optional
+        Folder of relative file paths.
+
+    Returns
+    -------
+    Texture or NoiseTexture
+        Both have ``sample(x, y)``.
+
+    Raises
+    ------
+    ConfigError
+        Unknown type (listing the registered ones), unknown or missing keys.
+
+    Examples
+    --------
+    >>> t = make_texture({"type": "noise", "amplitude": 0.1, "scale": 10.0})
+    >>> bool(0.9 <= float(t.sample(3.0, 4.0)) <= 1.1)
+    True
+    """
+    from radscene.materials.noise import NoiseTexture
+
+    if isinstance(spec, Texture | NoiseTexture):
+        return spec
+    if not isinstance(spec, dict):
+        raise ConfigError(f"a texture is a mapping with a 'type'; got {type(spec).__name__}", key=key)
+    kind = str(spec.get("type", "")).lower()
+    if kind not in TEXTURE_TYPES:
+        raise ConfigError(
+            f"unknown texture type {spec.get('type')!r}; known: {', '.join(sorted(TEXTURE_TYPES))}",
+            key=f"{key}.type",
+        )
+    unknown = set(spec) - _TEXTURE_KEYS[kind]
+    if unknown:
+        raise ConfigError(
+            f"unknown keys {sorted(unknown)} for a {kind} texture; accepted: {sorted(_TEXTURE_KEYS[kind])}",
+            key=key,
+        )
+    return TEXTURE_TYPES[kind](spec, key, base_dir)
+
+
+class TextureSet:
+    """The Δρ, Δε and Δτ multiplier fields of a surface (absent kinds are 1).
+
+    Parameters
+    ----------
+    reflectance, emissivity, transmittance : Texture, NoiseTexture, mapping or None
+        Fields or type-tagged mappings (:func:`make_texture`).
+    base_dir : path-like, optional
+        Folder of relative file paths.
+    key : str, optional
+
+    Examples
+    --------
+    >>> ts = TextureSet(reflectance={"type": "tile", "values": [[2.0]], "tile_size": [1, 1]})
+    >>> {k: float(v) for k, v in ts.sample(0.5, 0.5).items()}
+    {'reflectance': 2.0, 'emissivity': 1.0, 'transmittance': 1.0}
+    """
+
+    def __init__(self, reflectance=None, emissivity=None, transmittance=None, *, base_dir=None,
+                 key: str = "textures"):
+        given = {"reflectance": reflectance, "emissivity": emissivity, "transmittance": transmittance}
+        self.fields = {
+            kind: make_texture(spec, key=f"{key}.{kind}", base_dir=base_dir)
+            for kind, spec in given.items()
+            if spec is not None
+        }
+
+    def sample(self, x, y) -> dict:
+        """Multipliers of every kind at ground points [-] (1 where a kind has no field).
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Keys :data:`TEXTURE_KINDS`, arrays of shape ``broadcast(x, y).shape``.
+        """
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        return {
+            kind: (self.fields[kind].sample(x, y) if kind in self.fields else np.ones(x.shape))
+            for kind in TEXTURE_KINDS
+        }
+
+    def __repr__(self) -> str:
+        return f"TextureSet({', '.join(f'{k}={v!r}' for k, v in self.fields.items())})"

@@ -66,6 +66,9 @@ class RayBundle:
     subsample : numpy.ndarray
         (N,) int64 index of the sub-sample within its pixel, ``a * k + b`` for sub-row ``a``
         and sub-column ``b`` of the ``k x k`` grid.
+    time : numpy.ndarray or None
+        (N,) float64 acquisition time of each ray [s] on the observer's clock (t = 0 at
+        ``observer.epoch``), for scanners; None for a frame taken at one instant.
     """
 
     origins: np.ndarray
@@ -74,6 +77,7 @@ class RayBundle:
     weight: np.ndarray
     shape: tuple[int, int]
     subsample: np.ndarray
+    time: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.pixel)

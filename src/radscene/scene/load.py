@@ -225,23 +225,20 @@ class _Resolver:
             return self.material_names.index(lname)
         custom = {k.lower(): v for k, v in self.spec.materials.items()}
         if lname in custom:
-            mspec = custom[lname]
-            from radscene.materials import Material
+            from radscene.materials import make_material
 
+            mspec = dict(custom[lname])
+            mspec.setdefault("type", "custom")
             try:
-                material = Material.create(
-                    lname,
-                    reflectance=mspec.reflectance,
-                    emissivity=mspec.emissivity,
-                    transmittance=mspec.transmittance,
-                    specular_reflectance=mspec.specular_reflectance,
-                    specular_exponent=mspec.specular_exponent,
-                    source=mspec.source,
-                    description=mspec.description,
-                    base_dir=self.base,
-                )
+                material = make_material(mspec, key=f"materials.{name}", base_dir=self.base)
             except ConfigError as err:
-                raise ConfigError(err.message, key=f"materials.{name}") from None
+                inner = err.key or ""
+                key_path = inner if inner.startswith("materials.") else f"materials.{name}"
+                raise ConfigError(err.message, key=key_path) from None
+            if material.name != lname:
+                import dataclasses
+
+                material = dataclasses.replace(material, name=lname)
         else:
             try:
                 material = get_material(lname)
@@ -440,6 +437,10 @@ class _Resolver:
                     resp = RectangularResponse(b.min, b.max, name=b.name)
                 elif b.type == "gaussian":
                     resp = GaussianResponse(b.center, b.fwhm, name=b.name)
+                elif b.type == "library":
+                    from radscene.sensor.srf_library import get_band
+
+                    resp = get_band(b.sensor, b.band)
                 else:
                     resp = TabulatedResponse.from_file(self.file(b.file, f"bands[{i}].file"), name=b.name)
             except ConfigError as err:
@@ -460,6 +461,15 @@ class _Resolver:
                         f"unknown band {bname!r}; known: {', '.join(band_names)}",
                         key=f"{key}.bands[{j}]",
                     )
+            if o.type in ("pushbroom", "whiskbroom"):
+                from radscene.platform.config import build_observer
+                from radscene.platform.geolocation import LocalFrame
+
+                loc = self.spec.environment.location
+                frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
+                cam = build_observer(o, frame, self.spec.environment.time, key=key)
+                out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type))
+                continue
             try:
                 if o.type == "orthographic":
                     cam = OrthographicCamera(

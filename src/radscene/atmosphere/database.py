@@ -1,0 +1,705 @@
+"""The ``database`` atmosphere engine: precomputed tables, interpolated at render time.
+
+A database file (NetCDF, written by :func:`radscene.atmosphere.build.build_database` or
+``radscene atmosphere build``) holds what an engine said over a grid of geometries, for several
+atmospheric conditions, with its provenance. :class:`DatabaseAtmosphere` answers every
+:class:`~radscene.atmosphere.base.Atmosphere` query from it by interpolation, vectorised over
+lines of sight, with no Fortran and no 6S run.
+
+Tables, stored where the physics needs resolution (the file's ``layout`` attribute is
+``radscene-atmosphere-database/1``):
+
+* **scattering** (per aerosol condition), at 6S's 20 scattering wavelengths
+  (``scattering_wavelength``, interpolated log-log as 6S does) over surface altitude, observer
+  height above the surface (``observer_height``; the last node is the top of the atmosphere),
+  sun zenith, view zenith and relative azimuth (0, 90, 180 deg, a three-term cosine series):
+  path reflectance of molecules + aerosol and of molecules alone; total scattering
+  transmittances down and up; spherical albedo; optical depths; phase functions and aerosol
+  single-scattering albedo for the sky model.
+* **gas** (per gas profile), at fine ``wavelength`` resolution (adaptive: 2.5 nm inside
+  absorption bands, coarse in windows) over surface altitude and airmass: the full column's
+  gaseous transmittance, with and without water vapour, and that of the column below an
+  aircraft observer.
+* **thermal** (optional; from an emitting engine such as ``lowtran``), over
+  ``thermal_wavelength``: transmittance, path thermal radiance (surface altitude × observer
+  height × view zenith) and sky thermal radiance (surface altitude × sky zenith).
+
+Any (profile, aerosol) pair of the file is a condition. Between nodes: linear in surface
+altitude; linear in the aerosol fraction below the observer, x = 1 - exp(-Δh / 2 km) (6S's
+aerosol profile; x = 1 at the top); linear in sun and view zenith on ρ (μ_s + μ_v) (which
+single scattering keeps smooth); log-linear in airmass for the gases. Beyond the table's
+zenith nodes the end node is used (stated rule); targets may lie up to 500 m below the lowest
+surface-altitude node (then that node's values are used). The spectra are combined with the
+formulas of :mod:`radscene.atmosphere.sixs_model`; wavelengths the file does not cover are
+refused.
+
+Parameters (scene file ``environment.atmosphere``, ``type: database``):
+
+======================  =====  ================  =================================================
+name                    unit   default           meaning
+======================  =====  ================  =================================================
+``file``                -      ``default``       a database file, or the name of one shipped with
+                                                 radscene (``radscene.atmosphere.database.
+                                                 shipped_databases()``)
+``profile``             -      ``us_standard``   gas profile (one of the file's)
+``aerosol``             -      ``rural``         aerosol model (one of the file's)
+``visibility``          m      23 km             picks the file's condition of that model (±2 %)
+``surface_albedo``      -      0                 albedo of the surroundings (sky irradiance)
+``sun_zenith``,         deg    (none), 0         sun for path radiance (renderer: :meth:`set_sun`)
+``sun_azimuth``
+``view_azimuth``        deg    (none)            line of sight's azimuth; none: azimuthal mean
+``earth_sun_distance``  AU     1                 scales E_0 (radscene's TOA spectrum)
+======================  =====  ================  =================================================
+
+Example::
+
+    atmosphere: {type: database, profile: midlatitude_summer, aerosol: rural, visibility: 5 km}
+"""
+
+from __future__ import annotations
+
+import os
+from functools import lru_cache
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from radscene.atmosphere import sixs_model as model
+from radscene.atmosphere.base import Atmosphere, PathNodes, PathSpectra, SkyGeometry, SunSpectra
+from radscene.errors import ConfigError
+
+__all__ = ["DatabaseAtmosphere", "LAYOUT", "shipped_databases", "database_path",
+           "AEROSOL_SCALE_HEIGHT", "open_database"]
+
+#: Identifies the file layout this module reads.
+LAYOUT = "radscene-atmosphere-database/1"
+#: Aerosol scale height of 6S's vertical profile [m]: the observer-height coordinate.
+AEROSOL_SCALE_HEIGHT = 2000.0
+#: How far below the lowest surface-altitude node a target may lie [m].
+_BELOW_TABLE = 500.0
+
+
+def shipped_databases() -> dict[str, Path]:
+    """Databases shipped with radscene, by name (``default`` among them)."""
+    folder = resources.files("radscene") / "data" / "atmosphere"
+    out = {}
+    try:
+        for entry in folder.iterdir():
+            if entry.name.endswith(".nc"):
+                out[entry.name[:-3]] = Path(str(entry))
+    except (FileNotFoundError, NotADirectoryError):
+        pass
+    return out
+
+
+def database_path(file) -> Path:
+    """Resolve a database name or path; raise ConfigError naming what exists."""
+    if file is None:
+        file = "default"
+    shipped = shipped_databases()
+    if str(file) in shipped:
+        return shipped[str(file)]
+    path = Path(os.path.expanduser(str(file)))
+    if path.is_file():
+        return path
+    raise ConfigError(f"no database {str(file)!r}: neither a file nor one of the shipped "
+                      f"databases ({', '.join(sorted(shipped)) or 'none'})",
+                      key="atmosphere.file")
+
+
+@lru_cache(maxsize=8)
+def _load(path: str, mtime: float):
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            data = ds.load()
+    except (OSError, ValueError) as err:
+        raise ConfigError(f"cannot read the database {path}: {err}",
+                          key="atmosphere.file") from None
+    if data.attrs.get("layout") != LAYOUT:
+        raise ConfigError(f"{path} is not a radscene atmosphere database (layout "
+                          f"{data.attrs.get('layout')!r}, expected {LAYOUT!r})",
+                          key="atmosphere.file")
+    return data
+
+
+def open_database(file=None):
+    """The database Dataset (cached in memory), by name or path."""
+    path = database_path(file)
+    return _load(str(path), path.stat().st_mtime)
+
+
+def _simpson(n: int) -> np.ndarray:
+    """Weights of Simpson's rule on n (odd) equal steps, normalised to a mean."""
+    w = np.ones(n)
+    w[1:-1:2] = 4.0
+    w[2:-1:2] = 2.0
+    return w / w.sum()
+
+
+class DatabaseAtmosphere(Atmosphere):
+    """An atmosphere interpolated from a database file; see the module docstring."""
+
+    name = "database"
+    geometry_dependent = True
+
+    def __init__(self, file=None, profile="us_standard", aerosol="rural", visibility=None,
+                 surface_albedo=0.0, sun_zenith=None, sun_azimuth=0.0, view_azimuth=None,
+                 earth_sun_distance=1.0):
+        self.file = database_path(file)
+        ds = open_database(self.file)
+        self.source = ds
+        profiles = [str(p) for p in ds["profile"].values]
+        prof = str(profile).lower()
+        if prof not in profiles:
+            raise ConfigError(f"profile {profile!r} is not in {self.file.name}; it holds: "
+                              f"{', '.join(profiles)}", key="atmosphere.profile")
+        self.profile = prof
+        self._ip = profiles.index(prof)
+        models = [str(m) for m in ds["aerosol_model"].values]
+        aer = str(aerosol).lower()
+        if aer not in models:
+            raise ConfigError(f"aerosol {aerosol!r} is not in {self.file.name}; it holds: "
+                              f"{', '.join(sorted(set(models)))}", key="atmosphere.aerosol")
+        candidates = [i for i, m in enumerate(models) if m == aer]
+        vis = ds["visibility"].values
+        if aer == "none":
+            self._ia = candidates[0]
+        else:
+            from radscene.radiometry.units import parse_quantity
+
+            want = 23000.0 if visibility is None else parse_quantity(
+                visibility, "length", key="atmosphere.visibility")
+            if not want > 0:
+                raise ConfigError(f"must be > 0; got {visibility!r}",
+                                  key="atmosphere.visibility")
+            match = [i for i in candidates if abs(vis[i] / want - 1.0) <= 0.02]
+            if not match:
+                have = ", ".join(f"{vis[i] / 1000:g} km" for i in candidates)
+                raise ConfigError(f"{self.file.name} holds the {aer} aerosol at visibility "
+                                  f"{have}; not {want / 1000:g} km (build a database for it "
+                                  "with `radscene atmosphere build`)",
+                                  key="atmosphere.visibility")
+            self._ia = match[0]
+        self.aerosol = aer
+        self.visibility = float(vis[self._ia])
+        albedo = float(surface_albedo)
+        if not 0.0 <= albedo <= 1.0:
+            raise ConfigError(f"must lie in [0, 1]; got {surface_albedo!r}",
+                              key="atmosphere.surface_albedo")
+        self.surface_albedo = albedo
+        d = float(earth_sun_distance)
+        if not d > 0:
+            raise ConfigError("must be > 0 AU", key="atmosphere.earth_sun_distance")
+        self.earth_sun_distance = d
+        self.view_azimuth = None if view_azimuth is None else float(view_azimuth)
+        self.sun_zenith = None
+        self.sun_azimuth = 0.0
+        if sun_zenith is not None:
+            self.set_sun(sun_zenith, sun_azimuth)
+        self._prepare()
+
+    # -- tables ------------------------------------------------------------------------------
+    def _prepare(self):
+        ds, ia, ip = self.source, self._ia, self._ip
+        a = {k: np.asarray(ds[k].values, dtype=float) for k in (
+            "scattering_wavelength", "surface_altitude", "observer_height", "sun_zenith",
+            "view_zenith", "relative_azimuth", "wavelength", "airmass", "scattering_angle",
+            "height", "phase_wavelength")}
+        self.axes = a
+        self._lam_s = a["scattering_wavelength"]
+        self._x_nodes = np.where(a["observer_height"] >= model.TOP_OF_ATMOSPHERE, 1.0,
+                                 -np.expm1(-a["observer_height"] / AEROSOL_SCALE_HEIGHT))
+        sel = {"aerosol": ia}
+
+        def v(name, **extra):
+            da = ds[name]
+            idx = {d: i for d, i in {**sel, "profile": ip}.items() if d in da.dims}
+            return np.asarray(da.isel(idx).values, dtype=float)
+
+        self.t = {k: v(k) for k in (
+            "rho_mixture", "rho_rayleigh", "total_down", "total_up", "spherical_albedo",
+            "tau_rayleigh", "tau_aerosol", "omega_aerosol", "phase_rayleigh", "phase_aerosol",
+            "gas_column", "gas_column_no_water", "gas_partial", "gas_partial_no_water",
+            "rayleigh_fraction")}
+        # phase functions on the scattering wavelengths, (angle, λs)
+        self._pr_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
+                                         self.t["phase_rayleigh"])
+        self._pa_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
+                                         self.t["phase_aerosol"])
+        self._ratio_tables()
+        lo, hi = float(self._lam_s[0]), float(ds.attrs.get("reflective_max_wavelength", 4.0))
+        self.reflective_range = (float(ds.attrs.get("reflective_min_wavelength", lo)), hi)
+        self.thermal = "thermal_wavelength" in ds.coords
+        if self.thermal:
+            self.axes["thermal_wavelength"] = np.asarray(ds["thermal_wavelength"].values, float)
+            self.axes["sky_zenith"] = np.asarray(ds["sky_zenith"].values, float)
+            for k in ("thermal_transmittance", "thermal_path_radiance", "thermal_sky_radiance"):
+                self.t[k] = v(k)
+            tw = self.axes["thermal_wavelength"]
+            self.wavelength_range = (self.reflective_range[0], max(hi, float(tw[-1])))
+        else:
+            self.wavelength_range = self.reflective_range
+
+    def _fractions(self, h_t, dh):
+        """Shares of the molecular and aerosol columns below observers Δh above h_t [m]."""
+        a = self.axes
+        h_t, dh = np.broadcast_arrays(np.atleast_1d(np.asarray(h_t, dtype=float)),
+                                      np.atleast_1d(np.asarray(dh, dtype=float)))
+        space = dh >= model.TOP_OF_ATMOSPHERE
+        frac = self.t["rayleigh_fraction"]  # (h, height)
+        ih, fh = model.axis_weights(h_t, a["surface_altitude"])
+        nh = a["surface_altitude"].size
+        ig, fg = model.axis_weights(np.minimum(dh, a["height"][-1]), a["height"])
+        ng = a["height"].size
+        fr = 0.0
+        for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
+            fr = fr + hw * (frac[hi_, ig] * (1 - fg) + frac[hi_, np.minimum(ig + 1, ng - 1)] * fg)
+        fr = np.where(space, 1.0, fr)
+        x = np.where(space, 1.0, -np.expm1(-np.maximum(dh, 0.0) / AEROSOL_SCALE_HEIGHT))
+        return fr, x
+
+    def _ss(self, sun_zenith, view_zenith, relative_azimuth, tau_r, tau_a, fr, x, rayleigh_only):
+        """Single-scattering reflectance, (λs, N), for view zeniths (N,) and τ's (λs, N)."""
+        theta = model.scattering_angle_view(sun_zenith, view_zenith, relative_azimuth)
+        pr = model.phase_interp(theta, self.axes["scattering_angle"], self._pr_s).T
+        pa = model.phase_interp(theta, self.axes["scattering_angle"], self._pa_s).T
+        om = self.t["omega_aerosol"][:, None]
+        ta = 0.0 * tau_a if rayleigh_only else tau_a
+        return model.single_scattering_reflectance(sun_zenith, view_zenith[None, :], pr, pa,
+                                                   tau_r, ta, om, fr[None, :], x[None, :])
+
+    def _ratio_tables(self):
+        """ρ / ρ_ss at every node: the smooth factor the database interpolates."""
+        a = self.axes
+        self.ratio = {}
+        hs, obs = a["surface_altitude"], a["observer_height"]
+        for key, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
+            rho = self.t[key]  # (λs, h, x, θs, θv, φ)
+            out = np.zeros_like(rho)
+            for ih, h in enumerate(hs):
+                for ix in range(obs.size):
+                    if ix == 0:
+                        continue
+                    fr, x = self._fractions(h, obs[ix])
+                    ss = model.single_scattering_grid(
+                        a["sun_zenith"], a["view_zenith"], a["relative_azimuth"],
+                        a["scattering_angle"], self._pr_s, self._pa_s, self.t["tau_rayleigh"][:, ih],
+                        self.t["tau_aerosol"][:, ih], self.t["omega_aerosol"], float(fr[0]),
+                        float(x[0]), ray)
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        r = np.where(ss > 0, rho[:, ih, ix] / np.where(ss > 0, ss, 1.0), 1.0)
+                    out[:, ih, ix] = r
+                out[:, ih, 0] = out[:, ih, 1]
+            self.ratio[key] = out
+
+    def describe(self) -> dict:
+        """The condition and the file's provenance."""
+        ds = self.source
+        return {"file": str(self.file), "profile": self.profile, "aerosol": self.aerosol,
+                "visibility_m": self.visibility,
+                "aerosol_condition": str(ds["aerosol"].values[self._ia]),
+                **{k: ds.attrs[k] for k in ("engine", "created", "radscene_version")
+                   if k in ds.attrs}}
+
+    # -- settings ----------------------------------------------------------------------------
+    def set_sun(self, sun_zenith, sun_azimuth=0.0) -> None:
+        """Set the sun position [deg] used by :meth:`path`."""
+        z, a = float(sun_zenith), float(sun_azimuth)
+        if not 0.0 <= z <= 180.0:
+            raise ConfigError("must lie in [0, 180] deg", key="atmosphere.sun_zenith")
+        if not np.isfinite(a):
+            raise ConfigError("must be finite", key="atmosphere.sun_azimuth")
+        self.sun_zenith, self.sun_azimuth = z, a % 360.0
+
+    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
+        """A copy with the sun (and the line of sight's azimuth) set (tables shared)."""
+        import copy
+
+        new = copy.copy(self)
+        new.set_sun(sun_zenith, sun_azimuth)
+        if view_azimuth is not None:
+            new.view_azimuth = float(view_azimuth)
+        return new
+
+    def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
+        wl = super().check_wavelength(wavelength, key)
+        if self.thermal and wl.size:
+            gap = (wl > self.reflective_range[1]) & (wl < self.axes["thermal_wavelength"][0])
+            if np.any(gap):
+                raise ConfigError(f"{self.file.name} has no tables at {wl[gap].min():g} um",
+                                  key=key)
+        elif wl.size and np.nanmax(wl) > self.reflective_range[1]:
+            raise ConfigError(
+                f"{self.file.name} covers {self.reflective_range[0]:g}–"
+                f"{self.reflective_range[1]:g} um (6S, reflective); asked for up to "
+                f"{np.nanmax(wl):g} um. Thermal tables are added by `radscene atmosphere "
+                "build` with an emitting engine (lowtran)", key=key)
+        return wl
+
+    # -- interpolation helpers --------------------------------------------------------------
+    def _e0(self, wavelength):
+        from radscene.sun import toa_solar_irradiance
+
+        return toa_solar_irradiance(wavelength, self.earth_sun_distance)
+
+    def _spectral(self, table, wavelength):
+        """log-log from the scattering wavelengths onto ``wavelength`` (last axis)."""
+        return model.loglog_interp(wavelength, self._lam_s, table)
+
+    def _fine(self, table, wavelength, axis=0):
+        """Linear in wavelength from the gas grid; ``table`` has wavelength on ``axis``."""
+        grid = self.axes["wavelength"]
+        i, f = model.axis_weights(wavelength, grid)
+        t = np.moveaxis(table, axis, -1)
+        hi = np.minimum(i + 1, grid.size - 1)
+        return t[..., i] * (1.0 - f) + t[..., hi] * f
+
+    def _gas(self, table_name, wavelength, h_t, airmass, extra_index=None):
+        """Gas transmittance at (h_t, airmass) per geometry × wavelength: (N, n)."""
+        tab = self.t[table_name]  # (wl, h_t, [obs], m)
+        if extra_index is not None:
+            tab = tab[:, :, extra_index, :]
+        tab = self._fine(tab, wavelength, axis=0)  # (h_t, m, n)
+        ih, fh = model.axis_weights(h_t, self.axes["surface_altitude"])
+        logm = np.log(self.axes["airmass"])
+        im, fm = model.axis_weights(np.log(np.maximum(airmass, 1.0)), logm)
+        nh, nm = tab.shape[0], tab.shape[1]
+        ih1, im1 = np.minimum(ih + 1, nh - 1), np.minimum(im + 1, nm - 1)
+        out = 0.0
+        for hi_, hw in ((ih, 1 - fh), (ih1, fh)):
+            for mi_, mw in ((im, 1 - fm), (im1, fm)):
+                out = out + (hw * mw)[:, None] * tab[hi_, mi_]
+        return out
+
+    def _geometry(self, observer_altitude, target_altitude, view_zenith):
+        low = self.axes["surface_altitude"][0] - _BELOW_TABLE
+        upper, lower, zen = model.check_path_geometry(observer_altitude, target_altitude,
+                                                      view_zenith, min_target=low)
+        hmax = self.axes["surface_altitude"][-1]
+        if lower.size and lower.max() > hmax:
+            raise ConfigError(f"{self.file.name} covers surface altitudes up to {hmax:g} m; "
+                              f"a path ends at {lower.max():g} m", key="target_altitude")
+        return upper, lower, zen
+
+    # -- the whole set of quantities ----------------------------------------------------------
+    def components(self, observer_altitude, target_altitude, view_zenith, wavelength,
+                   sun_zenith=None, relative_azimuth=None) -> dict:
+        """Reflective-range quantities of lines of sight, each (N, n) (see ``SixSAtmosphere``).
+
+        Returns a dict of arrays over (geometry, wavelength): ``path_reflectance``,
+        ``transmittance``, ``direct_transmittance_up``, ``diffuse_transmittance_up``,
+        ``gas_transmittance_up``, ``sun_transmittance``, ``direct_transmittance_down``,
+        ``diffuse_transmittance_down``, ``gas_transmittance_down``, ``spherical_albedo``,
+        ``optical_depth_rayleigh``, ``optical_depth_aerosol``, ``optical_depth_view``,
+        ``toa_irradiance``, ``direct_irradiance``, ``diffuse_irradiance``, ``path_radiance``.
+        """
+        wl = np.atleast_1d(np.asarray(wavelength, dtype=float))
+        sz = self.sun_zenith if sun_zenith is None else float(sun_zenith)
+        if sz is None:
+            raise ConfigError("the database engine needs the sun position for path radiance: "
+                              "give sun_zenith or call set_sun()", key="atmosphere.sun_zenith")
+        upper, lower, zen = self._geometry(observer_altitude, target_altitude, view_zenith)
+        u, h_t, vz = upper.ravel(), lower.ravel(), zen.ravel()
+        n = u.size
+        dh = u - h_t
+        space = u >= model.TOP_OF_ATMOSPHERE
+        x = np.where(space, 1.0, -np.expm1(-np.maximum(dh, 0.0) / AEROSOL_SCALE_HEIGHT))
+        sz_eff = min(sz, 89.0)
+        mu_s = np.cos(np.radians(sz_eff))
+        mu_v = np.cos(np.radians(np.minimum(vz, 89.0)))
+        a = self.axes
+        # --- scattering tables at λ_s ---------------------------------------------------------
+        i_s, f_s = model.axis_weights(sz_eff, a["sun_zenith"])
+        ih, fh = model.axis_weights(h_t, a["surface_altitude"])
+        ix, fx = model.axis_weights(x, self._x_nodes)
+        iv, fv = model.axis_weights(vz, a["view_zenith"])
+        nh, nx, nv = a["surface_altitude"].size, self._x_nodes.size, a["view_zenith"].size
+        if relative_azimuth is not None:
+            phis = np.array([float(relative_azimuth)])
+        elif self.view_azimuth is not None:
+            phis = np.array([self.view_azimuth - self.sun_azimuth])
+        else:  # the azimuthal mean: Simpson's rule over 0..180 deg
+            phis = np.linspace(0.0, 180.0, 13)
+        simpson = np.ones(phis.size) if phis.size == 1 else _simpson(phis.size)
+        tr_s = self.t["tau_rayleigh"]
+        ta_s = self.t["tau_aerosol"]
+        tau_r_q = tr_s[:, ih] * (1 - fh) + tr_s[:, np.minimum(ih + 1, nh - 1)] * fh  # (λs, N)
+        tau_a_q = ta_s[:, ih] * (1 - fh) + ta_s[:, np.minimum(ih + 1, nh - 1)] * fh
+        fr_q, x_q = self._fractions(h_t, np.where(space, model.TOP_OF_ATMOSPHERE, dh))
+        rho = {}
+        for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
+            tab = self.ratio[name]  # (λs, h, x, θs, θv, φ)
+            i_s1 = min(i_s + 1, a["sun_zenith"].size - 1)
+            q = tab[:, :, :, i_s] * (1 - f_s) + tab[:, :, :, i_s1] * f_s  # (λs, h, x, θv, φ)
+            acc = 0.0
+            for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
+                for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
+                    for vi_, vw in ((iv, 1 - fv), (np.minimum(iv + 1, nv - 1), fv)):
+                        acc = acc + (hw * xw * vw)[None, :, None] * q[:, hi_, xi_, vi_]
+            total = 0.0
+            for phi, w in zip(phis, simpson, strict=True):
+                r_phi = model.azimuth_fourier(phi, acc[..., 0], acc[..., 1], acc[..., 2])
+                ss = self._ss(sz_eff, np.minimum(vz, 89.0), phi, tau_r_q, tau_a_q, fr_q, x_q, ray)
+                total = total + w * r_phi * ss
+            rho[name] = self._spectral(total.T, wl)  # (N, n)
+        # total transmittances and spherical albedo
+        tdown = self.t["total_down"]  # (λs, h, θs)
+        td = tdown[:, :, i_s] * (1 - f_s) + tdown[:, :, min(i_s + 1, tdown.shape[2] - 1)] * f_s
+        td = td[:, ih] * (1 - fh) + td[:, np.minimum(ih + 1, nh - 1)] * fh  # (λs, N)
+        tup = self.t["total_up"]  # (λs, h, x, θv)
+        tu = 0.0
+        for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
+            for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
+                for vi_, vw in ((iv, 1 - fv), (np.minimum(iv + 1, nv - 1), fv)):
+                    tu = tu + (hw * xw * vw)[None, :] * tup[:, hi_, xi_, vi_]
+        sa = self.t["spherical_albedo"]  # (λs, h)
+        s_alb = sa[:, ih] * (1 - fh) + sa[:, np.minimum(ih + 1, nh - 1)] * fh
+        tr = self.t["tau_rayleigh"]
+        ta = self.t["tau_aerosol"]
+        tau_r = tr[:, ih] * (1 - fh) + tr[:, np.minimum(ih + 1, nh - 1)] * fh
+        tau_a = ta[:, ih] * (1 - fh) + ta[:, np.minimum(ih + 1, nh - 1)] * fh
+        # fraction of each column below the observer
+        frac = self.t["rayleigh_fraction"]  # (h, height)
+        height = a["height"]
+        ig, fg = model.axis_weights(np.minimum(dh, height[-1]), height)
+        ng = height.size
+        fr = 0.0
+        for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
+            fr = fr + hw * (frac[hi_, ig] * (1 - fg) + frac[hi_, np.minimum(ig + 1, ng - 1)] * fg)
+        fr = np.where(space, 1.0, fr)
+        spec = {k: self._spectral(v.T, wl) for k, v in (
+            ("t_down", td), ("t_up", tu), ("s_alb", s_alb), ("tau_r", tau_r), ("tau_a", tau_a))}
+        tau_view = spec["tau_r"] * fr[:, None] + spec["tau_a"] * x[:, None]
+        # --- gases ------------------------------------------------------------------------------
+        m_s, m_v = 1.0 / mu_s, 1.0 / mu_v
+        ms_arr = np.full(n, m_s)
+        g_down = self._gas("gas_column", wl, h_t, ms_arr)
+        gnw_down = self._gas("gas_column_no_water", wl, h_t, ms_arr)
+        nodes_up, nodes_tot, nodes_nw = [], [], []
+        for k, xk in enumerate(self._x_nodes):
+            if xk == 0.0:
+                nodes_up.append(np.ones((n, wl.size)))
+                nodes_tot.append(g_down)
+                nodes_nw.append(gnw_down)
+            elif xk == 1.0:
+                nodes_up.append(self._gas("gas_column", wl, h_t, m_v))
+                nodes_tot.append(self._gas("gas_column", wl, h_t, m_s + m_v))
+                nodes_nw.append(self._gas("gas_column_no_water", wl, h_t, m_s + m_v))
+            else:
+                part = self._gas("gas_partial", wl, h_t, m_v, extra_index=k)
+                part_nw = self._gas("gas_partial_no_water", wl, h_t, m_v, extra_index=k)
+                nodes_up.append(part)
+                nodes_tot.append(g_down * part)
+                nodes_nw.append(gnw_down * part_nw)
+
+        def along_x(nodes):
+            lo = np.stack(nodes)  # (k, N, n)
+            rows = np.arange(n)
+            return (lo[ix, rows] * (1 - fx)[:, None]
+                    + lo[np.minimum(ix + 1, nx - 1), rows] * fx[:, None])
+
+        g_up, g_tot, g_nw = along_x(nodes_up), along_x(nodes_tot), along_x(nodes_nw)
+        zero = (dh <= 0.5) & ~space
+        e0 = np.broadcast_to(self._e0(wl), (n, wl.size))
+        rho_path = model.path_reflectance(rho["rho_mixture"], rho["rho_rayleigh"], g_tot, g_nw)
+        rho_path[zero] = 0.0
+        t_dir_up = np.exp(-tau_view / mu_v[:, None])
+        t_dir_up[zero] = 1.0
+        g_up[zero] = 1.0
+        t_dir_down = np.exp(-(spec["tau_r"] + spec["tau_a"]) / mu_s)
+        up_sun = sz < 90.0
+        out = {
+            "path_reflectance": rho_path,
+            "transmittance": t_dir_up * g_up,
+            "direct_transmittance_up": t_dir_up,
+            "diffuse_transmittance_up": np.where(zero[:, None], 0.0,
+                                                 np.maximum(spec["t_up"] - t_dir_up, 0.0)),
+            "gas_transmittance_up": g_up,
+            "sun_transmittance": t_dir_down * g_down if up_sun else np.zeros((n, wl.size)),
+            "direct_transmittance_down": t_dir_down,
+            "diffuse_transmittance_down": np.maximum(spec["t_down"] - t_dir_down, 0.0),
+            "gas_transmittance_down": g_down,
+            "gas_transmittance_total": g_tot,
+            "spherical_albedo": spec["s_alb"],
+            "optical_depth_rayleigh": spec["tau_r"],
+            "optical_depth_aerosol": spec["tau_a"],
+            "optical_depth_view": np.where(zero[:, None], 0.0, tau_view),
+            "toa_irradiance": np.array(e0),
+        }
+        mu_sun = np.cos(np.radians(sz)) if up_sun else 0.0
+        out["direct_irradiance"] = e0 * mu_sun * out["sun_transmittance"]
+        out["diffuse_irradiance"] = (e0 * mu_sun * out["diffuse_transmittance_down"] * g_down
+                                     if up_sun else np.zeros((n, wl.size)))
+        out["path_radiance"] = (model.radiance_from_reflectance(rho_path, e0, sz) if up_sun
+                                else np.zeros((n, wl.size)))
+        return out
+
+    # -- thermal tables -------------------------------------------------------------------------
+    def _thermal_path(self, upper, lower, zen, wl):
+        """(τ, L_thermal) from the thermal tables, (N, n); zeros/ones outside their range."""
+        a = self.axes
+        n = upper.size
+        tw = a["thermal_wavelength"]
+        inside = (wl >= tw[0]) & (wl <= tw[-1])
+        tau = np.ones((n, wl.size))
+        rad = np.zeros((n, wl.size))
+        if not self.thermal or not np.any(inside):
+            return tau, rad, inside
+        dh = upper - lower
+        space = upper >= model.TOP_OF_ATMOSPHERE
+        x = np.where(space, 1.0, -np.expm1(-np.maximum(dh, 0.0) / AEROSOL_SCALE_HEIGHT))
+        ih, fh = model.axis_weights(lower, a["surface_altitude"])
+        ix, fx = model.axis_weights(x, self._x_nodes)
+        iv, fv = model.axis_weights(zen, a["view_zenith"])
+        nh, nx, nv = a["surface_altitude"].size, self._x_nodes.size, a["view_zenith"].size
+        iw, fw = model.axis_weights(wl[inside], tw)
+        for name, target in (("thermal_transmittance", tau), ("thermal_path_radiance", rad)):
+            tab = self.t[name]  # (λt, h, x, θv)
+            acc = 0.0
+            for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
+                for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
+                    for vi_, vw in ((iv, 1 - fv), (np.minimum(iv + 1, nv - 1), fv)):
+                        acc = acc + (hw * xw * vw)[None, :] * tab[:, hi_, xi_, vi_]
+            acc = acc.T  # (N, λt)
+            target[:, inside] = (acc[:, iw] * (1 - fw)
+                                 + acc[:, np.minimum(iw + 1, tw.size - 1)] * fw)
+        zero = (dh <= 0.5) & ~space
+        tau[zero] = 1.0
+        rad[zero] = 0.0
+        return tau, rad, inside
+
+    # -- the Atmosphere interface -------------------------------------------------------------
+    def path(self, observer_altitude, target_altitude, view_zenith, wavelength,
+             view_azimuth=None) -> PathSpectra:
+        wl = self.check_wavelength(wavelength)
+        shape = np.broadcast(np.asarray(observer_altitude), np.asarray(target_altitude),
+                             np.asarray(view_zenith)).shape
+        upper, lower, zen = self._geometry(observer_altitude, target_altitude, view_zenith)
+        n = upper.size
+        refl = wl <= self.reflective_range[1]
+        tau = np.ones((n, wl.size))
+        scattered = np.zeros((n, wl.size))
+        if np.any(refl):
+            rel = None if view_azimuth is None else float(view_azimuth) - self.sun_azimuth
+            sun_up = self.sun_zenith is not None and self.sun_zenith < 90.0
+            c = self.components(observer_altitude, target_altitude, view_zenith, wl[refl],
+                                sun_zenith=self.sun_zenith if sun_up else 0.0,
+                                relative_azimuth=rel)
+            tau[:, refl] = c["transmittance"]
+            if sun_up:
+                scattered[:, refl] = c["path_radiance"]
+        thermal = np.zeros((n, wl.size))
+        if self.thermal:
+            t_tau, t_rad, inside = self._thermal_path(upper.ravel(), lower.ravel(), zen.ravel(),
+                                                      wl)
+            beyond = inside & ~refl
+            tau[:, beyond] = t_tau[:, beyond]
+            thermal[:, inside] = t_rad[:, inside]
+        full = shape + wl.shape
+        return PathSpectra(transmittance=tau.reshape(full), thermal_radiance=thermal.reshape(full),
+                           scattered_radiance=scattered.reshape(full))
+
+    def sun(self, target_altitude, sun_zenith, wavelength, toa_irradiance) -> SunSpectra:
+        wl = self.check_wavelength(wavelength)
+        t, z = np.broadcast_arrays(np.asarray(target_altitude, float),
+                                   np.asarray(sun_zenith, float))
+        out = np.zeros(t.shape + wl.shape)
+        refl = wl <= self.reflective_range[1]
+        for idx in np.ndindex(t.shape):
+            if z[idx] >= 90.0:
+                continue
+            row = np.zeros(wl.size)
+            if np.any(refl):
+                c = self.components(model.TOP_OF_ATMOSPHERE, t[idx], 0.0, wl[refl],
+                                    sun_zenith=float(z[idx]), relative_azimuth=0.0)
+                row[refl] = c["sun_transmittance"][0]
+            if self.thermal and np.any(~refl):
+                tw = self.axes["thermal_wavelength"]
+                tau_t, _, inside = self._thermal_path(np.array([model.TOP_OF_ATMOSPHERE]),
+                                                      np.array([t[idx]]), np.array([z[idx]]), wl)
+                sel = ~refl & inside
+                row[sel] = tau_t[0, sel]
+                del tw
+            out[idx] = row
+        return SunSpectra(transmittance=out, irradiance=out * np.asarray(toa_irradiance, float))
+
+    def sky(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None) -> np.ndarray:
+        wl = self.check_wavelength(wavelength)
+        geometry = geometry or SkyGeometry(sun_zenith=self.sun_zenith or 0.0,
+                                           sun_azimuth=self.sun_azimuth)
+        z, az = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(azimuth, float))
+        out = np.zeros(z.shape + wl.shape)
+        refl = wl <= self.reflective_range[1]
+        if np.any(refl) and geometry.sun_zenith < 90.0:
+            w = wl[refl]
+            c = self.components(model.TOP_OF_ATMOSPHERE, geometry.target_altitude, 0.0, w,
+                                sun_zenith=geometry.sun_zenith, relative_azimuth=0.0)
+            row = {k: v[0] for k, v in c.items()}
+            t_down = row["direct_transmittance_down"] + row["diffuse_transmittance_down"]
+            pr = self._spectral(self.t["phase_rayleigh"], w)
+            pa = self._spectral(self.t["phase_aerosol"], w)
+            om = self._spectral(self.t["omega_aerosol"], w)
+            out[..., refl] = model.sky_radiance(
+                z, az - geometry.sun_azimuth, geometry.sun_zenith, row["toa_irradiance"],
+                row["gas_transmittance_down"], row["optical_depth_rayleigh"],
+                row["optical_depth_aerosol"], om, self.axes["scattering_angle"], pr, pa,
+                t_down, row["spherical_albedo"], self.surface_albedo)
+        if self.thermal:
+            tw = self.axes["thermal_wavelength"]
+            inside = (wl >= tw[0]) & (wl <= tw[-1])
+            if np.any(inside):
+                tab = self.t["thermal_sky_radiance"]  # (λt, h, sky zenith)
+                ih, fh = model.axis_weights(geometry.target_altitude, self.axes["surface_altitude"])
+                nh = tab.shape[1]
+                col = tab[:, int(ih)] * (1 - fh) + tab[:, min(int(ih) + 1, nh - 1)] * fh
+                iz, fz = model.axis_weights(z, self.axes["sky_zenith"])
+                nz = col.shape[1]
+                iw, fw = model.axis_weights(wl[inside], tw)
+                nw = tw.size
+                at = (col[:, iz] * (1 - fz) + col[:, np.minimum(iz + 1, nz - 1)] * fz)  # (λt, S)
+                at = np.moveaxis(at, 0, -1)
+                out[..., inside] += at[..., iw] * (1 - fw) + at[..., np.minimum(iw + 1, nw - 1)] * fw
+        return out
+
+    # -- nodes ---------------------------------------------------------------------------------
+    def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
+        """A grid over the pixels' geometry that refines the table: view zenith every 5 deg
+        (2.5 beyond 70, the table's nodes included), surface altitude every 250 m, observer
+        altitude at its extremes; multilinear weights, 8 nodes per pixel."""
+        obs = np.asarray(observer_altitude, float).ravel()
+        tgt = np.asarray(target_altitude, float).ravel()
+        vz = np.asarray(view_zenith, float).ravel()
+        if vz.size == 0:
+            return super().path_nodes(observer_altitude, target_altitude, view_zenith)
+        upper, lower, zen = self._geometry(obs, tgt, vz)
+        del upper, lower
+        zen = np.minimum(zen, 89.0)
+        grid = np.unique(np.concatenate([np.arange(0.0, 70.0, 5.0), np.arange(70.0, 89.0, 2.5),
+                                         [89.0], self.axes["view_zenith"]]))
+        lo_v, hi_v = zen.min(), zen.max()
+        keep = grid[(grid >= grid[grid <= lo_v].max()) & (grid <= grid[grid >= hi_v].min())]
+        t_lo, t_hi = tgt.min(), tgt.max()
+        n_t = max(1, int(np.ceil((t_hi - t_lo) / 250.0)))
+        t_axis = np.unique(np.linspace(t_lo, t_hi, n_t + 1))
+        o_axis = np.unique([obs.min(), obs.max()])
+        # the view zenith of the downward form (observer below target: 180 - zenith)
+        vz_down = np.where(obs >= tgt, vz, 180.0 - vz)
+        coords, index, weight = model.multilinear_nodes([obs, tgt, np.minimum(vz_down, 89.0)],
+                                                        [o_axis, t_axis, keep])
+        node_vz = np.where(coords[0] >= coords[1], coords[2], 180.0 - coords[2])
+        return PathNodes(observer_altitude=coords[0], target_altitude=coords[1],
+                         view_zenith=node_vz, index=index, weight=weight)
+
+    def sky_zenith_nodes(self) -> np.ndarray:
+        return np.array([0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 78.0, 84.0, 88.0])
+
+    def sky_azimuth_nodes(self, sun_azimuth=None) -> np.ndarray:
+        """Absolute azimuths [deg, clockwise from north]: the sun's and every 30 deg from it,
+        with 15 deg steps within 30 deg of the sun (the aureole)."""
+        sa = self.sun_azimuth if sun_azimuth is None else float(sun_azimuth)
+        rel = np.array([0.0, 15.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0, 210.0, 240.0, 270.0,
+                        300.0, 330.0, 345.0])
+        return np.sort((sa + rel) % 360.0)

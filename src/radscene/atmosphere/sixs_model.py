@@ -1,0 +1,572 @@
+"""The formulas that turn 6S's printed quantities into radscene's spectra (pure functions).
+
+6S describes a cloud-free atmosphere over a Lambertian surface of reflectance ρ by
+(Vermote et al. 1997, eq. 1 and §II.D):
+
+.. math::
+
+    \\rho_{toa} = T_g^{nw}\\,\\rho_R + T_g\\,(\\rho_{R+A} - \\rho_R)
+                 + T_g \\frac{T^{\\downarrow}(\\theta_s) T^{\\uparrow}(\\theta_v)\\,\\rho}{1 - S\\rho}
+
+with ρ_R and ρ_{R+A} the path reflectances of the molecular and of the whole scattering
+atmosphere, T^↓, T^↑ the total (direct + diffuse) scattering transmittances, S the spherical
+albedo, T_g the two-way gaseous transmittance and T_g^{nw} the same without water vapour (6S
+puts the water vapour under the molecules, mixed with the aerosol). Radiances follow as
+L = ρ E_0 cos θ_s / π. This module holds those formulas, the direct transmittances
+exp(-τ/μ), the sky-radiance model and the interpolation rules; :mod:`radscene.atmosphere.sixs`
+and :mod:`radscene.atmosphere.database` share them.
+
+Sky radiance
+------------
+6S prints the diffuse irradiance at the ground but no radiance distribution over the sky. The
+sky is modelled as single scattering in a plane-parallel layer of molecular optical depth τ_R
+and aerosol optical depth τ_A (6S's phase functions P_R, P_A and aerosol single-scattering
+albedo ω_A, sampled from 6S at several scattering angles), plus an isotropic part carrying the
+rest of 6S's diffuse irradiance (multiple scattering), plus the isotropic light of the
+surroundings of albedo ρ_b re-scattered by the atmosphere:
+
+.. math::
+
+    L(\\mu, \\phi) = \\frac{E_0 T_g^{\\downarrow}}{4\\pi\\mu}
+        \\left[\\tau_R P_R(\\Theta) + \\omega_A \\tau_A P_A(\\Theta)\\right] h(\\mu)
+        + \\frac{E_d - E_{ss}}{\\pi} + \\frac{(E_s + E_d)\\,\\rho_b S}{\\pi (1 - \\rho_b S)},
+
+    h(\\mu) = \\frac{e^{-\\tau/\\mu} - e^{-\\tau/\\mu_s}}{\\tau (1/\\mu_s - 1/\\mu)},
+
+where E_ss is the hemispherical integral of the single-scattering term, E_d = E_0 μ_s
+(T^↓ - e^{-τ/μ_s}) T_g^↓ the diffuse and E_s = E_0 μ_s e^{-τ/μ_s} T_g^↓ the direct irradiance
+on a horizontal surface. The model integrates exactly to 6S's downwelling diffuse irradiance
+(with the surroundings' contribution); its angular shape is that of single scattering (sun
+aureole, horizon brightening). Where single scattering alone would exceed E_d (not seen for
+τ < 3) it is scaled down to E_d.
+
+References
+----------
+E. F. Vermote et al., IEEE TGRS 35, 675-686 (1997), https://doi.org/10.1109/36.581987
+S. Chandrasekhar, *Radiative Transfer*, Dover (1960), §§ 1, 6 (single scattering in a
+plane-parallel layer).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "loglog_interp",
+    "bracket",
+    "direct_transmittance",
+    "path_reflectance",
+    "radiance_from_reflectance",
+    "azimuth_fourier",
+    "scattering_angle_sky",
+    "scattering_angle_view",
+    "phase_interp",
+    "single_scattering_sky",
+    "sky_radiance",
+    "hemisphere_quadrature",
+    "axis_weights",
+    "multilinear_nodes",
+    "single_scattering_reflectance",
+    "single_scattering_grid",
+    "earth_sun_factor_6s",
+    "TOP_OF_ATMOSPHERE",
+    "check_path_geometry",
+]
+
+#: Altitude [m] at and above which an observer is outside the atmosphere of every engine.
+TOP_OF_ATMOSPHERE = 100_000.0
+
+
+def earth_sun_factor_6s(month: int, day: int) -> float:
+    """6S's (1/d)² Earth-Sun distance factor of a date (6S source ``varsol``)."""
+    if month <= 2:
+        j = 31 * (month - 1) + day
+    elif month > 8:
+        j = 31 * (month - 1) - ((month - 2) // 2) - 2 + day
+    else:
+        j = 31 * (month - 1) - ((month - 1) // 2) - 2 + day
+    om = np.radians(0.9856 * (j - 4))
+    return float(1.0 / (1.0 - 0.01673 * np.cos(om)) ** 2)
+
+
+def check_path_geometry(observer_altitude, target_altitude, view_zenith, min_target=0.0):
+    """Validate line-of-sight geometry and put it in downward form.
+
+    Parameters
+    ----------
+    observer_altitude, target_altitude : array_like
+        Altitudes above sea level [m]; an observer at or above :data:`TOP_OF_ATMOSPHERE` is in
+        space.
+    view_zenith : array_like
+        Zenith angle of the direction from target to observer [deg], in [0, 180].
+    min_target : float
+        Lowest target altitude the engine accepts [m].
+
+    Returns
+    -------
+    upper, lower, zenith : numpy.ndarray
+        Broadcast arrays: the upper and lower end of each path [m] and the zenith angle seen
+        from the lower end [deg], < 90. A path whose observer is below its target is turned
+        round (transmittance is reciprocal; for path radiance this is an approximation).
+
+    Raises
+    ------
+    ConfigError
+        Non-finite values, an end below ``min_target`` or a target above 100 km, a zenith
+        outside [0, 180] or one that contradicts the altitudes.
+    """
+    from radscene.errors import ConfigError
+
+    o, t, z = np.broadcast_arrays(*(np.asarray(x, dtype=float)
+                                    for x in (observer_altitude, target_altitude, view_zenith)))
+    for name, arr in (("observer_altitude", o), ("target_altitude", t), ("view_zenith", z)):
+        if arr.size and not np.all(np.isfinite(arr)):
+            raise ConfigError("must be finite", key=name)
+    if t.size and (t.min() < min_target or o.min() < min_target):
+        low = min(t.min(), o.min())
+        raise ConfigError(f"a path below the ground: {low:g} m is under the engine's lowest "
+                          f"altitude {min_target:g} m", key="target_altitude")
+    if t.size and t.max() >= TOP_OF_ATMOSPHERE:
+        raise ConfigError(f"a target at {t.max():g} m is above the atmosphere's top "
+                          f"({TOP_OF_ATMOSPHERE:g} m)", key="target_altitude")
+    if z.size and (z.min() < 0 or z.max() > 180):
+        raise ConfigError("must lie in [0, 180] deg", key="view_zenith")
+    up = o >= t
+    bad = (up & (o - t > 0.5) & (z >= 90.0)) | (~up & (t - o > 0.5) & (z <= 90.0))
+    if np.any(bad):
+        raise ConfigError("the zenith angle contradicts the altitudes: an observer above its "
+                          "target must be seen at < 90 deg from it, one below at > 90 deg",
+                          key="view_zenith")
+    upper = np.where(up, o, t)
+    lower = np.where(up, t, o)
+    zenith = np.where(up, z, 180.0 - z)
+    zenith = np.where(upper - lower <= 0.5, np.minimum(zenith, 89.0), zenith)
+    return upper, lower, zenith
+
+
+def bracket(wavelength, nodes):
+    """Indices (i, i+1) of the nodes bracketing each wavelength, ends extended.
+
+    Parameters
+    ----------
+    wavelength : array_like
+        Wavelengths [um], 1-D.
+    nodes : array_like
+        Increasing node wavelengths [um], at least two.
+
+    Returns
+    -------
+    numpy.ndarray
+        Lower indices, shape (n,), in [0, len(nodes) - 2].
+    """
+    wl = np.asarray(wavelength, dtype=float)
+    nodes = np.asarray(nodes, dtype=float)
+    return np.clip(np.searchsorted(nodes, wl, side="right") - 1, 0, nodes.size - 2)
+
+
+def loglog_interp(wavelength, nodes, values):
+    """Interpolate along the last axis, linear in log(value) over log(wavelength).
+
+    This is 6S's own rule between its 20 discrete wavelengths (and beyond them it extrapolates
+    the same way). Where a bracketing value is not positive it falls back to linear
+    interpolation in log(wavelength).
+
+    Parameters
+    ----------
+    wavelength : array_like
+        Wavelengths [um], 1-D.
+    nodes : array_like
+        Increasing node wavelengths [um], shape (k,), k >= 2.
+    values : array_like
+        Shape (..., k).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (..., n).
+    """
+    wl = np.asarray(wavelength, dtype=float)
+    nodes = np.asarray(nodes, dtype=float)
+    v = np.asarray(values, dtype=float)
+    i = bracket(wl, nodes)
+    t = np.log(wl / nodes[i]) / np.log(nodes[i + 1] / nodes[i])
+    a = v[..., i]
+    b = v[..., i + 1]
+    positive = (a > 0) & (b > 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_form = np.exp(np.log(np.where(positive, a, 1.0)) * (1 - t)
+                          + np.log(np.where(positive, b, 1.0)) * t)
+    return np.where(positive, log_form, a + t * (b - a))
+
+
+def direct_transmittance(optical_depth, zenith):
+    """Beer's law along a slant path of a plane-parallel atmosphere.
+
+    Parameters
+    ----------
+    optical_depth : array_like
+        Vertical extinction optical depth of the layer [-].
+    zenith : array_like
+        Zenith angle of the path [deg], < 90.
+
+    Returns
+    -------
+    numpy.ndarray
+        exp(-τ / cos θ) [-].
+    """
+    mu = np.cos(np.radians(np.asarray(zenith, dtype=float)))
+    return np.exp(-np.asarray(optical_depth, dtype=float) / mu)
+
+
+def path_reflectance(rho_mixture, rho_rayleigh, gas_total, gas_no_water):
+    """6S's path reflectance with gaseous absorption (water vapour mixed with the aerosol).
+
+    Parameters
+    ----------
+    rho_mixture, rho_rayleigh : array_like
+        Path reflectance of the molecules + aerosol and of the molecules alone [-].
+    gas_total, gas_no_water : array_like
+        Two-way gaseous transmittance, all gases and all but water vapour [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        T_g^nw ρ_R + T_g (ρ_R+A - ρ_R) [-].
+    """
+    rho_r = np.asarray(rho_rayleigh, dtype=float)
+    return gas_no_water * rho_r + gas_total * (np.asarray(rho_mixture, dtype=float) - rho_r)
+
+
+def radiance_from_reflectance(reflectance, toa_irradiance, sun_zenith):
+    """L = ρ E_0 cos θ_s / π [W m-2 sr-1 um-1] for E_0 in [W m-2 um-1]."""
+    mu_s = np.cos(np.radians(np.asarray(sun_zenith, dtype=float)))
+    return np.asarray(reflectance, dtype=float) * toa_irradiance * mu_s / np.pi
+
+
+def azimuth_fourier(relative_azimuth, at_0, at_90, at_180):
+    """Three-term cosine series a0 + a1 cos φ + a2 cos 2φ through values at 0, 90, 180 deg.
+
+    Parameters
+    ----------
+    relative_azimuth : array_like
+        φ [deg]; NaN gives the azimuthal mean a0 = (v0 + 2 v90 + v180) / 4.
+    at_0, at_90, at_180 : array_like
+        Values at φ = 0, 90, 180 deg (broadcast).
+
+    Returns
+    -------
+    numpy.ndarray
+    """
+    phi = np.radians(np.asarray(relative_azimuth, dtype=float))
+    # v(0) = a0 + a1 + a2, v(90) = a0 - a2, v(180) = a0 - a1 + a2
+    a0 = (at_0 + 2.0 * at_90 + at_180) / 4.0
+    a1 = (at_0 - at_180) / 2.0
+    a2 = (at_0 + at_180 - 2.0 * at_90) / 4.0
+    c1 = np.where(np.isnan(phi), 0.0, np.cos(phi))
+    c2 = np.where(np.isnan(phi), 0.0, np.cos(2.0 * phi))
+    return a0 + a1 * c1 + a2 * c2
+
+
+def scattering_angle_view(sun_zenith, view_zenith, relative_azimuth):
+    """Scattering angle of sunlight reflected to a downward-looking sensor [deg] (6S rule).
+
+    ``relative_azimuth`` is the azimuth of the sensor seen from the target minus that of the
+    sun [deg]: 0 puts the sensor on the sun's side (backscatter).
+    """
+    ts, tv, p = (np.radians(np.asarray(x, dtype=float))
+                 for x in (sun_zenith, view_zenith, relative_azimuth))
+    c = -np.cos(ts) * np.cos(tv) - np.sin(ts) * np.sin(tv) * np.cos(p)
+    return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def scattering_angle_sky(sun_zenith, zenith, relative_azimuth):
+    """Scattering angle of sunlight scattered down towards a ground observer [deg].
+
+    ``zenith`` and ``relative_azimuth`` give the direction of view up into the sky, the
+    azimuth relative to the sun's (0: looking towards the sun, forward scattering).
+    """
+    ts, t, p = (np.radians(np.asarray(x, dtype=float))
+                for x in (sun_zenith, zenith, relative_azimuth))
+    c = np.cos(ts) * np.cos(t) + np.sin(ts) * np.sin(t) * np.cos(p)
+    return np.degrees(np.arccos(np.clip(c, -1.0, 1.0)))
+
+
+def phase_interp(angle, angle_nodes, phase):
+    """Phase function at scattering angles, log-linear in angle between the nodes.
+
+    Parameters
+    ----------
+    angle : array_like
+        Scattering angles [deg], shape S.
+    angle_nodes : array_like
+        Increasing node angles [deg], shape (k,).
+    phase : array_like
+        Phase function (6S normalisation, mean 1 over the sphere) at the nodes, shape (k, n)
+        for n wavelengths.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape S + (n,); below the first node the first value (stated rule), likewise above
+        the last.
+    """
+    a = np.clip(np.asarray(angle, dtype=float), angle_nodes[0], angle_nodes[-1])
+    nodes = np.asarray(angle_nodes, dtype=float)
+    logp = np.log(np.maximum(np.asarray(phase, dtype=float), 1e-12))
+    i = np.clip(np.searchsorted(nodes, a, side="right") - 1, 0, nodes.size - 2)
+    t = ((a - nodes[i]) / (nodes[i + 1] - nodes[i]))[..., None]
+    return np.exp(logp[i] * (1.0 - t) + logp[i + 1] * t)
+
+
+def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase_aerosol,
+                                  tau_rayleigh, tau_aerosol, omega_aerosol,
+                                  fraction_rayleigh=1.0, fraction_aerosol=1.0):
+    """Singly scattered path reflectance of a plane-parallel atmosphere over a black surface.
+
+    The layer between the target and an observer holds the fractions ``fraction_rayleigh`` and
+    ``fraction_aerosol`` of the column's optical depths τ_R, τ_A; sunlight reaches it through
+    the rest of the column. With P̄ = (τ_R P_R + ω_A τ_A P_A) / τ, τ_l the layer's optical depth
+    and m = 1/μ_s + 1/μ_v:
+
+    .. math::
+
+        \rho_{ss} = \frac{\bar P\, e^{-(\tau - \tau_l)/\mu_s}
+                     \left(1 - e^{-\tau_l m}\right)}{4 (\mu_s + \mu_v)}
+
+    (Chandrasekhar 1960; at the top of the atmosphere the classic single-scattering
+    reflectance). The database divides 6S's path reflectance by it before interpolating, so
+    that only the smooth multiple-scattering factor is interpolated between angles.
+
+    Parameters
+    ----------
+    sun_zenith, view_zenith : array_like
+        [deg], < 90.
+    phase_rayleigh, phase_aerosol : array_like
+        Phase functions at the scattering angle (mean 1 over the sphere) [-].
+    tau_rayleigh, tau_aerosol, omega_aerosol : array_like
+        Column optical depths above the target and aerosol single-scattering albedo [-].
+    fraction_rayleigh, fraction_aerosol : array_like
+        Share of each column below the observer [-] (1 at the top of the atmosphere).
+
+    Returns
+    -------
+    numpy.ndarray
+        ρ_ss [-], broadcast over the inputs.
+    """
+    mu_s = np.cos(np.radians(np.asarray(sun_zenith, dtype=float)))
+    mu_v = np.cos(np.radians(np.asarray(view_zenith, dtype=float)))
+    tau = tau_rayleigh + tau_aerosol
+    tau_l = tau_rayleigh * fraction_rayleigh + tau_aerosol * fraction_aerosol
+    source = (tau_rayleigh * phase_rayleigh + omega_aerosol * tau_aerosol * phase_aerosol)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pbar = np.where(tau > 0, source / np.where(tau > 0, tau, 1.0), 0.0)
+    m = 1.0 / mu_s + 1.0 / mu_v
+    return (pbar * np.exp(-(tau - tau_l) / mu_s) * -np.expm1(-tau_l * m)
+            / (4.0 * (mu_s + mu_v)))
+
+
+def single_scattering_grid(sun_zenith, view_zenith, relative_azimuth, angle_nodes,
+                           phase_rayleigh, phase_aerosol, tau_rayleigh, tau_aerosol,
+                           omega_aerosol, fraction_rayleigh, fraction_aerosol,
+                           rayleigh_only=False):
+    """:func:`single_scattering_reflectance` on a (θ_s, θ_v, φ) grid, per wavelength.
+
+    Parameters
+    ----------
+    sun_zenith, view_zenith, relative_azimuth : array_like
+        1-D node angles [deg].
+    angle_nodes, phase_rayleigh, phase_aerosol
+        Phase tables, shape (k, n) for n wavelengths (see :func:`phase_interp`).
+    tau_rayleigh, tau_aerosol, omega_aerosol : array_like
+        Shape (n,) or (n, 1, 1, 1)-broadcastable.
+    fraction_rayleigh, fraction_aerosol : float
+    rayleigh_only : bool
+        The molecules alone (τ_A = 0).
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (n, n_sun, n_view, n_azimuth).
+    """
+    zs, zv, ph = np.meshgrid(np.asarray(sun_zenith, float), np.asarray(view_zenith, float),
+                             np.asarray(relative_azimuth, float), indexing="ij")
+    theta = scattering_angle_view(zs, zv, ph)
+    pr = np.moveaxis(phase_interp(theta, angle_nodes, phase_rayleigh), -1, 0)
+    pa = np.moveaxis(phase_interp(theta, angle_nodes, phase_aerosol), -1, 0)
+    col = (slice(None), None, None, None)
+    tr = np.asarray(tau_rayleigh, float)[col]
+    ta = 0.0 * tr if rayleigh_only else np.asarray(tau_aerosol, float)[col]
+    om = np.asarray(omega_aerosol, float)[col]
+    return single_scattering_reflectance(zs, np.minimum(zv, 89.0), pr, pa, tr, ta, om,
+                                         fraction_rayleigh, fraction_aerosol)
+
+
+def axis_weights(values, nodes):
+    """Lower node index and fraction of values on an increasing node axis (ends held).
+
+    Returns
+    -------
+    index : numpy.ndarray of int
+        In [0, k - 2] (0 when k == 1).
+    fraction : numpy.ndarray
+        Weight of node ``index + 1``; outside the axis the end node takes the whole weight.
+    """
+    v = np.asarray(values, dtype=float)
+    nodes = np.asarray(nodes, dtype=float)
+    if nodes.size == 1:
+        return np.zeros(v.shape, dtype=np.int64), np.zeros(v.shape)
+    vc = np.clip(v, nodes[0], nodes[-1])
+    i = np.clip(np.searchsorted(nodes, vc, side="right") - 1, 0, nodes.size - 2)
+    return i, (vc - nodes[i]) / (nodes[i + 1] - nodes[i])
+
+
+def multilinear_nodes(coordinates, axes):
+    """Grid nodes that each point mixes, and their multilinear weights.
+
+    Parameters
+    ----------
+    coordinates : sequence of array_like
+        One 1-D array per axis, the points' coordinates (same length N).
+    axes : sequence of array_like
+        The increasing node values of each axis.
+
+    Returns
+    -------
+    node_coordinates : list of numpy.ndarray
+        For each axis, the coordinate of each *used* node, shape (n_nodes,).
+    index : numpy.ndarray
+        Shape (N, 2**d) int, into the used nodes.
+    weight : numpy.ndarray
+        Shape (N, 2**d), rows summing to 1.
+    """
+    axes = [np.asarray(a, dtype=float) for a in axes]
+    n = len(np.asarray(coordinates[0]))
+    flat = np.zeros((n, 1), dtype=np.int64)
+    weight = np.ones((n, 1))
+    for values, nodes in zip(coordinates, axes, strict=True):
+        i, f = axis_weights(values, nodes)
+        hi = np.minimum(i + 1, nodes.size - 1)
+        flat = np.concatenate([flat * nodes.size + i[:, None], flat * nodes.size + hi[:, None]], 1)
+        weight = np.concatenate([weight * (1.0 - f)[:, None], weight * f[:, None]], 1)
+    used, index = np.unique(flat, return_inverse=True)
+    index = index.reshape(flat.shape)
+    sizes = [a.size for a in axes]
+    multi = np.unravel_index(used, sizes) if used.size else [np.zeros(0, int)] * len(axes)
+    return [a[m] for a, m in zip(axes, multi, strict=True)], index, weight
+
+
+def _h(tau, mu, mu_s):
+    """(e^{-τ/μ} - e^{-τ/μs}) / (τ (1/μs - 1/μ)), stable for every μ, μs in (0, 1]."""
+    y = tau * np.abs(1.0 / mu_s - 1.0 / mu)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi = np.where(y > 1e-8, -np.expm1(-y) / y, 1.0 - 0.5 * y)
+    return np.exp(-tau / np.maximum(mu, mu_s)) * phi
+
+
+def single_scattering_sky(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down,
+                          tau_rayleigh, tau_aerosol, omega_aerosol, angle_nodes, phase_rayleigh,
+                          phase_aerosol):
+    """Singly scattered sky radiance at the bottom of a plane-parallel layer.
+
+    Parameters
+    ----------
+    zenith, relative_azimuth : array_like
+        Direction of view into the sky [deg], zenith < 90, azimuth relative to the sun's.
+        Broadcast together, shape S.
+    sun_zenith : float
+        [deg], < 90.
+    toa_irradiance : array_like
+        E_0 normal to the beam [W m-2 um-1], shape (n,).
+    gas_down : array_like
+        Gaseous transmittance along the sun's path [-], shape (n,).
+    tau_rayleigh, tau_aerosol, omega_aerosol : array_like
+        Optical depths above the observer and aerosol single-scattering albedo, shape (n,).
+    angle_nodes, phase_rayleigh, phase_aerosol
+        See :func:`phase_interp`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Radiance, shape S + (n,) [W m-2 sr-1 um-1].
+    """
+    z, p = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(relative_azimuth, float))
+    theta = scattering_angle_sky(sun_zenith, z, p)
+    pr = phase_interp(theta, angle_nodes, phase_rayleigh)
+    pa = phase_interp(theta, angle_nodes, phase_aerosol)
+    tau = tau_rayleigh + tau_aerosol
+    mu = np.cos(np.radians(z))[..., None]
+    mu_s = np.cos(np.radians(sun_zenith))
+    source = tau_rayleigh * pr + omega_aerosol * tau_aerosol * pa
+    return (toa_irradiance * gas_down / (4.0 * np.pi * mu) * source / np.maximum(tau, 1e-30)
+            * _h(tau, mu, mu_s))
+
+
+def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):
+    """Directions and weights for ∫ f(μ, φ) μ dΩ over the upper hemisphere.
+
+    Returns
+    -------
+    zenith, relative_azimuth : numpy.ndarray
+        Shape (n_mu * n_phi,) [deg]; azimuth in [0, 180] (the sky is symmetric about the sun's
+        vertical plane).
+    weight : numpy.ndarray
+        μ dΩ weights [sr], summing to π.
+    """
+    x, w = np.polynomial.legendre.leggauss(n_mu)
+    mu = 0.5 * (x + 1.0)
+    wmu = 0.5 * w
+    y, v = np.polynomial.legendre.leggauss(n_phi)
+    phi = 0.5 * np.pi * (y + 1.0)  # 0..π, doubled by symmetry
+    wphi = 0.5 * np.pi * v * 2.0
+    zen = np.degrees(np.arccos(mu))
+    zz, pp = np.meshgrid(zen, np.degrees(phi), indexing="ij")
+    ww = (wmu * mu)[:, None] * wphi[None, :]
+    return zz.ravel(), pp.ravel(), ww.ravel()
+
+
+def sky_radiance(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down, tau_rayleigh,
+                 tau_aerosol, omega_aerosol, angle_nodes, phase_rayleigh, phase_aerosol,
+                 total_down, spherical_albedo, background_albedo=0.0):
+    """Sky radiance seen from the ground: single scattering + isotropic rest (module notes).
+
+    Parameters
+    ----------
+    zenith, relative_azimuth : array_like
+        Directions of view into the sky [deg], azimuth relative to the sun's.
+    sun_zenith : float
+        [deg]. At or beyond 90 the sky is dark (0).
+    toa_irradiance, gas_down, tau_rayleigh, tau_aerosol, omega_aerosol : array_like
+        Shape (n,): E_0 [W m-2 um-1], T_g^↓, τ_R, τ_A, ω_A [-].
+    angle_nodes, phase_rayleigh, phase_aerosol
+        Phase-function tables (see :func:`phase_interp`).
+    total_down : array_like
+        6S total scattering transmittance T^↓ along the sun's path [-], shape (n,).
+    spherical_albedo : array_like
+        S [-], shape (n,).
+    background_albedo : float
+        Albedo of the surroundings ρ_b [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape ``broadcast(zenith, relative_azimuth).shape + (n,)`` [W m-2 sr-1 um-1].
+    """
+    z, p = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(relative_azimuth, float))
+    e0 = np.asarray(toa_irradiance, dtype=float)
+    if sun_zenith >= 90.0:
+        return np.zeros(z.shape + e0.shape)
+    mu_s = np.cos(np.radians(sun_zenith))
+    tau = tau_rayleigh + tau_aerosol
+    direct = np.exp(-tau / mu_s)
+    e_dir = e0 * mu_s * direct * gas_down
+    e_dif = e0 * mu_s * np.maximum(total_down - direct, 0.0) * gas_down
+    args = (sun_zenith, e0, gas_down, tau_rayleigh, tau_aerosol, omega_aerosol, angle_nodes,
+            phase_rayleigh, phase_aerosol)
+    qz, qp, qw = hemisphere_quadrature()
+    e_ss = np.einsum("q,qn->n", qw, single_scattering_sky(qz, qp, *args))
+    scale = np.where(e_ss > e_dif, e_dif / np.maximum(e_ss, 1e-300), 1.0)
+    rest = np.maximum(e_dif - e_ss, 0.0)
+    rb = float(background_albedo) * np.asarray(spherical_albedo, dtype=float)
+    env = (e_dir + e_dif) * rb / (1.0 - rb)
+    ss = single_scattering_sky(np.minimum(z, 89.999), p, *args)
+    return ss * scale + (rest + env) / np.pi

@@ -1,0 +1,349 @@
+"""Scene-file models (pydantic) of the scanning observers and their platforms, and the factory.
+
+These models are ready to join the scene schema's observer union (discriminator ``type``):
+:class:`PushbroomSpec` (``type: pushbroom``) and :class:`WhiskbroomSpec` (``type:
+whiskbroom``). Each carries the common observer fields (``name``, ``shape``, ``supersample``,
+``bands``) and exactly one platform:
+
+* ``orbit`` — :class:`OrbitSpec`: ``{tle: [line1, line2]}``, ``{elements: {...}}`` or
+  ``{overpass: {altitude: 705 km}}`` (a circular orbit over the scene origin at the scene
+  time, sun-synchronous unless an inclination is given);
+* ``platform`` — :class:`LinearPlatformSpec`: a straight line at constant velocity (an
+  aircraft; ``earth_rotation: true`` makes the velocity inertial, as for a satellite);
+* ``waypoints`` — :class:`WaypointsSpec`: sampled positions and attitudes, interpolated.
+
+Clock: the observer's t = 0 is the scene time (``environment.time``); the acquisition is
+centred on it unless ``start`` [s] says when line 0 begins. :func:`build_observer` turns a
+spec into a :class:`~radscene.platform.scanners.PushbroomScanner` or
+:class:`~radscene.platform.scanners.WhiskbroomScanner`.
+
+Config snippet::
+
+    observers:
+      - type: pushbroom
+        name: oli
+        shape: [512, 512]
+        gsd: 30 m
+        orbit: {overpass: {altitude: 705 km, descending: true}}
+      - type: whiskbroom
+        name: linescan
+        shape: [200, 400]
+        ifov: 0.1 deg
+        detectors: 4
+        platform: {position: [0, 0, 1500], velocity: [0, 80, 0]}
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+from typing import Annotated, Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, model_validator
+
+from radscene.errors import ConfigError
+from radscene.radiometry.units import parse_quantity
+
+__all__ = [
+    "OrbitSpec",
+    "TLESpec",
+    "ElementsSpec",
+    "OverpassSpec",
+    "LinearPlatformSpec",
+    "WaypointsSpec",
+    "PushbroomSpec",
+    "WhiskbroomSpec",
+    "build_observer",
+    "build_trajectory",
+]
+
+
+def _quantity(kind: str, minimum: float | None = None, exclusive: bool = False):
+    def parse(value: Any) -> float:
+        if isinstance(value, bool):
+            raise ValueError(f"expected a {kind}, got {value!r}")
+        try:
+            number = float(parse_quantity(value, kind))
+        except ConfigError as err:
+            raise ValueError(err.message) from None
+        if minimum is not None and (number <= minimum if exclusive else number < minimum):
+            raise ValueError(f"must be {'>' if exclusive else '>='} {minimum:g} "
+                             f"(canonical unit), got {value!r}")
+        return number
+
+    return BeforeValidator(parse)
+
+
+Length = Annotated[float, _quantity("length")]
+PositiveLength = Annotated[float, _quantity("length", 0.0, exclusive=True)]
+Angle = Annotated[float, _quantity("angle")]
+PositiveAngle = Annotated[float, _quantity("angle", 0.0, exclusive=True)]
+Duration = Annotated[float, _quantity("time")]
+PositiveDuration = Annotated[float, _quantity("time", 0.0, exclusive=True)]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class TLESpec(_Model):
+    """A two-line element set: the lines (a list or one string), an optional name, UT1-UTC."""
+
+    lines: list[str] | str
+    name: str | None = None
+    dut1: float = 0.0
+
+
+class ElementsSpec(_Model):
+    """Keplerian elements at an epoch (two-body + secular J2)."""
+
+    epoch: _dt.datetime
+    altitude: PositiveLength | None = None
+    semi_major_axis: PositiveLength | None = None
+    eccentricity: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.0
+    inclination: Annotated[Angle, Field(ge=0.0, le=180.0)]
+    raan: Angle = 0.0
+    argument_of_perigee: Angle = 0.0
+    mean_anomaly: Angle = 0.0
+    j2: bool = True
+
+    @model_validator(mode="after")
+    def _size(self):
+        if (self.altitude is None) == (self.semi_major_axis is None):
+            raise ValueError("give exactly one of 'altitude' and 'semi_major_axis'")
+        if self.epoch.tzinfo is None:
+            raise ValueError("epoch must carry a timezone (e.g. 2024-06-01T10:30:00Z)")
+        return self
+
+
+class OverpassSpec(_Model):
+    """A circular orbit over a ground point (default the scene origin) at the scene time."""
+
+    altitude: PositiveLength
+    inclination: Annotated[Angle, Field(ge=0.0, le=180.0)] | None = None
+    descending: bool = True
+    latitude: Annotated[float, Field(ge=-90.0, le=90.0)] | None = None
+    longitude: float | None = None
+
+
+class OrbitSpec(_Model):
+    """A satellite platform: exactly one of ``tle``, ``elements``, ``overpass``."""
+
+    tle: TLESpec | list[str] | str | None = None
+    elements: ElementsSpec | None = None
+    overpass: OverpassSpec | None = None
+    yaw_steering: bool = False
+    earth_rotation: bool = True
+    step: PositiveDuration = 1.0
+
+    @model_validator(mode="after")
+    def _one(self):
+        given = [k for k in ("tle", "elements", "overpass") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(f"give exactly one of tle, elements, overpass; got "
+                             f"{', '.join(given) or 'none'}")
+        return self
+
+
+class LinearPlatformSpec(_Model):
+    """A straight line at constant velocity; ``position`` is where the platform is at t = 0."""
+
+    position: tuple[Length, Length, Length]
+    velocity: tuple[float, float, float]
+    attitude: tuple[Angle, Angle, Angle] | None = None
+    earth_rotation: bool = False
+
+
+class WaypointsSpec(_Model):
+    """Sampled positions (and attitudes) at times [s after the scene time]."""
+
+    times: list[Duration] = Field(min_length=1)
+    positions: list[tuple[Length, Length, Length]] = Field(min_length=1)
+    attitudes: list[tuple[Angle, Angle, Angle]] | None = None
+
+    @model_validator(mode="after")
+    def _lengths(self):
+        if len(self.positions) != len(self.times) or (
+                self.attitudes is not None and len(self.attitudes) != len(self.times)):
+            raise ValueError("times, positions and attitudes must have one entry each per "
+                             "waypoint")
+        return self
+
+
+class _ScannerCommon(_Model):
+    name: str
+    shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
+    supersample: Annotated[int, Field(ge=1, le=16)] = 1
+    bands: list[str] | None = None
+    orbit: OrbitSpec | None = None
+    platform: LinearPlatformSpec | None = None
+    waypoints: WaypointsSpec | None = None
+    ifov: PositiveAngle | None = None
+    gsd: PositiveLength | None = None
+    start: Duration | None = None
+    off_nadir: Annotated[Angle, Field(gt=-90.0, lt=90.0)] = 0.0
+    forward_tilt: Annotated[Angle, Field(gt=-90.0, lt=90.0)] = 0.0
+
+    @model_validator(mode="after")
+    def _platform(self):
+        given = [k for k in ("orbit", "platform", "waypoints") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(f"give exactly one of orbit, platform, waypoints; got "
+                             f"{', '.join(given) or 'none'}")
+        if (self.ifov is None) == (self.gsd is None):
+            raise ValueError("give exactly one of 'ifov' (angle) and 'gsd' (length)")
+        return self
+
+
+class PushbroomSpec(_ScannerCommon):
+    """A pushbroom scanner (``type: pushbroom``)."""
+
+    type: Literal["pushbroom"]
+    line_time: PositiveDuration | None = None
+
+
+class WhiskbroomSpec(_ScannerCommon):
+    """A whiskbroom / line scanner (``type: whiskbroom``)."""
+
+    type: Literal["whiskbroom"]
+    scan_period: PositiveDuration | None = None
+    detectors: Annotated[int, Field(ge=1)] = 1
+    sample_time: PositiveDuration | None = None
+    bidirectional: bool = False
+    mirror_profile: list[tuple[float, Angle]] | None = None
+
+
+def build_trajectory(spec, frame, time: _dt.datetime | None, t0: float, t1: float):
+    """The trajectory of a scanner spec's platform covering ``[t0, t1]`` s after ``time``.
+
+    Parameters
+    ----------
+    spec : PushbroomSpec or WhiskbroomSpec
+    frame : LocalFrame
+        The scene's frame.
+    time : datetime or None
+        The scene time (t = 0); needed for orbits.
+    t0, t1 : float
+        Span to cover [s].
+
+    Returns
+    -------
+    Trajectory
+    """
+    from radscene.platform.orbit import Orbit
+    from radscene.platform.trajectory import Trajectory
+
+    if spec.orbit is not None:
+        o = spec.orbit
+        if time is None:
+            raise ConfigError("an orbit needs the scene time (environment.time)", key="orbit")
+        if o.tle is not None:
+            tle = o.tle if not isinstance(o.tle, TLESpec) else o.tle.lines
+            name = None if not isinstance(o.tle, TLESpec) else o.tle.name
+            dut1 = 0.0 if not isinstance(o.tle, TLESpec) else o.tle.dut1
+            orbit = Orbit.from_tle(tle, name=name, dut1=dut1, key="orbit.tle")
+        elif o.elements is not None:
+            e = o.elements
+            orbit = Orbit.from_elements(
+                e.epoch, semi_major_axis=e.semi_major_axis, altitude=e.altitude,
+                eccentricity=e.eccentricity, inclination=e.inclination, raan=e.raan,
+                argument_of_perigee=e.argument_of_perigee, mean_anomaly=e.mean_anomaly,
+                j2=e.j2)
+        else:
+            p = o.overpass
+            lat = frame.latitude if p.latitude is None else p.latitude
+            lon = frame.longitude if p.longitude is None else p.longitude
+            orbit = Orbit.overpass(lat, lon, time, p.altitude, inclination=p.inclination,
+                                   descending=p.descending, height=frame.height)
+        start = time + _dt.timedelta(seconds=t0)
+        tr = orbit.trajectory(frame, start, t1 - t0, step=o.step, yaw_steering=o.yaw_steering,
+                              earth_rotation=o.earth_rotation)
+        # re-clock so that t = 0 is the scene time
+        return Trajectory(tr.times + t0, tr.positions, quaternions=tr.quaternions,
+                          velocities=tr.velocities, epoch=time)
+    if spec.platform is not None:
+        p = spec.platform
+        v = np.asarray(p.velocity, dtype=float)
+        start_pos = np.asarray(p.position, dtype=float) + t0 * v
+        if p.earth_rotation:
+            # inertial line through `position` at t = 0; the rotation is taken from t0
+            return Trajectory.linear(start_pos, v, t1 - t0, p.attitude, start=t0, frame=frame,
+                                     epoch=time)
+        return Trajectory.linear(start_pos, v, t1 - t0, p.attitude, start=t0, epoch=time)
+    w = spec.waypoints
+    return Trajectory(w.times, w.positions, w.attitudes, epoch=time)
+
+
+def _make(spec, trajectory, start, fixed=None):
+    """A scanner from a spec; ``fixed`` (another scanner) supplies ifov and periods."""
+    from radscene.platform.scanners import PushbroomScanner, WhiskbroomScanner
+
+    ifov, gsd = (spec.ifov, spec.gsd) if fixed is None else (fixed.ifov, None)
+    common = {"gsd": gsd, "start": start, "off_nadir": spec.off_nadir,
+              "forward_tilt": spec.forward_tilt}
+    if spec.type == "pushbroom":
+        line_time = spec.line_time if fixed is None else fixed.line_time
+        return PushbroomScanner(trajectory, spec.shape, ifov, line_time, **common)
+    period, sample = ((spec.scan_period, spec.sample_time) if fixed is None
+                      else (fixed.scan_period, fixed.sample_time))
+    return WhiskbroomScanner(trajectory, spec.shape, ifov, period, detectors=spec.detectors,
+                             sample_time=sample, bidirectional=spec.bidirectional,
+                             mirror_profile=spec.mirror_profile, **common)
+
+
+def build_observer(spec, frame, time: _dt.datetime | None = None, key: str = "observer"):
+    """Build a scanner from its spec.
+
+    Parameters
+    ----------
+    spec : PushbroomSpec, WhiskbroomSpec or mapping
+        A validated spec, or a dict validated here.
+    frame : LocalFrame
+        The scene's frame (its location).
+    time : datetime, optional
+        The scene time, t = 0 of the observer's clock (needed for orbits and sun angles).
+    key : str
+        Key path for error messages (``observers[2]``).
+
+    Returns
+    -------
+    PushbroomScanner or WhiskbroomScanner
+
+    Raises
+    ------
+    ConfigError
+        Invalid spec (the message names the key).
+    """
+    from pydantic import TypeAdapter, ValidationError
+
+    if not isinstance(spec, PushbroomSpec | WhiskbroomSpec):
+        try:
+            spec = TypeAdapter(Annotated[PushbroomSpec | WhiskbroomSpec,
+                                         Field(discriminator="type")]).validate_python(spec)
+        except ValidationError as exc:
+            err = exc.errors()[0]
+            parts = [str(p) for p in err["loc"]]
+            if parts and parts[0] in ("pushbroom", "whiskbroom"):
+                parts = parts[1:]  # the union's tag
+            loc = ".".join(parts)
+            raise ConfigError(err["msg"], key=f"{key}.{loc}" if loc else key) from None
+    try:
+        # a first scanner, at the scene time, turns gsd into ifov and fixes the periods,
+        # hence the duration; the final one keeps them
+        probe_span = (-1.0, 1.0) if spec.waypoints is None else (
+            spec.waypoints.times[0], spec.waypoints.times[-1])
+        probe_start = 0.0 if spec.waypoints is None else max(0.0, probe_span[0])
+        probe = _make(spec, build_trajectory(spec, frame, time, *probe_span), probe_start)
+        if spec.type == "pushbroom":
+            duration = spec.shape[0] * probe.line_time
+        else:
+            duration = spec.shape[0] // probe.detectors * probe.scan_period
+        start = -0.5 * duration if spec.start is None else spec.start
+        if spec.waypoints is not None:
+            return _make(spec, probe.trajectory, start, fixed=probe)
+        margin = 1.0
+        trajectory = build_trajectory(spec, frame, time, start - margin,
+                                      start + duration + margin)
+        return _make(spec, trajectory, start, fixed=probe)
+    except ConfigError as err:
+        raise ConfigError(err.message, key=f"{key}.{err.key}" if err.key else key) from None

@@ -1,0 +1,288 @@
+"""The ``lowtran`` engine's mapping of Atmosphere queries onto LOWTRAN cases.
+
+A stand-in executable answers every deck with flat spectra on LOWTRAN's own grid (V1 to V2
+by DV from card 4) and logs the decks, so these tests check the queries, units, shapes and
+the checks made before anything runs, without a Fortran compiler. LOWTRAN's physics is
+tested in test_lowtran_physics.py and tests/validation/test_lowtran_reference.py.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import stat
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from radscene.atmosphere import SkyGeometry
+from radscene.atmosphere.lowtran import LowtranAtmosphere
+from radscene.errors import ConfigError
+
+# stand-in values in LOWTRAN's units (W cm-2 ...), and in radscene's (W m-2 ...)
+TAU, THERMAL, TSOL, SOLAR, SCATTER = 0.8, 1e-4, 5e-2, 1e-1, 2e-5
+REL = 1e-7  # the stand-in prints 8 significant digits
+
+FAKE = textwrap.dedent("""\
+    import os
+    lines = open("TAPE5").read().splitlines()
+    log = os.environ.get("FAKE_LOWTRAN_LOG")
+    if log:
+        with open(log, "a") as f:
+            f.write("\\n".join(lines) + "\\n@@\\n")
+    iemsct = int(lines[0][10:15])
+    v1, v2, dv = (float(lines[-2][i:i + 10]) for i in (0, 10, 20))
+    n = int(round((v2 - v1) / dv)) + 1
+    with open("radscene.out", "w") as f:
+        f.write("# radscene-lowtran7 1 points %d\\n" % n)
+        for k in range(n):
+            v = v1 + k * dv
+            row = (v, 1e4 / v, 0.8, 1e-4, 5e-2, 1e-1, 2e-5, 1.0, 1.0)
+            f.write("".join(" %16.8E" % x for x in row) + "\\n")
+        f.write("# end\\n")
+""")
+
+
+@pytest.fixture
+def decks(tmp_path, monkeypatch):
+    """The decks the stand-in has run, as lists of card lines."""
+    log = tmp_path / "decks.log"
+    monkeypatch.setenv("FAKE_LOWTRAN_LOG", str(log))
+
+    def read():
+        if not log.exists():
+            return []
+        return [d.strip("\n").splitlines() for d in log.read_text().split("@@\n") if d.strip()]
+    return read
+
+
+@pytest.fixture
+def make(tmp_path):
+    exe = tmp_path / "fake-lowtran"
+    exe.write_text(f"#!{sys.executable}\n{FAKE}")
+    exe.chmod(exe.stat().st_mode | stat.S_IXUSR)
+
+    def build(**params):
+        params.setdefault("cache", False)
+        return LowtranAtmosphere(executable=exe, **params)
+    return build
+
+
+def card(lines, index, widths):
+    out, pos = [], 0
+    for w in widths:
+        out.append(lines[index][pos:pos + w])
+        pos += w
+    return out
+
+
+WL = np.array([0.45, 0.55, 1.6, 10.0])
+
+
+# -- queries ---------------------------------------------------------------------------------
+def test_path_shapes_units_and_the_deck(make, decks):
+    atm = make(aerosol="urban", visibility=8.0, albedo=0.2, sun_zenith=30.0, sun_azimuth=150.0)
+    out = atm.path(3000.0, [[0.0], [100.0]], [0.0, 20.0, 40.0], WL)
+    assert out.transmittance.shape == out.radiance.shape == (2, 3, 4)
+    assert out.transmittance == pytest.approx(np.full((2, 3, 4), TAU), rel=REL)
+    assert out.thermal_radiance == pytest.approx(np.full((2, 3, 4), THERMAL * 1e4), rel=REL)
+    assert out.scattered_radiance == pytest.approx(np.full((2, 3, 4), SCATTER * 1e4), rel=REL)
+    runs = decks()
+    assert len(runs) == 6  # one per distinct geometry
+    nadir = next(d for d in runs if float(card(d, 2, [10] * 3)[2]) == 180.0)
+    c1 = card(nadir, 0, [5] * 13 + [8, 7])
+    assert (int(c1[0]), int(c1[1]), int(c1[2]), int(c1[3])) == (2, 2, 2, 1)
+    assert (float(c1[13]), float(c1[14])) == (0.0, 0.2)  # no boundary emission; albedo
+    c2 = card(nadir, 1, [5] * 6 + [10] * 5)
+    assert (int(c2[0]), float(c2[6])) == (5, 8.0)  # urban, visibility 8 km
+    h1, h2, angle = (float(x) for x in card(nadir, 2, [10] * 3))
+    assert h1 == 3.0 and angle == 180.0
+    assert h2 in (0.001, 0.1)  # a target on the ground is lifted 1 m: no ground term
+    iparm, iph, iday, isourc = (int(x) for x in card(nadir, 3, [5] * 4))
+    assert (iparm, iph, iday, isourc) == (2, 2, 0, 0)
+    parm1, parm2 = (float(x) for x in card(nadir, 4, [10] * 2))
+    assert (parm1, parm2) == (90.0, 30.0)  # no view azimuth: 90 deg from the sun
+    v1, v2, dv = (float(x) for x in card(nadir, 5, [10] * 3))
+    assert (v1 <= 1e4 / 10.0 and v2 >= 1e4 / 0.45, dv) == (True, 5.0)
+
+
+def test_path_without_the_sun_is_thermal_only(make, decks):
+    for atm in (make(), make(sun_zenith=95.0, sun_azimuth=0.0)):
+        out = atm.path(1000.0, 0.0, 10.0, WL)
+        assert np.all(out.scattered_radiance == 0.0)
+    assert [int(card(d, 0, [5] * 3)[2]) for d in decks()] == [1, 1]
+
+
+def test_view_azimuth_sets_the_relative_azimuth_and_the_sun_at_the_observer(make, decks):
+    atm = make(sun_zenith=40.0, sun_azimuth=200.0, view_azimuth=20.0)
+    atm.path(20000.0, 0.0, 60.0, WL)
+    parm1, parm2 = (float(x) for x in card(decks()[0], 4, [10] * 2))
+    assert parm1 == 0.0  # looking back at the target the observer faces the sun's azimuth
+    # the observer stands ~35 km from the target, away from the sun: the sun is lower there
+    # by the central angle between them
+    from radscene.atmosphere.lowtran.geometry import observer_geometry
+
+    beta = float(observer_geometry(20000.0, 0.0, 60.0, 6371.23e3)[1])
+    assert beta == pytest.approx(0.31, abs=0.01)
+    assert parm2 == pytest.approx(40.0 + beta, abs=1e-4)
+
+
+def test_zero_length_paths_need_no_run(make, decks):
+    out = make().path(250.0, 250.0, 45.0, WL)
+    assert np.all(out.transmittance == 1.0) and np.all(out.radiance == 0.0)
+    assert decks() == []
+
+
+def test_sun_transmittance_and_irradiance(make, decks):
+    atm = make()
+    toa = np.array([2000.0, 1800.0, 250.0, 0.5])
+    out = atm.sun([0.0, 0.0, 500.0], [30.0, 100.0, 30.0], WL, toa)
+    assert out.transmittance[0] == pytest.approx(np.full(4, TAU), rel=REL)
+    assert np.all(out.transmittance[1] == 0.0)  # sun below the horizon
+    assert out.irradiance == pytest.approx(out.transmittance * toa, rel=1e-12)
+    runs = decks()
+    assert len(runs) == 2
+    assert [int(card(d, 0, [5] * 3)[2]) for d in runs] == [3, 3]
+    h1, h2, angle, iday = card(runs[0], 2, [10, 10, 10, 5])
+    assert (float(h1), float(angle)) in ((0.0, 30.0), (0.5, 30.0))
+
+
+def test_sky_is_symmetric_about_the_sun(make, decks):
+    atm = make()
+    geometry = SkyGeometry(target_altitude=0.0, sun_zenith=35.0, sun_azimuth=120.0)
+    out = atm.sky([60.0, 60.0], [90.0, 150.0], WL, geometry)
+    assert out.shape == (2, 4)
+    assert out == pytest.approx(np.full((2, 4), (THERMAL + SCATTER) * 1e4), rel=REL)
+    runs = decks()
+    assert len(runs) == 1  # 30 deg either side of the sun: one run
+    assert int(card(runs[0], 0, [5] * 3)[1]) == 3  # path to space
+    assert [float(x) for x in card(runs[0], 4, [10] * 2)] == [30.0, 35.0]
+    atm.sky(0.0, 0.0, WL, SkyGeometry(0.0, 120.0, 0.0))  # night: thermal only
+    assert int(card(decks()[-1], 0, [5] * 3)[2]) == 1
+
+
+def test_node_tables(make):
+    atm = make(sky_zenith=[0, 45, 80], sky_azimuth=[0, 90, 180, 270])
+    assert atm.sky_zenith_nodes().tolist() == [0.0, 45.0, 80.0]
+    assert atm.sky_azimuth_nodes().tolist() == [0.0, 90.0, 180.0, 270.0]
+    nodes = atm.path_nodes(np.full(100, 3000.0), np.linspace(0, 300, 100),
+                           np.linspace(0, 45, 100))
+    assert nodes.weight.sum(axis=1) == pytest.approx(np.ones(100), abs=1e-12)
+    assert atm.geometry_dependent
+
+
+# -- datasets ----------------------------------------------------------------------------------
+def test_line_of_sight_dataset(make):
+    atm = make(sun_zenith=30.0, sun_azimuth=180.0, ground_temperature=300.0, albedo=0.1,
+               wavenumber_step=20.0)
+    ds = atm.line_of_sight(2000.0, 0.0, 0.0, wavelength_range=(8.0, 12.0))
+    wn = ds.wavenumber.values
+    assert np.all(np.diff(ds.wavelength.values) > 0)
+    assert np.diff(wn) == pytest.approx(np.full(wn.size - 1, -20.0), abs=1e-9)
+    assert wn.max() <= 1250.0 and wn.min() >= 1e4 / 12.0
+    for name, value in (("transmittance", TAU), ("path_thermal_radiance", THERMAL * 1e4),
+                        ("sun_transmittance", TAU), ("direct_solar_irradiance", TSOL * 1e4)):
+        assert ds[name].values == pytest.approx(np.full(wn.size, value), rel=REL)
+    # beyond 6 um the runs leave out scattered sunlight (documented); below they carry it
+    assert np.all(ds.path_scattered_radiance.values == 0.0)
+    vis = atm.line_of_sight(2000.0, 0.0, 0.0, wavelength=[0.5, 0.6])
+    assert vis.path_scattered_radiance.values == pytest.approx([SCATTER * 1e4] * 2, rel=REL)
+    from radscene.radiometry import spectral_radiance
+
+    expected = 0.9 * spectral_radiance(ds.wavelength.values, 300.0) * TAU
+    assert ds.boundary_radiance.values == pytest.approx(expected, rel=REL)
+    assert ds.path_radiance.attrs["units"] == "W m-2 sr-1 um-1"
+    assert "midlatitude_summer" in ds.attrs["parameters"]
+
+
+def test_sky_radiance_dataset(make):
+    ds = make(sun_zenith=30.0, sun_azimuth=0.0).sky_radiance([0, 30, 60], [0, 90],
+                                                             wavelength=WL)
+    assert ds.sky_radiance.dims == ("zenith", "azimuth", "wavelength")
+    assert ds.sky_radiance.shape == (3, 2, 4)
+    assert ds.sky_radiance.values == pytest.approx(
+        ds.sky_thermal_radiance.values + ds.sky_scattered_radiance.values, rel=1e-12)
+
+
+def test_sun_from_place_and_time(make):
+    when = dt.datetime(2021, 6, 21, 10, 0, tzinfo=dt.UTC)
+    atm = make(time=when, latitude=48.0, longitude=11.0)
+    from radscene.sun import sun_position
+
+    sun = sun_position(when, 48.0, 11.0)
+    assert atm.sun_zenith == pytest.approx(float(sun.zenith), abs=1e-9)
+    assert atm.day_of_year == 172
+    moved = atm.with_sun(60.0, 90.0, view_azimuth=45.0)
+    assert (moved.sun_zenith, moved.sun_azimuth, moved.view_azimuth) == (60.0, 90.0, 45.0)
+    assert moved.runner is atm.runner
+
+
+# -- bad input, before anything runs ----------------------------------------------------------
+@pytest.mark.parametrize("params, key, match", [
+    ({"visibility": 0.0}, "atmosphere.visibility", r"\(0, 10000\] km"),
+    ({"visibility": -5.0}, "atmosphere.visibility", r"\(0, 10000\] km"),
+    ({"model": "martian"}, "atmosphere.model", "unknown model atmosphere 'martian'; known: "
+                                               "tropical"),
+    ({"aerosol": "volcanic"}, "atmosphere.aerosol", "unknown aerosol model .* known: none"),
+    ({"model": "user"}, "atmosphere.profile", "needs a profile"),
+    ({"albedo": 1.2}, "atmosphere.albedo", r"\[0, 1\]"),
+    ({"ground_temperature": -3.0}, "atmosphere.ground_temperature", "K"),
+    ({"ground_altitude": 7000.0}, "atmosphere.ground_altitude", r"\[0, 6000\)"),
+    ({"sun_zenith": 200.0}, "atmosphere.sun_zenith", r"\[0, 180\]"),
+    ({"day_of_year": 400}, "atmosphere.day_of_year", "1-366"),
+    ({"wavenumber_step": 12.0}, "atmosphere.wavenumber_step", "multiple of 5"),
+    ({"sky_zenith": [0, 95]}, "atmosphere.sky_zenith", r"\[0, 90\]"),
+    ({"sky_azimuth": [90, 0]}, "atmosphere.sky_azimuth", "increasing"),
+    ({"multiple_scattering": "yes"}, "atmosphere.multiple_scattering", "true or false"),
+    ({"air_mass_character": 11}, "atmosphere.air_mass_character", "1 .* to 10"),
+    ({"time": dt.datetime(2021, 6, 21, tzinfo=dt.UTC)}, "atmosphere.latitude",
+     "needs latitude"),
+    ({"sun_zenith": 30.0, "time": dt.datetime(2021, 6, 21, tzinfo=dt.UTC),
+      "latitude": 0.0, "longitude": 0.0}, "atmosphere.time", "not both"),
+])
+def test_bad_parameters(make, params, key, match):
+    with pytest.raises(ConfigError, match=match) as info:
+        make(**params)
+    assert info.value.key == key
+
+
+@pytest.mark.parametrize("query, key, match", [
+    (lambda a: a.path(3000.0, -50.0, 0.0, WL), "target_altitude", "below the ground"),
+    (lambda a: a.path(120000.0, 0.0, 0.0, WL), "observer_altitude", "ends at 100 km"),
+    (lambda a: a.path(3000.0, 0.0, 0.0, [0.2, 0.5]), "wavelength", "0.25–28 um"),
+    (lambda a: a.path(3000.0, 0.0, 0.0, [10.0, 30.0]), "wavelength", "0.25–28 um"),
+    (lambda a: a.path(3000.0, 0.0, 120.0, WL), "view_zenith", "no line of sight"),
+    (lambda a: a.path(3000.0, 0.0, 190.0, WL), "view_zenith", r"\[0, 180\]"),
+    (lambda a: a.sun(-10.0, 30.0, WL, np.ones(4)), "target_altitude", "below the ground"),
+    (lambda a: a.sky(95.0, 0.0, WL, SkyGeometry()), "zenith", r"\[0, 90\]"),
+    (lambda a: a.line_of_sight(3000.0, 0.0, 0.0, wavelength_range=(12.0, 8.0)),
+     "wavelength_range", "increasing"),
+])
+def test_bad_queries_run_nothing(make, decks, query, key, match):
+    atm = make(sun_zenith=30.0, sun_azimuth=0.0, ground_altitude=0.0)
+    with pytest.raises(ConfigError, match=match) as info:
+        query(atm)
+    assert info.value.key == key
+    assert decks() == []
+
+
+def test_a_raised_ground_is_the_bottom_of_every_path(make):
+    atm = make(ground_altitude=1500.0)
+    with pytest.raises(ConfigError, match="below the surface at 1500 m"):
+        atm.path(3000.0, 1000.0, 0.0, WL)
+
+
+def test_the_type_tagged_dict_builds_and_checks_the_engine(make, monkeypatch):
+    # what the scene file's environment.atmosphere does once the lead registers the engine
+    from radscene.atmosphere import ENGINES, make_atmosphere
+
+    monkeypatch.setitem(ENGINES, "lowtran", LowtranAtmosphere)
+    atm = make_atmosphere({"type": "LOWTRAN", "model": "tropical", "aerosol": "maritime",
+                           "visibility": 40.0, "cache": False})
+    assert isinstance(atm, LowtranAtmosphere) and atm.name == "lowtran"
+    with pytest.raises(ConfigError, match="unknown aerosol model") as info:
+        make_atmosphere({"type": "lowtran", "aerosol": "smog"})
+    assert info.value.key == "atmosphere.aerosol"
+    with pytest.raises(ConfigError, match="bad parameters for the 'lowtran' engine"):
+        make_atmosphere({"type": "lowtran", "visibilty": 10.0})

@@ -1,0 +1,183 @@
+"""Tests of radscene.sensor.srf_library: bundled real SRFs, their sources, user files."""
+
+import numpy as np
+import pytest
+
+from radscene.errors import ConfigError
+from radscene.radiometry.planck import spectral_radiance
+from radscene.radiometry.srf import TabulatedResponse
+from radscene.sensor.srf_library import (
+    get_band,
+    get_sensor_bands,
+    library_response,
+    list_sensors,
+    read_srf_table,
+    resolve_responses,
+    sensor_info,
+)
+
+CENTRE_NM = 1.5e-3  # [um]: centroid vs published centre wavelength
+REQUIRED = ["landsat8_oli", "landsat8_tirs", "landsat9_oli", "landsat9_tirs", "sentinel2a_msi",
+            "sentinel2b_msi", "terra_modis", "aqua_modis"]
+
+
+def test_required_sensors_are_bundled_with_their_sources():
+    sensors = list_sensors()
+    assert set(REQUIRED) <= set(sensors)
+    for name in sensors:
+        info = sensor_info(name)
+        assert info["source"] and info["via"] and info["title"]
+        assert ("Py6S" in info["via"]) or ("pyrsr" in info["via"])
+
+
+@pytest.mark.parametrize("sensor", list_sensors())
+def test_every_bundled_band_is_a_valid_response(sensor):
+    bands = get_sensor_bands(sensor)
+    assert [name for name, _ in bands] == list(sensor_info(sensor)["bands"])
+    for name, response in bands:
+        assert isinstance(response, TabulatedResponse)
+        assert response.name == f"{sensor} {name}"
+        assert np.all(response.response >= 0.0)
+        assert 0.5 <= response.response.max() <= 1.01  # relative responses peak near 1
+        assert response.equivalent_width() > 0.0
+        lo, hi = response.support
+        assert 0.3 < lo < response.center < hi < 15.0
+
+
+# Published centre wavelengths [um]. OLI: Barsi et al. (2014), Remote Sens. 6, 10232, Table 3
+# (FWHM centres); Sentinel-2A: ESA S2 MSI spectral response document, central wavelengths;
+# TIRS: USGS Landsat 8 Data Users Handbook (10.9 and 12.0 um).
+@pytest.mark.parametrize(("sensor", "centres", "tol"), [
+    ("landsat8_oli", {"B1": 0.4430, "B2": 0.4826, "B3": 0.5613, "B4": 0.6546, "B5": 0.8646,
+                      "B6": 1.6090, "B7": 2.2010, "B9": 1.3730}, 3e-3),
+    ("sentinel2a_msi", {"B1": 0.4427, "B2": 0.4924, "B3": 0.5598, "B4": 0.6646, "B5": 0.7041,
+                        "B6": 0.7405, "B7": 0.7828, "B8": 0.8328, "B8A": 0.8647,
+                        "B9": 0.9451, "B10": 1.3735, "B11": 1.6137, "B12": 2.2024}, CENTRE_NM),
+    ("landsat8_tirs", {"B10": 10.9, "B11": 12.0}, 0.01),
+])
+def test_centres_match_the_published_ones(sensor, centres, tol):
+    bands = dict(get_sensor_bands(sensor, list(centres)))
+    for name, centre in centres.items():
+        assert bands[name].center == pytest.approx(centre, abs=tol), name
+
+
+# MODIS band ranges [um] of the instrument specification (NASA MODIS web site, "Specifications").
+MODIS_RANGES = {"B1": (0.620, 0.670), "B2": (0.841, 0.876), "B3": (0.459, 0.479),
+                "B4": (0.545, 0.565), "B5": (1.230, 1.250), "B6": (1.628, 1.652),
+                "B7": (2.105, 2.155), "B8": (0.405, 0.420), "B9": (0.438, 0.448)}
+
+
+@pytest.mark.parametrize("sensor", ["terra_modis", "aqua_modis"])
+def test_modis_centroids_lie_in_the_specified_ranges(sensor):
+    for name, (lo, hi) in MODIS_RANGES.items():
+        c = get_band(sensor, name).center
+        assert lo - 0.002 <= c <= hi + 0.002, (name, c)
+
+
+@pytest.mark.parametrize(("band", "k1", "k2"), [("B10", 774.8853, 1321.0789),
+                                                ("B11", 480.8883, 1201.1442)])
+def test_tirs_band_radiance_matches_the_usgs_calibration_constants(band, k1, k2):
+    """USGS publishes L = K1 / (exp(K2 / T) - 1) [W m-2 sr-1 um-1] for the band-averaged
+    radiance of TIRS (Landsat 8 Data Users Handbook, K1_CONSTANT_BAND_10 etc.); a two-parameter
+    fit, good to ~0.3 % over 240-330 K."""
+    response = get_band("landsat8_tirs", band)
+    temperature = np.array([240.0, 270.0, 300.0, 330.0])
+    mean = response.integrate_function(
+        lambda wl: spectral_radiance(wl, temperature[:, None])) / response.equivalent_width()
+    assert mean == pytest.approx(k1 / np.expm1(k2 / temperature), rel=4e-3)
+
+
+def test_bundled_tables_are_the_py6s_numbers():
+    py6s = pytest.importorskip("Py6S", reason="Py6S is needed only to rebuild the library")
+    _, start, _, values = py6s.PredefinedWavelengths.LANDSAT_OLI_B5
+    response = get_band("landsat8_oli", "B5")
+    wl = start + 0.0025 * np.arange(values.size)
+    assert response(wl) == pytest.approx(np.clip(values, 0, None), abs=1e-6)
+    _, start, _, values = py6s.PredefinedWavelengths.S2B_MSI_8A
+    wl = start + 0.0025 * np.arange(values.size)
+    assert get_band("sentinel2b_msi", "b8a")(wl) == pytest.approx(np.clip(values, 0, None),
+                                                                  abs=1e-6)
+
+
+def test_selection_order_and_errors():
+    names = [n for n, _ in get_sensor_bands("LANDSAT8_OLI", ["b5", "B4"])]
+    assert names == ["B5", "B4"]
+    with pytest.raises(ConfigError, match="sensor: unknown sensor 'landsat99'; known: .*"
+                                          "landsat8_oli"):
+        get_sensor_bands("landsat99")
+    with pytest.raises(ConfigError, match="unknown band 'B12'; known: B1, B2"):
+        get_band("landsat8_oli", "B12")
+
+
+# -- user files -------------------------------------------------------------------------------
+
+
+def test_wide_user_table_in_nm(tmp_path):
+    path = tmp_path / "camera.csv"
+    path.write_text("# my camera\nwavelength,R,G\n500,0,0\n550,0,1\n600,1,0\n650,0,\n")
+    bands = get_sensor_bands(path, wavelength_unit="nm")
+    assert [n for n, _ in bands] == ["R", "G"]
+    red, green = (r for _, r in bands)
+    assert red.equivalent_width() == pytest.approx(0.05, rel=1e-12)  # triangle 0.55-0.65 um
+    assert green.support == pytest.approx((0.5, 0.6))
+    assert red.name == "camera R"
+
+
+def test_long_user_table(tmp_path):
+    path = tmp_path / "pair.txt"
+    path.write_text("band wavelength response\nA 9.0 0\nA 10.0 1\nA 11.0 0\nB 3.0 0\nB 4.0 2\n"
+                    "B 5.0 0\n")
+    bands = dict(read_srf_table(path, bands=["b", "a"]))
+    assert list(bands) == ["B", "A"]
+    assert bands["B"].equivalent_width() == pytest.approx(2.0, rel=1e-12)
+    assert bands["A"].center == pytest.approx(10.0, rel=1e-12)
+
+
+@pytest.mark.parametrize(("text", "match"), [
+    ("wavelength,Z\n1.0,0\n2.0,0\n", r"\.Z\.response: .*integral of the response must be > 0"),
+    ("wavelength,N\n1.0,0.5\n2.0,-0.1\n", r"\.N\.response: .*response must be >= 0"),
+    ("wavelength,N\n1.0,0.5\n2.0\n", r"line 3: 1 fields, the header has 2"),
+    ("wavelength,N\n1.0,x\n2.0,1\n", r"line 2: every field must be a number"),
+    ("# nothing\n", r"no data rows"),
+])
+def test_bad_user_tables_name_the_file_and_band(tmp_path, text, match):
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=match) as info:
+        read_srf_table(path)
+    assert str(path) in str(info.value)
+
+
+# -- library responses in sensor configurations ------------------------------------------------
+
+
+def test_resolve_library_responses_in_a_sensor_config():
+    cfg = {"name": "x", "response": {"sensor": "landsat8_tirs", "band": "B10"},
+           "bands": {"red": {"response": {"type": "library", "sensor": "landsat8_oli",
+                                          "band": "B4"}},
+                     "box": {"response": {"type": "rectangular", "wavelength_min": 1,
+                                          "wavelength_max": 2}}}}
+    out = resolve_responses(cfg)
+    assert isinstance(out["response"], TabulatedResponse)
+    assert out["bands"]["red"]["response"].name == "landsat8_oli B4"
+    assert out["bands"]["box"]["response"] == cfg["bands"]["box"]["response"]
+    assert isinstance(cfg["bands"]["red"]["response"], dict)  # the input is left alone
+    with pytest.raises(ConfigError, match=r"sensors\.s\.bands\.red\.response\.sensor "
+                                          r"landsat8_oli\.band: unknown band 'B99'"):
+        resolve_responses({"bands": {"red": {"response": {"sensor": "landsat8_oli",
+                                                          "band": "B99"}}}}, "sensors.s")
+    with pytest.raises(ConfigError, match="response: a library response is"):
+        library_response({"sensor": "landsat8_oli"})
+
+
+def test_landsat_like_example_resolves_its_bands():
+    from importlib import resources
+
+    import yaml
+
+    path = resources.files("radscene") / "data" / "sensors" / "landsat_like.yaml"
+    spec = yaml.safe_load(path.read_text(encoding="utf-8"))
+    cfg = resolve_responses(spec["sensor"], "sensor")
+    centres = {b: round(v["response"].center, 2) for b, v in cfg["bands"].items()}
+    assert centres == {"coastal": 0.44, "blue": 0.48, "green": 0.56, "red": 0.65, "nir": 0.86,
+                       "cirrus": 1.37, "swir1": 1.61, "swir2": 2.2, "tir1": 10.9, "tir2": 12.0}
