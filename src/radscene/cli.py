@@ -80,8 +80,14 @@ def render(
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT."""
-    from radscene.io import band_quicklooks, terms_figure, truth_figure, write_netcdf
-    from radscene.render.integrator import render as render_one
+    from radscene.io import (
+        band_quicklooks,
+        signal_quicklooks,
+        terms_figure,
+        truth_figure,
+        write_netcdf,
+    )
+    from radscene.pipeline import simulate
     from radscene.scene import load_scene
 
     try:
@@ -90,7 +96,7 @@ def render(
         for name in names:
             scene.observer(name)
         started = time.perf_counter()
-        results = {}
+        results, signals = {}, {}
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                       TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
                       TimeRemainingColumn(), console=err_console, transient=False) as bar:
@@ -100,12 +106,16 @@ def render(
                 def progress(done, total, task=task):
                     bar.update(task, completed=done, total=total)
 
-                results[name] = render_one(scene, name, progress=progress)
+                results[name], signals[name] = simulate(scene, name, progress=progress)
     except ConfigError as err:
         _fail(err)
     written = []
     for name, ds in results.items():
         written.append(write_netcdf(ds, output / f"{name}.nc"))
+        if signals[name] is not None:
+            written.append(write_netcdf(signals[name], output / f"{name}_signal.nc"))
+            if quicklooks:
+                written.extend(signal_quicklooks(signals[name], output / f"{name}_signal"))
         if quicklooks:
             written.extend(band_quicklooks(ds, output / name))
             written.append(terms_figure(ds, output / f"{name}_terms.png"))
@@ -190,8 +200,11 @@ def examples(
 
 def _register_subcommands() -> None:
     from radscene.materials.cli import app as materials_app
+    from radscene.sensor.cli import app as sensor_app
 
     add_subcommands(materials_app, "materials", "Built-in materials and spectral libraries.")
+    add_subcommands(sensor_app, "sensor",
+                    "Sensor models: optics, detector, noise, electronics, processing.")
 
 
 _register_subcommands()

@@ -333,11 +333,7 @@ def test_li_sparse_original_is_not_reciprocal():
      "f_vol": 0.1, "f_geo": 0.05, "hotspot": True},
     {"type": "rossli", "f_iso": 0.3, "f_vol": 0.1, "f_geo": 0.05, "geometric": "sparse",
      "crown_height": 1.5, "crown_shape": 2.0, "normalization": "maignan"},
-    {"type": "phong", "diffuse_reflectance": {"wavelength": [0.4, 2.0], "values": [0.1, 0.6]},
-     "specular_reflectance": 0.2, "specular_exponent": 35.0},
-    {"type": "phong", "diffuse_reflectance": 0.1, "specular_reflectance": 0.3,
-     "specular_exponent": 0.0},
-], ids=["rpv", "rossli_hotspot", "rossli_sparse", "phong", "phong_n0"])
+], ids=["rpv", "rossli_hotspot", "rossli_sparse"])
 def test_compiled_kernels_match_numpy_reference(spec):
     m = make_brdf(spec)
     rng = np.random.default_rng(9)

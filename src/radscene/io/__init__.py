@@ -1,6 +1,6 @@
 """Writers and quicklooks."""
 
 from radscene.io.netcdf import read_netcdf, write_netcdf
-from radscene.io.quicklook import band_quicklooks, terms_figure, truth_figure
+from radscene.io.quicklook import band_quicklooks, signal_quicklooks, terms_figure, truth_figure
 
-__all__ = ["band_quicklooks", "read_netcdf", "terms_figure", "truth_figure", "write_netcdf"]
+__all__ = ["band_quicklooks", "signal_quicklooks", "read_netcdf", "terms_figure", "truth_figure", "write_netcdf"]

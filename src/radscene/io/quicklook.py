@@ -12,7 +12,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["band_quicklooks", "terms_figure", "truth_figure", "stretch_limits"]
+__all__ = ["band_quicklooks", "signal_quicklooks", "terms_figure", "truth_figure",
+           "stretch_limits"]
 
 
 def stretch_limits(image, low: float = 1.0, high: float = 99.0) -> tuple[float, float]:
@@ -136,3 +137,21 @@ def truth_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     fig.colorbar(im, ax=ax, shrink=0.75).ax.tick_params(labelsize=6)
     fig.suptitle(f"truth maps — {ds.attrs.get('observer', '')}", fontsize=9)
     return _save(fig, path)
+
+
+def signal_quicklooks(signal: xr.Dataset, folder: str | os.PathLike) -> list[Path]:
+    """One PNG per band of a sensor's digital numbers (first frame), 1–99 % stretch."""
+    folder = Path(folder)
+    written = []
+    dn = signal["dn"]
+    if "frame" in dn.dims:
+        dn = dn.isel(frame=0)
+    for band in dn["band"].values:
+        image = dn.sel(band=band).values
+        lo, hi = stretch_limits(image)
+        fig, ax = plt.subplots(figsize=(6, 5))
+        im = ax.imshow(image, cmap="gray", vmin=lo, vmax=hi, interpolation="nearest")
+        fig.colorbar(im, ax=ax, label="signal [DN]", shrink=0.85)
+        ax.set_title(f"{signal.attrs.get('observer', '')}: {band}, sensor output")
+        written.append(_save(fig, folder / f"{band}.png"))
+    return written

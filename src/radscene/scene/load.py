@@ -57,13 +57,15 @@ class Band:
 
 @dataclass
 class ObserverSetup:
-    """A camera, its supersampling and the bands it records."""
+    """A camera, its supersampling, the bands it records and the sensor behind it."""
 
     name: str
     camera: Any
     supersample: int
     bands: list[str]
     kind: str
+    sensor: Any = None
+    frames: int = 1
 
 
 @dataclass
@@ -448,12 +450,37 @@ class _Resolver:
             out.append(Band(b.name, resp))
         return out
 
+    def sensors(self) -> dict:
+        from radscene.sensor import load_sensor, make_sensor
+
+        out = {}
+        for name, spec in self.spec.sensors.items():
+            key = f"sensors.{name}"
+            if isinstance(spec, dict) and set(spec) == {"file"}:
+                out[name] = load_sensor(self.file(spec["file"], f"{key}.file"))
+            elif isinstance(spec, dict) and set(spec) == {"example"}:
+                out[name] = load_sensor(spec["example"])
+            else:
+                out[name] = make_sensor(spec, key=key)
+        return out
+
     def observers(self, band_names: list[str]) -> list[ObserverSetup]:
         from radscene.platform import OrthographicCamera, PerspectiveCamera
 
+        sensors = self.sensors()
         out = []
         for i, o in enumerate(self.spec.observers):
             key = f"observers[{i}]"
+            sensor = sensors.get(o.sensor) if getattr(o, "sensor", None) else None
+            geometry = sensor.observer_geometry() if sensor else {}
+            if sensor is not None and o.shape is not None and tuple(o.shape) != geometry["shape"]:
+                raise ConfigError(
+                    f"sensor {o.sensor!r} records {geometry['shape'][0] // sensor.oversample} x "
+                    f"{geometry['shape'][1] // sensor.oversample} detectors at {sensor.oversample} "
+                    f"samples per pitch, so the render is {geometry['shape'][0]} x "
+                    f"{geometry['shape'][1]} samples: omit shape or give that",
+                    key=f"{key}.shape")
+            shape = o.shape or geometry.get("shape")
             bands = o.bands if o.bands is not None else list(band_names)
             for j, bname in enumerate(bands):
                 if bname not in band_names:
@@ -468,22 +495,24 @@ class _Resolver:
                 loc = self.spec.environment.location
                 frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
                 cam = build_observer(o, frame, self.spec.environment.time, key=key)
-                out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type))
+                out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type, sensor,
+                                         getattr(o, "frames", 1)))
                 continue
             try:
                 if o.type == "orthographic":
+                    gsd = o.gsd or geometry["gsd_per_distance"] * o.altitude
                     cam = OrthographicCamera(
-                        center=o.center, shape=o.shape, gsd=o.gsd, altitude=o.altitude,
+                        center=o.center, shape=shape, gsd=gsd, altitude=o.altitude,
                         zenith=o.zenith, azimuth=o.azimuth,
                     )
                 else:
                     cam = PerspectiveCamera(
-                        position=o.position, shape=o.shape, fov=o.fov, look_at=o.look_at,
-                        attitude=o.attitude,
+                        position=o.position, shape=shape, fov=o.fov or geometry.get("fov", 45.0),
+                        look_at=o.look_at, attitude=o.attitude,
                     )
             except ConfigError as err:
                 raise ConfigError(err.message, key=f"{key}.{err.key}" if err.key else key) from None
-            out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type))
+            out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type, sensor, o.frames))
         return out
 
     def resolve(self) -> Scene:

@@ -277,9 +277,12 @@ class BandSpec(_Model):
 
 class _ObserverCommon(_Model):
     name: str
-    shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
+    shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] | None = Field(
+        None, description="rendered samples (rows, columns); from the sensor when omitted")
     supersample: Annotated[int, Field(ge=1, le=16)] = 1
     bands: list[str] | None = None
+    sensor: str | None = Field(None, description="name of an entry of `sensors`")
+    frames: Annotated[int, Field(ge=1, le=1000)] = 1
 
 
 class OrthographicSpec(_ObserverCommon):
@@ -287,7 +290,7 @@ class OrthographicSpec(_ObserverCommon):
 
     type: Literal["orthographic"]
     center: tuple[Length, Length]
-    gsd: PositiveLength
+    gsd: PositiveLength | None = Field(None, description="from the sensor when omitted")
     altitude: PositiveLength = 10000.0
     zenith: Annotated[Angle, Field(ge=0, lt=90)] = 0.0
     azimuth: Angle = 0.0
@@ -300,7 +303,8 @@ class PerspectiveSpec(_ObserverCommon):
     position: tuple[Length, Length, Length]
     look_at: tuple[Length, Length, Length] | None = None
     attitude: tuple[Angle, Angle, Angle] | None = None
-    fov: Annotated[Angle, Field(gt=0, lt=180)] = 45.0
+    fov: Annotated[Angle, Field(gt=0, lt=180)] | None = Field(
+        None, description="horizontal field of view; 45 deg, or from the sensor, when omitted")
 
     @model_validator(mode="after")
     def _pointing(self):
@@ -335,6 +339,10 @@ class SceneSpec(_Model):
     terrain: Terrain | None = None
     objects: list[ObjectSpec] = Field(default_factory=list)
     bands: list[BandSpec] = Field(min_length=1)
+    sensors: dict[str, Any] = Field(
+        default_factory=dict,
+        description="sensor models by name: a mapping (radscene.sensor.make_sensor), "
+                    "{file: path} or {example: name}")
     observers: list[Observer] = Field(min_length=1)
     render: RenderSettings = RenderSettings()
 
@@ -348,4 +356,13 @@ class SceneSpec(_Model):
                 seen.add(item.name)
         if self.terrain is None and not self.objects:
             raise ValueError("the scene has neither terrain nor objects")
+        for i, obs in enumerate(self.observers):
+            sensor = getattr(obs, "sensor", None)
+            if sensor is not None and sensor not in self.sensors:
+                known = ", ".join(self.sensors) or "none defined"
+                raise ValueError(f"observers[{i}].sensor: unknown sensor {sensor!r}; known: {known}")
+            if sensor is None and obs.shape is None:
+                raise ValueError(f"observers[{i}].shape: required when the observer has no sensor")
+            if sensor is None and getattr(obs, "type", "") == "orthographic" and obs.gsd is None:
+                raise ValueError(f"observers[{i}].gsd: required when the observer has no sensor")
         return self

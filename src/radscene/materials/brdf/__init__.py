@@ -16,9 +16,12 @@ type (``make_brdf``)              class (module)                  model
 ``tabulated``                     :class:`Tabulated`              table file
 ================================  ==============================  ============================
 
-Every model has ``f(wi, wo, wavelength, normal)`` [sr-1], ``albedo(wi, wavelength)`` (ρ_dh),
-``transmittance(wi, wavelength)`` (τ_dh), ``emissivity(wi, wavelength)`` = 1 − ρ_dh − τ_dh
-(Kirchhoff), ``sample(wo, u1, u2, wavelength)`` → (wi, pdf) and ``pdf(wo, wi, wavelength)``;
+Every model has ``f(wi, wo, wavelength, normal)`` [sr-1] (also ``kernel(cos_incidence,
+cos_view, cos_phase, wavelength)`` and ``f_angles(incidence_zenith, view_zenith,
+relative_azimuth, wavelength)``), ``albedo(wi, wavelength)`` (ρ_dh), ``transmittance(wi,
+wavelength)`` (τ_dh), ``emissivity(wi, wavelength)`` = 1 − ρ_dh − τ_dh (Kirchhoff),
+``hemispherical_emissivity(wavelength)`` and ``bihemispherical_reflectance(wavelength)``,
+``sample(wo, u1, u2, wavelength)`` → (wi, pdf) and ``pdf(wo, wi, wavelength)``;
 frames and angle conventions are in :mod:`radscene.materials.brdf.base` (local frame z = normal,
 directions pointing away from the surface, relative azimuth 0 = backscatter). The models'
 parameters are documented in a table in each module.

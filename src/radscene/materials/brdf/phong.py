@@ -75,7 +75,6 @@ import numpy as np
 
 from radscene.errors import ConfigError
 from radscene.geometry.frames import to_world
-from radscene.materials.brdf._compiled import parallel_ufunc
 from radscene.materials.brdf.base import BRDF, Parameter, cosine_hemisphere
 
 __all__ = ["mirror", "lobe", "brdf", "albedo_bound", "sample", "pdf", "Phong"]
@@ -278,20 +277,6 @@ class Phong(BRDF):
     def _check(self):
         self._check_sum_at_most_one(("diffuse_reflectance", "specular_reflectance"))
 
-    def kernel(self, cos_incidence, cos_view, cos_phase, wavelength=None):
-        # compiled fast path; the reference is BRDF.kernel → _kernel
-        fast = parallel_ufunc(_phong_brdf_scalar, 6)
-        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-            value = fast(cos_incidence, cos_view, cos_phase,
-                         self.parameter("diffuse_reflectance", wavelength),
-                         self.parameter("specular_reflectance", wavelength),
-                         self.parameter("specular_exponent"))
-        return np.asarray(value, dtype=float)
-
-    def kernel_reference(self, cos_incidence, cos_view, cos_phase, wavelength=None):
-        """The numpy reference evaluation, the oracle of the compiled :meth:`kernel`."""
-        return BRDF.kernel(self, cos_incidence, cos_view, cos_phase, wavelength)
-
     def _kernel(self, mu_i, mu_o, cos_g, wavelength):
         rho_d = self.parameter("diffuse_reflectance", wavelength)
         rho_s = self.parameter("specular_reflectance", wavelength)
@@ -327,17 +312,3 @@ class Phong(BRDF):
         lobe_pdf = lobe_pdf * ((n + 1.0) / (2.0 * np.pi))
         return p_s * lobe_pdf + (1.0 - p_s) * np.maximum(mu_i, 0.0) / np.pi
 
-
-def _phong_brdf_scalar(mu_i, mu_o, cos_g, rho_d, rho_s, n):  # pragma: no cover - compiled
-    """f [sr-1] of :class:`Phong` for one geometry, compiled by :func:`parallel_ufunc`."""
-    if mu_i <= 0.0 or mu_o <= 0.0:
-        return 0.0
-    cos_r = 2.0 * mu_i * mu_o - cos_g
-    lobe_value = 0.0
-    if cos_r > 0.0:
-        lobe_value = cos_r ** n * ((n + 1.0) / (2.0 * np.pi))
-    elif cos_r == 0.0 and n == 0.0:
-        lobe_value = 1.0 / (2.0 * np.pi)
-    elif cos_r != cos_r:  # NaN propagates
-        lobe_value = cos_r
-    return rho_d / np.pi + rho_s * lobe_value / max(mu_i, mu_o)
