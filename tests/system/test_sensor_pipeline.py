@@ -11,17 +11,6 @@ from radscene.cli import app
 from radscene.errors import ConfigError
 
 
-def _bolometer(shape=(16, 16)):
-    """The bundled microbolometer camera with a small array, for speed."""
-    import yaml
-
-    from radscene.sensor import example_sensor_path
-
-    spec = yaml.safe_load(example_sensor_path("lwir_microbolometer").read_text())
-    spec["detector"]["shape"] = list(shape)
-    return spec
-
-
 def _scene(**observer):
     obs = {"name": "ir", "type": "perspective", "position": [0, -300, 60],
            "look_at": [0, 0, 0], "sensor": "bolometer", "frames": 2}
@@ -36,7 +25,8 @@ def _scene(**observer):
              "material": "painted_metal", "temperature": "330 K"},
         ],
         "bands": [{"name": "lwir", "min": "8 um", "max": "14 um"}],
-        "sensors": {"bolometer": _bolometer()},
+        "sensors": {"bolometer": {"example": "lwir_microbolometer",
+                                  "detector": {"shape": [16, 16]}}},
         "observers": [obs],
     }
 

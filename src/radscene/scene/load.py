@@ -451,17 +451,37 @@ class _Resolver:
         return out
 
     def sensors(self) -> dict:
-        from radscene.sensor import load_sensor, make_sensor
+        """Sensor models by name: inline, ``{file: path}`` or ``{example: name}``, the last two
+        with optional overrides deep-merged into the file's mapping (e.g. a smaller array)."""
+        import yaml
+
+        from radscene.sensor import example_sensor_path, example_sensors, make_sensor
 
         out = {}
         for name, spec in self.spec.sensors.items():
             key = f"sensors.{name}"
-            if isinstance(spec, dict) and set(spec) == {"file"}:
-                out[name] = load_sensor(self.file(spec["file"], f"{key}.file"))
-            elif isinstance(spec, dict) and set(spec) == {"example"}:
-                out[name] = load_sensor(spec["example"])
-            else:
-                out[name] = make_sensor(spec, key=key)
+            if not isinstance(spec, dict):
+                raise ConfigError("a sensor is a mapping, {file: path} or {example: name}", key=key)
+            spec = dict(spec)
+            if "file" in spec or "example" in spec:
+                if "file" in spec and "example" in spec:
+                    raise ConfigError("give 'file' or 'example', not both", key=key)
+                if "file" in spec:
+                    path = self.file(spec.pop("file"), f"{key}.file")
+                else:
+                    example = spec.pop("example")
+                    if example not in example_sensors():
+                        raise ConfigError(f"unknown example sensor {example!r}; known: "
+                                          f"{', '.join(example_sensors())}", key=f"{key}.example")
+                    path = example_sensor_path(example)
+                try:
+                    base = yaml.safe_load(Path(path).read_text())
+                except yaml.YAMLError as err:
+                    raise ConfigError(f"malformed YAML in {path}: {err}", key=key) from None
+                if isinstance(base, dict) and set(base) == {"sensor"}:
+                    base = base["sensor"]
+                spec = _deep_merge(base, spec)
+            out[name] = make_sensor(spec, key=key)
         return out
 
     def observers(self, band_names: list[str]) -> list[ObserverSetup]:
@@ -571,6 +591,14 @@ def _material_range(material) -> tuple[float, float]:
         if spec.extend == "error":
             lo, hi = max(lo, slo), min(hi, shi)
     return lo, hi
+
+
+def _deep_merge(base: dict, override: dict) -> dict:
+    """``base`` with ``override``'s keys replacing its own, recursively into mappings."""
+    out = dict(base)
+    for k, v in override.items():
+        out[k] = _deep_merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
+    return out
 
 
 def _resample_nearest(image: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
