@@ -24,6 +24,7 @@ validate: $(STAMP)  ## every test, the long validations included
 bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 	$(BIN)/python benchmarks/bench_render.py
 	$(BIN)/python benchmarks/bench_sensor.py
+	$(BIN)/python benchmarks/bench_brdf.py
 
 lowtran: $(STAMP)  ## build LOWTRAN7 for the `lowtran` atmosphere engine (needs gfortran)
 	$(BIN)/python scripts/build_lowtran.py --check

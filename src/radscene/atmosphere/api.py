@@ -276,8 +276,10 @@ def line_of_sight(observer_altitude, target_altitude=0.0, view_zenith=0.0, *, en
             "diffuse_irradiance": (diffuse_h, "W m-2 um-1",
                                    "diffuse sky irradiance on a horizontal surface"),
             "spherical_albedo": (comp["spherical_albedo"], "1", "spherical albedo"),
-            "diffuse_transmittance": (comp["diffuse_transmittance_up"], "1",
-                                      "diffuse transmittance target to observer (adjacency)"),
+            "diffuse_transmittance": (comp["diffuse_transmittance_up"]
+                                      * comp["gas_transmittance_up"], "1",
+                                      "diffuse transmittance target to observer, gases "
+                                      "included (the adjacency effect)"),
         }
         ds = xr.Dataset({k: ("wavelength", np.asarray(v, float), {"units": u, "long_name": ln})
                          for k, (v, u, ln) in variables.items()},

@@ -231,6 +231,20 @@ class SixSAtmosphere(Atmosphere):
             raise ConfigError("must be finite", key="atmosphere.sun_azimuth")
         self.sun_zenith, self.sun_azimuth = z, a % 360.0
 
+    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
+        """A copy with the sun (and the line of sight's azimuth) set; runs and cache shared.
+
+        ``day_of_year`` is accepted for symmetry with the ``lowtran`` engine; the Earth-Sun
+        distance is the engine's ``earth_sun_distance``.
+        """
+        import copy
+
+        new = copy.copy(self)
+        new.set_sun(sun_zenith, sun_azimuth)
+        if view_azimuth is not None:
+            new.view_azimuth = float(view_azimuth)
+        return new
+
     def _case(self, wavelength, **kw) -> SixSCase:
         c = dict(self.conditions)
         c.update(kw)

@@ -321,7 +321,7 @@ def phase_interp(angle, angle_nodes, phase):
 def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase_aerosol,
                                   tau_rayleigh, tau_aerosol, omega_aerosol,
                                   fraction_rayleigh=1.0, fraction_aerosol=1.0):
-    """Singly scattered path reflectance of a plane-parallel atmosphere over a black surface.
+    r"""Singly scattered path reflectance of a plane-parallel atmosphere over a black surface.
 
     The layer between the target and an observer holds the fractions ``fraction_rayleigh`` and
     ``fraction_aerosol`` of the column's optical depths τ_R, τ_A; sunlight reaches it through
@@ -497,8 +497,7 @@ def single_scattering_sky(zenith, relative_azimuth, sun_zenith, toa_irradiance, 
     mu = np.cos(np.radians(z))[..., None]
     mu_s = np.cos(np.radians(sun_zenith))
     source = tau_rayleigh * pr + omega_aerosol * tau_aerosol * pa
-    return (toa_irradiance * gas_down / (4.0 * np.pi * mu) * source / np.maximum(tau, 1e-30)
-            * _h(tau, mu, mu_s))
+    return toa_irradiance * gas_down / (4.0 * np.pi * mu) * source * _h(tau, mu, mu_s)
 
 
 def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):

@@ -106,7 +106,8 @@ class SixSCase:
         Column water vapour [g cm-2] and ozone [cm-atm] of a ``"user"`` profile.
     aerosol : str or tuple
         Key of :data:`AEROSOLS`, or ``(("dust", f), ("water", f), ...)`` volume fractions of the
-        6S components (dust, water, oceanic, soot).
+        6S components (dust, water, oceanic, soot), or ``("sun_photometer", radii [um],
+        dV/dlog r, n_real (20), n_imag (20))``.
     aot550 : float or None
         Aerosol optical thickness at 550 nm [-]; else ``visibility`` is used.
     visibility : float or None
@@ -125,12 +126,15 @@ class SixSCase:
         Date (6S scales its solar spectrum by the Earth-Sun distance of the date).
     ground : tuple
         ``("lambertian", rho)``, ``("lambertian", (wl...), (rho...))``,
+        ``("lambertian_samples", (rho...))`` every 2.5 nm across the band,
         ``("heterogeneous", radius_km, target, environment)`` with ``target``/``environment`` a
-        reflectance or a Py6S ``GroundReflectance`` spectrum name (e.g. ``"GreenVegetation"``),
+        reflectance, a ``((wl...), (rho...))`` spectrum (zero outside it, as Py6S fills) or a
+        Py6S ``GroundReflectance`` spectrum name (e.g. ``"GreenVegetation"``),
         or ``("roujean", k0, k1, k2)``.
     band : tuple or None
-        ``(start, end)`` [um] for a flat band, or ``(start, end, (response...))`` with the
-        response sampled every 2.5 nm from ``start``.
+        ``(start, end)`` [um] for a flat band, ``(start, end, (response...))`` with the
+        response sampled every 2.5 nm from ``start``, or ``("predefined", name)`` for one of
+        6S's built-in bands by its Py6S name (``PredefinedWavelengths``, e.g. ``"MODIS_B6"``).
     """
 
     wavelength: float
@@ -204,11 +208,17 @@ def _ground_lines(GroundReflectance, ground):
         import numpy as np
 
         return GroundReflectance.HomogeneousLambertian(np.column_stack([ground[1], ground[2]]))
+    if kind == "lambertian_samples":  # reflectances every 2.5 nm across the band
+        return GroundReflectance.HomogeneousLambertian([float(x) for x in ground[1]])
     if kind == "heterogeneous":
 
         def one(value):
             if isinstance(value, str):
                 return getattr(GroundReflectance, value)
+            if isinstance(value, tuple):  # (wavelengths, reflectances)
+                import numpy as np
+
+                return np.column_stack([value[0], value[1]])
             return float(value)
 
         return GroundReflectance.HeterogeneousLambertian(float(ground[1]), one(ground[2]),
@@ -255,7 +265,11 @@ def _deck(case: SixSCase) -> str:
         s.atmos_profile = AtmosProfile.UserWaterAndOzone(case.water, case.ozone)
     else:
         s.atmos_profile = AtmosProfile.PredefinedType(getattr(AtmosProfile, PROFILES[case.profile]))
-    if isinstance(case.aerosol, tuple):
+    if isinstance(case.aerosol, tuple) and case.aerosol[0] == "sun_photometer":
+        _, radius, dvdlogr, n_real, n_imag = case.aerosol
+        s.aero_profile = AeroProfile.SunPhotometerDistribution(list(radius), list(dvdlogr),
+                                                               list(n_real), list(n_imag))
+    elif isinstance(case.aerosol, tuple):
         s.aero_profile = AeroProfile.User(**dict(case.aerosol))
     else:
         s.aero_profile = AeroProfile.PredefinedType(getattr(AeroProfile, AEROSOLS[case.aerosol]))
@@ -283,6 +297,10 @@ def _deck(case: SixSCase) -> str:
         s.altitudes.set_sensor_custom_altitude(float(case.sensor), aot=aot)
     if case.band is None:
         s.wavelength = Wavelength(float(case.wavelength))
+    elif case.band[0] == "predefined":
+        from Py6S import PredefinedWavelengths
+
+        s.wavelength = Wavelength(getattr(PredefinedWavelengths, case.band[1]))
     elif len(case.band) == 2:
         s.wavelength = Wavelength(float(case.band[0]), float(case.band[1]))
     else:

@@ -30,6 +30,7 @@ Public API
 """
 
 from radscene.materials import brdf, libraries, snow, vegetation, water
+from radscene.materials.brdf import BRDFS, make_brdf, plot_brdf
 from radscene.materials.factory import MATERIAL_TYPES, make_material
 from radscene.materials.libraries import earthlib_library, read_library, read_spectrum
 from radscene.materials.library import (
@@ -58,6 +59,9 @@ from radscene.materials.vegetation import (
 )
 
 __all__ = [
+    "BRDFS",
+    "make_brdf",
+    "plot_brdf",
     "Spectrum",
     "make_spectrum",
     "Material",

@@ -281,11 +281,19 @@ class Phong(BRDF):
         rho_d = self.parameter("diffuse_reflectance", wavelength)
         rho_s = self.parameter("specular_reflectance", wavelength)
         n = self.parameter("specular_exponent")
-        cos_r = 2.0 * mu_i * mu_o - cos_g
-        lobe_value = np.power(np.maximum(cos_r, 0.0), n) * ((n + 1.0) / (2.0 * np.pi))
+        cos_r = mu_i * mu_o
+        cos_r = 2.0 * cos_r - cos_g
         if n == 0.0:
-            lobe_value = np.where(cos_r >= 0.0, lobe_value, 0.0)
-        return rho_d / np.pi + rho_s * lobe_value / np.maximum(mu_i, mu_o)
+            lobe_value = np.asarray(np.where(cos_r >= 0.0, 1.0, 0.0 * cos_r))  # NaN stays
+        else:
+            lobe_value = np.asarray(np.maximum(cos_r, 0.0))
+            np.power(lobe_value, n, out=lobe_value)  # in place: this is the hot path
+        lobe_value /= np.maximum(mu_i, mu_o)
+        if isinstance(rho_s, float) and isinstance(rho_d, float):
+            lobe_value *= rho_s * (n + 1.0) / (2.0 * np.pi)
+            lobe_value += rho_d / np.pi
+            return lobe_value
+        return rho_d / np.pi + rho_s * (n + 1.0) / (2.0 * np.pi) * lobe_value
 
     def _sample_local(self, wo, u1, u2, wavelength):
         p_s = self._mixture_weight("specular_reflectance", "diffuse_reflectance", wavelength)

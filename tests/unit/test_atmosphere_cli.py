@@ -1,0 +1,100 @@
+"""``radscene atmosphere los | sky | build`` and the Python functions behind them."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from radscene.atmosphere.api import line_of_sight, sky_radiance
+from radscene.atmosphere.cli import app
+from radscene.errors import ConfigError
+
+runner = CliRunner()
+
+
+def test_los_table_json_netcdf_and_plot(tmp_path):
+    out, png = tmp_path / "los.nc", tmp_path / "los.png"
+    res = runner.invoke(app, ["los", "--observer-altitude", "100km", "--zenith", "30",
+                              "--profile", "midlatitude_summer", "--sun-zenith", "40",
+                              "--wavelength-min", "0.45", "--wavelength-max", "0.9",
+                              "--band", "0.63,0.69", "--band", "760nm,900nm",
+                              "--surface-albedo", "0.2", "-o", str(out), "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    assert "line of sight (database)" in res.output and "0.63–0.69" in res.output
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert ds["path_radiance"].attrs["units"] == "W m-2 sr-1 um-1"
+    assert ds.sizes["band"] == 2
+    assert png.stat().st_size > 10_000
+    res = runner.invoke(app, ["los", "--zenith", "10", "--wavelength-min", "0.5",
+                              "--wavelength-max", "0.6", "--json"])
+    assert res.exit_code == 0, res.output
+    data = json.loads(res.output)
+    assert data["attrs"]["engine"] == "database"
+    assert len(data["data"]["transmittance"]["values"]) == len(data["coords"]["wavelength"])
+
+
+def test_sky_table_and_plot(tmp_path):
+    png = tmp_path / "sky.png"
+    res = runner.invoke(app, ["sky", "--zenith", "0,30,60,85", "--azimuth", "0,90,180,270",
+                              "--sun-zenith", "35", "--sun-azimuth", "90",
+                              "--wavelength-min", "0.4", "--wavelength-max", "1.0",
+                              "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    assert "diffuse irradiance" in res.output
+    assert png.stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(("args", "match"), [
+    (["los", "--visibility", "0"], "visibility: must be > 0"),
+    (["los", "--profile", "venus"], "profile 'venus'"),
+    (["los", "--aerosol", "ash"], "aerosol 'ash'"),
+    (["los", "--target-altitude", "-2km"], "below the ground"),
+    (["los", "--target-altitude", "150km", "--observer-altitude", "200km"], "above the atmos"),
+    (["los", "--engine", "sixs", "--wavelength-min", "3", "--wavelength-max", "5"],
+     "covers 0.25–4 um"),
+    (["los", "--engine", "modtran"], "unknown engine 'modtran'"),
+    (["los", "--single-scattering"], "always includes multiple scattering"),
+    (["los", "--band", "0.7"], "'min,max'"),
+    (["sky", "--zenith", "0,95"], r"zenith angles in \[0, 90\]"),
+    (["los", "--wavelength-min", "0.5"], "give both"),
+    (["build", "no-such.yaml", "-o", "x.nc"], "no such file"),
+])
+def test_bad_input_is_a_config_error(args, match):
+    import re
+
+    res = runner.invoke(app, args)
+    assert isinstance(res.exception, ConfigError), res.output
+    assert re.search(match, str(res.exception)), str(res.exception)
+
+
+def test_python_functions_return_datasets_over_wavelength():
+    ds = line_of_sight(100_000.0, 0.0, 30.0, sun_zenith=40.0, wavelength=[0.55, 0.865],
+                       surface_albedo=0.25, surface_temperature=300.0,
+                       bands=[(0.5, 0.6), (0.8, 0.9)])
+    assert list(ds["wavelength"].values) == [0.55, 0.865]
+    for name in ("transmittance", "path_radiance", "path_thermal_radiance",
+                 "path_scattered_radiance", "sun_transmittance", "direct_solar_irradiance",
+                 "apparent_radiance", "diffuse_irradiance"):
+        assert ds[name].dims == ("wavelength",), name
+    assert ds["apparent_radiance"].values[0] > ds["path_radiance"].values[0] > 0
+    assert ds["band_transmittance"].values.shape == (2,)
+    sky = sky_radiance([0.0, 45.0], [0.0, 180.0], sun_zenith=30.0, sun_azimuth=180.0,
+                       wavelength=[0.55])
+    assert sky["sky_radiance"].dims == ("zenith", "azimuth", "wavelength")
+    assert sky["sky_radiance"].sel(zenith=45.0, azimuth=180.0).item() > sky[
+        "sky_radiance"].sel(zenith=45.0, azimuth=0.0).item()
+    assert sky["downwelling_irradiance"].item() > 0
+
+
+def test_band_values_integrate_the_spectrum():
+    ds = line_of_sight(3000.0, 0.0, 0.0, sun_zenith=20.0, wavelength_range=(0.6, 0.7),
+                       step=0.01, bands=[(0.6, 0.7)])
+    wl = ds["wavelength"].values
+    assert ds["band_path_radiance"].item() == pytest.approx(
+        np.trapezoid(ds["path_radiance"].values, wl), rel=1e-12)
+    assert ds["band_transmittance"].item() == pytest.approx(
+        np.trapezoid(ds["transmittance"].values, wl) / 0.1, rel=1e-12)

@@ -1,0 +1,171 @@
+"""The ``database`` engine on the database shipped with radscene (no 6S, no Fortran)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from radscene.atmosphere import sixs_model as m
+from radscene.atmosphere.base import SkyGeometry
+from radscene.atmosphere.database import DatabaseAtmosphere, open_database, shipped_databases
+from radscene.errors import ConfigError
+
+REL = 1e-9
+
+
+@pytest.fixture(scope="module")
+def db():
+    return DatabaseAtmosphere(profile="midlatitude_summer", aerosol="rural", visibility="23 km",
+                              sun_zenith=40.0, sun_azimuth=150.0)
+
+
+def test_the_default_database_ships_and_holds_the_common_conditions():
+    assert "default" in shipped_databases()
+    ds = open_database("default")
+    assert set(ds["profile"].values) >= {"us_standard", "midlatitude_summer",
+                                         "midlatitude_winter", "tropical"}
+    pairs = {(str(a), float(v)) for a, v in zip(ds["aerosol_model"].values,
+                                                ds["visibility"].values, strict=True)}
+    assert pairs >= {("rural", 23000.0), ("rural", 5000.0), ("maritime", 23000.0)}
+    assert ds.attrs["layout"] == "radscene-atmosphere-database/1"
+    assert "config" in ds.attrs and "created" in ds.attrs
+    assert shipped_databases()["default"].stat().st_size < 5e6  # a few MB at most
+
+
+@pytest.mark.parametrize(("params", "match"), [
+    ({"profile": "martian"}, "profile 'martian' is not in default.nc; it holds: "),
+    ({"aerosol": "volcanic"}, "aerosol 'volcanic' is not in default.nc"),
+    ({"visibility": "10 km"}, r"rural aerosol at visibility .*23 km.*not 10 km"),
+    ({"visibility": 0}, "must be > 0"),
+    ({"visibility": "-5 km"}, "must be > 0"),
+    ({"file": "/no/such/atm.nc"}, "no database '/no/such/atm.nc'"),
+    ({"surface_albedo": -0.1}, r"must lie in \[0, 1\]"),
+])
+def test_bad_parameters_name_the_key(params, match):
+    with pytest.raises(ConfigError, match=match):
+        DatabaseAtmosphere(**params)
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda a: a.path(1e5, 0.0, 0.0, [0.3]), "covers 0.4"),
+    (lambda a: a.path(1e5, 0.0, 0.0, [25.0]), "covers 0.4"),
+    (lambda a: a.path(1e5, -800.0, 0.0, [0.55]), "below the ground"),
+    (lambda a: a.path(2e5, 1.5e5, 0.0, [0.55]), "above the atmosphere"),
+    (lambda a: a.path(1e5, 9000.0, 0.0, [0.55]), "surface altitudes up to"),
+    (lambda a: a.path(1e3, 0.0, 120.0, [0.55]), "contradicts the altitudes"),
+    (lambda a: DatabaseAtmosphere().path(1e5, 0.0, 0.0, [0.55]), "needs the sun position"),
+])
+def test_bad_queries_are_refused(db, call, match):
+    with pytest.raises(ConfigError, match=match):
+        call(db)
+
+
+def test_path_broadcasts_and_behaves(db):
+    wl = np.array([0.45, 0.55, 0.865, 1.65, 2.2])
+    p = db.path(np.array([[1e5], [3000.0]]), 0.0, np.array([[0.0, 30.0, 60.0]]), wl)
+    assert p.transmittance.shape == p.scattered_radiance.shape == (2, 3, 5)
+    tau, rad = p.transmittance, p.scattered_radiance
+    assert np.all((tau > 0) & (tau < 1))
+    assert np.all(np.diff(tau, axis=1) < 0)  # longer slant paths transmit less
+    assert np.all(tau[1] > tau[0])  # an aircraft sees through less air than a satellite
+    assert np.all(rad[1] < rad[0])
+    assert np.all(np.diff(rad[0, :, :3], axis=-1) < 0)  # bluer is brighter (visible)
+    # one geometry at a time gives the same numbers
+    one = db.path(3000.0, 0.0, 30.0, wl)
+    assert one.transmittance == pytest.approx(tau[1, 1], rel=1e-12)
+    # a path of no length
+    zero = db.path(700.0, 700.0, 10.0, wl)
+    assert zero.transmittance == pytest.approx(np.ones(5)) and np.all(zero.radiance == 0)
+
+
+def test_table_nodes_are_reproduced_exactly(db):
+    """At a node of every axis (top of the atmosphere, sea level, sun and view at table
+    zeniths, relative azimuth 0, a 6S scattering wavelength) the path reflectance is the
+    stored one, with the stored gases: the single-scattering normalisation cancels."""
+    ds = db.source
+    ia, ip = db._ia, db._ip
+    lam = float(ds["scattering_wavelength"].values[7])
+    i_sun = list(ds["sun_zenith"].values).index(40.0)
+    i_view = list(ds["view_zenith"].values).index(60.0)
+    rho_mix = float(ds["rho_mixture"].values[ia, 7, 0, -1, i_sun, i_view, 0])
+    rho_ray = float(ds["rho_rayleigh"].values[ia, 7, 0, -1, i_sun, i_view, 0])
+    m_tot = 1 / np.cos(np.radians(40.0)) + 1 / np.cos(np.radians(60.0))
+    grid, logm = ds["wavelength"].values, np.log(ds["airmass"].values)
+
+    def gas(name):
+        per_m = [np.interp(lam, grid, ds[name].values[ip, :, 0, k]) for k in range(logm.size)]
+        return np.interp(np.log(m_tot), logm, per_m)
+
+    expected = m.path_reflectance(rho_mix, rho_ray, gas("gas_column"),
+                                  gas("gas_column_no_water"))
+    got = db.components(1e5, 0.0, 60.0, [lam], sun_zenith=40.0, relative_azimuth=0.0)
+    assert got["path_reflectance"][0, 0] == pytest.approx(expected, rel=1e-9)
+
+
+def test_sun_is_beer_lambert_on_the_stored_optical_depths(db):
+    wl = np.array([0.55, 0.865])
+    c = db.components(1e5, 0.0, 0.0, wl, sun_zenith=50.0, relative_azimuth=0.0)
+    tau = c["optical_depth_rayleigh"][0] + c["optical_depth_aerosol"][0]
+    expected = np.exp(-tau / np.cos(np.radians(50.0))) * c["gas_transmittance_down"][0]
+    s = db.sun(0.0, 50.0, wl, np.array([1900.0, 980.0]))
+    assert s.transmittance == pytest.approx(expected, rel=1e-12)
+    assert s.irradiance == pytest.approx(expected * [1900.0, 980.0], rel=1e-12)
+    assert np.all(db.sun(0.0, 95.0, wl, np.ones(2)).transmittance == 0.0)
+
+
+def test_path_nodes_mix_at_most_eight_nodes(db):
+    rng = np.random.default_rng(4)
+    n = 500
+    obs = np.full(n, 1750.0)
+    tgt = rng.uniform(1150.0, 1260.0, n)
+    vz = rng.uniform(20.0, 78.0, n)
+    nodes = db.path_nodes(obs, tgt, vz)
+    assert nodes.index.shape == nodes.weight.shape == (n, 8)
+    assert nodes.weight.sum(axis=1) == pytest.approx(np.ones(n), rel=1e-12)
+    mix = lambda v: (v[nodes.index] * nodes.weight).sum(axis=1)  # noqa: E731
+    assert mix(nodes.view_zenith) == pytest.approx(vz, rel=1e-12)
+    assert mix(nodes.target_altitude) == pytest.approx(tgt, rel=1e-12)
+    # spectra mixed from the nodes ≈ spectra at the pixels
+    wl = np.array([0.55, 0.865])
+    at_nodes = db.path(nodes.observer_altitude, nodes.target_altitude, nodes.view_zenith, wl)
+    mixed = np.einsum("nk,nkq->nq", nodes.weight, at_nodes.transmittance[nodes.index])
+    direct = db.path(obs, tgt, vz, wl).transmittance
+    assert mixed == pytest.approx(direct, rel=2e-3)
+
+
+def test_sky_integrates_to_the_diffuse_irradiance(db):
+    wl = np.array([0.47, 0.865])
+    geom = SkyGeometry(0.0, 40.0, 150.0)
+    nz, na = 45, 72
+    zen = (np.arange(nz) + 0.5) * 90.0 / nz
+    az = (np.arange(na) + 0.5) * 360.0 / na
+    zz, aa = np.meshgrid(zen, az, indexing="ij")
+    sky = db.sky(zz, aa, wl, geom)
+    assert sky.shape == (nz, na, 2) and np.all(sky > 0)
+    w = np.cos(np.radians(zz)) * np.sin(np.radians(zz)) * np.radians(2.0) * np.radians(5.0)
+    c = db.components(1e5, 0.0, 0.0, wl, sun_zenith=40.0, relative_azimuth=0.0)
+    assert np.einsum("za,zaq->q", w, sky) == pytest.approx(c["diffuse_irradiance"][0], rel=1e-2)
+    assert db.sky(30.0, 150.0, wl, geom)[0] > db.sky(30.0, 330.0, wl, geom)[0]
+    nodes = db.sky_azimuth_nodes()
+    assert np.all(np.diff(nodes) > 0) and 150.0 in nodes
+
+
+def test_surroundings_brighten_the_sky():
+    dark = DatabaseAtmosphere(surface_albedo=0.0).sky(30.0, 0.0, [0.55],
+                                                       SkyGeometry(0.0, 30.0, 0.0))
+    bright = DatabaseAtmosphere(surface_albedo=0.5).sky(30.0, 0.0, [0.55],
+                                                         SkyGeometry(0.0, 30.0, 0.0))
+    assert bright[0] > dark[0]
+
+
+def test_thermal_tables_when_present(db):
+    if not db.thermal:
+        pytest.skip("this database holds no thermal tables (LOWTRAN was not built)")
+    wl = np.array([4.0, 10.0, 15.0])
+    p = db.path(3000.0, 0.0, 30.0, wl)
+    assert np.all((p.transmittance > 0) & (p.transmittance <= 1))
+    assert p.thermal_radiance[1] > 0 and p.scattered_radiance[1] == 0
+    assert p.transmittance[2] < p.transmittance[1]  # CO2 at 15 um
+    night = db.sky([0.0, 80.0], [0.0, 0.0], wl, SkyGeometry(0.0, 120.0, 0.0))
+    assert np.all(night[:, 1:] > 0)
+    assert night[1, 1] > night[0, 1]  # the horizon is warmer at 10 um
