@@ -121,3 +121,37 @@ def test_texture_multipliers_scale_reflected_and_emitted_terms(make_plate_scene,
     for term, factor in (("sun_diffuse", 0.5), ("sky_reflected", 0.5), ("thermal_emission", 1.5)):
         assert b[term].values == pytest.approx(factor * a[term].values, rel=1e-12), term
     assert b["path_radiance"].values == pytest.approx(a["path_radiance"].values, rel=1e-12)
+
+
+def test_a_lambertian_brdf_model_renders_like_the_lambertian_material(make_plate_scene):
+    """The BRDF path (band-centre kernel, ρ_dh for the sky, directional ε) against the
+    spectral Lambertian path, for a spectrally flat reflectance where both are exact."""
+    bands = [{"name": "vis", "min": 0.5, "max": 0.6}, {"name": "lwir", "min": 8.0, "max": 12.0}]
+    atmosphere = {"type": "uniform", "transmittance": 0.8, "sky_radiance": 3.0,
+                  "path_radiance": 1.0}
+    plain = make_plate_scene({"reflectance": 0.3}, atmosphere, bands, sun_zenith=35.0)
+    model = make_plate_scene({"reflectance": 0.3, "brdf": {"type": "lambertian",
+                                                           "reflectance": 0.3}},
+                             atmosphere, bands, sun_zenith=35.0)
+    a = render(load_scene(plain))
+    b = render(load_scene(model))
+    for term in ("sun_diffuse", "sky_reflected", "thermal_emission", "path_radiance", "radiance"):
+        assert b[term].values == pytest.approx(a[term].values, rel=1e-9), term
+
+
+def test_water_brdf_emissivity_falls_towards_grazing(make_plate_scene):
+    """Cox–Munk water: the LWIR emission seen at 80° is below that seen from nadir."""
+    bands = [{"name": "lwir", "min": 8.0, "max": 12.0}]
+    scene = make_plate_scene({"emissivity": 0.98, "brdf": {"type": "coxmunk", "wind_speed": 3.0}},
+                             {"type": "none"}, bands, sun_zenith=120.0, temperature="300 K")
+    scene["observers"] = [
+        {"name": "nadir", "type": "orthographic", "center": [0, 0], "gsd": 1.0, "shape": [4, 4]},
+        {"name": "grazing", "type": "orthographic", "center": [0, 0], "gsd": 1.0,
+         "shape": [4, 4], "zenith": 80.0, "azimuth": 0.0},
+    ]
+    loaded = load_scene(scene)
+    nadir = render(loaded, "nadir")["thermal_emission"].values.mean()
+    grazing = render(loaded, "grazing")["thermal_emission"].values.mean()
+    planck = float(band_radiance(8.0, 12.0, 300.0))
+    assert 0.97 < nadir / planck < 1.0
+    assert grazing / planck < nadir / planck - 0.1

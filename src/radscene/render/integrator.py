@@ -154,6 +154,104 @@ class _BandSetup:
             self.emissivity_tau.append(eps[:, None, :] * tau[None, :, :])
         self.coefficients = c
         self.sky_nodes = (zen_nodes, az_nodes)
+        self.brdf = _BrdfTables(scene, bands, self.quadrature, path_nodes, atm, sun, target_alt,
+                                sky_zenith, sky_azimuth, sky_geom) if scene.brdfs else None
+
+
+#: Cosines of the view zenith at which BRDF materials' directional emissivity and albedo are
+#: tabulated per band; between them the renderer interpolates linearly, beyond them it holds
+#: the end values.
+VIEW_COSINES = np.linspace(0.02, 1.0, 15)
+#: Wavelengths per band at which BRDF albedo and emissivity are evaluated, then interpolated.
+BRDF_WAVELENGTHS = 12
+
+
+class _BrdfTables:
+    """Band tables of the materials that have a BRDF model.
+
+    For such a material the reflected sun is f(ω_sun, ω_view, λ_b) cos θ_i ∫ S E_sun τ_so τ_a dλ,
+    with the BRDF evaluated at the band's centre wavelength λ_b (exact for BRDFs whose shape
+    does not change across the band, as for band-wise RPV or Ross-Li parameters); the reflected
+    sky is Σ_k F_k ∫ S ρ_dh(θ_v, λ) L_sky,k τ_a dλ (by reciprocity, exact for a sky that is
+    uniform over the visible hemisphere); the emission is ∫ S ε(θ_v, λ) B(λ, T) τ_a dλ with the
+    directional emissivity ε = 1 − ρ_dh − τ_dh (Kirchhoff). ρ_dh and ε are evaluated at
+    ``BRDF_WAVELENGTHS`` wavelengths evenly spread over each band and ``VIEW_COSINES`` view
+    angles, and interpolated linearly between them.
+    """
+
+    def __init__(self, scene, bands, quadrature, path_nodes, atm, sun, target_alt, sky_zenith,
+                 sky_azimuth, sky_geom):
+        from radscene.sun import toa_solar_irradiance
+
+        mu = VIEW_COSINES
+        wi = np.stack([np.sqrt(1.0 - mu**2), np.zeros_like(mu), mu], axis=-1)
+        n_b, n_j = len(bands), path_nodes.size
+        self.models = dict(scene.brdfs)
+        self.centre = np.array([float(b.response.center) for b in bands])
+        self.sun = np.zeros((n_b, n_j))
+        self.emissivity_tau = {m: [] for m in self.models}
+        self.sky = {m: np.zeros((mu.size, n_b, n_j, np.size(sky_zenith))) for m in self.models}
+        for b, (nodes, weights) in enumerate(quadrature):
+            tau = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
+                           path_nodes.view_zenith, nodes).transmittance  # (j, q)
+            if sun.zenith < 90.0:
+                e_sun = atm.sun(target_alt, sun.zenith, nodes,
+                                toa_solar_irradiance(nodes, sun.distance)).irradiance
+                self.sun[b] = tau @ (weights * e_sun)
+            sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q)
+            coarse = np.linspace(nodes.min(), nodes.max(), BRDF_WAVELENGTHS)
+            for m, model in self.models.items():
+                # the hemispherical integrals are costly: evaluate them on a coarse grid
+                eps = _interp_rows(coarse, model.emissivity(wi[:, None, :], coarse[None, :]), nodes)
+                rho = _interp_rows(coarse, model.albedo(wi[:, None, :], coarse[None, :]), nodes)
+                self.emissivity_tau[m].append(eps[:, None, :] * tau[None, :, :])
+                self.sky[m][:, b] = np.einsum("q,vq,kq,jq->vjk", weights, rho, sky, tau)
+
+
+def _interp_rows(x, rows, new_x):
+    """Linear interpolation of each row of ``rows`` (sampled at ``x``) onto ``new_x``."""
+    rows = np.broadcast_to(np.atleast_2d(rows), (np.atleast_2d(rows).shape[0], np.size(x)))
+    return np.stack([np.interp(new_x, x, row) for row in rows])
+
+
+def _view_weights(cos_view):
+    """Linear weights of view cosines on VIEW_COSINES: (lower index, upper weight)."""
+    mu = np.clip(cos_view, VIEW_COSINES[0], VIEW_COSINES[-1])
+    lower = np.clip(np.searchsorted(VIEW_COSINES, mu, side="right") - 1, 0, VIEW_COSINES.size - 2)
+    frac = (mu - VIEW_COSINES[lower]) / (VIEW_COSINES[lower + 1] - VIEW_COSINES[lower])
+    return lower, frac
+
+
+def _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f, nodes):
+    """Replace the terms of samples whose material has a BRDF model (see _BrdfTables)."""
+    tables = bset.brdf
+    for m, model in tables.models.items():
+        sel = mat == m
+        if not np.any(sel):
+            continue
+        sub = _subset_nodes(nodes, np.flatnonzero(sel))
+        f = model.kernel(cos_i[sel, None], cos_v[sel, None], cos_g[sel, None],
+                         tables.centre[None, :])  # (n, b)
+        geometry = np.maximum(cos_i[sel], 0.0) * lit[sel] * tex["reflectance"][sel]
+        values["sun_diffuse"][sel] = f * geometry[:, None] * _gather_band(tables.sun, sub)
+        values["sun_specular"][sel] = 0.0
+        lower, frac = _view_weights(cos_v[sel])
+        sky = 0.0
+        emission = np.zeros((int(sel.sum()), len(bset.quadrature)))
+        for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)):
+            table = tables.sky[m][v_index]  # (n, b, j, k)
+            per_node = sum(sub.weight[:, j, None, None] * np.take_along_axis(
+                table, sub.index[:, j, None, None, None], axis=2)[:, :, 0]
+                for j in range(sub.index.shape[1]))  # (n, b, k)
+            sky = sky + v_weight[:, None, None] * per_node
+            for b, (q_nodes, q_weights) in enumerate(bset.quadrature):
+                coef = emission_coefficients(tables.emissivity_tau[m][b], q_nodes, q_weights,
+                                             v_index, temp[sel])  # (n, j)
+                emission[:, b] += v_weight * (np.take_along_axis(coef, sub.index, axis=1)
+                                              * sub.weight).sum(1)
+        values["sky_reflected"][sel] = np.einsum("nbk,nk->nb", sky, sky_f[sel]) * tex[
+            "reflectance"][sel, None]
+        values["thermal_emission"][sel] = emission * tex["emissivity"][sel, None]
 
 
 def _gather(table, material, nodes):
@@ -304,6 +402,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                 _gather(coef.sky_specular, mat, nodes), lobe_f, tex["reflectance"]),
             "path_radiance": terms.path_radiance(_gather_band(coef.path, nodes)),
         }
+        if bset.brdf is not None:
+            _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex, sky_f,
+                        nodes)
         tau = _gather_band(coef.transmittance, nodes)
         p = rays.pixel[hidx]
         wh = rays.weight[hidx]

@@ -87,6 +87,8 @@ class Scene:
     settings: schema.RenderSettings
     heightfield: Any = None
     source: Path | None = None
+    #: BRDF models of materials that have one, by material index (else Lambert + Phong).
+    brdfs: dict = field(default_factory=dict)
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
     render_cache: dict = field(default_factory=dict, repr=False)
 
@@ -209,6 +211,7 @@ class _Resolver:
         self.path = path
         self.materials: list = []
         self.material_names: list[str] = []
+        self.brdfs: dict = {}
 
     # -- helpers ---------------------------------------------------------------------------
     def file(self, name: str, key: str) -> Path:
@@ -230,6 +233,7 @@ class _Resolver:
             from radscene.materials import make_material
 
             mspec = dict(custom[lname])
+            brdf_spec = mspec.pop("brdf", None)
             mspec.setdefault("type", "custom")
             try:
                 material = make_material(mspec, key=f"materials.{name}", base_dir=self.base)
@@ -251,6 +255,11 @@ class _Resolver:
                 ) from None
         self.materials.append(material)
         self.material_names.append(lname)
+        if lname in custom and brdf_spec is not None:
+            from radscene.materials import make_brdf
+
+            self.brdfs[len(self.materials) - 1] = make_brdf(
+                brdf_spec, key=f"materials.{name}.brdf", base_dir=self.base)
         return len(self.materials) - 1
 
     def textures(self, tset: schema.TextureSet, key: str) -> dict:
@@ -577,6 +586,7 @@ class _Resolver:
             settings=spec.render,
             heightfield=hf,
             source=self.path,
+            brdfs=self.brdfs,
         )
 
 
