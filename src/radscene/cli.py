@@ -112,6 +112,14 @@ def render(
     written = []
     for name, ds in results.items():
         written.append(write_netcdf(ds, output / f"{name}.nc"))
+        if ds["x"].attrs.get("units") == "m":  # a map product: also a GeoTIFF
+            from radscene.io.geotiff import write_geotiff
+            from radscene.platform.geolocation import LocalFrame
+
+            loc = scene.location
+            written.append(write_geotiff(ds["radiance"], output / f"{name}_radiance.tif",
+                                         crs=LocalFrame(loc.latitude, loc.longitude,
+                                                        loc.altitude)))
         if signals[name] is not None:
             written.append(write_netcdf(signals[name], output / f"{name}_signal.nc"))
             if quicklooks:

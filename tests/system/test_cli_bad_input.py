@@ -134,3 +134,23 @@ def test_console_script_exit_code_is_2():
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
+
+
+def test_map_products_carry_geolocation_and_a_geotiff(tmp_path):
+    result, out = _run(tmp_path, GOOD.replace("sun: {zenith: 30 deg, azimuth: 180 deg}",
+                                              "sun: {zenith: 30 deg, azimuth: 180 deg}\n"
+                                              "  location: {latitude: 10.0, longitude: 20.0}"))
+    assert result.exit_code == 0, result.output
+    import rioxarray  # noqa: F401
+    import xarray as xr
+
+    from radscene.io import read_netcdf
+
+    ds = read_netcdf(out / "nadir.nc")
+    assert float(ds["latitude"].mean()) == pytest.approx(10.0, abs=1e-4)
+    assert float(ds["longitude"].mean()) == pytest.approx(20.0, abs=1e-4)
+    assert float(ds["view_zenith"].max()) == pytest.approx(0.0, abs=1e-6)
+    tif = xr.open_dataarray(out / "nadir_radiance.tif", engine="rasterio")
+    assert tif.shape == (2, 4, 4)
+    assert float(tif.isel(band=0).mean()) == pytest.approx(float(ds["radiance"].isel(band=0).mean()),
+                                                           rel=1e-5)

@@ -325,6 +325,8 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     object_id = np.full(n_pix, -1, dtype=np.int32)
     material_id = np.full(n_pix, -1, dtype=np.int32)
     normal_map = np.full((3, n_pix), np.nan)
+    position_map = np.full((3, n_pix), np.nan)
+    view_map = np.full((3, n_pix), np.nan)
 
     hit_rank = np.cumsum(hit) - 1  # index of each hit sample among hits
     rng = np.random.default_rng(settings.seed)
@@ -428,11 +430,14 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         object_id[p[c]] = obj[c]
         material_id[p[c]] = mat[c]
         normal_map[:, p[c]] = nrm[c].T
+        position_map[:, p[c]] = pos[c].T
+        view_map[:, p[c]] = wo[c].T
         _report(progress, sl.stop, total)
 
     elapsed = _time.perf_counter() - started
-    return _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum, object_id,
-                    material_id, normal_map, sun, elapsed)
+    ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum, object_id,
+                  material_id, normal_map, sun, elapsed)
+    return ds.assign(_geolocation(scene, position_map, view_map, rays.shape, sun))
 
 
 def scene_tables(scene) -> _SceneTables:
@@ -600,6 +605,44 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
                                     "response S (peak 1 for rectangular and Gaussian bands)",
     }
     return ds
+
+
+def _geolocation(scene, position, view, shape, sun) -> dict:
+    """Per-pixel geodetic position and view/sun angles of the surface each pixel sees."""
+    from radscene.geometry.frames import angles_from_direction
+    from radscene.platform.geolocation import LocalFrame
+
+    ny, nx = shape
+    loc = scene.location
+    frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
+    pts = position.T.reshape(ny, nx, 3)
+    hit = np.isfinite(pts[..., 0])
+    lat = np.full((ny, nx), np.nan)
+    lon = np.full((ny, nx), np.nan)
+    height = np.full((ny, nx), np.nan)
+    if hit.any():
+        lat[hit], lon[hit], height[hit] = frame.to_geodetic(pts[hit])
+    with np.errstate(invalid="ignore"):
+        vz, va = angles_from_direction(view.T.reshape(ny, nx, 3))
+    vz = np.where(hit, vz, np.nan)
+    va = np.where(hit, va, np.nan)
+    deg = {"units": "degree"}
+    return {
+        "latitude": (("y", "x"), lat, {"units": "degrees_north", "standard_name": "latitude",
+                                        "long_name": "WGS84 latitude of the surface seen"}),
+        "longitude": (("y", "x"), lon, {"units": "degrees_east", "standard_name": "longitude",
+                                         "long_name": "WGS84 longitude of the surface seen"}),
+        "height": (("y", "x"), height, {"units": "m", "long_name": "height above the WGS84 ellipsoid"}),
+        "view_zenith": (("y", "x"), vz, {**deg, "long_name": "zenith angle of the direction from "
+                                         "the surface to the sensor (scene frame)"}),
+        "view_azimuth": (("y", "x"), va, {**deg, "long_name": "azimuth of that direction, "
+                                          "clockwise from north (scene frame)"}),
+        "sun_zenith": (("y", "x"), np.where(hit, sun.zenith, np.nan),
+                       {**deg, "long_name": "solar zenith angle (scene origin; the parallax "
+                        "across a scene is negligible)"}),
+        "sun_azimuth": (("y", "x"), np.where(hit, sun.azimuth, np.nan),
+                        {**deg, "long_name": "solar azimuth, clockwise from north"}),
+    }
 
 
 def _pixel_coordinates(setup, shape) -> dict:
