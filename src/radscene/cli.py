@@ -207,9 +207,12 @@ def examples(
 
 
 def _register_subcommands() -> None:
+    from radscene.atmosphere.cli import app as atmosphere_app
     from radscene.materials.cli import app as materials_app
     from radscene.sensor.cli import app as sensor_app
 
+    add_subcommands(atmosphere_app, "atmosphere",
+                    "Atmospheric databases, lines of sight and skies.")
     add_subcommands(materials_app, "materials", "Built-in materials and spectral libraries.")
     add_subcommands(sensor_app, "sensor",
                     "Sensor models: optics, detector, noise, electronics, processing.")

@@ -17,7 +17,9 @@ from radscene.atmosphere.base import (
     sky_node_weights,
     zenith_hat_weights,
 )
+from radscene.atmosphere.database import DatabaseAtmosphere
 from radscene.atmosphere.lowtran import LowtranAtmosphere
+from radscene.atmosphere.sixs import SixSAtmosphere
 from radscene.atmosphere.uniform import UniformAtmosphere, VacuumAtmosphere
 from radscene.errors import ConfigError
 
@@ -29,6 +31,10 @@ __all__ = [
     "SunSpectra",
     "UniformAtmosphere",
     "LowtranAtmosphere",
+    "SixSAtmosphere",
+    "DatabaseAtmosphere",
+    "line_of_sight",
+    "sky_radiance",
     "VacuumAtmosphere",
     "ENGINES",
     "make_atmosphere",
@@ -42,6 +48,8 @@ ENGINES: dict[str, type[Atmosphere]] = {
     "none": VacuumAtmosphere,
     "uniform": UniformAtmosphere,
     "lowtran": LowtranAtmosphere,
+    "sixs": SixSAtmosphere,
+    "database": DatabaseAtmosphere,
 }
 
 
@@ -73,3 +81,11 @@ def make_atmosphere(spec: dict | None, key: str = "environment.atmosphere") -> A
         return ENGINES[name](**params)
     except TypeError as err:
         raise ConfigError(f"bad parameters for the {name!r} engine: {err}", key=key) from None
+
+
+def __getattr__(name):  # the API functions import engines lazily
+    if name in ("line_of_sight", "sky_radiance"):
+        from radscene.atmosphere import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'radscene.atmosphere' has no attribute {name!r}")

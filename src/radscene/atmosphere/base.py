@@ -205,6 +205,14 @@ class Atmosphere(abc.ABC):
             [W m-2 sr-1 um-1].
         """
 
+    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
+        """This engine set up for a sun position and a line-of-sight azimuth [deg].
+
+        Engines whose spectra depend on the sun (scattered path radiance, sky) return a
+        configured copy; the default, for engines that do not, returns the engine itself.
+        """
+        return self
+
     # -- nodes for the spectral-spatial separation ------------------------------------------
     def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
         """Nodes at which path spectra are evaluated, and each pixel's weights on them.

@@ -6,16 +6,18 @@
    adaptively from a 2.5 nm reference run (6S's band step) of the wettest profile, smoothed
    over ``wavelength.smoothing``, so that linear interpolation reproduces that smoothed
    gaseous transmittance within ``wavelength.tolerance``: dense inside absorption bands,
-   sparse in windows. The table holds 6S's values at the chosen wavelengths (its 10 cm-1
-   band model); band averages over 20 nm inside strong absorption bands are good to about
-   0.1 in transmittance, in windows to < 0.005 (see the tests);
+   sparse in windows, plus a regular ``wavelength.backbone`` (20 nm in the visible, where
+   ozone's Chappuis band is weak but curved). 6S's gaseous transmittance has 10 cm-1 line
+   structure: each stored value is 6S's, raised to the power that makes it the mean of its
+   cell on the reference (in optical depth), so that band averages hold;
 2. the **scattering** tables of each aerosol condition with gas-free 6S runs at 6S's own
    discrete wavelengths. ``strategy: full`` runs every node. ``strategy: reduced`` (the
    default) runs the whole (sun zenith × view zenith × relative azimuth) grid at the top of
    the atmosphere over the lowest surface altitude — half of it, by the reciprocity of path
    reflectance ρ(θ_s, θ_v) = ρ(θ_v, θ_s) (6S keeps it to 0.5 %) — and fills the other surface
-   altitudes and observer heights with ratios ρ(h, Δh) / ρ(top) sampled on a coarse angular
-   grid at a few wavelengths, where they are smooth;
+   altitudes and observer heights from runs on a coarse angular grid at a few wavelengths:
+   the ratios to the top of the multiple-scattering factors ρ / ρ_ss (molecules and aerosol
+   apart) and of the diffuse shares of the transmittances, which are smooth there;
 3. the aerosol phase functions at fixed scattering angles, for the sky model;
 4. optionally the **thermal** tables with any emitting engine that implements
    :class:`~radscene.atmosphere.base.Atmosphere` (``thermal.engine: lowtran``): transmittance
@@ -41,8 +43,9 @@ Configuration (YAML or dict; every key optional)::
       ratio_wavelengths: [0.44, 0.67, 1.65]      # um, ratio tables
       phase_wavelengths: [0.4, 0.55, 0.86, 1.24, 2.25, 3.75]  # um, phase functions
       airmass_pairs: [[0, 48.19], [60, 70.53], [75.52, 81.79], [85, 88]]  # gas runs (sun, view)
-      partial_zenith: [0, 70, 85]                # deg, gas below an aircraft observer
-    wavelength: {min: 0.4, max: 4.0, tolerance: 0.03, smoothing: 0.01}  # um, -, um
+      partial_zenith: [0, 80]                    # deg, gas below an aircraft observer
+    wavelength: {min: 0.4, max: 4.0, tolerance: 0.03, smoothing: 0.01,  # um, -, um
+                 backbone: [[0.4, 1.0, 0.02], [1.0, 2.5, 0.05], [2.5, 4.0, 0.1]]}  # [a, b, step]
     strategy: reduced
     thermal: {engine: auto, wavelength: {min: 3, max: 20, step: 20}}  # um, um, cm-1
                                                  # auto: lowtran where it is built; none
@@ -93,12 +96,13 @@ DEFAULT_CONFIG: dict = {
         "ratio_wavelengths": [0.44, 0.67, 1.65],
         "phase_wavelengths": [0.4, 0.55, 0.86, 1.24, 2.25, 3.75],
         "airmass_pairs": [[0.0, 48.19], [60.0, 70.53], [75.52, 81.79], [85.0, 88.0]],
-        "partial_zenith": [0.0, 70.0, 85.0],
+        "partial_zenith": [0.0, 80.0],
         "rayleigh_heights": [0.0, 50.0, 100.0, 200.0, 350.0, 500.0, 750.0, 1000.0, 1500.0,
                              2000.0, 3000.0, 4000.0, 5000.0, 7000.0, 10000.0, 15000.0,
                              20000.0, 30000.0, 50000.0, 100000.0],
     },
-    "wavelength": {"min": 0.4, "max": 4.0, "tolerance": 0.03, "smoothing": 0.01},
+    "wavelength": {"min": 0.4, "max": 4.0, "tolerance": 0.03, "smoothing": 0.01,
+                   "backbone": [[0.4, 1.0, 0.02], [1.0, 2.5, 0.05], [2.5, 4.0, 0.1]]},
     "strategy": "reduced",
     "thermal": {"engine": "auto", "wavelength": {"min": 3.0, "max": 20.0, "step": 20.0}},
     "workers": None,
@@ -256,11 +260,33 @@ class _Builder:
         vals = self.run("spectral grid", cases)
         curves = np.array([[v["global_gas.total"] for v in vals],
                            [v["global_gas.downward"] for v in vals]])
+        self.reference = (ref, curves[0].copy())
         k = max(1, int(round(float(w.get("smoothing", 0.0)) / 0.0025)))
         if k > 1:
             box = np.ones(k) / k
             curves = np.array([np.convolve(c, box, mode="same") for c in curves])
-        return ref[adaptive_grid(ref, curves, float(w["tolerance"]))]
+        chosen = ref[adaptive_grid(ref, curves, float(w["tolerance"]))]
+        # a backbone where the gases are weak but smooth (ozone's Chappuis band, continua)
+        backbone = [np.arange(a, b + 1e-9, step) for a, b, step in w.get("backbone", [])]
+        grid = np.unique(np.round(np.concatenate([chosen] + backbone), 6))
+        return grid[(grid >= lo) & (grid <= hi)]
+
+    def cell_exponents(self, grid):
+        """Per table wavelength, the exponent that turns 6S's value there into the mean of
+        its cell (half-way to the neighbours) on the 2.5 nm reference, in optical depth:
+        r = ln(mean T_ref) / ln T_ref(λ). Applied to every gas value (T -> T^r), linear
+        interpolation of the table then keeps band averages of the 10 cm-1 line structure,
+        exactly for the reference and to first order in absorber amount for the rest."""
+        ref, t_ref = self.reference
+        edges = np.concatenate([[ref[0]], 0.5 * (grid[1:] + grid[:-1]), [ref[-1]]])
+        r = np.ones(grid.size)
+        for i, w in enumerate(grid):
+            cell = (ref >= edges[i] - 1e-9) & (ref <= edges[i + 1] + 1e-9)
+            at = float(np.interp(w, ref, t_ref))
+            mean = float(t_ref[cell].mean()) if cell.any() else at
+            if 0.0 < at < 0.9999 and 0.0 < mean < 1.0:
+                r[i] = np.clip(np.log(mean) / np.log(at), 0.2, 5.0)
+        return r
 
     def airmass_nodes(self):
         pairs = np.asarray(self.g["airmass_pairs"], dtype=float)
@@ -322,6 +348,9 @@ class _Builder:
                     row[bad] = np.interp(logm[bad], logm[~bad], row[~bad])
         part[:, :, :, -1] = col
         part_nw[:, :, :, -1] = col_nw
+        r = self.cell_exponents(wavelength)[None, :, None, None]
+        col, col_nw = col ** r, col_nw ** r
+        part, part_nw = part ** r[..., None], part_nw ** r[..., None]
         return m_nodes, col, col_nw, part, part_nw
 
     def rayleigh_fraction(self):
@@ -498,7 +527,7 @@ class _Builder:
         for lev in [base] + levels:
             d = {k: np.zeros((n_r, n_c, n_c, 3)) for k in ("mix", "ray")}
             d.update(td=np.zeros((n_r, n_c)), tu=np.zeros((n_r, n_c)), sa=np.zeros(n_r),
-                     ta=np.zeros(n_r), tr=np.zeros(n_r), om=np.ones(n_r))
+                     ta=np.zeros(n_r), tr=np.zeros(n_r), om=np.ones(n_r), tp=np.zeros(n_r))
             for j in range(n_r):
                 for (a, b, p) in angles:
                     v = next(vals)
@@ -510,6 +539,7 @@ class _Builder:
                     d["sa"][j] = v["spherical_albedo.total"]
                     d["ta"][j] = v["optical_depth_total.aerosol"]
                     d["tr"][j] = v["optical_depth_total.rayleigh"]
+                    d["tp"][j] = v["optical_depth_plane.total"]
                     if cond["aerosol"] != "none":
                         d["om"][j] = v["single_scattering_albedo.aerosol"]
             runs[lev[:2]] = d
@@ -522,12 +552,15 @@ class _Builder:
                 return 1.0
             return float(np.interp(obs_nodes[ix], g["rayleigh_heights"], frac[ih]))
 
-        def ss(lam, zs_, zv_, tau_r, tau_a, om, ih, ix, rayleigh_only):
+        def ss(lam, zs_, zv_, tau_r, tau_a, om, ih, ix, kind):
+            """Single scattering of the molecules ("ray") or of the aerosol ("aer") alone."""
             prs = model.loglog_interp(lam, lam_p, pr_p)
             pas = model.loglog_interp(lam, lam_p, pa_p)
+            if kind == "aer":
+                tau_r = 0.0 * np.asarray(tau_r)
             return model.single_scattering_grid(zs_, zv_, _AZIMUTHS, PHASE_ANGLES, prs, pas,
                                                 tau_r, tau_a, om, fr_of(ih, ix), x_nodes[ix],
-                                                rayleigh_only)
+                                                kind == "ray")
 
         def ratio(num, den):
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -548,47 +581,89 @@ class _Builder:
                     + np.take(out, hi, axis=0) * _shape(f, 0, out.ndim))
 
         ref = runs[base[:2]]
+        mu_c = np.cos(np.radians(np.minimum(zc, 89.0)))
+        mu_s = np.cos(np.radians(np.minimum(zs, 89.0)))
+        mu_v = np.cos(np.radians(np.minimum(zv, 89.0)))
+
+        def diffuse_share(total, tau, mu):
+            """q = (T - e^{-τ/μ}) / (1 - e^{-τ/μ}): the diffuse part of a total scattering
+            transmittance per unit of light removed from the direct beam; smooth in angle
+            and altitude, so it is what the tables interpolate."""
+            direct = np.exp(-tau[:, None] / mu[None, :])
+            return ratio(total - direct, 1.0 - direct)
+
+        def from_share(q, tau, mu):
+            direct = np.exp(-tau[:, None] / mu[None, :])
+            return direct + q * (1.0 - direct)
+
+        def tau_layer(ih, ix):
+            return t["tau_r"][:, ih] * fr_of(ih, ix) + t["tau_a"][:, ih] * x_nodes[ix]
+
+        q_ref_up = diffuse_share(ref["tu"], ref["tp"], mu_c)
+        q_ref_down = diffuse_share(ref["td"], ref["tr"] + ref["ta"], mu_c)
+        q_top_up = diffuse_share(t["t_up"][:, 0, top], tau_layer(0, top), mu_v)
+        q_top_down = diffuse_share(t["t_down"][:, 0], t["tau_r"][:, 0] + t["tau_a"][:, 0], mu_s)
+
+        def fill_rho(ih, ix, d):
+            """ρ_R and ρ_R+A at a level from the ratios of ρ / ρ_ss to the top's, the
+            molecules and the aerosol (ρ_R+A - ρ_R) each normalised by its own single
+            scattering."""
+            parts = {}
+            for kind in ("ray", "aer"):
+                lev_c = d["ray"] if kind == "ray" else d["mix"] - d["ray"]
+                ref_c = ref["ray"] if kind == "ray" else ref["mix"] - ref["ray"]
+                r = ratio(ratio(lev_c, ss(lam_r, zc, zc, d["tr"], d["ta"], d["om"], ih, ix,
+                                          kind)),
+                          ratio(ref_c, ss(lam_r, zc, zc, ref["tr"], ref["ta"], ref["om"], 0, top,
+                                          kind)))
+                top_dense = (t["ray"][:, 0, top] if kind == "ray"
+                             else t["mix"][:, 0, top] - t["ray"][:, 0, top])
+                ss_lev = ss(lam_s, zs, zv, t["tau_r"][:, ih], t["tau_a"][:, ih], t["omega"], ih,
+                            ix, kind)
+                ss_ref = ss(lam_s, zs, zv, t["tau_r"][:, 0], t["tau_a"][:, 0], t["omega"], 0,
+                            top, kind)
+                parts[kind] = ratio(top_dense, ss_ref) * onto_dense(r, [(1, zs), (2, zv)]) * ss_lev
+            t["ray"][:, ih, ix] = parts["ray"]
+            t["mix"][:, ih, ix] = parts["ray"] + parts["aer"]
+
         # the lowest surface first, then the higher ones (their aircraft levels use them)
         for (ih, ix, _sensor) in sorted(levels, key=lambda lv: (lv[0], -lv[1])):
             if ih and ix != top:
                 continue
             d = runs[(ih, ix)]
             if ix == top:  # a higher surface: its column
-                t["t_down"][:, ih] = t["t_down"][:, 0] * onto_dense(ratio(d["td"], ref["td"]),
-                                                                    [(1, zs)])
                 t["s_alb"][:, ih] = t["s_alb"][:, 0] * onto_dense(ratio(d["sa"], ref["sa"]), [])
                 t["tau_a"][:, ih] = t["tau_a"][:, 0] * onto_dense(ratio(d["ta"], ref["ta"]), [])
                 t["tau_r"][:, ih] = t["tau_r"][:, 0] * frac_above[ih]
-            t["t_up"][:, ih, ix] = t["t_up"][:, 0, top] * onto_dense(ratio(d["tu"], ref["tu"]),
-                                                                     [(1, zv)])
-            for key, ray in (("mix", False), ("ray", True)):
-                ss_c_lev = ss(lam_r, zc, zc, d["tr"], d["ta"], d["om"], ih, ix, ray)
-                ss_c_ref = ss(lam_r, zc, zc, ref["tr"], ref["ta"], ref["om"], 0, top, ray)
-                r = ratio(ratio(d[key], ss_c_lev), ratio(ref[key], ss_c_ref))
-                r_dense = onto_dense(r, [(1, zs), (2, zv)])
-                ss_lev = ss(lam_s, zs, zv, t["tau_r"][:, ih], t["tau_a"][:, ih], t["omega"], ih,
-                            ix, ray)
-                ss_ref = ss(lam_s, zs, zv, t["tau_r"][:, 0], t["tau_a"][:, 0], t["omega"], 0,
-                            top, ray)
-                t[key][:, ih, ix] = ratio(t[key][:, 0, top], ss_ref) * r_dense * ss_lev
-        # aircraft over the higher surfaces: the multiple-scattering ratio of the lowest one
+                rq = ratio(diffuse_share(d["td"], d["tr"] + d["ta"], mu_c), q_ref_down)
+                t["t_down"][:, ih] = from_share(q_top_down * onto_dense(rq, [(1, zs)]),
+                                                t["tau_r"][:, ih] + t["tau_a"][:, ih], mu_s)
+            rq = ratio(diffuse_share(d["tu"], d["tp"], mu_c), q_ref_up)
+            t["t_up"][:, ih, ix] = from_share(q_top_up * onto_dense(rq, [(1, zv)]),
+                                              tau_layer(ih, ix), mu_v)
+            fill_rho(ih, ix, d)
+        # aircraft over the higher surfaces: the lowest surface's ratios
         for ih in range(1, len(hs)):
             for k in range(len(obs)):
                 ix = k + 1
-                t["t_up"][:, ih, ix] = t["t_up"][:, ih, top] * ratio(t["t_up"][:, 0, ix],
-                                                                     t["t_up"][:, 0, top])
-                for key, ray in (("mix", False), ("ray", True)):
-                    ss_args = (t["tau_r"], t["tau_a"])
-                    s0x = ss(lam_s, zs, zv, ss_args[0][:, 0], ss_args[1][:, 0], t["omega"], 0,
-                             ix, ray)
-                    s0t = ss(lam_s, zs, zv, ss_args[0][:, 0], ss_args[1][:, 0], t["omega"], 0,
-                             top, ray)
-                    shx = ss(lam_s, zs, zv, ss_args[0][:, ih], ss_args[1][:, ih], t["omega"], ih,
-                             ix, ray)
-                    sht = ss(lam_s, zs, zv, ss_args[0][:, ih], ss_args[1][:, ih], t["omega"], ih,
-                             top, ray)
-                    r = ratio(ratio(t[key][:, 0, ix], s0x), ratio(t[key][:, 0, top], s0t))
-                    t[key][:, ih, ix] = ratio(t[key][:, ih, top], sht) * r * shx
+                q0x = diffuse_share(t["t_up"][:, 0, ix], tau_layer(0, ix), mu_v)
+                q0t = diffuse_share(t["t_up"][:, 0, top], tau_layer(0, top), mu_v)
+                qht = diffuse_share(t["t_up"][:, ih, top], tau_layer(ih, top), mu_v)
+                t["t_up"][:, ih, ix] = from_share(qht * ratio(q0x, q0t), tau_layer(ih, ix), mu_v)
+                parts = {}
+                for kind in ("ray", "aer"):
+                    def comp(ih_, ix_, kind=kind):
+                        return (t["ray"][:, ih_, ix_] if kind == "ray"
+                                else t["mix"][:, ih_, ix_] - t["ray"][:, ih_, ix_])
+
+                    def ss_at(ih_, ix_, kind=kind):
+                        return ss(lam_s, zs, zv, t["tau_r"][:, ih_], t["tau_a"][:, ih_],
+                                  t["omega"], ih_, ix_, kind)
+
+                    r = ratio(ratio(comp(0, ix), ss_at(0, ix)), ratio(comp(0, top), ss_at(0, top)))
+                    parts[kind] = ratio(comp(ih, top), ss_at(ih, top)) * r * ss_at(ih, ix)
+                t["ray"][:, ih, ix] = parts["ray"]
+                t["mix"][:, ih, ix] = parts["ray"] + parts["aer"]
 
 
 def _shape(f, axis, ndim):
@@ -631,7 +706,7 @@ def _thermal(cfg, progress):
     total = len(cfg["profiles"]) * len(cfg["aerosols"])
     done = 0
     for ip, prof in enumerate(cfg["profiles"]):
-        for ia, (aer, cond) in enumerate(zip(cfg["aerosols"], cfg["_conditions"], strict=True)):
+        for ia, cond in enumerate(cfg["_conditions"]):
             engine = LowtranAtmosphere(model=prof, aerosol=cond["aerosol"],
                                        visibility=cond["visibility"], **params)
             for ih, h in enumerate(hs):
@@ -646,7 +721,6 @@ def _thermal(cfg, progress):
                 sky[ip, ia, :, ih, :] = s.T
             done += 1
             progress("thermal", done, total)
-            del aer
     return wl, sky_z, tau, rad, sky, {"engine": "lowtran", "parameters": json.dumps(params)}
 
 

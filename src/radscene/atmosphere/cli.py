@@ -43,6 +43,9 @@ _DB = typer.Option(None, "--database", help="Database file or shipped name (engi
 _JSON = typer.Option(False, "--json", help="Print JSON instead of a table.")
 _OUT = typer.Option(None, "-o", "--output", help="Write the Dataset to this NetCDF file.")
 _PLOT = typer.Option(None, "--plot", help="Write a PNG plot to this file.")
+_DB_OUT = typer.Option(..., "-o", "--output", help="NetCDF database to write.")
+_WORKERS = typer.Option(None, help="Parallel 6S processes (default: CPUs).")
+_CACHE = typer.Option(None, help="Cache folder of 6S results (default: none).")
 
 
 def _q(value, kind, key):
@@ -99,9 +102,7 @@ def _json_dump(ds) -> str:
 @app.command()
 def build(
     config: str = typer.Argument("default", help="Build configuration (YAML), or 'default'."),
-    output: Path = typer.Option(..., "-o", "--output", help="NetCDF database to write."),
-    workers: int = typer.Option(None, help="Parallel 6S processes (default: CPUs)."),
-    cache: Path = typer.Option(None, help="Cache folder of 6S results (default: none)."),
+    output: Path = _DB_OUT, workers: int = _WORKERS, cache: Path = _CACHE,
 ):
     """Sample the geometry space with 6S (and LOWTRAN for the thermal range) into a database."""
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn

@@ -24,14 +24,19 @@ Tables, stored where the physics needs resolution (the file's ``layout`` attribu
   ``thermal_wavelength``: transmittance, path thermal radiance (surface altitude × observer
   height × view zenith) and sky thermal radiance (surface altitude × sky zenith).
 
-Any (profile, aerosol) pair of the file is a condition. Between nodes: linear in surface
-altitude; linear in the aerosol fraction below the observer, x = 1 - exp(-Δh / 2 km) (6S's
-aerosol profile; x = 1 at the top); linear in sun and view zenith on ρ (μ_s + μ_v) (which
-single scattering keeps smooth); log-linear in airmass for the gases. Beyond the table's
-zenith nodes the end node is used (stated rule); targets may lie up to 500 m below the lowest
-surface-altitude node (then that node's values are used). The spectra are combined with the
-formulas of :mod:`radscene.atmosphere.sixs_model`; wavelengths the file does not cover are
-refused.
+Any (profile, aerosol) pair of the file is a condition. Between nodes the database
+interpolates only smooth factors: the path reflectance divided by its single-scattering value
+ρ_ss (:func:`~radscene.atmosphere.sixs_model.single_scattering_reflectance`, with 6S's phase
+functions), which carries the sharp angular and altitude structure analytically; the diffuse
+shares (T - e^{-τ/μ}) / (1 - e^{-τ/μ}) of the total transmittances; linearly in surface
+altitude, in the aerosol fraction below the observer x = 1 - exp(-Δh / 2 km) (6S's aerosol
+profile; x = 1 at the top), in sun and view zenith, by a three-term cosine series in relative
+azimuth (Simpson's rule for the azimuthal mean), log-linearly in airmass for the gases. Beyond
+the table's zenith nodes the end node's factor is used (stated rule); targets may lie up to
+500 m below the lowest surface-altitude node (that node's values then). The spectra are
+combined with the formulas of :mod:`radscene.atmosphere.sixs_model`; wavelengths the file
+does not cover are refused. Accuracy against direct 6S runs: tests/validation/
+test_database_accuracy.py.
 
 Parameters (scene file ``environment.atmosphere``, ``type: database``):
 
@@ -272,10 +277,28 @@ class DatabaseAtmosphere(Atmosphere):
                                                    tau_r, ta, om, fr[None, :], x[None, :])
 
     def _ratio_tables(self):
-        """ρ / ρ_ss at every node: the smooth factor the database interpolates."""
+        """ρ / ρ_ss at every node, the smooth factor the database interpolates; and the
+        diffuse shares (T - e^{-τ/μ}) / (1 - e^{-τ/μ}) of the total transmittances."""
         a = self.axes
         self.ratio = {}
         hs, obs = a["surface_altitude"], a["observer_height"]
+        col = self.t["tau_rayleigh"] + self.t["tau_aerosol"]  # (λs, h)
+        mu_s = np.cos(np.radians(np.minimum(a["sun_zenith"], 89.0)))
+        mu_v = np.cos(np.radians(np.minimum(a["view_zenith"], 89.0)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            direct = np.exp(-col[:, :, None] / mu_s)
+            share = (self.t["total_down"] - direct) / (1.0 - direct)
+            self.share_down = np.where(np.isfinite(share), share, 0.0)
+            up = np.zeros_like(self.t["total_up"])
+            for ih, h in enumerate(hs):
+                fr, x = self._fractions(np.full(obs.size, h), obs)
+                lay = (self.t["tau_rayleigh"][:, ih, None] * fr[None, :]
+                       + self.t["tau_aerosol"][:, ih, None] * x[None, :])  # (λs, x)
+                direct = np.exp(-lay[:, :, None] / mu_v)
+                share = (self.t["total_up"][:, ih] - direct) / (1.0 - direct)
+                up[:, ih] = np.where(np.isfinite(share), share, 0.0)
+            up[:, :, 0] = up[:, :, 1]  # no layer: hold the lowest observer's share
+            self.share_up = up
         for key, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
             rho = self.t[key]  # (λs, h, x, θs, θv, φ)
             out = np.zeros_like(rho)
@@ -445,11 +468,11 @@ class DatabaseAtmosphere(Atmosphere):
                 ss = self._ss(sz_eff, np.minimum(vz, 89.0), phi, tau_r_q, tau_a_q, fr_q, x_q, ray)
                 total = total + w * r_phi * ss
             rho[name] = self._spectral(total.T, wl)  # (N, n)
-        # total transmittances and spherical albedo
-        tdown = self.t["total_down"]  # (λs, h, θs)
+        # total transmittances (through their diffuse shares) and spherical albedo
+        tdown = self.share_down  # (λs, h, θs)
         td = tdown[:, :, i_s] * (1 - f_s) + tdown[:, :, min(i_s + 1, tdown.shape[2] - 1)] * f_s
         td = td[:, ih] * (1 - fh) + td[:, np.minimum(ih + 1, nh - 1)] * fh  # (λs, N)
-        tup = self.t["total_up"]  # (λs, h, x, θv)
+        tup = self.share_up  # (λs, h, x, θv)
         tu = 0.0
         for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
             for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
@@ -470,6 +493,13 @@ class DatabaseAtmosphere(Atmosphere):
         for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
             fr = fr + hw * (frac[hi_, ig] * (1 - fg) + frac[hi_, np.minimum(ig + 1, ng - 1)] * fg)
         fr = np.where(space, 1.0, fr)
+        # back from diffuse shares to totals, at the scattering wavelengths
+        col = tau_r + tau_a
+        lay = tau_r * fr[None, :] + tau_a * x[None, :]
+        d_down = np.exp(-col / mu_s)
+        d_up = np.exp(-lay / mu_v[None, :])
+        td = d_down + td * (1.0 - d_down)
+        tu = d_up + tu * (1.0 - d_up)
         spec = {k: self._spectral(v.T, wl) for k, v in (
             ("t_down", td), ("t_up", tu), ("s_alb", s_alb), ("tau_r", tau_r), ("tau_a", tau_a))}
         tau_view = spec["tau_r"] * fr[:, None] + spec["tau_a"] * x[:, None]
@@ -583,8 +613,12 @@ class DatabaseAtmosphere(Atmosphere):
         tau = np.ones((n, wl.size))
         scattered = np.zeros((n, wl.size))
         if np.any(refl):
+            if self.sun_zenith is None:
+                raise ConfigError("the database engine needs the sun position for path "
+                                  "radiance: give sun_zenith or call set_sun()",
+                                  key="atmosphere.sun_zenith")
             rel = None if view_azimuth is None else float(view_azimuth) - self.sun_azimuth
-            sun_up = self.sun_zenith is not None and self.sun_zenith < 90.0
+            sun_up = self.sun_zenith < 90.0
             c = self.components(observer_altitude, target_altitude, view_zenith, wl[refl],
                                 sun_zenith=self.sun_zenith if sun_up else 0.0,
                                 relative_azimuth=rel)
@@ -617,12 +651,10 @@ class DatabaseAtmosphere(Atmosphere):
                                     sun_zenith=float(z[idx]), relative_azimuth=0.0)
                 row[refl] = c["sun_transmittance"][0]
             if self.thermal and np.any(~refl):
-                tw = self.axes["thermal_wavelength"]
                 tau_t, _, inside = self._thermal_path(np.array([model.TOP_OF_ATMOSPHERE]),
                                                       np.array([t[idx]]), np.array([z[idx]]), wl)
                 sel = ~refl & inside
                 row[sel] = tau_t[0, sel]
-                del tw
             out[idx] = row
         return SunSpectra(transmittance=out, irradiance=out * np.asarray(toa_irradiance, float))
 
@@ -639,8 +671,9 @@ class DatabaseAtmosphere(Atmosphere):
                                 sun_zenith=geometry.sun_zenith, relative_azimuth=0.0)
             row = {k: v[0] for k, v in c.items()}
             t_down = row["direct_transmittance_down"] + row["diffuse_transmittance_down"]
-            pr = self._spectral(self.t["phase_rayleigh"], w)
-            pa = self._spectral(self.t["phase_aerosol"], w)
+            lam_p = self.axes["phase_wavelength"]
+            pr = model.loglog_interp(w, lam_p, self.t["phase_rayleigh"])
+            pa = model.loglog_interp(w, lam_p, self.t["phase_aerosol"])
             om = self._spectral(self.t["omega_aerosol"], w)
             out[..., refl] = model.sky_radiance(
                 z, az - geometry.sun_azimuth, geometry.sun_zenith, row["toa_irradiance"],

@@ -104,10 +104,9 @@ def _breakpoints(scene) -> np.ndarray:
 class _BandSetup:
     """Quadrature and coefficient tables for the bands of one render."""
 
-    def __init__(self, scene, tables: _SceneTables, bands, path_nodes):
+    def __init__(self, scene, tables: _SceneTables, bands, path_nodes, atm):
         from radscene.sun import toa_solar_irradiance
 
-        atm = scene.atmosphere
         sun = tables.sun
         breakpoints = _breakpoints(scene)
         zen_nodes = np.asarray(atm.sky_zenith_nodes(), dtype=float)
@@ -312,8 +311,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     obs_alt = rays.origins[hit, 2] + alt0
     tgt_alt = hits.position[hit, 2] + alt0
     view_zenith = np.degrees(np.arccos(np.clip(-rays.directions[hit, 2], -1.0, 1.0)))
-    path_nodes_all = scene.atmosphere.path_nodes(obs_alt, tgt_alt, view_zenith)
-    bset = _BandSetup(scene, tables, bands, path_nodes_all)
+    atm = _configured_atmosphere(scene, sun, -rays.directions[hit])
+    path_nodes_all = atm.path_nodes(obs_alt, tgt_alt, view_zenith)
+    bset = _BandSetup(scene, tables, bands, path_nodes_all, atm)
     coef = bset.coefficients
     sky_nodes = bset.sky_nodes
 
@@ -463,6 +463,17 @@ def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
 def _report(progress, done, total):
     if progress is not None:
         progress(done, total)
+
+
+def _configured_atmosphere(scene, sun, to_observer):
+    """The scene's atmosphere set up for the sun and the mean azimuth of the lines of sight."""
+    day = scene.time.timetuple().tm_yday if scene.time is not None else None
+    if len(to_observer):
+        azimuth = np.degrees(np.arctan2(to_observer[:, 0].mean(), to_observer[:, 1].mean())) % 360
+    else:
+        azimuth = None
+    return scene.atmosphere.with_sun(sun.zenith, sun.azimuth, day_of_year=day,
+                                     view_azimuth=azimuth)
 
 
 def _pixel_sums(pixel, weight, rows):

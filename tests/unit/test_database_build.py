@@ -1,0 +1,82 @@
+"""Building a database: configuration checks, the adaptive grid, a small build end to end."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from radscene.atmosphere import sixs_runner as sr
+from radscene.atmosphere.build import DEFAULT_CONFIG, adaptive_grid, build_database, load_config
+from radscene.atmosphere.database import DatabaseAtmosphere
+from radscene.errors import ConfigError
+
+AVAILABLE, REASON = sr.sixs_available()
+
+
+def test_adaptive_grid_keeps_linear_interpolation_within_tolerance():
+    x = np.linspace(0.0, 10.0, 2001)
+    y = np.stack([np.sin(x), 0.5 * np.cos(3 * x)])
+    for tol in (0.1, 0.01, 0.001):
+        idx = adaptive_grid(x, y, tol)
+        assert idx[0] == 0 and idx[-1] == x.size - 1
+        for row in y:
+            assert np.abs(np.interp(x, x[idx], row[idx]) - row).max() <= tol
+    # flat stretches need nothing but their ends
+    assert list(adaptive_grid(x, np.ones_like(x), 1e-6)) == [0, x.size - 1]
+
+
+def test_default_configuration_is_valid_and_complete():
+    cfg = load_config(None)
+    assert cfg["profiles"] == DEFAULT_CONFIG["profiles"]
+    models = [(c["aerosol"], c["visibility"]) for c in cfg["_conditions"]]
+    assert models == [("rural", 23.0), ("rural", 5.0), ("maritime", 23.0)]
+
+
+@pytest.mark.parametrize(("config", "match"), [
+    ({"colour": 1}, r"unknown keys \['colour'\]"),
+    ({"profiles": ["jovian"]}, "unknown profile 'jovian'"),
+    ({"aerosols": [{"model": "rural", "visibility": 0}]}, r"aerosols\[0\].visibility"),
+    ({"aerosols": [{"visibility": "5 km"}]}, r"aerosols\[0\]"),
+    ({"grid": {"sun_zenith": [0, 60, 30]}}, r"grid.sun_zenith: an increasing list"),
+    ({"grid": {"sun_zenith": [10, 60]}}, "start at 0"),
+    ({"grid": {"airmass_pairs": [[0, 95]]}}, "airmass_pairs"),
+    ({"wavelength": {"min": 0.4, "max": 5.0}}, r"max <= 4 um \(6S\)"),
+    ({"strategy": "quick"}, "reduced or full"),
+    ({"thermal": {"engine": "modtran"}}, "none, lowtran or auto"),
+])
+def test_bad_configurations_name_the_key(config, match):
+    with pytest.raises(ConfigError, match=match):
+        load_config(config)
+
+
+def test_configuration_from_yaml(tmp_path):
+    path = tmp_path / "atm.yaml"
+    path.write_text("profiles: [tropical]\naerosols: [{model: maritime, visibility: 10 km}]\n")
+    cfg = load_config(path)
+    assert cfg["profiles"] == ["tropical"]
+    assert cfg["_conditions"][0]["visibility"] == pytest.approx(10.0)
+    (tmp_path / "bad.yaml").write_text("profiles: [tropical\n")
+    with pytest.raises(ConfigError, match="not valid YAML"):
+        load_config(tmp_path / "bad.yaml")
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not AVAILABLE, reason=f"6S cannot run here: {REASON}")
+def test_a_small_build_round_trips(tmp_path):
+    cfg = {"profiles": ["us_standard"], "aerosols": [{"model": "rural", "visibility": "23 km"}],
+           "grid": {"surface_altitude": [0, 2000], "observer_height": [2000],
+                    "sun_zenith": [0, 40, 70], "view_zenith": [0, 40, 70],
+                    "coarse_zenith": [0, 70], "ratio_wavelengths": [0.55, 0.86],
+                    "phase_wavelengths": [0.55, 0.86], "airmass_pairs": [[0, 60], [70, 80]],
+                    "partial_zenith": [0, 60, 80]},
+           "wavelength": {"min": 0.5, "max": 0.9, "tolerance": 0.02},
+           "thermal": {"engine": "none"}, "cache": str(tmp_path / "cache")}
+    ds = build_database(cfg)
+    assert ds.attrs["sixs_runs"] > 0 and "config" in ds.attrs
+    path = tmp_path / "small.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    db = DatabaseAtmosphere(file=path, sun_zenith=40.0)
+    p = db.path(1e5, 0.0, 40.0, [0.55, 0.65])
+    assert np.all((p.transmittance > 0.5) & (p.transmittance < 1.0))
+    with pytest.raises(ConfigError, match="covers 0.5–0.9 um"):
+        db.path(1e5, 0.0, 40.0, [1.6])
