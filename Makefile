@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: demo test validate bench lint clean lowtran
+.PHONY: demo test validate bench lint clean lowtran atmosphere-db
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -16,7 +16,7 @@ demo: $(STAMP)  ## render the bundled demo scene into out/demo
 	$(BIN)/radscene render src/radscene/examples/demo.yaml -o out/demo
 
 test: $(STAMP)  ## the test suite (unit, system, regression, validation), minus slow cases
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(BIN)/python -m pytest -q -n 2 -m "not slow"
 
 validate: $(STAMP)  ## every test, the long validations included
 	$(BIN)/python -m pytest -q
@@ -28,6 +28,9 @@ bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 
 lowtran: $(STAMP)  ## build LOWTRAN7 for the `lowtran` atmosphere engine (needs gfortran)
 	$(BIN)/python scripts/build_lowtran.py --check
+
+atmosphere-db: $(STAMP)  ## rebuild the shipped atmospheric database (6S; LOWTRAN after `make lowtran`)
+	$(BIN)/radscene atmosphere build default -o src/radscene/data/atmosphere/default.nc
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
