@@ -12,8 +12,11 @@ emissivity of every material), from
   real spectrum, named in the file header and in ``library.yaml``. The earthlib bands in the
   water-vapour regions (1.36-1.45 um, 1.80-1.95 um) are absent; the library's piecewise-linear
   spectra interpolate linearly across them.
-* Thermal, 3-20 um, earthlib materials: reflectance = 1 - emissivity with the ASSUMED emissivity
-  nodes of ``sources/thermal_emissivity.csv`` (the column named by the recipe's ``thermal``);
+* Thermal, 3-20 um, earthlib materials: reflectance = 1 - emissivity, the emissivity named by the
+  recipe's ``thermal``: a MEASURED 8-14 um spectrum of the SLUM library (Kotthaus et al. 2014,
+  ``sources/thermal_emissivity_slum_kotthaus_2014.csv``; held constant at its end values over
+  3-8 and 14-20 um), the Fresnel emissivity of a paint binder (``PAINT_INDEX``), or the ASSUMED
+  nodes of ``sources/thermal_emissivity.csv`` (soils, sand, dry plant matter);
   green_vegetation: 1 - the hemispherical emissivity of a 4SAIL canopy of LAI 6 (thermal model,
   radscene.materials.vegetation) over bare_soil.
 * Join: between the last VSWIR point (2.45 um) and the first thermal node (3.0 um) the
@@ -21,8 +24,8 @@ emissivity of every material), from
 * water: Fresnel reflectance at normal incidence from Hale & Querry (1973) n, k
   (radscene.materials.water) as the specular part, plus the assumed diffuse part of
   ``sources/water_diffuse_reflectance.csv``.
-* bare_aluminium: 0.36-2.48 um Fresnel reflectance of clean aluminium (Rakic 1995); 3-20 um
-  assumed emissivity. polished_aluminium: Fresnel reflectance (Rakic 1995) on 0.36-22.5 um.
+* bare_aluminium and polished_aluminium: Fresnel reflectance of clean aluminium (Rakic 1995) on
+  0.36-22.5 um, diffuse and specular respectively.
 * snow: radscene.materials.snow (ART + ice Fresnel, Warren & Brandt 2008).
 * green_leaf and the canopies: PROSPECT-D / 4SAIL (radscene.materials.vegetation, needs
   ``prosail``) with the parameters of ``VEGETATION``.
@@ -67,8 +70,10 @@ def _quantile_mask(base, spectra, wavelength, q, low):
 _GRASSES = ["deadgras", "goldgras", "brte_br"]
 
 #: Selection rule of each material's earthlib group (a filter on earthlib's metadata table and
-#: spectra) and the column of sources/thermal_emissivity.csv that gives its 3-20 um emissivity
-#: ("model" for green_vegetation).
+#: spectra) and the source of its 3-20 um emissivity: "model" (green_vegetation, 4SAIL), "paint"
+#: (Fresnel emissivity of a smooth organic binder of refractive index PAINT_INDEX), "slum:ID"
+#: (the measured SLUM spectrum ID of sources/thermal_emissivity_slum_kotthaus_2014.csv) or a
+#: column of the ASSUMED table sources/thermal_emissivity.csv.
 RECIPES = {
     "green_vegetation": {
         "rule": "PROSAIL canopy spectra with 3 <= LAI <= 6 and 30 <= CHL <= 60 ug cm-2",
@@ -98,7 +103,7 @@ RECIPES = {
     "asphalt": {
         "rule": "Santa Barbara urban library asphalt road surfaces, class road, names rpa*",
         "select": lambda m, s, w: ((m.LEVEL_3 == "road") & m.NAME.str.startswith("rpa")).to_numpy(),
-        "thermal": "asphalt",
+        "thermal": "slum:A003",
     },
     "fresh_asphalt": {
         "rule": "the darkest quarter (reflectance at 0.55 um) of the Santa Barbara asphalt road "
@@ -106,22 +111,22 @@ RECIPES = {
         "select": lambda m, s, w: _quantile_mask(
             ((m.LEVEL_3 == "road") & m.NAME.str.startswith("rpa")).to_numpy(), s, w, 0.25, True
         ),
-        "thermal": "asphalt",
+        "thermal": "slum:A009",
     },
     "concrete": {
         "rule": "Santa Barbara urban library concrete sidewalks, class sidewalk, names spc*",
         "select": lambda m, s, w: ((m.LEVEL_3 == "sidewalk") & m.NAME.str.startswith("spc")).to_numpy(),
-        "thermal": "concrete",
+        "thermal": "slum:C006",
     },
     "painted_metal": {
         "rule": "Santa Barbara urban library metal roofs, class metal, names fhzgmg.*",
         "select": lambda m, s, w: ((m.LEVEL_3 == "metal") & m.NAME.str.startswith("fhzgmg")).to_numpy(),
-        "thermal": "painted_metal",
+        "thermal": "paint",
     },
     "roof_tile": {
         "rule": "Santa Barbara urban library red clay roof tiles, class tile, names fttr*",
         "select": lambda m, s, w: ((m.LEVEL_3 == "tile") & m.NAME.str.startswith("fttr")).to_numpy(),
-        "thermal": "roof_tile",
+        "thermal": "slum:B013",
     },
     "gravel": {
         "rule": "Santa Barbara urban library gravel, class gravel (bare and built)",
@@ -148,12 +153,12 @@ RECIPES = {
     "asphalt_shingle": {
         "rule": "Santa Barbara urban library composition (asphalt) shingle roofs, class comp_shingle",
         "select": lambda m, s, w: (m.LEVEL_3 == "comp_shingle").to_numpy(),
-        "thermal": "asphalt",
+        "thermal": "slum:A003",
     },
     "concrete_roof_tile": {
         "rule": "Santa Barbara urban library concrete tile roofs, class concrete_tile",
         "select": lambda m, s, w: (m.LEVEL_3 == "concrete_tile").to_numpy(),
-        "thermal": "concrete",
+        "thermal": "slum:C006",
     },
     "wood_shingle": {
         "rule": "Santa Barbara urban library wood shingle roofs, class wood_shingle",
@@ -189,7 +194,7 @@ RECIPES = {
         "marking paint), class paint",
         "select": lambda m, s, w: (m.LEVEL_3 == "paint").to_numpy()
         & _brightness(m, s, w, lambda v: v > 0.45),
-        "thermal": "painted_metal",
+        "thermal": "paint",
     },
 }
 
@@ -224,6 +229,10 @@ VEGETATION = {
 #: LAI of green_vegetation's earthlib PROSAIL spectrum, used for its thermal model.
 GREEN_VEGETATION_LAI = 6.0
 VSWIR_MAX = 2.45  # last earthlib band [um]
+SLUM_BIN = 0.1  # width of the bins the SLUM emissivity spectra are averaged over [um]
+#: Refractive index of a paint's organic binder (alkyd, acrylic, epoxy: n about 1.5; e.g. PMMA
+#: 1.49) used for the Fresnel emissivity of the painted materials [-].
+PAINT_INDEX = 1.5
 SNOW_GRAIN = 0.25e-3  # effective optical grain diameter of the library's snow [m]
 
 
@@ -243,6 +252,56 @@ def read_csv(path: Path):
 def thermal_emissivity(column: str):
     header, data = read_csv(SOURCES / "thermal_emissivity.csv")
     return data[:, 0], data[:, header.index(column)]
+
+
+def slum_emissivity(sample: str):
+    """(wavelength, emissivity, note) 3-20 um from a measured SLUM spectrum (8.0-14.0 um).
+
+    Mean of the measured points in each SLUM_BIN-wide bin of 8.0-14.0 um, at the bin centres;
+    outside 8.0-14.0 um the emissivity is held constant at the first (last) bin's value out to
+    3.0 (20.0) um - the stated extension rule, written in the material's file and source.
+    """
+    header, data = read_csv(SOURCES / "thermal_emissivity_slum_kotthaus_2014.csv")
+    wl, eps = data[:, 0], data[:, header.index(sample)]
+    edges = np.arange(8.0, 14.0 + SLUM_BIN / 2, SLUM_BIN)
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    means = np.array([eps[(wl >= a) & (wl < b)].mean()
+                      for a, b in zip(edges[:-1], edges[1:], strict=True)])
+    note = (
+        f"3.0-20 um: 1 - emissivity, MEASURED 8.0-14.0 um: SLUM sample {sample} (Kotthaus et al. "
+        f"2014, sources/thermal_emissivity_slum_kotthaus_2014.csv), mean of each {SLUM_BIN:g} um "
+        "bin at its centre; extension rule: constant at the first bin's value over 3.0-8.0 um and "
+        "at the last bin's value over 14.0-20 um."
+    )
+    return (np.concatenate([[3.0], centres, [20.0]]),
+            np.concatenate([[means[0]], means, [means[-1]]]), note)
+
+
+def paint_emissivity():
+    """(wavelength, emissivity, note) 3-20 um: Fresnel emissivity of a smooth organic binder."""
+    from radscene.materials.water import hemispherical_fresnel_reflectance
+
+    eps = 1.0 - float(hemispherical_fresnel_reflectance(PAINT_INDEX, 0.0))
+    note = (
+        "3.0-20 um: 1 - emissivity, MODEL: hemispherical emissivity 1 - R of a smooth, optically "
+        f"thick organic paint binder of refractive index n = {PAINT_INDEX:g}, k = 0 by the Fresnel "
+        f"equations (radscene.materials.water.hemispherical_fresnel_reflectance) = {eps:.4f}, "
+        "flat in wavelength (no absorption band resolved)."
+    )
+    return np.array([3.0, 20.0]), np.array([eps, eps]), note
+
+
+def thermal_part(source: str):
+    """(wavelength, emissivity, note) of a recipe's thermal source other than "model"."""
+    if source.startswith("slum:"):
+        return slum_emissivity(source.split(":", 1)[1])
+    if source == "paint":
+        return paint_emissivity()
+    wl, eps = thermal_emissivity(source)
+    return wl, eps, (
+        f"3.0-20 um: 1 - emissivity, ASSUMED values of column '{source}' of "
+        "sources/thermal_emissivity.csv."
+    )
 
 
 def load_earthlib():
@@ -307,15 +366,12 @@ def build_earthlib_materials(selected: dict):
             wl_t, rho_t = green_vegetation_thermal()
             thermal_note = (
                 f"3.0-20 um: 1 - hemispherical emissivity of a 4SAIL canopy (LAI "
-                f"{GREEN_VEGETATION_LAI:g}, leaf emissivity 0.97, over bare_soil) - radscene.materials.vegetation."
+                f"{GREEN_VEGETATION_LAI:g}, leaf emissivity 0.97, over bare_soil) - "
+                "radscene.materials.vegetation."
             )
         else:
-            wl_t, eps_t = thermal_emissivity(recipe["thermal"])
+            wl_t, eps_t, thermal_note = thermal_part(recipe["thermal"])
             rho_t = 1.0 - eps_t
-            thermal_note = (
-                f"3.0-20 um: 1 - emissivity, ASSUMED values of column '{recipe['thermal']}' of "
-                "sources/thermal_emissivity.csv."
-            )
         wl = np.concatenate([wavelength[keep], wl_t])
         rho = np.concatenate([vswir, rho_t])
         selected[material] = (row.NAME, best)
@@ -364,25 +420,17 @@ def build_aluminium():
     from radscene.materials.water import fresnel_reflectance
 
     _, nk = read_csv(SOURCES / "aluminium_nk_rakic_1995.csv")
-    vswir = nk[nk[:, 0] <= 2.5]
-    rho_v = fresnel_reflectance(vswir[:, 1], vswir[:, 2])
-    wl_t, eps_t = thermal_emissivity("bare_aluminium")
+    rho_all = fresnel_reflectance(nk[:, 1], nk[:, 2])
     write_csv(
         DATA / "bare_aluminium.csv",
         [
             f"radscene built-in material 'bare_aluminium' - {GEN}",
-            "reflectance: total hemispherical reflectance [-].",
-            "0.36-2.48 um: Fresnel reflectance at normal incidence of clean aluminium from Rakic "
-            "(1995) n, k (sources/aluminium_nk_rakic_1995.csv).",
-            "3.0-20 um: 1 - emissivity, assumed flat emissivity of sources/thermal_emissivity.csv.",
-            "2.48-3.0 um: linear in wavelength (no tabulated point).",
+            "reflectance: total hemispherical reflectance [-], all of it diffuse.",
+            "0.36-22.5 um: MODEL - Fresnel reflectance at normal incidence of clean aluminium from "
+            "Rakic (1995) n, k (sources/aluminium_nk_rakic_1995.csv); emissivity 1 - reflectance.",
         ],
-        {
-            "wavelength_um": np.concatenate([vswir[:, 0], wl_t]),
-            "reflectance": np.concatenate([rho_v, 1.0 - eps_t]),
-        },
+        {"wavelength_um": nk[:, 0], "reflectance": rho_all},
     )
-    rho_all = fresnel_reflectance(nk[:, 1], nk[:, 2])
     write_csv(
         DATA / "polished_aluminium.csv",
         [
@@ -393,7 +441,7 @@ def build_aluminium():
         ],
         {"wavelength_um": nk[:, 0], "reflectance": rho_all, "specular_reflectance": rho_all},
     )
-    print(f"{'bare_aluminium':19s} Fresnel(Rakic 1995) + assumed thermal emissivity")
+    print(f"{'bare_aluminium':19s} Fresnel(Rakic 1995), 0.36-22.5 um, diffuse")
     print(f"{'polished_aluminium':19s} Fresnel(Rakic 1995), 0.36-22.5 um")
 
 

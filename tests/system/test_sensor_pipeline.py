@@ -69,3 +69,30 @@ def test_cli_writes_the_signal(tmp_path):
     assert result.exit_code == 0, result.output
     assert (tmp_path / "out" / "ir_signal.nc").is_file()
     assert (tmp_path / "out" / "ir_signal" / "lwir.png").is_file()
+
+
+def _pushbroom_scene(ifov_deg):
+    data = _scene()
+    # 150 urad detectors, 4 samples each; the record is 8 lines of 8 detectors
+    data["sensors"] = {"mwir": {"example": "mwir_cooled", "detector": {"shape": [8, 8]}}}
+    data["bands"] = [{"name": "mwir", "min": "3.7 um", "max": "4.8 um"}]
+    data["observers"] = [{"name": "push", "type": "pushbroom", "sensor": "mwir", "frames": 2,
+                          "shape": [32, 32], "ifov": ifov_deg,
+                          "platform": {"position": [0, 0, 1000], "velocity": [0, 40, 0]}}]
+    return data
+
+
+def test_a_pushbroom_records_through_its_sensor():
+    scene = radscene.load_scene(_pushbroom_scene(float(np.degrees(150e-6 / 4))))
+    images, signal = radscene.simulate(scene)
+    assert images.attrs["observer_type"] == "pushbroom"
+    assert signal["dn"].shape == (2, 1, 8, 8)
+    # the hot truck under the track reads more than the grass at the swath's edge
+    dn = signal["dn"].isel(frame=0, band=0).values
+    assert dn[3:5, 3:5].mean() > dn[:, 0].mean()
+
+
+def test_a_pushbroom_sampling_that_disagrees_with_the_sensor_is_refused():
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.ifov: the scanner's sample is .* "
+                                          r"sensor 'mwir_cooled' needs 4 samples per"):
+        radscene.load_scene(_pushbroom_scene(0.01))

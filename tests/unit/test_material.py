@@ -63,10 +63,14 @@ def test_check_names_material_and_first_wavelength():
             reflectance={"wavelength": [1, 2, 3], "values": [0.5, 0.1, 0.1]},
             specular_reflectance=0.2,
         )
-    with pytest.raises(ConfigError, match="emissivity = -0.1 .*must not exceed 1"):
+    with pytest.raises(ConfigError, match="'leaky': reflectance \\+ transmittance = 1.1 exceeds 1"):
         Material.create("leaky", reflectance=0.7, transmittance=0.4)
-    with pytest.raises(ConfigError, match=r"diffuse_reflectance = 1\.2"):
+    with pytest.raises(ConfigError, match=r"'bright': reflectance = 1\.2 is outside \[0, 1\]"):
         Material.create("bright", reflectance=1.2)
+    # the constructor (spectra given directly) still checks every component
+    with pytest.raises(ConfigError, match="emissivity = -0.1 .*must not exceed 1"):
+        Material(name="leaky", diffuse_reflectance=Spectrum.constant(0.7),
+                 transmittance=Spectrum.constant(0.4))
 
 
 def test_check_is_exact_at_knots_of_either_spectrum():

@@ -366,3 +366,23 @@ def test_landsat_like_example_observer():
     small = PushbroomScanner(pb.trajectory, (3, 3), ifov=pb.ifov, line_time=pb.line_time,
                              start=-1.5 * pb.line_time)
     assert _ground(small.rays())[1, 1] == pytest.approx([0.0, 0.0, 0.0], abs=0.05)
+
+
+def test_scanner_sampling_must_fit_the_sensor():
+    from radscene.platform.config import check_sensor_sampling
+    from radscene.sensor import load_sensor
+
+    sensor = load_sensor("landsat_like")  # 42.55 urad detectors, 3 samples each
+    frame = LocalFrame(40.0, -105.0, 1500.0)
+    t = dt.datetime(2023, 6, 1, 17, 30, tzinfo=UTC)
+
+    def scanner(**sampling):
+        return build_observer({"type": "pushbroom", "name": "x", "shape": [6, 6], **sampling,
+                               "orbit": {"overpass": {"altitude": 705e3}}}, frame, t)
+
+    check_sensor_sampling(scanner(gsd=10.0), sensor, "observers[0]", gsd=10.0)
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.gsd: .* give gsd 10(\.0)? m or ifov "
+                                          r"2\.92\d arcsec"):
+        check_sensor_sampling(scanner(gsd=15.0), sensor, "observers[0]", gsd=15.0)
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.ifov: .*needs 3 samples per"):
+        check_sensor_sampling(scanner(ifov=0.001), sensor, "observers[0]")

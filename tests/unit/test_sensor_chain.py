@@ -57,6 +57,52 @@ def test_chain_otf_is_the_analytic_system_otf(band):
         abs(float(ch.otf(rad, -0.1 / ch.detector.pitch, 0.3 / ch.detector.pitch))), rel=1e-12)
 
 
+def test_a_band_of_coarser_ifov_keeps_its_footprint_on_the_base_grid():
+    # base IFOV 15 um / 0.1 m = 150 urad; the "coarse" band: 60 um / 0.2 m = 300 urad
+    cfg = {**CFG, "motion": {}, "bands": {
+        **CFG["bands"],
+        "coarse": {"response": CFG["bands"]["lwir"]["response"],
+                   "optics": {"focal_length": 0.2, "f_number": 2.0},
+                   "detector": {"pitch": 60e-6, "cold_shield_f_number": None}}}}
+    s = make_sensor(cfg)
+    assert s.grid_pitch("mwir") == s.channel("mwir").detector.pitch == 15e-6
+    # the base grid (one output pixel per 150 urad) in the coarse band's focal plane
+    assert s.grid_pitch("coarse") == pytest.approx(15e-6 * 0.2 / 0.1, rel=1e-12)
+    ch = s.channel("coarse")
+    rad = ch.radiometry(ch.response)
+    shape, k = (64, 48), 4
+    fast = _half_grid_otf(ch, rad, shape, k, {}, s.grid_pitch("coarse"))
+    fy, fx = rfft_frequencies(shape)
+    spacing = 30e-6 / k
+    exact = ch.otf(rad, fy / spacing, fx / spacing)
+    assert fast[:-1] == pytest.approx(exact[: shape[0] // 2], abs=2e-6)
+    # its 60 um detector covers two output pixels: the footprint's first zero at 0.5 cycles
+    # per output pixel, i.e. cycles per 30 um in its focal plane
+    fill = np.sqrt(ch.detector.fill_factor)
+    assert system_mtf(s, 0.5 / fill, 0.0, "coarse") == pytest.approx(0.0, abs=1e-9)
+    assert system_mtf(s, 0.5 / fill, 0.0, "mwir") > 0.05
+    # a point source spreads over twice the output pixels when the footprint dominates
+    # (visible band: diffraction spot 1 um, pitches 15 um and 60 um)
+    vis = {"type": "rectangular", "wavelength_min": 0.5, "wavelength_max": 0.6}
+    s = make_sensor({
+        "oversample": 4, "optics": {"focal_length": 0.1, "f_number": 2.0},
+        "detector": {"type": "ccd", "pitch": 15e-6, "quantum_efficiency": 0.5,
+                     "integration_time": 0.001, "temperature": 290.0},
+        "electronics": {"gain": 1.0, "bits": 16},
+        "bands": {"fine": {"response": vis},
+                  "coarse": {"response": vis, "optics": {"focal_length": 0.2},
+                             "detector": {"pitch": 60e-6}}}})
+    point = np.zeros((2, 64, 64))
+    point[:, 32, 32] = 1.0
+    ds = xr.Dataset({"radiance": (("band", "y", "x"), point)}, coords={"band": ["fine", "coarse"]})
+    out = s.apply(ds, seed=0)["radiance_optics"]
+    fine, coarse = (out.sel(band=b).values for b in ("fine", "coarse"))
+    assert fine.sum() == pytest.approx(coarse.sum(), rel=1e-4)  # both conserve the energy
+    # the 60 um detector averages over 2 x 2 output pixels of the base grid (a footprint
+    # scaled by its own pitch would leave the peak unchanged)
+    assert fine.max() > 2.5 * coarse.max()
+
+
 def test_seeds_fixed_pattern_and_frames():
     s = make_sensor(CFG)
     a = s.apply(_scene(1.0), frames=3, seed=5)

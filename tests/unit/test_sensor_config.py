@@ -22,6 +22,7 @@ from radscene.sensor import (
     make_sensor,
 )
 from radscene.sensor.cli import app
+from radscene.sensor.config import read_sensor_file
 
 BASE = {
     "name": "test",
@@ -84,13 +85,14 @@ def test_observer_geometry_puts_oversample_samples_on_a_pitch():
     assert geo["gsd_per_distance"] == pytest.approx(10e-6 / 0.05 / 2, rel=1e-12)
 
 
-@pytest.mark.parametrize("name", ["mwir_cooled", "lwir_microbolometer"])
+@pytest.mark.parametrize("name", ["mwir_cooled", "lwir_microbolometer", "landsat_like"])
 def test_bundled_examples_load(name):
     assert name in example_sensors()
     s = load_sensor(name)
     assert s.name == name
     assert load_sensor(example_sensor_path(name)).name == name
-    kind = {"mwir_cooled": PhotonDetector, "lwir_microbolometer": Microbolometer}[name]
+    kind = {"mwir_cooled": PhotonDetector, "lwir_microbolometer": Microbolometer,
+            "landsat_like": PhotonDetector}[name]
     assert isinstance(s.base.detector, kind)
     band = next(iter(s.config["bands"]))
     assert s.channel(band).response is not None
@@ -157,6 +159,55 @@ def test_apply_with_explicit_responses_and_a_dataarray():
                   seed=1)
     assert out["dn"].dims == ("frame", "band", "y", "x")
     assert out["dn"].shape == (1, 1, 8, 8)
+
+
+def test_library_responses_come_from_the_bundled_srfs():
+    bands = {"red": {"response": {"type": "Library", "sensor": "landsat8_oli", "band": "b4"}},
+             "tir": {"response": {"sensor": "landsat8_tirs", "band": "B10"}}}
+    s = make_sensor({**BASE, "bands": bands})
+    assert s.channel("red").response.name == "landsat8_oli B4"
+    assert s.channel("red").response.center == pytest.approx(0.655, abs=0.005)
+    assert s.channel("tir").response.name == "landsat8_tirs B10"
+
+
+@pytest.mark.parametrize(("response", "match"), [
+    ({"type": "library", "sensor": "landsat88_oli", "band": "B4"},
+     r"bands\.red\.response\.sensor: unknown sensor 'landsat88_oli'; known: landsat8_oli"),
+    ({"type": "library", "sensor": "landsat8_oli", "band": "B12"},
+     r"bands\.red\.response.*unknown band 'B12'; known: B1, B2"),
+    ({"type": "library", "sensor": "landsat8_oli"},
+     r"bands\.red\.response: a library response is \{type: library, sensor"),
+    ({"type": "library", "sensor": "landsat8_oli", "band": "B4", "colour": "red"},
+     r"bands\.red\.response: a library response is"),
+    ({"type": "libary", "sensor": "landsat8_oli", "band": "B4"},
+     r"bands\.red\.response\.type: unknown spectral response type 'libary'.*or library"),
+])
+def test_bad_library_response_names_the_key(response, match):
+    with pytest.raises(ConfigError, match=match):
+        make_sensor({**BASE, "bands": {"red": {"response": response}}})
+
+
+def test_sensor_file_parts(tmp_path):
+    both = tmp_path / "both.yaml"
+    both.write_text(yaml.safe_dump({"sensor": BASE, "observer": {"type": "pushbroom"}}))
+    parts = read_sensor_file(both)
+    assert parts["sensor"]["name"] == "test" and parts["observer"] == {"type": "pushbroom"}
+    assert load_sensor(both).name == "test"
+    assert read_sensor_file("landsat_like")["observer"]["type"] == "pushbroom"
+    assert read_sensor_file("mwir_cooled")["observer"] is None
+    extra = tmp_path / "extra.yaml"
+    extra.write_text(yaml.safe_dump({"sensor": BASE, "platform": {}}))
+    with pytest.raises(ConfigError, match=r"extra\.yaml: unknown part\(s\) platform beside "
+                                          r"'sensor'; accepted: sensor, observer"):
+        load_sensor(extra)
+    bad = tmp_path / "bad_band.yaml"
+    bad.write_text(yaml.safe_dump({"sensor": {**BASE, "bands": {"red": {"response": {
+        "type": "library", "sensor": "landsat8_oli", "band": "B0"}}}}}))
+    with pytest.raises(ConfigError, match=r"unknown band 'B0'.*\(sensor file .*bad_band\.yaml\)"):
+        load_sensor(bad)
+    with pytest.raises(ConfigError, match="a sensor file holds a mapping"):
+        bad.write_text("- 1\n- 2\n")
+        load_sensor(bad)
 
 
 def test_load_sensor_errors(tmp_path):

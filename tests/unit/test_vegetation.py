@@ -107,7 +107,8 @@ def test_leaf_and_canopy_materials_are_kirchhoff_closed_and_stated():
     leaf = leaf_material("leaf", chlorophyll=45.0)
     assert float(leaf.transmittance(0.85)) > 0.3  # translucent in the near infrared
     assert float(leaf.transmittance(10.0)) == 0.0 and float(leaf.emissivity(10.0)) == pytest.approx(0.97)
-    assert "PROSPECT-D" in leaf.source and "ASSUMED leaf emissivity" in leaf.source
+    assert "PROSPECT-D" in leaf.source and "leaf emissivity 0.97" in leaf.source
+    assert "Ribeiro da Luz & Crowley 2007" in leaf.source and "ASSUMED" not in leaf.source
     soil = get_material("bare_soil")
     canopy = canopy_material("crop", lai=3.0, soil=soil, leaf_angle="spherical")
     wl = np.linspace(0.4, 20.0, 400)

@@ -7,6 +7,10 @@ shared folder.
 
 from __future__ import annotations
 
+import gzip
+import hashlib
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -30,6 +34,8 @@ FOOTPRINT_MTF = [0.900316, 0.63662, 0.0]
 PYRADI_3D = {"mean": 2033.157, "total": 9.936, "h": 3.1321, "th": 1.2188, "v": 0.3491,
              "tv": 3.0251, "vh": 1.9849, "tvh": 8.6087, "t": 0.3374}
 PYRADI_ABS = 0.001
+PYRADI_SHA256 = "d4d7a2b3c002c92f26ce4c574db187c235bee66269232be4ff3d21cccd416000"
+DATA = Path(__file__).parent / "data"
 
 
 def test_mtf_diffraction_circular_aperture():
@@ -80,7 +86,20 @@ def _cube_with_components(shape, sigma, mean, seed=0):
     return cube
 
 
-def test_pyradi_3d_noise_sample():
+def test_pyradi_3d_noise_sample_data():
+    """pyradi's own sensor video (tests/validation/data, see its README) decomposes into the
+    case's components, all 20 frames."""
+    raw = gzip.decompress((DATA / "pyradi_sensornoise.raw.gz").read_bytes())
+    assert hashlib.sha256(raw).hexdigest() == PYRADI_SHA256
+    cube = np.frombuffer(raw, dtype="<u2").reshape(20, 100, 100).astype(float)
+    result = noise_3d(cube)
+    assert result.mean == pytest.approx(PYRADI_3D["mean"], abs=PYRADI_ABS)
+    for c in ("t", "v", "h", "tv", "th", "vh", "tvh"):
+        assert getattr(result, c) == pytest.approx(PYRADI_3D[c], abs=PYRADI_ABS), c
+    assert result.total == pytest.approx(PYRADI_3D["total"], abs=PYRADI_ABS)
+
+
+def test_pyradi_3d_noise_sample_synthetic():
     """A synthetic 20 x 100 x 100 cube with the case's components decomposes back to them."""
     sigma = {c: PYRADI_3D[c] for c in ("t", "v", "h", "tv", "th", "vh", "tvh")}
     result = noise_3d(_cube_with_components((20, 100, 100), sigma, PYRADI_3D["mean"]))

@@ -19,7 +19,9 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -184,6 +186,8 @@ class Material:
         rho_s = make_spectrum(
             specular_reflectance, key=f"{key}.specular_reflectance", base_dir=base_dir
         )
+        given = {"transmittance": (transmittance, tau),
+                 "specular_reflectance": (specular_reflectance, rho_s)}
         if reflectance is None and emissivity is None:
             raise ConfigError(
                 "give reflectance (total hemispherical, rho_d + rho_s) or emissivity, or both",
@@ -191,8 +195,10 @@ class Material:
             )
         if reflectance is not None:
             rho = make_spectrum(reflectance, key=f"{key}.reflectance", base_dir=base_dir)
+            given["reflectance"] = (reflectance, rho)
             if emissivity is not None:
                 eps = make_spectrum(emissivity, key=f"{key}.emissivity", base_dir=base_dir)
+                given["emissivity"] = (emissivity, eps)
                 _check_kirchhoff(key, rho, eps, tau)
             rho_d = linear_combination(
                 [(1.0, rho), (-1.0, rho_s)],
@@ -201,6 +207,12 @@ class Material:
             )
         else:
             eps = make_spectrum(emissivity, key=f"{key}.emissivity", base_dir=base_dir)
+            given["emissivity"] = (emissivity, eps)
+        for label, (spec, spectrum) in given.items():
+            _check_unit_range(name, f"{key}.{label}", label, spec, spectrum, base_dir)
+        if reflectance is not None:
+            _check_sum(name, key, given, base_dir)
+        if reflectance is None:
             rho_d = linear_combination(
                 [(-1.0, eps), (-1.0, tau), (-1.0, rho_s)],
                 offset=1.0,
@@ -342,6 +354,73 @@ class Material:
                     f"{wl[i]:g} um is outside [0, 1]{hint}",
                     key=self.name,
                 )
+
+
+def _data_line_numbers(path) -> list[int]:
+    """1-based line numbers of the data rows of a spectrum text file (comments, blank lines and
+    the one header line skipped), in the order :meth:`Spectrum.from_file` reads them."""
+    out, seen_data = [], False
+    for lineno, raw in enumerate(Path(path).read_text(encoding="utf-8").splitlines(), start=1):
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        try:
+            [float(f) for f in re.split(r"[\s,;]+", line) if f]
+        except ValueError:
+            if not seen_data:
+                continue  # the header
+        seen_data = True
+        out.append(lineno)
+    return out
+
+
+def _file_line(spec, spectrum: Spectrum, index: int | None, wavelength, base_dir) -> str:
+    """``"path:line: "`` of a file-given spectrum's row (by index, or by its wavelength), or ``""``."""
+    if not (isinstance(spec, dict) and "file" in spec):
+        return ""
+    path = Path(spec["file"])
+    if base_dir is not None and not path.is_absolute():
+        path = Path(base_dir) / path
+    if index is None and spectrum.wavelength is not None and wavelength is not None:
+        hits = np.flatnonzero(np.isclose(spectrum.wavelength, wavelength, rtol=0, atol=1e-12))
+        index = int(hits[0]) if hits.size else None
+    try:
+        return f"{path}:{_data_line_numbers(path)[index]}: " if index is not None else f"{path}: "
+    except (OSError, IndexError):
+        return f"{path}: "
+
+
+def _check_sum(name: str, key: str, given: dict, base_dir) -> None:
+    """Refuse reflectance + transmittance > 1 at any knot, naming the file and line."""
+    (rho_spec, rho), (tau_spec, tau) = given["reflectance"], given["transmittance"]
+    total = linear_combination([(1.0, rho), (1.0, tau)])
+    values = np.atleast_1d(total.values)
+    bad = np.flatnonzero(values > 1.0 + 1e-12)
+    if bad.size == 0:
+        return
+    i = int(bad[0])
+    wl = None if total.wavelength is None else float(total.wavelength[i])
+    where = (_file_line(rho_spec, rho, None, wl, base_dir)
+             or _file_line(tau_spec, tau, None, wl, base_dir))
+    at = "" if wl is None else f" at {wl:g} um"
+    raise ConfigError(
+        f"{where}material {name!r}: reflectance + transmittance = {values[i]:g}{at} exceeds 1 "
+        "(emissivity 1 - rho - tau would be negative)",
+        key=key,
+    )
+
+
+def _check_unit_range(name: str, key: str, label: str, spec, spectrum: Spectrum, base_dir) -> None:
+    """Refuse a given ρ, ρ_s, τ or ε outside [0, 1], naming the file and line it came from."""
+    values = np.atleast_1d(spectrum.values)
+    bad = np.flatnonzero((values < 0.0) | (values > 1.0) | ~np.isfinite(values))
+    if bad.size == 0:
+        return
+    i = int(bad[0])
+    at = "" if spectrum.wavelength is None else f" at {spectrum.wavelength[i]:g} um"
+    message = (f"material {name!r}: {label} = {values[i]:g}{at} is outside [0, 1] "
+               "(a reflectance, transmittance or emissivity is a fraction)")
+    raise ConfigError(_file_line(spec, spectrum, i, None, base_dir) + message, key=key)
 
 
 def _check_kirchhoff(key: str, rho: Spectrum, eps: Spectrum, tau: Spectrum) -> None:

@@ -20,7 +20,7 @@ and Δτ multipliers of a surface:
 type       keys
 =========  ==============================================================================
 ``image``  ``file``, ``size`` [m], ``origin`` [m], ``contrast``, ``wrap``
-``tile``   ``values`` (2-D list) or ``file``, ``tile_size`` [m], ``origin`` [m]
+``tile``   ``values`` (2-D list) or ``file``; ``tile_size`` [m] or ``texel_size`` [m]; ``origin`` [m]
 ``noise``  ``amplitude``, ``scale`` [m], ``octaves``, ``persistence``, ``lacunarity``, ``seed``
 =========  ==============================================================================
 
@@ -337,7 +337,7 @@ TEXTURE_KINDS = ("reflectance", "emissivity", "transmittance")
 
 _TEXTURE_KEYS = {
     "image": {"type", "file", "size", "origin", "contrast", "wrap"},
-    "tile": {"type", "values", "file", "tile_size", "origin"},
+    "tile": {"type", "values", "file", "tile_size", "texel_size", "origin"},
     "noise": {"type", "amplitude", "scale", "octaves", "persistence", "lacunarity", "seed"},
 }
 
@@ -356,12 +356,24 @@ def _make_image(spec, key, base_dir):
 def _make_tile(spec, key, base_dir):
     if ("values" in spec) == ("file" in spec):
         raise ConfigError("a tile texture takes 'values' or 'file', exactly one", key=key)
-    tile_size = _need(spec, "tile_size", key)
+    if ("tile_size" in spec) == ("texel_size" in spec):
+        raise ConfigError(
+            "a tile texture takes 'tile_size' (one tile [m]) or 'texel_size' (one pixel [m]), "
+            "exactly one", key=key)
     if "file" in spec:
-        image = Texture.from_image(_resolve(spec, key, base_dir), size=tile_size)
-        values = image.values
+        values = Texture.from_image(_resolve(spec, key, base_dir), size=(1.0, 1.0)).values
     else:
         values = spec["values"]
+    if "texel_size" in spec:
+        texel = spec["texel_size"]
+        texel = (texel, texel) if isinstance(texel, numbers.Real) else texel
+        dx, dy = _pair(texel, f"{key}.texel_size", positive=True)
+        rows, cols = np.shape(values)[:2] if np.ndim(values) >= 2 else (0, 0)
+        if rows == 0 or cols == 0:
+            raise ConfigError("a tile needs a 2-D array of values", key=f"{key}.values")
+        tile_size = (dx * cols, dy * rows)
+    else:
+        tile_size = spec["tile_size"]
     return Texture.tiled(values, tile_size=tile_size, origin=spec.get("origin", (0.0, 0.0)), name=key)
 
 

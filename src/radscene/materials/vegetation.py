@@ -93,8 +93,8 @@ LEAF_ANGLE_DISTRIBUTIONS = {
     "uniform": (0.0, 0.0),
 }
 
-#: Thermal-infrared emissivity of a green leaf, 3-20 um, ASSUMED within the 0.95-0.99 that
-#: Ribeiro da Luz & Crowley (2007) and Salisbury & D'Aria (1992) report in 8-14 um [-].
+#: Thermal-infrared emissivity of a green leaf, 3-20 um: the mid-point of the 0.95-0.99 that
+#: Ribeiro da Luz & Crowley (2007) measured for leaves in 8-14 um, held flat over 3-20 um [-].
 DEFAULT_LEAF_EMISSIVITY = 0.97
 
 #: Default thermal-infrared grid of canopy emissivity [um].
@@ -455,8 +455,9 @@ def leaf_material(
         f"N={p['structure']:g}, Cab={p['chlorophyll']:g} ug cm-2, Car={p['carotenoids']:g} ug cm-2, "
         f"Cant={p['anthocyanins']:g} ug cm-2, Cbrown={p['brown_pigments']:g}, Cw={p['water']:g} g cm-2, "
         f"Cm={p['dry_matter']:g} g cm-2, 0.4-2.5 um sampled every {vswir_step:g} um; 3-20 um: "
-        f"ASSUMED leaf emissivity {eps:g} (Ribeiro da Luz & Crowley 2007, "
-        "doi:10.1016/j.rse.2007.01.008: 0.95-0.99 in 8-14 um), opaque; linear 2.5-3.0 um"
+        f"leaf emissivity {eps:g}, flat (default: the mid-point of the 0.95-0.99 MEASURED in "
+        "8-14 um by Ribeiro da Luz & Crowley 2007, doi:10.1016/j.rse.2007.01.008), opaque; "
+        "linear 2.5-3.0 um"
     )
     return Material.create(
         name,
@@ -530,9 +531,10 @@ def canopy_material(
         f"N={p['structure']:g}, Cab={p['chlorophyll']:g} ug cm-2, Car={p['carotenoids']:g} ug cm-2, "
         f"Cw={p['water']:g} g cm-2, Cm={p['dry_matter']:g} g cm-2, Cbrown={p['brown_pigments']:g}, "
         f"soil {soil_name}; 0.4-2.5 um sampled every {vswir_step:g} um. 3-20 um: 1 - hemispherical "
-        f"emissivity of the same canopy by thermal 4SAIL with ASSUMED leaf emissivity "
-        f"{leaf_emissivity:g} (0.95-0.99 per Ribeiro da Luz & Crowley 2007, "
-        "doi:10.1016/j.rse.2007.01.008) and the soil's emissivity; linear 2.5-3.0 um"
+        f"emissivity of the same canopy by thermal 4SAIL with leaf emissivity "
+        f"{leaf_emissivity:g}, flat (default: the mid-point of the 0.95-0.99 MEASURED in 8-14 um "
+        "by Ribeiro da Luz & Crowley 2007, doi:10.1016/j.rse.2007.01.008) and the soil's "
+        "emissivity; linear 2.5-3.0 um"
     )
     return Material.create(
         name,

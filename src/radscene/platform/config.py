@@ -55,6 +55,7 @@ __all__ = [
     "WhiskbroomSpec",
     "build_observer",
     "build_trajectory",
+    "check_sensor_sampling",
 ]
 
 
@@ -175,6 +176,8 @@ class _ScannerCommon(_Model):
     shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
     supersample: Annotated[int, Field(ge=1, le=16)] = 1
     bands: list[str] | None = None
+    sensor: str | None = Field(None, description="name of an entry of the scene's `sensors`")
+    frames: Annotated[int, Field(ge=1, le=1000)] = 1
     orbit: OrbitSpec | None = None
     platform: LinearPlatformSpec | None = None
     waypoints: WaypointsSpec | None = None
@@ -289,6 +292,44 @@ def _make(spec, trajectory, start, fixed=None):
     return WhiskbroomScanner(trajectory, spec.shape, ifov, period, detectors=spec.detectors,
                              sample_time=sample, bidirectional=spec.bidirectional,
                              mirror_profile=spec.mirror_profile, **common)
+
+
+#: Largest relative difference allowed between a sensor's IFOV and ``oversample`` × the ifov of
+#: the scanner that renders for it.
+SAMPLING_TOLERANCE = 0.01
+
+
+def check_sensor_sampling(scanner, sensor, key: str = "observer", gsd=None) -> None:
+    """Check that a scanner renders ``sensor.oversample`` samples per detector IFOV.
+
+    Parameters
+    ----------
+    scanner : PushbroomScanner or WhiskbroomScanner
+        Its ``ifov`` [deg] is the angle of one rendered sample.
+    sensor : radscene.sensor.Sensor
+        Its ``ifov`` [deg] is the angle of one detector pitch (base channel).
+    key : str
+        Key path of the observer, for errors.
+    gsd : float, optional
+        The observer's ``gsd`` [m] when it gave one (the error then suggests a gsd).
+
+    Raises
+    ------
+    ConfigError
+        The two differ by more than :data:`SAMPLING_TOLERANCE`; the message gives the
+        ``gsd`` / ``ifov`` that would fit (keys ``<key>.gsd`` or ``<key>.ifov``).
+    """
+    per_sample = sensor.ifov / sensor.oversample
+    ratio = scanner.ifov / per_sample
+    if abs(ratio - 1.0) <= SAMPLING_TOLERANCE:
+        return
+    fit_ifov = f"{per_sample * 3600:.4g} arcsec"
+    fit_gsd = "" if gsd is None else f"gsd {gsd / ratio:.4g} m or "
+    raise ConfigError(
+        f"the scanner's sample is {scanner.ifov * 3600:.4g} arcsec but sensor "
+        f"{sensor.name!r} needs {sensor.oversample} samples per {sensor.ifov * 3600:.4g} arcsec "
+        f"detector IFOV; give {fit_gsd}ifov {fit_ifov}",
+        key=f"{key}.{'gsd' if fit_gsd else 'ifov'}")
 
 
 def build_observer(spec, frame, time: _dt.datetime | None = None, key: str = "observer"):

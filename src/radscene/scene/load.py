@@ -117,7 +117,7 @@ def _key(loc: tuple) -> str:
             out += f"[{part}]"
         elif isinstance(part, str) and part.endswith("]") is False and part in (
             "procedural", "dem", "box", "cylinder", "plate", "mesh", "orthographic",
-            "perspective", "file", "noise", "function-after", "function-before",
+            "perspective", "file", "noise", "function-after", "function-before", "image", "tile",
         ):
             continue  # discriminator tags pydantic inserts into the path
         else:
@@ -239,8 +239,11 @@ class _Resolver:
                 material = make_material(mspec, key=f"materials.{name}", base_dir=self.base)
             except ConfigError as err:
                 inner = err.key or ""
-                key_path = inner if inner.startswith("materials.") else f"materials.{name}"
-                raise ConfigError(err.message, key=key_path) from None
+                if inner.startswith("materials."):
+                    raise ConfigError(err.message, key=inner) from None
+                # a file:line (or other) location stays in the message
+                message = f"{inner}: {err.message}" if inner else err.message
+                raise ConfigError(message, key=f"materials.{name}") from None
             if material.name != lname:
                 import dataclasses
 
@@ -262,8 +265,25 @@ class _Resolver:
                 brdf_spec, key=f"materials.{name}.brdf", base_dir=self.base)
         return len(self.materials) - 1
 
+    def mixture_index(self, fractions: dict, key: str) -> int:
+        """Index of the areal (linear) mixture of named materials with the given fractions."""
+        from radscene.materials import mix_materials
+
+        name = " + ".join(f"{f:g} {m.lower()}" for m, f in fractions.items())
+        if name in self.material_names:
+            return self.material_names.index(name)
+        parts = [(f, self.materials[self.material_index(m, f"{key}.{m}")])
+                 for m, f in fractions.items()]
+        try:
+            material = mix_materials(parts, name=name)
+        except ConfigError as err:
+            raise ConfigError(err.message, key=key) from None
+        self.materials.append(material)
+        self.material_names.append(name)
+        return len(self.materials) - 1
+
     def textures(self, tset: schema.TextureSet, key: str) -> dict:
-        from radscene.materials import Texture
+        from radscene.materials import Texture, make_texture
 
         out = {}
         for kind in ("reflectance", "emissivity", "transmittance"):
@@ -272,12 +292,18 @@ class _Resolver:
                 continue
             k = f"{key}.textures.{kind}"
             try:
-                out[kind] = Texture.from_image(
-                    self.file(tspec.file, f"{k}.file"),
-                    size=tspec.size,
-                    origin=tspec.origin,
-                    contrast=tspec.contrast,
-                )
+                if tspec.type == "image":
+                    out[kind] = Texture.from_image(
+                        self.file(tspec.file, f"{k}.file"),
+                        size=tspec.size,
+                        origin=tspec.origin,
+                        contrast=tspec.contrast,
+                    )
+                    continue
+                spec = tspec.model_dump(exclude_none=True)
+                if "file" in spec:
+                    spec["file"] = str(self.file(spec["file"], f"{k}.file"))
+                out[kind] = make_texture(spec, key=k)  # tile or noise
             except ConfigError as err:
                 raise ConfigError(err.message, key=err.key if err.key and err.key.startswith(k) else k) from None
         return out
@@ -377,7 +403,9 @@ class _Resolver:
         image = image.astype(np.int64)
         lut = {}
         for value, mname in mmap.classes.items():
-            lut[value] = self.material_index(mname, f"terrain.material_map.classes.{value}")
+            k = f"terrain.material_map.classes.{value}"
+            lut[value] = (self.material_index(mname, k) if isinstance(mname, str)
+                          else self.mixture_index(mname, k))
         sampled = _resample_nearest(image, (ny, nx))
         unknown = sorted(set(np.unique(sampled).tolist()) - set(lut))
         if unknown:
@@ -487,7 +515,7 @@ class _Resolver:
                     base = yaml.safe_load(Path(path).read_text())
                 except yaml.YAMLError as err:
                     raise ConfigError(f"malformed YAML in {path}: {err}", key=key) from None
-                if isinstance(base, dict) and set(base) == {"sensor"}:
+                if isinstance(base, dict) and isinstance(base.get("sensor"), dict):  # sensor file parts
                     base = base["sensor"]
                 spec = _deep_merge(base, spec)
             out[name] = make_sensor(spec, key=key)
@@ -501,8 +529,9 @@ class _Resolver:
         for i, o in enumerate(self.spec.observers):
             key = f"observers[{i}]"
             sensor = sensors.get(o.sensor) if getattr(o, "sensor", None) else None
-            geometry = sensor.observer_geometry() if sensor else {}
-            if sensor is not None and o.shape is not None and tuple(o.shape) != geometry["shape"]:
+            scanner = o.type in ("pushbroom", "whiskbroom")  # its shape and gsd/ifov set the grid
+            geometry = sensor.observer_geometry() if sensor and not scanner else {}
+            if geometry and o.shape is not None and tuple(o.shape) != geometry["shape"]:
                 raise ConfigError(
                     f"sensor {o.sensor!r} records {geometry['shape'][0] // sensor.oversample} x "
                     f"{geometry['shape'][1] // sensor.oversample} detectors at {sensor.oversample} "
@@ -518,12 +547,14 @@ class _Resolver:
                         key=f"{key}.bands[{j}]",
                     )
             if o.type in ("pushbroom", "whiskbroom"):
-                from radscene.platform.config import build_observer
+                from radscene.platform.config import build_observer, check_sensor_sampling
                 from radscene.platform.geolocation import LocalFrame
 
                 loc = self.spec.environment.location
                 frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
                 cam = build_observer(o, frame, self.spec.environment.time, key=key)
+                if sensor is not None:
+                    check_sensor_sampling(cam, sensor, key, gsd=o.gsd)
                 out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type, sensor,
                                          getattr(o, "frames", 1)))
                 continue

@@ -91,13 +91,60 @@ class Environment(_Model):
 
 
 
-class TextureSpec(_Model):
-    """A multiplier image over the ground plane (Δρ, Δε or Δτ)."""
+class ImageTextureSpec(_Model):
+    """A multiplier image (Δρ, Δε or Δτ) laid on a ``size`` rectangle of the ground plane, tiled
+    beyond it. The default type: a texture without ``type`` is an image."""
 
+    type: Literal["image"] = "image"
     file: str
     size: tuple[PositiveLength, PositiveLength]
     origin: tuple[Length, Length] = (0.0, 0.0)
     contrast: Annotated[float, Field(ge=0)] | None = None
+
+
+class TileTextureSpec(_Model):
+    """A small multiplier pattern repeated over the whole ground plane at a stated scale: each
+    texel covers ``texel_size`` (e.g. ``"2 m"``), or the whole pattern ``tile_size``."""
+
+    type: Literal["tile"]
+    values: list[list[Annotated[float, Field(ge=0)]]] | None = None
+    file: str | None = None
+    texel_size: PositiveLength | tuple[PositiveLength, PositiveLength] | None = None
+    tile_size: tuple[PositiveLength, PositiveLength] | None = None
+    origin: tuple[Length, Length] = (0.0, 0.0)
+
+    @model_validator(mode="after")
+    def _one_each(self):
+        if (self.values is None) == (self.file is None):
+            raise ValueError("give exactly one of 'values' (a 2-D list) or 'file'")
+        if (self.texel_size is None) == (self.tile_size is None):
+            raise ValueError("give exactly one of 'texel_size' [m] or 'tile_size' [m, m]")
+        return self
+
+
+class NoiseTextureSpec(_Model):
+    """Procedural fractal-noise multiplier ``1 + amplitude * noise`` (terrain detail)."""
+
+    type: Literal["noise"]
+    amplitude: Annotated[float, Field(ge=0, le=1)]
+    scale: PositiveLength
+    octaves: Annotated[int, Field(ge=1, le=16)] = 4
+    persistence: Annotated[float, Field(gt=0, le=1)] = 0.5
+    lacunarity: Annotated[float, Field(gt=1)] = 2.0
+    seed: Annotated[int, Field(ge=0)] = 0
+
+
+def _image_by_default(value: Any) -> Any:
+    if isinstance(value, dict) and "type" not in value:
+        return {**value, "type": "image"}
+    return value
+
+
+TextureSpec = Annotated[
+    ImageTextureSpec | TileTextureSpec | NoiseTextureSpec,
+    Field(discriminator="type"),
+    BeforeValidator(_image_by_default),
+]
 
 
 class TextureSet(_Model):
@@ -118,11 +165,31 @@ class Lake(_Model):
 
 
 class MaterialMapFile(_Model):
-    """A classified image over the terrain extent: pixel value → material name."""
+    """A classified image over the terrain extent: pixel value → a material name, or the
+    fractions of several materials in that class, ``{grass: 0.6, bare_soil: 0.4}`` (sub-pixel
+    areal mixture: the spectra are mixed linearly)."""
 
     type: Literal["file"] = "file"
     file: str
-    classes: dict[int, str]
+    classes: dict[int, str | dict[str, float]]
+
+    @field_validator("classes")
+    @classmethod
+    def _fractions(cls, value):
+        for cls_value, entry in value.items():
+            if isinstance(entry, str):
+                continue
+            if not entry:
+                raise ValueError(f"class {cls_value}: give at least one material and its fraction")
+            bad = {m: f for m, f in entry.items() if not 0.0 <= f <= 1.0}
+            if bad:
+                raise ValueError(f"class {cls_value}: fractions must lie in [0, 1]; got {bad}")
+            total = sum(entry.values())
+            if abs(total - 1.0) > 1e-6:
+                raise ValueError(
+                    f"class {cls_value}: the fractions of {sorted(entry)} sum to {total:g}, not 1"
+                )
+        return value
 
 
 class MaterialMapNoise(_Model):

@@ -14,6 +14,12 @@ Top-level configuration (``make_sensor`` / YAML)::
     bands:                        # per-band overrides, merged into the above
       lwir: {response: {type: rectangular, wavelength_min: 8, wavelength_max: 12},
              detector: {quantum_efficiency: 0.5}}
+      red: {response: {type: library, sensor: landsat8_oli, band: B4}}  # bundled SRF library
+
+Every band is recorded on one detector grid, the base channel's (``oversample`` rendered
+samples per base pitch). A band may have its own optics and pitch, hence its own IFOV (a
+coarser thermal focal plane): its footprint, optics and smear enter its OTF at their true
+size and it is sampled on that grid, as a resampled product is (:meth:`Sensor.grid_pitch`).
 
 The signal Dataset (:meth:`Sensor.apply`) has dims ``frame``, ``band``, ``y``, ``x`` (the
 detector grid) and holds:
@@ -195,6 +201,22 @@ class Sensor:
         return self._channels.get(str(band), self.base)
 
     # -- geometry --------------------------------------------------------------------------
+    def grid_pitch(self, band: str) -> float:
+        """Spacing of the sensor's detector grid in a band's focal plane [m].
+
+        Every band is recorded on one grid, the base channel's: ``oversample`` rendered
+        samples per base pitch, one output sample per base IFOV. A band whose own IFOV
+        (pitch / focal length) differs, e.g. a coarser thermal focal plane, keeps its own
+        detector footprint, optics and smear in the OTF but is sampled on that grid, as a
+        resampled product is: the grid spacing in its focal plane is
+        ``base pitch × band focal length / base focal length``.
+        """
+        ch, base = self.channel(band), self.base
+        if ch is base or (ch.detector.pitch == base.detector.pitch
+                          and ch.optics.focal_length == base.optics.focal_length):
+            return ch.detector.pitch
+        return base.detector.pitch * ch.optics.focal_length / base.optics.focal_length
+
     @property
     def ifov(self) -> float:
         """Instantaneous field of view of one detector pitch, 2 atan(p / 2f) [deg]."""
@@ -286,27 +308,31 @@ class Sensor:
             else:
                 response = ch.response or default_response(ds, band)
             radiometry = ch.radiometry(response, key=f"bands.{band}.response")
-            otf = _half_grid_otf(ch, radiometry, rad.shape[1:], k, grids)
+            grid_pitch = self.grid_pitch(band)
+            otf = _half_grid_otf(ch, radiometry, rad.shape[1:], k, grids, grid_pitch)
             fine = rad.sel(band=band).values
             if not np.isfinite(fine).all():
                 raise ConfigError(f"band {band!r} holds NaN or infinite radiance; the optics "
                                   "would spread it over the whole image", key="radiance")
             radiance_optics = sampling.apply_otf(fine, otf, k, workers)
             per_band.append(_run_band(ch, radiometry, radiance_optics, frames, rng,
-                                      fixed_pattern_rng(self.fixed_pattern_seed, band)))
+                                      fixed_pattern_rng(self.fixed_pattern_seed, band),
+                                      grid_pitch))
         return _signal_dataset(self, ds, bands, per_band, k, frames, seed)
 
 
-def _half_grid_otf(ch: Channel, radiometry, shape, k, cache) -> np.ndarray:
+def _half_grid_otf(ch: Channel, radiometry, shape, k, cache, grid_pitch=None) -> np.ndarray:
     """System OTF on the rfft half grid of the fine image (float32); the rows fy >= 0 only
-    unless a diagonal smear makes it uneven in fy.
+    unless a diagonal smear makes it uneven in fy. ``grid_pitch`` [m] is the spacing of the
+    detector grid in the channel's focal plane (:meth:`Sensor.grid_pitch`; default the
+    channel's pitch).
 
     The geometric part (footprint × jitter × smear) is evaluated once per set of parameters,
     separably where it can be; the radial aberration part is a table on a uniform grid of
     radial frequency, read by linear interpolation with indices shared by all bands.
     """
     det, opt = ch.detector, ch.optics
-    spacing = det.pitch / k  # focal-plane sample spacing [m]
+    spacing = (det.pitch if grid_pitch is None else grid_pitch) / k  # focal-plane sample spacing [m]
     sx, sy = (np.radians(j) * opt.focal_length for j in ch.motion.jitter)
     dx, dy = (s * det.pitch for s in ch.motion.smear)
     fy, fx = sampling.rfft_frequencies(shape)
@@ -343,10 +369,11 @@ def _half_grid_otf(ch: Channel, radiometry, shape, k, cache) -> np.ndarray:
     return otf
 
 
-def _run_band(ch: Channel, radiometry, radiance_optics, frames, rng, fp_rng) -> dict:
+def _run_band(ch: Channel, radiometry, radiance_optics, frames, rng, fp_rng,
+              grid_pitch=None) -> dict:
     det, elec = ch.detector, ch.electronics
     shape = radiance_optics.shape
-    illumination = ch.relative_illumination_map(shape)
+    illumination = ch.relative_illumination_map(shape, grid_pitch)
     gain_map = det.gain_map(shape, fp_rng)
     offset_map = det.offset_map(shape, fp_rng)
     leakage = det.leakage(radiometry.band_integral)

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import zlib
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -109,10 +110,11 @@ class Channel:
             h = h * smear_otf(fx, fy, dx, dy)
         return h
 
-    def relative_illumination_map(self, shape) -> np.ndarray:
-        """Relative illumination of each detector of a ``shape`` array [-] (float32, read-only)."""
-        return _illumination(tuple(shape), self.detector.pitch, self.optics.focal_length,
-                             self.optics.relative_illumination)
+    def relative_illumination_map(self, shape, pitch=None) -> np.ndarray:
+        """Relative illumination of each detector of a ``shape`` array [-] (float32, read-only);
+        ``pitch`` [m] is the array's spacing in the focal plane (default the detector pitch)."""
+        return _illumination(tuple(shape), self.detector.pitch if pitch is None else pitch,
+                             self.optics.focal_length, self.optics.relative_illumination)
 
 
     # -- the per-detector chain ------------------------------------------------------------
@@ -191,12 +193,35 @@ def default_response(ds, band) -> SpectralResponse:
 
 
 def as_response(value, band) -> SpectralResponse:
+    """A band's spectral response from a response object or a type-tagged mapping.
+
+    Accepted: a :class:`~radscene.radiometry.SpectralResponse`; a mapping of
+    :func:`radscene.radiometry.make_response` (``rectangular``, ``gaussian``, ``tabulated``);
+    or ``{type: library, sensor: <name or file>, band: <band>}``, a real sensor's band from
+    the bundled SRF library (:func:`radscene.sensor.srf_library.library_response`; ``type``
+    may be left out when ``sensor`` is given).
+
+    Raises
+    ------
+    ConfigError
+        Unknown type, parameters, library sensor or band; the key is
+        ``bands.<band>.response...``.
+    """
     if isinstance(value, SpectralResponse):
         return value
+    key = f"bands.{band}.response"
+    if isinstance(value, Mapping) and str(
+            value.get("type", "library" if "sensor" in value else "")).lower() == "library":
+        from radscene.sensor.srf_library import library_response
+
+        return library_response(dict(value), key)
     try:
         return make_response(value)
     except ConfigError as err:
-        raise ConfigError(err.message, key=f"bands.{band}.response.{err.key or ''}".rstrip(".")) from None
+        message = err.message
+        if message.startswith("unknown spectral response type") or "'type' key" in message:
+            message += " (or library: {type: library, sensor: <name>, band: <band>})"
+        raise ConfigError(message, key=f"{key}.{err.key or ''}".rstrip(".")) from None
 
 
 def fixed_pattern_rng(seed: int, band: str) -> np.random.Generator:

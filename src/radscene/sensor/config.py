@@ -13,8 +13,8 @@ from pathlib import Path
 from radscene.errors import ConfigError
 from radscene.sensor.chain import DETECTORS, Sensor
 
-__all__ = ["SENSOR_TYPES", "DETECTORS", "make_sensor", "load_sensor", "example_sensors",
-           "example_sensor_path"]
+__all__ = ["SENSOR_TYPES", "DETECTORS", "make_sensor", "load_sensor", "read_sensor_file",
+           "example_sensors", "example_sensor_path"]
 
 #: Registry of sensor types (case-insensitive). Scanners register here too.
 SENSOR_TYPES: dict[str, type] = {"staring": Sensor, "frame": Sensor}
@@ -61,8 +61,32 @@ def make_sensor(spec: Mapping | Sensor, key: str = "") -> Sensor:
     return SENSOR_TYPES[kind].from_config(spec, key)
 
 
-def load_sensor(path) -> Sensor:
-    """Read a sensor YAML file (a bundled example's name also works, e.g. ``"mwir_cooled"``)."""
+#: Top-level keys of a sensor file that holds more than the sensor (see :func:`read_sensor_file`).
+FILE_PARTS = ("sensor", "observer")
+
+
+def read_sensor_file(path) -> dict:
+    """Read a sensor YAML file into its parts: ``{"sensor": {...}, "observer": {...} or None}``.
+
+    A sensor file is either the sensor mapping itself (``optics``, ``detector``, ...) or a
+    mapping of parts: ``sensor`` (required) and ``observer`` (optional: a scene-file observer,
+    e.g. a pushbroom on its orbit, :mod:`radscene.platform.config`). A bundled example's name
+    (:func:`example_sensors`) works as well as a path.
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    dict
+        ``sensor`` (mapping) and ``observer`` (mapping or None).
+
+    Raises
+    ------
+    ConfigError
+        Unreadable file, malformed YAML, or unknown parts (naming the file).
+    """
     import yaml
 
     p = Path(path)
@@ -76,9 +100,44 @@ def load_sensor(path) -> Sensor:
         spec = yaml.safe_load(text)
     except yaml.YAMLError as exc:
         raise ConfigError(f"not valid YAML: {exc}", key=str(path)) from None
-    if isinstance(spec, Mapping) and "sensor" in spec and len(spec) == 1:
-        spec = spec["sensor"]
-    return make_sensor(spec)
+    if not isinstance(spec, Mapping):
+        raise ConfigError(f"a sensor file holds a mapping; got {type(spec).__name__}",
+                          key=str(path))
+    if "sensor" not in spec:
+        return {"sensor": dict(spec), "observer": None}
+    unknown = sorted(str(k) for k in set(spec) - set(FILE_PARTS))
+    if unknown:
+        raise ConfigError(f"unknown part(s) {', '.join(unknown)} beside 'sensor'; accepted: "
+                          f"{', '.join(FILE_PARTS)}", key=str(path))
+    if not isinstance(spec["sensor"], Mapping):
+        raise ConfigError(f"'sensor' must be a mapping; got {spec['sensor']!r}",
+                          key=f"{path}: sensor")
+    observer = spec.get("observer")
+    if observer is not None and not isinstance(observer, Mapping):
+        raise ConfigError(f"'observer' must be a mapping; got {observer!r}",
+                          key=f"{path}: observer")
+    return {"sensor": dict(spec["sensor"]),
+            "observer": None if observer is None else dict(observer)}
+
+
+def load_sensor(path) -> Sensor:
+    """Read a sensor YAML file (a bundled example's name also works, e.g. ``"landsat_like"``).
+
+    The file is the sensor mapping of :func:`make_sensor`, or parts as described by
+    :func:`read_sensor_file` (only ``sensor`` is used here). Band responses may name the
+    bundled SRF library: ``{type: library, sensor: landsat8_oli, band: B4}``.
+
+    Examples
+    --------
+    >>> s = load_sensor("landsat_like")
+    >>> s.channel("tir1").response.name
+    'landsat8_tirs B10'
+    """
+    spec = read_sensor_file(path)["sensor"]
+    try:
+        return make_sensor(spec)
+    except ConfigError as err:
+        raise ConfigError(f"{err.message} (sensor file {path})", key=err.key) from None
 
 
 def _folder():

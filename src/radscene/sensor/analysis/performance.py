@@ -176,7 +176,9 @@ def system_mtf(sensor, frequency_x, frequency_y=0.0, band=None, *, response=None
     ----------
     sensor : Sensor or mapping
     frequency_x, frequency_y : array_like
-        Spatial frequency along rows and columns [cycles pixel-1] (cycles per detector pitch).
+        Spatial frequency along rows and columns [cycles pixel-1]: cycles per pixel of the
+        sensor's output grid (:meth:`~radscene.sensor.Sensor.grid_pitch`; the band's detector
+        pitch unless its IFOV differs from the base channel's).
     band : str, optional
     response : SpectralResponse, mapping or float, optional
         The band's response (polychromatic diffraction), or a wavelength [um].
@@ -192,7 +194,7 @@ def system_mtf(sensor, frequency_x, frequency_y=0.0, band=None, *, response=None
         lam = float(response)
         response = RectangularResponse(lam * (1 - 1e-9), lam * (1 + 1e-9))
     sensor, ch, rad = _setup(sensor, band, response)
-    pitch = ch.detector.pitch
+    pitch = sensor.grid_pitch(band) if band is not None else ch.detector.pitch
     fx = np.asarray(frequency_x, dtype=float) / pitch
     fy = np.asarray(frequency_y, dtype=float) / pitch
     return np.abs(ch.otf(rad, fy, fx))
