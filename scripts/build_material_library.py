@@ -15,10 +15,13 @@ emissivity of every material), from
 * Thermal, 3-20 um, earthlib materials: reflectance = 1 - emissivity, the emissivity named by the
   recipe's ``thermal``: a MEASURED 8-14 um spectrum of the SLUM library (Kotthaus et al. 2014,
   ``sources/thermal_emissivity_slum_kotthaus_2014.csv``; held constant at its end values over
-  3-8 and 14-20 um), the Fresnel emissivity of a paint binder (``PAINT_INDEX``), or the ASSUMED
-  nodes of ``sources/thermal_emissivity.csv`` (soils, sand, dry plant matter);
+  3-8 and 14-20 um), the Fresnel emissivity of a paint binder (``PAINT_INDEX``), or, for soils,
+  sand and dry plant matter, a PUBLISHED BAND VALUE WITH A MODELLED SHAPE: the spectral shape of
+  a column of ``sources/thermal_emissivity.csv`` (after Salisbury & D'Aria 1992, 1994) with its
+  departure from 1 scaled, eps' = 1 - k (1 - eps), k chosen per column so that the 8-14 um band
+  emissivity (``band_emissivity``) equals the published figure of ``BAND_LEVELS``;
   green_vegetation: 1 - the hemispherical emissivity of a 4SAIL canopy of LAI 6 (thermal model,
-  radscene.materials.vegetation) over bare_soil.
+  radscene.materials.vegetation) over bare_soil (its scaled emissivity).
 * Join: between the last VSWIR point (2.45 um) and the first thermal node (3.0 um) the
   reflectance is linear in wavelength (nothing is tabulated there).
 * water: Fresnel reflectance at normal incidence from Hale & Querry (1973) n, k
@@ -73,7 +76,7 @@ _GRASSES = ["deadgras", "goldgras", "brte_br"]
 #: spectra) and the source of its 3-20 um emissivity: "model" (green_vegetation, 4SAIL), "paint"
 #: (Fresnel emissivity of a smooth organic binder of refractive index PAINT_INDEX), "slum:ID"
 #: (the measured SLUM spectrum ID of sources/thermal_emissivity_slum_kotthaus_2014.csv) or a
-#: column of the ASSUMED table sources/thermal_emissivity.csv.
+#: column of sources/thermal_emissivity.csv, scaled to its published band level (BAND_LEVELS).
 RECIPES = {
     "green_vegetation": {
         "rule": "PROSAIL canopy spectra with 3 <= LAI <= 6 and 30 <= CHL <= 60 ug cm-2",
@@ -235,6 +238,43 @@ SLUM_BIN = 0.1  # width of the bins the SLUM emissivity spectra are averaged ove
 PAINT_INDEX = 1.5
 SNOW_GRAIN = 0.25e-3  # effective optical grain diameter of the library's snow [m]
 
+#: Band of the published emissivity levels [um] and the temperature of its Planck weight [K]:
+#: the band emissivity is the hemispherical emissivity weighted by the 300 K Planck radiance over
+#: 8-14 um (``band_emissivity``).
+BAND = (8.0, 14.0)
+BAND_TEMPERATURE = 300.0
+_SUTHERLAND = (
+    "R. A. Sutherland, J. Atmos. Oceanic Technol. 3(1), 199-202 (1986), "
+    "doi:10.1175/1520-0426(1986)003<0199:BASEOS>2.0.CO;2"
+)
+#: Published 8-14 um band emissivity of each column of sources/thermal_emissivity.csv: the level
+#: the column is scaled to, the published range (its uncertainty) and the citation.
+BAND_LEVELS = {
+    "sand": {
+        "level": 0.905,
+        "range": "0.89-0.92",
+        "basis": "mid-point of the 0.89-0.92 measured in situ for sands with an 8-14 um "
+        f"radiometer by {_SUTHERLAND}",
+    },
+    "bare_soil": {
+        "level": 0.96,
+        "range": "0.89-0.99 for the soils of the same study (0.89-0.92 sands, 0.96 clay, "
+        "0.97-0.99 peat and muck)",
+        "basis": "the 0.96 measured in situ for clay with an 8-14 um radiometer by "
+        f"{_SUTHERLAND}",
+    },
+    "dry_grass": {
+        "level": 0.97,
+        "range": "0.94-0.98",
+        "basis": "inside the 0.94-1.00 implied by the 0.0-6.0 % thermal-infrared reflectance of "
+        "dry plant materials, 2.5-20 um, of C. D. Elvidge, Remote Sens. Environ. 26, 265-285 "
+        "(1988), and consistent with the emissivities below 0.98 found for dry, senescent barley "
+        "at full cover by A. Olioso, G. "
+        "Soria, J. Sobrino, B. Duchemin, IEEE Geosci. Remote Sens. Lett. 4(1), 112-116 (2007), "
+        "doi:10.1109/LGRS.2006.885857",
+    },
+}
+
 
 def _param(name: str, label: str) -> float:
     match = re.search(rf"{label}-([0-9.]+)", name)
@@ -252,6 +292,38 @@ def read_csv(path: Path):
 def thermal_emissivity(column: str):
     header, data = read_csv(SOURCES / "thermal_emissivity.csv")
     return data[:, 0], data[:, header.index(column)]
+
+
+def band_emissivity(wavelength, emissivity) -> float:
+    """Emissivity of a piecewise-linear spectrum weighted by the BAND_TEMPERATURE Planck radiance
+    over BAND (trapezoidal, 0.005 um steps plus the spectrum's nodes, as
+    radscene.materials.thermal.longwave_emissivity integrates)."""
+    from radscene.radiometry.planck import spectral_radiance
+
+    lo, hi = BAND
+    grid = np.union1d(np.linspace(lo, hi, int(round((hi - lo) / 0.005)) + 1), wavelength)
+    grid = grid[(grid >= lo) & (grid <= hi)]
+    b = spectral_radiance(grid, BAND_TEMPERATURE)
+    eps = np.interp(grid, wavelength, emissivity)
+    return float(np.trapezoid(eps * b, grid) / np.trapezoid(b, grid))
+
+
+def scaled_emissivity(column: str):
+    """(wavelength, emissivity, k) of a column of sources/thermal_emissivity.csv whose departure
+    from 1 is scaled, 1 - k (1 - eps), so that its band emissivity is BAND_LEVELS[column]['level'].
+
+    The band emissivity is linear in the spectrum, so k = (1 - level) / (1 - band value of the
+    column); the scaled spectrum keeps the column's shape and must stay in [0, 1].
+    """
+    wl, eps = thermal_emissivity(column)
+    if column not in BAND_LEVELS:
+        raise SystemExit(f"sources/thermal_emissivity.csv column {column!r} has no BAND_LEVELS "
+                         f"entry; known: {sorted(BAND_LEVELS)}")
+    k = (1.0 - BAND_LEVELS[column]["level"]) / (1.0 - band_emissivity(wl, eps))
+    scaled = 1.0 - k * (1.0 - eps)
+    if k <= 0.0 or np.any(scaled < 0.0) or np.any(scaled > 1.0):
+        raise SystemExit(f"{column}: scaling by k = {k:.4f} leaves [0, 1]")
+    return wl, scaled, k
 
 
 def slum_emissivity(sample: str):
@@ -297,10 +369,16 @@ def thermal_part(source: str):
         return slum_emissivity(source.split(":", 1)[1])
     if source == "paint":
         return paint_emissivity()
-    wl, eps = thermal_emissivity(source)
+    wl, eps, k = scaled_emissivity(source)
+    level = BAND_LEVELS[source]
     return wl, eps, (
-        f"3.0-20 um: 1 - emissivity, ASSUMED values of column '{source}' of "
-        "sources/thermal_emissivity.csv."
+        "3.0-20 um: 1 - emissivity, PUBLISHED BAND VALUE, MODELLED SHAPE: the 300 K "
+        f"Planck-weighted {BAND[0]:g}-{BAND[1]:g} um hemispherical emissivity is "
+        f"{level['level']:g}, {level['basis']}; spectral shape: column '{source}' of "
+        "sources/thermal_emissivity.csv (after Salisbury & D'Aria 1992, 1994; interpolated over "
+        f"5-8 um and extended over 14-20 um), its departure from 1 scaled by k = {k:.4f}, "
+        f"eps = 1 - k (1 - eps_column). Uncertainty: the published range, {level['range']}; the "
+        "spectrum is not measured."
     )
 
 
@@ -336,10 +414,10 @@ def write_csv(path: Path, comments: list[str], columns: dict[str, np.ndarray]):
 
 
 def green_vegetation_thermal():
-    """(wavelength, reflectance) 3-20 um of a LAI-6 4SAIL canopy over bare_soil."""
+    """(wavelength, reflectance) 3-20 um of a LAI-6 4SAIL canopy over bare_soil (scaled)."""
     from radscene.materials.vegetation import THERMAL_GRID, canopy_emissivity
 
-    wl_s, eps_s = thermal_emissivity("bare_soil")
+    wl_s, eps_s, _ = scaled_emissivity("bare_soil")
     emis = canopy_emissivity(
         THERMAL_GRID,
         lai=GREEN_VEGETATION_LAI,
@@ -549,6 +627,17 @@ def verify(selected: dict):
         if not np.allclose(total, 1.0, rtol=1e-12):
             raise SystemExit(f"{name}: Kirchhoff's law fails")
         thermal.get_thermal_properties(name)
+    for material, recipe in RECIPES.items():
+        if recipe["thermal"] in BAND_LEVELS:
+            level = BAND_LEVELS[recipe["thermal"]]["level"]
+            got = thermal.longwave_emissivity(library.get_material(material), BAND_TEMPERATURE,
+                                              band=BAND)
+            if abs(got - level) > 1e-4:
+                raise SystemExit(f"{material}: {BAND[0]:g}-{BAND[1]:g} um band emissivity "
+                                 f"{got:.5f}, its published level is {level:g}")
+            if "PUBLISHED BAND VALUE" not in info[material]["source"]:
+                raise SystemExit(f"library.yaml: the source of {material} must say "
+                                 "'PUBLISHED BAND VALUE, MODELLED SHAPE'")
     if len(names) < 30:
         raise SystemExit(f"only {len(names)} materials; the library promises at least 30")
     print(f"verified {len(names)} materials on 0.4-20 um, each with thermal properties")

@@ -33,9 +33,11 @@ def test_library_has_the_required_materials():
 def test_every_source_says_what_is_measured_modelled_or_assumed(name):
     source = library_info()["materials"][name]["source"]
     assert any(word in source for word in ("MEASURED", "MODEL", "ASSUMED")), name
-    # every thermal part is labelled: a measurement, a model or an assumption, never silent
+    # every thermal part is labelled: a measurement, a model, a published band value with a
+    # modelled shape or an assumption, never silent
     # (tests/unit/test_library_thermal_sources.py checks the thermal part itself)
-    assert any(w in source for w in ("MODEL", "ASSUMED", "MEASURED 8.0-14.0 um")), name
+    labels = ("MODEL", "ASSUMED", "MEASURED 8.0-14.0 um", "PUBLISHED BAND VALUE, MODELLED SHAPE")
+    assert any(w in source for w in labels), name
     assert "doi:" in source or "https://" in source, name
 
 

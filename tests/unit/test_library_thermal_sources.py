@@ -8,20 +8,37 @@ Spot checks type figures of the cited sources into the test:
 * Hagen-Rubens relation for a metal of DC resistivity r at wavelength lam, normal emissivity
   0.365 sqrt(r / lam) (r in ohm m, lam in m); aluminium r = 2.65e-8 ohm m at 20 C.
 * Fresnel hemispherical emissivity of a smooth dielectric of index 1.5: 0.908.
+* 8-14 um band emissivity (hemispherical, weighted by the 300 K Planck radiance) of the soils,
+  sand and dry plant matter, the published band levels of sources/thermal_emissivity.csv:
+  sand 0.905, the mid-point of the 0.89-0.92 for sands, and clay 0.96, of R. A. Sutherland,
+  J. Atmos. Oceanic Technol. 3(1), 199-202 (1986),
+  doi:10.1175/1520-0426(1986)003<0199:BASEOS>2.0.CO;2; dry plant matter 0.97, inside the
+  0.94-1.00 implied by the 0.0-6.0 % reflectance of dry plant materials of C. D. Elvidge, Remote
+  Sens. Environ. 26, 265-285 (1988), and below the under-0.98 emissivities of dry vegetation of
+  A. Olioso et al., IEEE Geosci. Remote Sens. Lett. 4(1), 112-116 (2007),
+  doi:10.1109/LGRS.2006.885857.
 """
 
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+import radscene
 from radscene.materials import get_material, library_info, list_materials
+from radscene.materials.thermal import longwave_emissivity
 
-#: Materials whose 3-20 um emissivity is still an assumed table (sources/thermal_emissivity.csv):
-#: no measured spectrum of their class and no physical model is at hand.
-STILL_ASSUMED = {
-    "bare_soil", "bright_soil", "burned_ground", "compacted_dirt", "dark_soil", "gravel", "sand",
-    "dry_grass", "leaf_litter", "tree_bark", "weathered_wood", "wood_shingle",
+#: Label of a thermal part whose 8-14 um band level is a published figure and whose spectral shape
+#: is modelled (sources/thermal_emissivity.csv, scaled by scripts/build_material_library.py).
+PUBLISHED_BAND = "PUBLISHED BAND VALUE, MODELLED SHAPE"
+#: Materials with such a thermal part, by the published band level they take [-].
+BAND_LEVEL = {
+    "sand": 0.905, "bright_soil": 0.905,  # Sutherland 1986, sands 0.89-0.92 (mid-point)
+    "bare_soil": 0.96, "gravel": 0.96, "compacted_dirt": 0.96, "dark_soil": 0.96,
+    "burned_ground": 0.96,  # Sutherland 1986, clay
+    "dry_grass": 0.97, "wood_shingle": 0.97, "weathered_wood": 0.97, "tree_bark": 0.97,
+    "leaf_litter": 0.97,  # Elvidge 1988 (0.94-1.00), Olioso et al. 2007 (below 0.98)
 }
 
 
@@ -40,13 +57,42 @@ def test_thermal_part_names_its_source(name):
     source = library_info()["materials"][name]["source"]
     thermal = _thermal_part(source)
     assert thermal, f"{name}: the source says nothing of the thermal part"
-    assert any(w in thermal for w in ("MEASURED", "MODEL", "ASSUMED", "measured")), name
+    assert any(w in thermal for w in ("MEASURED", "MODEL", PUBLISHED_BAND, "measured")), name
 
 
 @pytest.mark.parametrize("name", sorted(list_materials()))
-def test_no_thermal_part_is_assumed_but_the_listed_ones(name):
+def test_no_thermal_part_is_assumed(name):
     thermal = _thermal_part(library_info()["materials"][name]["source"])
-    assert ("ASSUMED" in thermal) == (name in STILL_ASSUMED), name
+    assert "ASSUMED" not in thermal, name
+    assert (PUBLISHED_BAND in thermal) == (name in BAND_LEVEL), name
+
+
+@pytest.mark.parametrize("name", sorted(BAND_LEVEL))
+def test_band_emissivity_is_the_published_figure(name):
+    # hemispherical emissivity weighted by the 300 K Planck radiance over 8-14 um
+    band = longwave_emissivity(get_material(name), temperature=300.0, band=(8.0, 14.0))
+    assert band == pytest.approx(BAND_LEVEL[name], abs=1e-3)
+    thermal = _thermal_part(library_info()["materials"][name]["source"])
+    assert f"hemispherical emissivity {BAND_LEVEL[name]:g}" in thermal, name
+    assert "Salisbury & D'Aria" in thermal and "Uncertainty" in thermal, name
+    assert "not measured" in thermal, name
+
+
+@pytest.mark.parametrize("name, column", [("sand", "sand"), ("bare_soil", "bare_soil"),
+                                          ("dry_grass", "dry_grass")])
+def test_band_level_scaling_keeps_the_published_shape(name, column):
+    # eps = 1 - k (1 - eps_column): the departure from 1 is the column's, times one factor
+    source = library_info()["materials"][name]["source"]
+    assert f"the {column} column of sources/thermal_emissivity.csv" in source
+    path = Path(radscene.__file__).parent / "data/materials/sources/thermal_emissivity.csv"
+    lines = [ln for ln in path.read_text().splitlines() if ln and not ln.startswith("#")]
+    header = lines[0].split(",")
+    rows = np.array([[float(v) for v in ln.split(",")] for ln in lines[1:]])
+    wl, shape = rows[:, 0], rows[:, header.index(column)]
+    eps = get_material(name).emissivity(wl)
+    k = (1.0 - eps) / (1.0 - shape)
+    np.testing.assert_allclose(k, k[0], rtol=1e-4)
+    assert 0.0 < k[0] and np.all((eps >= 0.0) & (eps <= 1.0))
 
 
 @pytest.mark.parametrize(
