@@ -78,10 +78,14 @@ ATMOSPHERE = {
     "sky_zenith": [0, 60, 85],
     "sky_profile": [1.0, 1.3, 2.0],
 }
+#: The shipped atmospheric database under the demo scene's conditions (``--atmosphere database``).
+DATABASE_ATMOSPHERE = {"type": "database", "profile": "midlatitude_summer", "aerosol": "rural",
+                       "visibility": "23 km"}
+ATMOSPHERES = {"uniform": ATMOSPHERE, "database": DATABASE_ATMOSPHERE}
 
 
 def scene_dict(size: int, sky_samples: int, terrain_size: float, lake: bool = False,
-               seed: int = 1) -> dict:
+               seed: int = 1, atmosphere: str = "uniform") -> dict:
     """The benchmark scene: procedural terrain, 8 bands, a fixed sun, one nadir map camera.
 
     The camera's ``size`` x ``size`` pixels tile the terrain exactly (every primary ray hits).
@@ -107,7 +111,7 @@ def scene_dict(size: int, sky_samples: int, terrain_size: float, lake: bool = Fa
         "environment": {
             "location": {"latitude": -25.75, "longitude": 27.86, "altitude": 1200.0},
             "sun": {"zenith": SUN[0], "azimuth": SUN[1]},
-            "atmosphere": ATMOSPHERE,
+            "atmosphere": ATMOSPHERES[atmosphere],
         },
         "terrain": terrain,
         "bands": BANDS,
@@ -300,6 +304,84 @@ class PhaseTimer:
     def __exit__(self, *exc):
         for owner, name, old in reversed(self._saved):
             setattr(owner, name, old)
+        self._saved.clear()
+        return False
+
+
+class AtmosphereTimer:
+    """Wall time of one render's atmospheric look-ups.
+
+    ``queries``: calls of the scene atmosphere's engine (``path``, ``sun``, ``sky``,
+    ``path_nodes``, ``with_sun``; nested calls count once). ``mixing``: the renderer's per-sample
+    interpolation between path and sky nodes (the integrator's ``_gather*``, ``_sky_sum``,
+    ``_emission``, ``_subset_nodes``, ``sky_node_weights``). ``band_tables``: the band
+    integration of the node spectra with the materials (``_BandSetup``, ``_emission_pairs``),
+    inclusive of the queries it makes. All on the render's main thread.
+    """
+
+    QUERIES = ("path", "sun", "sky", "path_nodes", "with_sun")
+    MIXING = ("_gather", "_gather_band", "_sky_sum", "_emission", "_subset_nodes",
+              "sky_node_weights")
+    TABLES = ("_BandSetup", "_emission_pairs")
+
+    def __init__(self, engine_class):
+        self.engine_class = engine_class
+        self.seconds = {"queries": 0.0, "mixing": 0.0, "band_tables": 0.0}
+        self.by_function = {}
+        self.calls = {}
+        self._depth = 0
+        self._saved = []
+
+    def _wrap(self, function, group, label):
+        """Time ``function`` under ``group``: queries and mixing once however deeply nested;
+        the band tables inclusively (the queries they make are counted there too)."""
+        timer = self
+        nests = group != "band_tables"
+
+        def wrapped(*args, **kwargs):
+            outer = timer._depth == 0 or not nests
+            timer._depth += nests
+            t0 = time.perf_counter()
+            try:
+                return function(*args, **kwargs)
+            finally:
+                timer._depth -= nests
+                if outer:
+                    timer.seconds[group] += time.perf_counter() - t0
+                    timer.by_function[label] = (timer.by_function.get(label, 0.0)
+                                                + time.perf_counter() - t0)
+                timer.calls[label] = timer.calls.get(label, 0) + 1
+
+        return wrapped
+
+    def __enter__(self):
+        from radscene.render import integrator
+
+        targets = [(self.engine_class, n, "queries") for n in self.QUERIES]
+        targets += [(integrator, n, "mixing") for n in self.MIXING]
+        for owner, name, group in targets:
+            old = owner.__dict__.get(name) if isinstance(owner, type) else getattr(owner, name,
+                                                                                   None)
+            if old is None and isinstance(owner, type):  # inherited: patch on the class itself
+                old = getattr(owner, name, None)
+                self._saved.append((owner, name, None))
+            elif old is not None:
+                self._saved.append((owner, name, old))
+            if old is not None:
+                setattr(owner, name, self._wrap(old, group, name))
+        for name in self.TABLES:  # inclusive: their queries are counted there too
+            old = getattr(integrator, name, None)
+            if old is not None:
+                self._saved.append((integrator, name, old))
+                setattr(integrator, name, self._wrap(old, "band_tables", name))
+        return self
+
+    def __exit__(self, *exc):
+        for owner, name, old in reversed(self._saved):
+            if old is None:
+                delattr(owner, name)
+            else:
+                setattr(owner, name, old)
         self._saved.clear()
         return False
 
@@ -502,7 +584,7 @@ def band_inputs(scene) -> dict:
                       np.zeros((1, 1), dtype=np.int64), np.ones((1, 1)))
     tables = SimpleNamespace(sun=integrator.sun_geometry(scene))
     bands = [scene.band(b["name"]) for b in BANDS]
-    setup = integrator._BandSetup(scene, tables, bands, nodes)
+    setup = integrator._BandSetup(scene, tables, bands, nodes, scene.atmosphere)
     c = setup.coefficients
     n_m = len(scene.materials)
     temperature = np.full(n_m, np.nan)
@@ -860,13 +942,15 @@ def run(args) -> dict:
 
     terrain_size = args.terrain_size or (TERRAIN_SIZE * args.size / 1024 if args.quick
                                          else TERRAIN_SIZE)
-    spec = scene_dict(args.size, args.sky_samples, terrain_size, lake=args.lake)
+    spec = scene_dict(args.size, args.sky_samples, terrain_size, lake=args.lake,
+                      atmosphere=args.atmosphere)
     report = {"date": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
               "load_average_at_start": os.getloadavg(), "radscene": source_version(),
               "machine": machine(), "command": " ".join([Path(sys.executable).name] + sys.argv),
               "settings": {"size": args.size, "sky_samples": args.sky_samples,
                            "terrain_size_m": terrain_size, "terrain_spacing_m": TERRAIN_SPACING,
-                           "bands": len(BANDS), "lake": args.lake, "sun": SUN}}
+                           "bands": len(BANDS), "lake": args.lake, "sun": SUN,
+                           "atmosphere": args.atmosphere}}
 
     t0 = time.perf_counter()
     scene = radscene.load_scene(spec)
@@ -877,7 +961,8 @@ def run(args) -> dict:
 
     # untimed warm-up on a small scene: first imports and JIT compilation (numba) are not timed
     t0 = time.perf_counter()
-    radscene.render(radscene.load_scene(scene_dict(32, args.sky_samples, 200.0, args.lake)))
+    radscene.render(radscene.load_scene(scene_dict(32, args.sky_samples, 200.0, args.lake,
+                                                   atmosphere=args.atmosphere)))
     report["warmup_s"] = time.perf_counter() - t0
     if args.warmup:
         radscene.render(scene, "nadir")
@@ -934,6 +1019,18 @@ def run(args) -> dict:
             wall = time.perf_counter() - t0
         report["breakdown"] = {"wall_s": wall, "engine_s": dict(counter.engine_s),
                                "seconds": phases.seconds, "calls": phases.calls}
+    # the atmospheric look-ups: one more render with the engine's queries and the per-sample
+    # node interpolation timed
+    with AtmosphereTimer(type(scene.atmosphere)) as atm_timer:
+        t0, cpu0 = time.perf_counter(), time.process_time()
+        radscene.render(scene, "nadir")
+        wall, cpu = time.perf_counter() - t0, time.process_time() - cpu0
+    lookups = atm_timer.seconds["queries"] + atm_timer.seconds["mixing"]
+    report["atmosphere"] = {"engine": scene.atmosphere.name, "wall_s": wall, "cpu_s": cpu,
+                            "seconds": dict(atm_timer.seconds), "calls": dict(atm_timer.calls),
+                            "seconds_by_function": dict(atm_timer.by_function),
+                            "lookup_s": lookups, "lookup_fraction": lookups / wall,
+                            "lookup_fraction_max": 0.15, "lookup_met": lookups / wall <= 0.15}
     if args.profile:
         profiler = cProfile.Profile()
         profiler.runcall(radscene.render, scene, "nadir")
@@ -1003,6 +1100,15 @@ def print_table(r: dict) -> None:
         ("target wall <= 2 s", _verdict(r["targets"], "wall_met")),
         ("target ratio <= 1.5", _verdict(r["targets"], "ratio_met")),
     ]
+    atm = r.get("atmosphere")
+    if atm:
+        sec = atm["seconds"]
+        rows.append(("atmosphere look-ups", f"{atm['engine']}: {atm['lookup_s']:.2f} s of a "
+                     f"{atm['wall_s']:.2f} s render = {100 * atm['lookup_fraction']:.1f} % "
+                     f"(queries {sec['queries']:.2f} s, node mixing {sec['mixing']:.2f} s; "
+                     f"band tables {sec['band_tables']:.2f} s incl. their queries); target "
+                     "<= 15 %: " + (("met" if atm["lookup_met"] else "NOT met")
+                                    if r["targets"]["apply"] else _verdict(r["targets"], ""))))
     brk = r.get("breakdown")
     if brk:
         top = sorted(brk["seconds"].items(), key=lambda kv: -kv[1])[:8]
@@ -1055,12 +1161,17 @@ def main(argv=None) -> int:
                         help="skip the extra render that times the integrator's helpers")
     parser.add_argument("--profile", action="store_true",
                         help="cProfile one more render into out/bench/render_profile_*.txt")
+    parser.add_argument("--atmosphere", choices=sorted(ATMOSPHERES), default="uniform",
+                        help="the scene's atmosphere: the illustrative uniform one, or the "
+                             "shipped database (then no Mitsuba comparison)")
     parser.add_argument("--no-mitsuba", dest="mitsuba", action="store_false",
                         help="skip the Mitsuba 3 comparison")
     parser.add_argument("--output", type=Path, default=OUT / "bench_render.json")
     args = parser.parse_args(argv)
     if args.quick:
         args.size = 256
+    if args.atmosphere != "uniform":  # the Mitsuba twin needs one path node (band_inputs)
+        args.mitsuba = False
     for name in ("size", "sky_samples", "repeat"):
         if getattr(args, name) < 1:
             parser.error(f"--{name.replace('_', '-')} must be >= 1")

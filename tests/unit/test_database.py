@@ -120,7 +120,8 @@ def test_path_nodes_mix_at_most_eight_nodes(db):
     tgt = rng.uniform(1150.0, 1260.0, n)
     vz = rng.uniform(20.0, 78.0, n)
     nodes = db.path_nodes(obs, tgt, vz)
-    assert nodes.index.shape == nodes.weight.shape == (n, 8)
+    # one observer altitude adds no corners: 2 x 2 (target altitude x view zenith)
+    assert nodes.index.shape == nodes.weight.shape == (n, 4)
     assert nodes.weight.sum(axis=1) == pytest.approx(np.ones(n), rel=1e-12)
     mix = lambda v: (v[nodes.index] * nodes.weight).sum(axis=1)  # noqa: E731
     assert mix(nodes.view_zenith) == pytest.approx(vz, rel=1e-12)
@@ -169,3 +170,14 @@ def test_thermal_tables_when_present(db):
     night = db.sky([0.0, 80.0], [0.0, 0.0], wl, SkyGeometry(0.0, 120.0, 0.0))
     assert np.all(night[:, 1:] > 0)
     assert night[1, 1] > night[0, 1]  # the horizon is warmer at 10 um
+
+
+def test_with_sun_copies_and_checks_the_sun(db):
+    moved = db.with_sun(60.0, 370.0, day_of_year=80, view_azimuth=45.0)
+    assert (moved.sun_zenith, moved.sun_azimuth, moved.view_azimuth) == (60.0, 10.0, 45.0)
+    assert (db.sun_zenith, db.sun_azimuth) == (40.0, 150.0)  # the original keeps its sun
+    assert moved.t is db.t  # tables shared, not copied
+    with pytest.raises(ConfigError, match="sun_zenith"):
+        db.with_sun(181.0, 0.0)
+    with pytest.raises(ConfigError, match="sun_azimuth"):
+        db.with_sun(30.0, float("nan"))

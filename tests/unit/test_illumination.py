@@ -95,3 +95,56 @@ def test_azimuth_weights_wrap_around_north():
     assert w[0] == pytest.approx([80 / 90, 0, 0, 10 / 90])
     assert w[1] == pytest.approx([80 / 90, 10 / 90, 0, 0])
     assert w[2] == pytest.approx([0, 0, 1, 0])
+
+
+@pytest.mark.parametrize("n_samples", [10, 12])
+def test_compiled_fans_with_a_non_square_pattern_match_reference(tracer, n_samples):
+    origins, normals = _points(200, seed=6)
+    nodes = np.array([0.0, 45.0, 90.0])
+    fast = illumination.sky_fractions(tracer, origins, normals, n_samples, nodes,
+                                      np.random.default_rng(3))
+    slow = illumination.sky_fractions_reference(tracer, origins, normals, n_samples, nodes,
+                                                np.random.default_rng(3))
+    assert np.abs(fast - slow).max() <= 1.0 / n_samples + 1e-12
+    axes = normalize(np.tile([0.5, 0.1, 0.8], (len(origins), 1)))
+    expo = np.full(len(origins), 8.0)
+    fast = illumination.lobe_sky_fractions(tracer, origins, normals, axes, expo, n_samples,
+                                           nodes, np.random.default_rng(4))
+    slow = illumination.lobe_sky_fractions_reference(tracer, origins, normals, axes, expo,
+                                                     n_samples, nodes, np.random.default_rng(4))
+    assert np.abs(fast - slow).max() <= 1.0 / n_samples + 1e-12
+
+
+def test_pre_drawn_shifts_and_kept_buffers_give_the_same_fractions(tracer):
+    origins, normals = _points(300, seed=7)
+    nodes = np.array([0.0, 60.0, 90.0])
+    drawn = illumination.sky_fractions(tracer, origins, normals, 16, nodes,
+                                       np.random.default_rng(11))
+    scratch = {}
+    shift = np.random.default_rng(11).random((len(origins), 2))
+    again = illumination.sky_fractions(tracer, origins, normals, 16, nodes, None, shift=shift,
+                                       scratch=scratch)
+    assert np.array_equal(drawn, again)
+    # a smaller call reuses the kept buffers, a larger one grows them
+    part = illumination.sky_fractions(tracer, origins[:50], normals[:50], 16, nodes, None,
+                                      shift=shift[:50], scratch=scratch)
+    assert np.array_equal(part, drawn[:50])
+    more = illumination.sky_fractions(tracer, origins, normals, 25, nodes, None, shift=shift,
+                                      scratch=scratch)
+    assert np.array_equal(more, illumination.sky_fractions(tracer, origins, normals, 25, nodes,
+                                                           None, shift=shift))
+    with pytest.raises(ValueError, match="shift"):
+        illumination.sky_fractions(tracer, origins, normals, 16, nodes, None, shift=shift[:5])
+
+
+def test_cast_shadow_fast_path_equals_the_checked_query(tracer):
+    origins, _ = _points(300, seed=8)
+    # some points in the box's shadow, and some far above the scene (outside the tracer's box)
+    origins = np.vstack([origins, [[20.0, 0.0, 1e-3], [-3.0, 2.0, 500.0]]])
+    sun = np.array([-1.0, 0.2, 0.5])  # not unit: normalised as the checked query does
+    lit = illumination.cast_shadow(tracer, origins, sun)
+    expected = 1.0 - tracer.occluded(origins, np.broadcast_to(sun, origins.shape)).astype(float)
+    assert np.array_equal(lit, expected)
+    assert 0.0 < lit.mean() < 1.0
+    assert tracer.to_local(origins) is None  # the last point took the checked path
+    assert np.array_equal(illumination.cast_shadow(tracer, origins[:-1], sun), expected[:-1])

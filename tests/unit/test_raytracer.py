@@ -150,3 +150,14 @@ def test_non_robust_mode_gives_the_same_hits_on_a_plate():
     fast = RayTracer([plate(10.0, 10.0)], robust=False)
     hits = fast.intersect([[1.0, 1.0, 2.0]], [[0.0, 0.0, -1.0]])
     assert hits.distance[0] == pytest.approx(2.0, abs=DIST_TOL)
+
+
+def test_to_local_gives_float32_points_inside_the_box_only():
+    rt = RayTracer([plate(10.0, 10.0).transformed(translation=(100.0, 0.0, 0.0))])
+    inside = np.array([[100.0, 0.0, 0.001], [103.0, -4.0, 0.0]])
+    local = rt.to_local(inside)
+    assert local.dtype == np.float32 and local.shape == (2, 3)
+    assert np.array_equal(local, (inside - rt.center).astype(np.float32))
+    assert rt.to_local([[100.0, 0.0, 50.0]]) is None  # above the box
+    assert rt.to_local([[np.nan, 0.0, 0.0]]) is None
+    assert rt.to_local([100.0, 0.0, 0.0]) is None  # not (N, 3)

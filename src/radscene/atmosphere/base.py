@@ -33,6 +33,7 @@ import numpy as np
 
 __all__ = [
     "Atmosphere",
+    "SunDependentAtmosphere",
     "PathSpectra",
     "SunSpectra",
     "PathNodes",
@@ -255,6 +256,45 @@ class Atmosphere(abc.ABC):
                 key=key,
             )
         return wl
+
+
+class SunDependentAtmosphere(Atmosphere):
+    """Base of engines whose path radiance and sky depend on the sun's position.
+
+    They keep the sun (``sun_zenith`` None until it is set, ``sun_azimuth``) and the line of
+    sight's azimuth (``view_azimuth``, None: the azimuthal mean), and the renderer sets them up
+    with :meth:`with_sun`, which copies the engine and shares its tables, runs and caches.
+    """
+
+    sun_zenith: float | None = None
+    sun_azimuth: float = 0.0
+    view_azimuth: float | None = None
+
+    def set_sun(self, sun_zenith, sun_azimuth=0.0) -> None:
+        """Set the sun position [deg] used by :meth:`path`."""
+        from radscene.errors import ConfigError
+
+        z, a = float(sun_zenith), float(sun_azimuth)
+        if not 0.0 <= z <= 180.0:
+            raise ConfigError("must lie in [0, 180] deg", key="atmosphere.sun_zenith")
+        if not np.isfinite(a):
+            raise ConfigError("must be finite", key="atmosphere.sun_azimuth")
+        self.sun_zenith, self.sun_azimuth = z, a % 360.0
+
+    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
+        """A copy with the sun (and the line of sight's azimuth) set; tables shared.
+
+        ``day_of_year`` is accepted for symmetry with engines that take the Earth–Sun
+        distance from the date (``lowtran``); these engines take theirs from their
+        ``earth_sun_distance``.
+        """
+        import copy
+
+        new = copy.copy(self)
+        new.set_sun(sun_zenith, sun_azimuth)
+        if view_azimuth is not None:
+            new.view_azimuth = float(view_azimuth)
+        return new
 
 
 def zenith_hat_weights(zenith, nodes) -> np.ndarray:

@@ -71,7 +71,13 @@ from pathlib import Path
 import numpy as np
 
 from radscene.atmosphere import sixs_model as model
-from radscene.atmosphere.base import Atmosphere, PathNodes, PathSpectra, SkyGeometry, SunSpectra
+from radscene.atmosphere.base import (
+    PathNodes,
+    PathSpectra,
+    SkyGeometry,
+    SunDependentAtmosphere,
+    SunSpectra,
+)
 from radscene.errors import ConfigError
 
 __all__ = ["DatabaseAtmosphere", "LAYOUT", "shipped_databases", "database_path",
@@ -144,7 +150,7 @@ def _simpson(n: int) -> np.ndarray:
     return w / w.sum()
 
 
-class DatabaseAtmosphere(Atmosphere):
+class DatabaseAtmosphere(SunDependentAtmosphere):
     """An atmosphere interpolated from a database file; see the module docstring."""
 
     name = "database"
@@ -328,25 +334,6 @@ class DatabaseAtmosphere(Atmosphere):
                    if k in ds.attrs}}
 
     # -- settings ----------------------------------------------------------------------------
-    def set_sun(self, sun_zenith, sun_azimuth=0.0) -> None:
-        """Set the sun position [deg] used by :meth:`path`."""
-        z, a = float(sun_zenith), float(sun_azimuth)
-        if not 0.0 <= z <= 180.0:
-            raise ConfigError("must lie in [0, 180] deg", key="atmosphere.sun_zenith")
-        if not np.isfinite(a):
-            raise ConfigError("must be finite", key="atmosphere.sun_azimuth")
-        self.sun_zenith, self.sun_azimuth = z, a % 360.0
-
-    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
-        """A copy with the sun (and the line of sight's azimuth) set (tables shared)."""
-        import copy
-
-        new = copy.copy(self)
-        new.set_sun(sun_zenith, sun_azimuth)
-        if view_azimuth is not None:
-            new.view_azimuth = float(view_azimuth)
-        return new
-
     def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
         wl = super().check_wavelength(wavelength, key)
         if self.thermal and wl.size:
@@ -701,7 +688,8 @@ class DatabaseAtmosphere(Atmosphere):
     def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
         """A grid over the pixels' geometry that refines the table: view zenith every 5 deg
         (2.5 beyond 70, the table's nodes included), surface altitude every 250 m, observer
-        altitude at its extremes; multilinear weights, 8 nodes per pixel."""
+        altitude at its extremes; multilinear weights, up to 8 nodes per pixel (an axis the
+        pixels share one value of, such as one camera's altitude, adds none)."""
         obs = np.asarray(observer_altitude, float).ravel()
         tgt = np.asarray(target_altitude, float).ravel()
         vz = np.asarray(view_zenith, float).ravel()

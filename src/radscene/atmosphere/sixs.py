@@ -70,7 +70,13 @@ import numpy as np
 import xarray as xr
 
 from radscene.atmosphere import sixs_model as model
-from radscene.atmosphere.base import Atmosphere, PathNodes, PathSpectra, SkyGeometry, SunSpectra
+from radscene.atmosphere.base import (
+    PathNodes,
+    PathSpectra,
+    SkyGeometry,
+    SunDependentAtmosphere,
+    SunSpectra,
+)
 from radscene.atmosphere.sixs_runner import (
     AEROSOLS,
     DISCRETE_WAVELENGTHS,
@@ -187,7 +193,7 @@ def _choice(value, options, key):
     return v
 
 
-class SixSAtmosphere(Atmosphere):
+class SixSAtmosphere(SunDependentAtmosphere):
     """6S as an atmosphere engine; see the module docstring for the parameters."""
 
     name = "sixs"
@@ -222,29 +228,6 @@ class SixSAtmosphere(Atmosphere):
         self.runner = SixSRunner(workers=workers, cache_dir=cache)
 
     # -- settings ---------------------------------------------------------------------------
-    def set_sun(self, sun_zenith, sun_azimuth=0.0) -> None:
-        """Set the sun position [deg] used by :meth:`path` (the renderer calls this)."""
-        z, a = float(sun_zenith), float(sun_azimuth)
-        if not 0.0 <= z <= 180.0:
-            raise ConfigError("must lie in [0, 180] deg", key="atmosphere.sun_zenith")
-        if not np.isfinite(a):
-            raise ConfigError("must be finite", key="atmosphere.sun_azimuth")
-        self.sun_zenith, self.sun_azimuth = z, a % 360.0
-
-    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
-        """A copy with the sun (and the line of sight's azimuth) set; runs and cache shared.
-
-        ``day_of_year`` is accepted for symmetry with the ``lowtran`` engine; the Earth-Sun
-        distance is the engine's ``earth_sun_distance``.
-        """
-        import copy
-
-        new = copy.copy(self)
-        new.set_sun(sun_zenith, sun_azimuth)
-        if view_azimuth is not None:
-            new.view_azimuth = float(view_azimuth)
-        return new
-
     def _case(self, wavelength, **kw) -> SixSCase:
         c = dict(self.conditions)
         c.update(kw)

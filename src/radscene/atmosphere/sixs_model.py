@@ -435,7 +435,8 @@ def multilinear_nodes(coordinates, axes):
     node_coordinates : list of numpy.ndarray
         For each axis, the coordinate of each *used* node, shape (n_nodes,).
     index : numpy.ndarray
-        Shape (N, 2**d) int, into the used nodes.
+        Shape (N, 2**d) int, into the used nodes, with d the number of axes of more than one
+        node (an axis of one node adds no corner).
     weight : numpy.ndarray
         Shape (N, 2**d), rows summing to 1.
     """
@@ -444,13 +445,19 @@ def multilinear_nodes(coordinates, axes):
     flat = np.zeros((n, 1), dtype=np.int64)
     weight = np.ones((n, 1))
     for values, nodes in zip(coordinates, axes, strict=True):
+        if nodes.size == 1:  # every point sits on the one node
+            continue
         i, f = axis_weights(values, nodes)
         hi = np.minimum(i + 1, nodes.size - 1)
         flat = np.concatenate([flat * nodes.size + i[:, None], flat * nodes.size + hi[:, None]], 1)
         weight = np.concatenate([weight * (1.0 - f)[:, None], weight * f[:, None]], 1)
-    used, index = np.unique(flat, return_inverse=True)
-    index = index.reshape(flat.shape)
     sizes = [a.size for a in axes]
+    # the grid is small: compact the used nodes with a lookup table (no sort of N rows)
+    present = np.zeros(int(np.prod(sizes)), dtype=bool)
+    present[flat.ravel()] = True
+    used = np.flatnonzero(present)
+    lookup = np.cumsum(present) - 1
+    index = lookup[flat]
     multi = np.unravel_index(used, sizes) if used.size else [np.zeros(0, int)] * len(axes)
     return [a[m] for a, m in zip(axes, multi, strict=True)], index, weight
 

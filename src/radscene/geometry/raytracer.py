@@ -172,6 +172,17 @@ class RayTracer:
         """Origin of the tracer's local float32 frame in world coordinates [m]."""
         return self._center.copy()
 
+    def to_local(self, points) -> np.ndarray | None:
+        """float32 local-frame copies of world points ``(N, 3)``, for :meth:`occluded_local`.
+
+        None where a point is not finite or lies outside the box that rays are clipped to
+        (from such a point :meth:`occluded` is the query to use).
+        """
+        local = np.asarray(points, dtype=np.float64) - self._center
+        if local.ndim != 2 or local.shape[1] != 3 or not np.all(np.abs(local) <= self._half):
+            return None
+        return local.astype(np.float32)
+
     # -- clipping ---------------------------------------------------------------------------
 
     def _clip(self, o, d):

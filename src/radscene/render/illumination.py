@@ -65,8 +65,17 @@ def cast_shadow(tracer, origins, sun_direction) -> np.ndarray:
     """
     if len(origins) == 0:
         return np.zeros(0)
-    dirs = np.broadcast_to(np.asarray(sun_direction, dtype=float), origins.shape)
-    return 1.0 - tracer.occluded(origins, dirs).astype(float)
+    sun = np.asarray(sun_direction, dtype=float).reshape(1, 3)
+    length = np.linalg.norm(sun, axis=1)
+    local = tracer.to_local(origins)
+    if local is None or not (np.all(np.isfinite(sun)) and length[0] > 0.0):
+        # points outside the scene's box, or bad input: the checked, clipped query
+        dirs = np.broadcast_to(sun, np.shape(origins))
+        return 1.0 - tracer.occluded(origins, dirs).astype(float)
+    # the fast path: the origins lie in the box, so the clipped query would trace them as
+    # they are; the direction is normalised as the checked query does
+    dirs = np.repeat((sun / length[:, None]).astype(np.float32), len(local), axis=0)
+    return 1.0 - tracer.occluded_local(local, dirs).astype(float)
 
 
 def _visible_fractions(tracer, origins, directions, weights, sky_nodes):
@@ -144,7 +153,7 @@ def lobe_sky_fractions_reference(tracer, origins, normals, axes, exponents, n_sa
 
 
 def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes, rng,
-                   check_normal):
+                   check_normal, shift=None, scratch=None):
     from radscene.render import kernels
 
     n = len(origins)
@@ -152,18 +161,24 @@ def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes
     out = np.zeros((n, zen_nodes.size * az_nodes.size))
     if n == 0:
         return out
+    if shift is None:
+        shift = rng.random((n, 2))
+    elif np.shape(shift) != (n, 2):
+        raise ValueError(f"shift must have shape ({n}, 2), got {np.shape(shift)}")
     base = stratified_pattern(n_samples)
-    shift = rng.random((n, 2))
-    o32, d32 = kernels.empty_fan(n * n_samples)
+    side = int(np.floor(np.sqrt(n_samples)))
+    side = side if side * side == n_samples else 0  # the pattern is the regular grid
+    o32, d32 = kernels.empty_fan(n * n_samples, scratch)
     pos = np.ascontiguousarray(origins, dtype=np.float64)
     nrm = np.ascontiguousarray(normals, dtype=np.float64)
-    fan(pos, nrm, *extra, tracer.center, 0.0, shift, base, o32, d32)
+    fan(pos, nrm, *extra, tracer.center, 0.0, shift, base, side, o32, d32)
     occluded = tracer.occluded_local(o32, d32)
     kernels.fold_fractions(occluded, d32, nrm, check_normal, zen_nodes, az_nodes, n_samples, out)
     return out
 
 
-def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
+def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng, *, shift=None,
+                  scratch=None):
     """Cosine-weighted visible-sky fractions F_k per sky zenith node (compiled fan).
 
     Same estimator and the same random numbers as :func:`sky_fractions_reference`: F_k =
@@ -179,6 +194,11 @@ def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
     zenith_nodes : (K,) sky zenith nodes [deg], or a pair (zenith nodes, azimuth nodes) of
         the sky grid; the result has one column per node, zenith major
     rng : numpy.random.Generator
+    shift : (N, 2) array, optional
+        The per-point rotations, already drawn (as ``rng.random((N, 2))``): lets a caller draw
+        them in a fixed order and trace on another thread; ``rng`` is then not used.
+    scratch : dict, optional
+        Kept by the caller between calls: the float32 ray buffers are reused from it.
 
     Returns
     -------
@@ -188,13 +208,15 @@ def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng):
     from radscene.render import kernels
 
     return _fan_fractions(tracer, kernels.cosine_fan, origins, normals, (), n_samples,
-                          zenith_nodes, rng, False)
+                          zenith_nodes, rng, False, shift, scratch)
 
 
-def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zenith_nodes, rng):
+def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zenith_nodes, rng,
+                       *, shift=None, scratch=None):
     """Visible-sky fractions G_k under the Phong lobe about ``axes`` (compiled fan).
 
-    Same estimator and random numbers as :func:`lobe_sky_fractions_reference`.
+    Same estimator and random numbers as :func:`lobe_sky_fractions_reference`; ``shift`` and
+    ``scratch`` as in :func:`sky_fractions`.
 
     Returns
     -------
@@ -206,4 +228,4 @@ def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zen
     extra = (np.ascontiguousarray(axes, dtype=np.float64),
              np.ascontiguousarray(exponents, dtype=np.float64))
     return _fan_fractions(tracer, kernels.lobe_fan, origins, normals, extra, n_samples,
-                          zenith_nodes, rng, True)
+                          zenith_nodes, rng, True, shift, scratch)

@@ -3,6 +3,8 @@
 The work is done in tiles of ray samples (no Python loop over pixels): each tile is traced in
 one batch, its secondary rays (shadow, sky, lobe) in a few more, and its terms are gathered
 from the per-material band coefficients. Pixel values are weighted sums of their sub-samples.
+The secondary rays of the next tiles are traced on a worker thread while the calling thread
+evaluates the terms of the current one; the results do not depend on that overlap.
 """
 
 from __future__ import annotations
@@ -10,13 +12,15 @@ from __future__ import annotations
 import datetime as _dt
 import time as _time
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
 
 from radscene.atmosphere import SkyGeometry, sky_node_weights
-from radscene.render import illumination, terms
+from radscene.render import illumination, node_mixing, terms
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 
 __all__ = ["render", "render_all", "SunGeometry", "sun_geometry", "TERMS", "TILE_SAMPLES"]
@@ -238,39 +242,37 @@ def _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f, n
         sky = 0.0
         emission = np.zeros((int(sel.sum()), len(bset.quadrature)))
         for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)):
-            table = tables.sky[m][v_index]  # (n, b, j, k)
-            per_node = sum(sub.weight[:, j, None, None] * np.take_along_axis(
-                table, sub.index[:, j, None, None, None], axis=2)[:, :, 0]
-                for j in range(sub.index.shape[1]))  # (n, b, k)
-            sky = sky + v_weight[:, None, None] * per_node
+            # Σ_j w_j Σ_k sky[v, :, j, k] F_k, the view cosine as the table's row
+            sky = sky + v_weight[:, None] * _sky_sum(tables.sky[m], v_index, sub, sky_f[sel])
             for b, (q_nodes, q_weights) in enumerate(bset.quadrature):
                 coef = emission_coefficients(tables.emissivity_tau[m][b], q_nodes, q_weights,
                                              v_index, temp[sel])  # (n, j)
                 emission[:, b] += v_weight * (np.take_along_axis(coef, sub.index, axis=1)
                                               * sub.weight).sum(1)
-        values["sky_reflected"][sel] = np.einsum("nbk,nk->nb", sky, sky_f[sel]) * tex[
-            "reflectance"][sel, None]
+        values["sky_reflected"][sel] = sky * tex["reflectance"][sel, None]
         values["thermal_emission"][sel] = emission * tex["emissivity"][sel, None]
 
 
 def _gather(table, material, nodes):
-    """Σ_j w_j table[m, :, idx_j, ...] for each sample: (N, n_b, ...)."""
-    if table.shape[2] == 1:  # one path node: a plain take along the material axis
-        return np.take(table[:, :, 0], material, axis=0)
-    out = 0.0
-    for j in range(nodes.index.shape[1]):
-        out = out + nodes.weight[:, j].reshape((-1,) + (1,) * (table.ndim - 2)) * (
-            table[material, :, nodes.index[:, j]]
-        )
-    return out
+    """Σ_j w_j table[m, :, idx_j] for each sample: (N, n_b); ``table`` is (n_m, n_b, n_j)."""
+    return node_mixing.mix_rows(table.transpose(0, 2, 1), material, nodes.index, nodes.weight)
 
 
 def _gather_band(table, nodes):
-    """Σ_j w_j table[:, idx_j] for each sample: (N, n_b)."""
-    out = 0.0
-    for j in range(nodes.index.shape[1]):
-        out = out + nodes.weight[:, j, None] * table[:, nodes.index[:, j]].T
-    return out
+    """Σ_j w_j table[:, idx_j] for each sample: (N, n_b); ``table`` is (n_b, n_j)."""
+    return node_mixing.mix_rows(table.T[None], np.zeros(len(nodes.index), dtype=np.int64),
+                                nodes.index, nodes.weight)
+
+
+def _sky_sum(table, row, nodes, fractions):
+    """Σ_j w_j Σ_k table[row, :, idx_j, k] F_k for each sample: (N, n_b).
+
+    ``table`` is (n_rows, n_b, n_j, n_k) (rows: materials, or view cosines of a BRDF table),
+    ``row`` and ``fractions`` (N,) and (N, n_k): terms.sky_reflected's sum without forming
+    the (N, n_b, n_k) table of each sample.
+    """
+    return node_mixing.mix_sky(table.transpose(0, 2, 1, 3), row, nodes.index, nodes.weight,
+                               fractions)
 
 
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
@@ -333,111 +335,133 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     total = len(rays.pixel)
     per_pixel = setup.supersample**2
     tile = max(per_pixel, (TILE_SAMPLES // per_pixel) * per_pixel)  # whole pixels per tile
-    for start in range(0, total, tile):
-        sl = slice(start, min(start + tile, total))
-        pix = rays.pixel[sl]
-        w = rays.weight[sl]
-        d = rays.directions[sl]
-        h = hit[sl]
-        # --- rays that leave the scene see the sky (upwards) or nothing (downwards) --------
-        miss = ~h
-        if np.any(miss):
-            dz = d[miss, 2]
-            zen = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
-            azi = np.degrees(np.arctan2(d[miss, 0], d[miss, 1]))
-            weights = sky_node_weights(zen, azi, *sky_nodes)
-            sky_seen = (weights @ coef.sky_view.T) * (dz > 0)[:, None]
-            for b in range(n_b):
-                sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b], n_pix)
-        if not np.any(h):
-            _report(progress, sl.stop, total)
-            continue
-        # --- surface state at the hits -------------------------------------------------
-        hidx = np.nonzero(h)[0] + start
-        rank = hit_rank[hidx]
-        obj = hits.object[hidx]
-        face = tables.face_offset[obj] + hits.primitive[hidx]
-        mat = tables.face_material[face]
-        temp = tables.face_temperature[face]
-        pos = hits.position[hidx]
-        nrm = hits.normal[hidx].copy()
-        dh = rays.directions[hidx]
-        flip = np.einsum("nc,nc->n", nrm, dh) > 0.0  # two-sided: face the viewer
-        nrm[flip] *= -1.0
-        wo = -dh
-        cos_v = np.einsum("nc,nc->n", nrm, wo)
-        cos_i = nrm @ sun_dir
-        tex = _textures(scene, obj, pos)
-        origin = pos + tables.epsilon * nrm
-        # --- shadows ------------------------------------------------------------------
-        lit = np.zeros(len(hidx))
-        facing = (cos_i > 0.0) & (sun.zenith < 90.0)
-        if settings.shadows:
-            lit[facing] = illumination.cast_shadow(tables.tracer, origin[facing], sun_dir)
-        else:
-            lit[facing] = 1.0
-        # --- sky over the hemisphere, and under the specular lobe -----------------------
-        sky_f = illumination.sky_fractions(tables.tracer, origin, nrm, settings.sky_samples,
-                                           sky_nodes, rng)
-        specular = np.any(coef.sun_specular[mat] != 0.0, axis=(1, 2)) | np.any(
-            coef.sky_specular[mat] != 0.0, axis=(1, 2, 3))
-        lobe_f = np.zeros_like(sky_f)
-        if np.any(specular):
-            axis = 2.0 * cos_v[specular, None] * nrm[specular] - wo[specular]
-            lobe_f[specular] = illumination.lobe_sky_fractions(
-                tables.tracer, origin[specular], nrm[specular], axis,
-                tables.exponent[mat[specular]], settings.specular_samples, sky_nodes, rng)
-        # --- terms ----------------------------------------------------------------------
-        nodes = _subset_nodes(path_nodes_all, rank)
-        mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
-        cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
-        lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
-        values = {
-            "sun_diffuse": terms.sun_diffuse(_gather(coef.sun_diffuse, mat, nodes), cos_i, lit,
-                                             tex["reflectance"]),
-            "sun_specular": terms.sun_specular(_gather(coef.sun_specular, mat, nodes), lobe, lit,
-                                               tex["reflectance"]),
-            "thermal_emission": terms.thermal_emission(
-                _emission(bset, mat, temp, nodes), tex["emissivity"]),
-            "sky_reflected": terms.sky_reflected(
-                _gather(coef.sky_diffuse, mat, nodes), sky_f,
-                _gather(coef.sky_specular, mat, nodes), lobe_f, tex["reflectance"]),
-            "path_radiance": terms.path_radiance(_gather_band(coef.path, nodes)),
-        }
-        if bset.brdf is not None:
-            _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex, sky_f,
-                        nodes)
-        tau = _gather_band(coef.transmittance, nodes)
-        p = rays.pixel[hidx]
-        wh = rays.weight[hidx]
-        truth_rows = (cos_i, 1.0 - lit, sky_f.sum(axis=1), temp, hits.distance[hidx], None)
-        if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
-            for name in TERMS:
-                sums[name][:, p] = (values[name] * wh[:, None]).T
-            transmittance[:, p] = (tau * wh[:, None]).T
-            for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
-                truth_sum[key][p] = wh if row is None else row * wh
-        else:
-            rows = np.vstack([values[name].T for name in TERMS] + [tau.T] + [
-                np.ones(len(p)) if row is None else row for row in truth_rows])
-            pixels, totals = _pixel_sums(p, wh, rows)
-            for t, name in enumerate(TERMS):
-                sums[name][:, pixels] += totals[t * n_b:(t + 1) * n_b]
-            transmittance[:, pixels] += totals[len(TERMS) * n_b:(len(TERMS) + 1) * n_b]
-            for c, key in enumerate(TRUTH_SUMS):
-                truth_sum[key][pixels] += totals[(len(TERMS) + 1) * n_b + c]
-        c = central[hidx]
-        object_id[p[c]] = obj[c]
-        material_id[p[c]] = mat[c]
-        normal_map[:, p[c]] = nrm[c].T
-        position_map[:, p[c]] = pos[c].T
-        view_map[:, p[c]] = wo[c].T
-        _report(progress, sl.stop, total)
+    tiles = [slice(start, min(start + tile, total)) for start in range(0, total, tile)]
+    hit_face = tables.face_offset[hits.object[hit]] + hits.primitive[hit]
+    hit_material = tables.face_material[hit_face]
+    hit_temperature = tables.face_temperature[hit_face]
+    specular_material = np.any(coef.sun_specular != 0.0, axis=(1, 2)) | np.any(
+        coef.sky_specular != 0.0, axis=(1, 2, 3))
+    # The shadow, sky and lobe rays of the next tiles are traced on a worker thread while this
+    # thread evaluates the terms of tile i (Embree and the numba kernels release the GIL). The
+    # random rotations are drawn here, tile by tile, in the order of a serial render.
+    scratch = {}
+    unit_weight = bool(np.all(rays.weight == 1.0))  # then weighting changes nothing: skip it
+    geolocation = None
+    labelled = central & hit  # positions and view directions are known from the primary rays
+    with ThreadPoolExecutor(max_workers=1) as worker:
 
-    elapsed = _time.perf_counter() - started
-    ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum, object_id,
-                  material_id, normal_map, sun, elapsed)
-    return ds.assign(_geolocation(scene, position_map, view_map, rays.shape, sun))
+        def launch(sl):
+            state = _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
+                             hit_temperature)
+            if state is None:
+                return None
+            state.specular = specular_material[state.mat]
+            n_specular = int(np.count_nonzero(state.specular))
+            shifts = (rng.random((len(state.mat), 2)),
+                      rng.random((n_specular, 2)) if n_specular else None)
+            return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
+                                        sun_dir, shifts, scratch)
+
+        ahead = 2  # tiles whose rays are queued while this thread works
+        pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
+        emission = _emission_pairs(bset, hit_material, hit_temperature)
+        for i, sl in enumerate(tiles):
+            if i + ahead < len(tiles):
+                pending[i + ahead] = launch(tiles[i + ahead])
+            if geolocation is None:  # while the first tiles' rays are traced
+                position_map[:, rays.pixel[labelled]] = hits.position[labelled].T
+                view_map[:, rays.pixel[labelled]] = -rays.directions[labelled].T
+                geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
+            current = pending.pop(i)
+            pix = rays.pixel[sl]
+            w = rays.weight[sl]
+            d = rays.directions[sl]
+            h = hit[sl]
+            # --- rays that leave the scene see the sky (upwards) or nothing (downwards) ----
+            miss = ~h
+            if np.any(miss):
+                dz = d[miss, 2]
+                zen = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
+                azi = np.degrees(np.arctan2(d[miss, 0], d[miss, 1]))
+                weights = sky_node_weights(zen, azi, *sky_nodes)
+                sky_seen = (weights @ coef.sky_view.T) * (dz > 0)[:, None]
+                for b in range(n_b):
+                    sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b],
+                                                            n_pix)
+            if current is None:  # no hits in this tile
+                _report(progress, sl.stop, total)
+                continue
+            st, job = current
+            hidx, rank, obj, mat, temp = st.hidx, st.rank, st.obj, st.mat, st.temp
+            pos, nrm, wo, cos_v, cos_i = st.pos, st.nrm, st.wo, st.cos_v, st.cos_i
+            tex = _textures(scene, obj, pos)
+            nodes = _subset_nodes(path_nodes_all, rank)
+            any_specular = bool(np.any(st.specular))
+            n_hits = len(hidx)
+            diffuse = _gather(coef.sun_diffuse, mat, nodes)
+            lit, sky_f, lobe_f = job.result()
+            # --- terms ----------------------------------------------------------------------
+            if any_specular:
+                mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
+                cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
+                lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
+                sun_specular = terms.sun_specular(_gather(coef.sun_specular, mat, nodes), lobe,
+                                                  lit, tex["reflectance"])
+                spec = np.flatnonzero(st.specular)
+                sky_specular = np.zeros((n_hits, n_b))
+                sky_specular[spec] = _sky_sum(coef.sky_specular, mat[spec],
+                                              _subset_nodes(nodes, spec), lobe_f[spec])
+            else:  # every coefficient of these materials is zero
+                sun_specular = np.zeros((n_hits, n_b))
+                sky_specular = None
+            values = {
+                "sun_diffuse": terms.sun_diffuse(diffuse, cos_i, lit, tex["reflectance"]),
+                "sun_specular": sun_specular,
+                "thermal_emission": terms.thermal_emission(
+                    _emission(emission, rank, nodes), tex["emissivity"]),
+                # terms.sky_reflected's sums over the sky nodes, without its (N, n_b, n_k) tables
+                "sky_reflected": (_sky_sum(coef.sky_diffuse, mat, nodes, sky_f) + (
+                    0.0 if sky_specular is None else sky_specular)) * tex["reflectance"][:, None],
+                "path_radiance": terms.path_radiance(_gather_band(coef.path, nodes)),
+            }
+            if bset.brdf is not None:
+                _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
+                            sky_f, nodes)
+            tau = _gather_band(coef.transmittance, nodes)
+            p = rays.pixel[hidx]
+            wh = rays.weight[hidx]
+            truth_rows = (cos_i, 1.0 - lit, sky_f.sum(axis=1), temp, hits.distance[hidx], None)
+            if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
+                at = _as_slice(p)  # a tile of whole rows: plain slices
+                for name in TERMS:
+                    sums[name][:, at] = (values[name] if unit_weight
+                                         else values[name] * wh[:, None]).T
+                transmittance[:, at] = (tau if unit_weight else tau * wh[:, None]).T
+                for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
+                    truth_sum[key][at] = wh if row is None else row if unit_weight else row * wh
+            else:
+                rows = np.vstack([values[name].T for name in TERMS] + [tau.T] + [
+                    np.ones(len(p)) if row is None else row for row in truth_rows])
+                pixels, totals = _pixel_sums(p, wh, rows)
+                for t, name in enumerate(TERMS):
+                    sums[name][:, pixels] += totals[t * n_b:(t + 1) * n_b]
+                transmittance[:, pixels] += totals[len(TERMS) * n_b:(len(TERMS) + 1) * n_b]
+                for c, key in enumerate(TRUTH_SUMS):
+                    truth_sum[key][pixels] += totals[(len(TERMS) + 1) * n_b + c]
+            if per_pixel == 1:  # every sample is its pixel's central one
+                object_id[at], material_id[at], normal_map[:, at] = obj, mat, nrm.T
+            else:
+                c = central[hidx]
+                object_id[p[c]] = obj[c]
+                material_id[p[c]] = mat[c]
+                normal_map[:, p[c]] = nrm[c].T
+            _report(progress, sl.stop, total)
+        elapsed = _time.perf_counter() - started
+        ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
+                      object_id, material_id, normal_map, sun, elapsed, pool=worker)
+    if geolocation is None:  # no samples
+        geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
+    return ds.assign(geolocation)
 
 
 def scene_tables(scene) -> _SceneTables:
@@ -508,15 +532,77 @@ def _subset_nodes(nodes, rank):
                      nodes.index[rank], nodes.weight[rank])
 
 
-def _emission(bset, material, temperature, nodes):
-    """(N, n_b) Σ_j w_j ∫ S ε B(T) τ_a,j dλ for each sample."""
-    n = len(material)
-    out = np.zeros((n, len(bset.quadrature)))
-    for b, (q_nodes, q_weights) in enumerate(bset.quadrature):
-        per_node = emission_coefficients(bset.emissivity_tau[b], q_nodes, q_weights, material,
-                                         temperature)  # (N, n_j)
-        out[:, b] = (np.take_along_axis(per_node, nodes.index, axis=1) * nodes.weight).sum(1)
-    return out
+def _emission_pairs(bset, material, temperature):
+    """∫ S ε B(T) τ_a,j dλ once per (material, temperature) pair among the hits of a render.
+
+    Returns the pair of each hit (N,) and one (n_pairs, n_j) table per band.
+    """
+    t_unique, t_inverse = np.unique(temperature, return_inverse=True)
+    pairs, index = np.unique(material.astype(np.int64) * t_unique.size + t_inverse.ravel(),
+                             return_inverse=True)
+    pair_material, pair_t = np.divmod(pairs, max(t_unique.size, 1))
+    tables = [emission_coefficients(bset.emissivity_tau[b], q_nodes, q_weights, pair_material,
+                                    t_unique[pair_t])
+              for b, (q_nodes, q_weights) in enumerate(bset.quadrature)]
+    return index.ravel(), tables
+
+
+def _emission(pairs, rank, nodes):
+    """(N, n_b) Σ_j w_j ∫ S ε B(T) τ_a,j dλ for the hits of rank ``rank`` (_emission_pairs)."""
+    index, tables = pairs
+    return node_mixing.mix_rows(np.stack(tables, axis=-1), index[rank], nodes.index,
+                                nodes.weight)
+
+
+def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_temperature):
+    """The state at the hits of one tile of samples, or None where the tile has none."""
+    h = hit[sl]
+    if not np.any(h):
+        return None
+    hidx = np.nonzero(h)[0] + sl.start
+    rank = hit_rank[hidx]
+    nrm = hits.normal[hidx].copy()
+    dh = rays.directions[hidx]
+    flip = np.einsum("nc,nc->n", nrm, dh) > 0.0  # two-sided: face the viewer
+    nrm[flip] *= -1.0
+    wo = -dh
+    pos = hits.position[hidx]
+    return SimpleNamespace(
+        hidx=hidx, rank=rank, obj=hits.object[hidx], mat=hit_material[rank],
+        temp=hit_temperature[rank], pos=pos, nrm=nrm, wo=wo,
+        cos_v=np.einsum("nc,nc->n", nrm, wo), cos_i=nrm @ sun_dir,
+        origin=pos + tables.epsilon * nrm)
+
+
+def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch):
+    """Shadow, sky and lobe rays of one tile's hits: (lit, sky fractions, lobe fractions).
+
+    ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
+    the fans' ray buffers between tiles.
+    """
+    lit = np.zeros(len(st.mat))
+    facing = (st.cos_i > 0.0) & (tables.sun.zenith < 90.0)
+    if settings.shadows:
+        lit[facing] = illumination.cast_shadow(tables.tracer, st.origin[facing], sun_dir)
+    else:
+        lit[facing] = 1.0
+    sky_f = illumination.sky_fractions(tables.tracer, st.origin, st.nrm, settings.sky_samples,
+                                       sky_nodes, None, shift=shifts[0], scratch=scratch)
+    lobe_f = np.zeros_like(sky_f)
+    if shifts[1] is not None:
+        sel = st.specular
+        axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
+        lobe_f[sel] = illumination.lobe_sky_fractions(
+            tables.tracer, st.origin[sel], st.nrm[sel], axis, tables.exponent[st.mat[sel]],
+            settings.specular_samples, sky_nodes, None, shift=shifts[1], scratch=scratch)
+    return lit, sky_f, lobe_f
+
+
+def _as_slice(index):
+    """``index`` as a slice where it is a run of consecutive integers, else itself."""
+    if len(index) and index[-1] - index[0] == len(index) - 1 and np.all(np.diff(index) == 1):
+        return slice(int(index[0]), int(index[-1]) + 1)
+    return index
 
 
 def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
@@ -533,7 +619,8 @@ def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
 
 
 def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_id, material_id,
-             normal_map, sun, elapsed) -> xr.Dataset:
+             normal_map, sun, elapsed, pool=None) -> xr.Dataset:
+    """The render's Dataset; ``pool``, an executor, may take the brightness temperatures."""
     from radscene import __version__
     from radscene.radiometry import band_brightness_temperature
 
@@ -541,6 +628,10 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     n_b = len(bands)
     cube = {name: s.reshape(n_b, ny, nx) for name, s in sums.items()}
     total = sum(cube.values())
+    thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
+    if pool is not None:  # while the rest is assembled here
+        bt_jobs = {b: pool.submit(band_brightness_temperature, total[b], bands[b].response)
+                   for b in thermal}
     hw = truth_sum["hit_weight"]
     with np.errstate(invalid="ignore", divide="ignore"):
         mean = {k: np.where(hw > 0, v / hw, np.nan).reshape(ny, nx) for k, v in truth_sum.items()
@@ -556,9 +647,9 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
     bt = np.full((n_b, ny, nx), np.nan)
-    for b, band in enumerate(bands):
-        if band.response.center >= THERMAL_BAND_START:
-            bt[b] = band_brightness_temperature(total[b], band.response)
+    for b in thermal:
+        bt[b] = (bt_jobs[b].result() if pool is not None
+                 else band_brightness_temperature(total[b], bands[b].response))
     data["brightness_temperature"] = (("band", "y", "x"), bt, {
         "units": "K", "long_name": "band brightness temperature of the total radiance",
         "comment": f"computed for bands centred at or beyond {THERMAL_BAND_START} um; NaN elsewhere"})

@@ -29,8 +29,67 @@ def _basis(nx, ny, nz):
             b, sign + ny * ny * a, -ny)
 
 
+#: Points per parallel work item of the fans (each item keeps its own small level tables).
+_FAN_CHUNK = 512
+
+
+@numba.njit(inline="always")
+def _levels(j, side):
+    """Indices of sample ``j``'s first and second coordinate among the pattern's levels."""
+    if side > 0:
+        return j // side, j % side
+    return j, j
+
+
 @numba.njit(parallel=True, cache=True)
-def cosine_fan(position, normal, center, epsilon, shift, base, origins, directions):
+def _fan(position, normal, axis, exponent, lobe, center, epsilon, shift, base, side, origins,
+         directions):
+    """The fans of :func:`cosine_fan` (``lobe`` False) and :func:`lobe_fan` (``lobe`` True)."""
+    n = position.shape[0]
+    m = base.shape[0]
+    levels = side if side > 0 else m
+    for c in numba.prange((n + _FAN_CHUNK - 1) // _FAN_CHUNK):
+        # per point: sine and cosine of the polar angle per row, of the azimuth per column
+        sin_t = np.empty(levels)
+        cos_t = np.empty(levels)
+        cos_phi = np.empty(levels)
+        sin_phi = np.empty(levels)
+        for i in range(c * _FAN_CHUNK, min(n, (c + 1) * _FAN_CHUNK)):
+            if lobe:
+                ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
+                power = 1.0 / (exponent[i] + 1.0)
+            else:
+                ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
+                power = 0.0
+            tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
+            ox = position[i, 0] + epsilon * normal[i, 0] - center[0]
+            oy = position[i, 1] + epsilon * normal[i, 1] - center[1]
+            oz = position[i, 2] + epsilon * normal[i, 2] - center[2]
+            for a in range(levels):
+                u1 = base[a * side if side > 0 else a, 0] + shift[i, 0]
+                u1 = u1 - 1.0 if u1 >= 1.0 else u1
+                if lobe:  # cos α = u1^(1/(n+1))
+                    cos_t[a] = u1**power
+                    sin_t[a] = math.sqrt(max(0.0, 1.0 - cos_t[a] * cos_t[a]))
+                else:  # cosine-weighted: sin θ = √u1
+                    sin_t[a] = math.sqrt(u1)
+                    cos_t[a] = math.sqrt(max(0.0, 1.0 - u1))
+                u2 = base[a, 1] + shift[i, 1]
+                u2 = u2 - 1.0 if u2 >= 1.0 else u2
+                phi = _TWO_PI * u2
+                cos_phi[a] = math.cos(phi)
+                sin_phi[a] = math.sin(phi)
+            for j in range(m):
+                a, b = _levels(j, side)
+                lx, ly, lz = sin_t[a] * cos_phi[b], sin_t[a] * sin_phi[b], cos_t[a]
+                k = i * m + j
+                origins[k, 0], origins[k, 1], origins[k, 2] = ox, oy, oz
+                directions[k, 0] = lx * tx + ly * bx + lz * ax
+                directions[k, 1] = lx * ty + ly * by + lz * ay
+                directions[k, 2] = lx * tz + ly * bz + lz * az
+
+
+def cosine_fan(position, normal, center, epsilon, shift, base, side, origins, directions):
     """Cosine-distributed directions about each normal, from offset points, as float32 rays.
 
     Parameters
@@ -40,61 +99,25 @@ def cosine_fan(position, normal, center, epsilon, shift, base, origins, directio
     epsilon : float — offset of ray origins along the normal [m]
     shift : (N, 2) float64 — per-point Cranley–Patterson rotation in [0, 1)
     base : (M, 2) float64 — stratified pattern in [0, 1)
+    side : int — M = side² when ``base`` is the regular grid of
+        :func:`radscene.render.illumination.stratified_pattern` (sample j at row j // side,
+        column j % side): each point's square roots and sines are then taken once per row and
+        column instead of once per sample; 0 for any other pattern
     origins, directions : (N*M, 3) float32 — written: local-frame origins, unit directions
     """
-    n = position.shape[0]
-    m = base.shape[0]
-    for i in numba.prange(n):
-        nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
-        tx, ty, tz, bx, by, bz = _basis(nx, ny, nz)
-        ox = position[i, 0] + epsilon * nx - center[0]
-        oy = position[i, 1] + epsilon * ny - center[1]
-        oz = position[i, 2] + epsilon * nz - center[2]
-        for j in range(m):
-            u1 = base[j, 0] + shift[i, 0]
-            u1 = u1 - 1.0 if u1 >= 1.0 else u1
-            u2 = base[j, 1] + shift[i, 1]
-            u2 = u2 - 1.0 if u2 >= 1.0 else u2
-            r = math.sqrt(u1)
-            phi = _TWO_PI * u2
-            lx, ly, lz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(0.0, 1.0 - u1))
-            k = i * m + j
-            origins[k, 0], origins[k, 1], origins[k, 2] = ox, oy, oz
-            directions[k, 0] = lx * tx + ly * bx + lz * nx
-            directions[k, 1] = lx * ty + ly * by + lz * ny
-            directions[k, 2] = lx * tz + ly * bz + lz * nz
+    _fan(position, normal, normal, np.zeros(0), False, center, epsilon, shift, base, side,
+         origins, directions)
 
 
-@numba.njit(parallel=True, cache=True)
-def lobe_fan(position, normal, axis, exponent, center, epsilon, shift, base, origins, directions):
+def lobe_fan(position, normal, axis, exponent, center, epsilon, shift, base, side, origins,
+             directions):
     """Directions distributed as the Phong lobe (n+1)/(2π) cosⁿ α about ``axis``.
 
     Parameters as :func:`cosine_fan`, plus ``axis`` (N, 3) unit lobe axes and ``exponent``
     (N,) lobe exponents n.
     """
-    n = position.shape[0]
-    m = base.shape[0]
-    for i in numba.prange(n):
-        ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
-        tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
-        ox = position[i, 0] + epsilon * normal[i, 0] - center[0]
-        oy = position[i, 1] + epsilon * normal[i, 1] - center[1]
-        oz = position[i, 2] + epsilon * normal[i, 2] - center[2]
-        power = 1.0 / (exponent[i] + 1.0)
-        for j in range(m):
-            u1 = base[j, 0] + shift[i, 0]
-            u1 = u1 - 1.0 if u1 >= 1.0 else u1
-            u2 = base[j, 1] + shift[i, 1]
-            u2 = u2 - 1.0 if u2 >= 1.0 else u2
-            cos_a = u1**power
-            sin_a = math.sqrt(max(0.0, 1.0 - cos_a * cos_a))
-            phi = _TWO_PI * u2
-            lx, ly = sin_a * math.cos(phi), sin_a * math.sin(phi)
-            k = i * m + j
-            origins[k, 0], origins[k, 1], origins[k, 2] = ox, oy, oz
-            directions[k, 0] = lx * tx + ly * bx + cos_a * ax
-            directions[k, 1] = lx * ty + ly * by + cos_a * ay
-            directions[k, 2] = lx * tz + ly * bz + cos_a * az
+    _fan(position, normal, axis, exponent, True, center, epsilon, shift, base, side, origins,
+         directions)
 
 
 @numba.njit(inline="always")
@@ -144,8 +167,12 @@ def fold_fractions(occluded, directions, normal, check_normal, zenith_nodes, azi
             if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
                 continue
             zen = math.degrees(math.acos(min(1.0, dz)))
-            azi = math.degrees(math.atan2(dx, dy))
             z0, z1, fz = _hat(zen, zenith_nodes, False)
+            if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
+                out[i, z0] += 1.0 - fz
+                out[i, z1] += fz
+                continue
+            azi = math.degrees(math.atan2(dx, dy))
             a0, a1, fa = _hat(azi, azimuth_nodes, True)
             out[i, z0 * n_az + a0] += (1.0 - fz) * (1.0 - fa)
             out[i, z0 * n_az + a1] += (1.0 - fz) * fa
@@ -155,6 +182,16 @@ def fold_fractions(occluded, directions, normal, check_normal, zenith_nodes, azi
             out[i, k] /= n_samples
 
 
-def empty_fan(n_rays: int):
-    """float32 arrays for a fan of ``n_rays`` rays: (origins, directions)."""
-    return np.empty((n_rays, 3), np.float32), np.empty((n_rays, 3), np.float32)
+def empty_fan(n_rays: int, scratch: dict | None = None):
+    """float32 arrays for a fan of ``n_rays`` rays: (origins, directions).
+
+    With a ``scratch`` dict, the arrays are views of buffers kept in it and reused by later
+    calls (growing when needed): a fresh 50 MB array per tile costs its page faults again.
+    """
+    if scratch is None:
+        return np.empty((n_rays, 3), np.float32), np.empty((n_rays, 3), np.float32)
+    held = scratch.get("fan")
+    if held is None or len(held[0]) < n_rays:
+        held = scratch["fan"] = (np.empty((n_rays, 3), np.float32),
+                                 np.empty((n_rays, 3), np.float32))
+    return held[0][:n_rays], held[1][:n_rays]

@@ -74,13 +74,15 @@ def sky_reflected(diffuse_coefficient, sky_fraction, specular_coefficient, lobe_
 
     Parameters
     ----------
-    diffuse_coefficient, specular_coefficient : (N, n_b, n_k) [W m-2 sr-1]
+    diffuse_coefficient, specular_coefficient : (N, n_b, n_k) [W m-2 sr-1]; the specular
+        one may be None: no specular part
     sky_fraction : (N, n_k) F_k [-]
     lobe_sky_fraction : (N, n_k) G_k [-]
     texture : (N,) Δρ [-]
     """
     total = np.einsum("nbk,nk->nb", diffuse_coefficient, sky_fraction)
-    total += np.einsum("nbk,nk->nb", specular_coefficient, lobe_sky_fraction)
+    if specular_coefficient is not None:
+        total += np.einsum("nbk,nk->nb", specular_coefficient, lobe_sky_fraction)
     return total * texture[:, None]
 
 
