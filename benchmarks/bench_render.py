@@ -255,8 +255,9 @@ class PhaseTimer:
     integrator's own inline numpy.
     """
 
-    INTEGRATOR = ("_SceneTables", "_BandSetup", "_gather", "_gather_band", "_emission",
-                  "_textures", "_dataset", "_subset_nodes", "_central_subsample", "_pixel_sums")
+    INTEGRATOR = ("_SceneTables", "_BandSetup", "_emission_pairs", "_surface", "_textures",
+                  "_geolocation", "_dataset", "_subset_nodes", "_central_subsample",
+                  "_pixel_sums")
     NUMPY = ("bincount", "einsum", "vstack", "stack", "concatenate")
 
     def __init__(self):
@@ -286,10 +287,11 @@ class PhaseTimer:
 
     def __enter__(self):
         from radscene.platform import cameras
-        from radscene.render import illumination, integrator, terms
+        from radscene.render import illumination, integrator, node_mixing, terms
 
         for name in self.INTEGRATOR:
             self._patch(integrator, name, name)
+        self._patch(node_mixing, "mix_terms", "node_mixing.mix_terms")
         for name in getattr(terms, "__all__", ()):
             if callable(getattr(terms, name, None)):
                 self._patch(terms, name, f"terms.{name}")
@@ -313,15 +315,15 @@ class AtmosphereTimer:
 
     ``queries``: calls of the scene atmosphere's engine (``path``, ``sun``, ``sky``,
     ``path_nodes``, ``with_sun``; nested calls count once). ``mixing``: the renderer's per-sample
-    interpolation between path and sky nodes (the integrator's ``_gather*``, ``_sky_sum``,
-    ``_emission``, ``_subset_nodes``, ``sky_node_weights``). ``band_tables``: the band
+    interpolation between path and sky nodes (``node_mixing.mix_terms``, which also forms the
+    terms, the integrator's ``_gather_band``, ``_sky_sum``, ``_subset_nodes``,
+    ``sky_node_weights``). ``band_tables``: the band
     integration of the node spectra with the materials (``_BandSetup``, ``_emission_pairs``),
     inclusive of the queries it makes. All on the render's main thread.
     """
 
     QUERIES = ("path", "sun", "sky", "path_nodes", "with_sun")
-    MIXING = ("_gather", "_gather_band", "_sky_sum", "_emission", "_subset_nodes",
-              "sky_node_weights")
+    MIXING = ("_gather_band", "_sky_sum", "_subset_nodes", "sky_node_weights")
     TABLES = ("_BandSetup", "_emission_pairs")
 
     def __init__(self, engine_class):
@@ -355,10 +357,11 @@ class AtmosphereTimer:
         return wrapped
 
     def __enter__(self):
-        from radscene.render import integrator
+        from radscene.render import integrator, node_mixing
 
         targets = [(self.engine_class, n, "queries") for n in self.QUERIES]
         targets += [(integrator, n, "mixing") for n in self.MIXING]
+        targets += [(node_mixing, "mix_terms", "mixing")]
         for owner, name, group in targets:
             old = owner.__dict__.get(name) if isinstance(owner, type) else getattr(owner, name,
                                                                                    None)

@@ -25,6 +25,16 @@ def test_adaptive_grid_keeps_linear_interpolation_within_tolerance():
     assert list(adaptive_grid(x, np.ones_like(x), 1e-6)) == [0, x.size - 1]
 
 
+def test_each_aerosol_condition_has_its_own_name_and_progress_stage():
+    from radscene.atmosphere.build import _condition_name
+
+    names = [_condition_name(c) for c in load_config(None)["_conditions"]]
+    # two rural conditions: two tables, and two progress stages (they once shared one bar,
+    # which then showed the time of the first only)
+    assert names == ["rural_23km", "rural_5km", "maritime_23km"]
+    assert _condition_name({"aerosol": "none", "visibility": None}) == "none"
+
+
 def test_default_configuration_is_valid_and_complete():
     cfg = load_config(None)
     assert cfg["profiles"] == DEFAULT_CONFIG["profiles"]

@@ -11,6 +11,7 @@ from radscene.platform.config import build_observer
 from radscene.platform.geolocation import (
     WGS84_A,
     WGS84_B,
+    WGS84_E2,
     LocalFrame,
     ecef_to_geodetic,
     enu_basis,
@@ -222,3 +223,48 @@ def test_truth_without_a_time_has_no_sun():
     assert ds.acquisition_time.values == pytest.approx(np.zeros((3, 4)))
     with pytest.raises(ConfigError, match="epoch: must be timezone-aware"):
         geolocation_truth(cam, LocalFrame(0.0, 0.0), epoch=dt.datetime(2024, 1, 1))
+
+
+def _pyproj_geodetic(xyz):
+    """The previous ECEF → geodetic: pyproj's inverse, then two fixed-point latitude steps."""
+    from pyproj import Transformer
+
+    x, y, z = xyz[:, 0], xyz[:, 1], xyz[:, 2]
+    lon, lat, _ = Transformer.from_crs("EPSG:4978", "EPSG:4979", always_xy=True).transform(x, y, z)
+    rho, phi = np.hypot(x, y), np.radians(lat)
+    for _ in range(2):
+        s = np.sin(phi)
+        phi = np.arctan2(z + WGS84_E2 * WGS84_A / np.sqrt(1 - WGS84_E2 * s * s) * s, rho)
+    s, c = np.sin(phi), np.cos(phi)
+    return np.degrees(phi), lon, rho * c + z * s - WGS84_A * np.sqrt(1 - WGS84_E2 * s * s)
+
+
+@pytest.mark.parametrize("height", [-1000.0, 0.0, 1200.0, 8000.0, 705e3, 3.6e7])
+def test_compiled_geodetic_matches_pyproj(height):
+    rng = np.random.default_rng(5)
+    lat = np.concatenate([rng.uniform(-90.0, 90.0, 500), [-90.0, 90.0, 0.0, 89.999999]])
+    lon = np.concatenate([rng.uniform(-179.9, 179.9, 500), [0.0, 0.0, 179.5, -60.0]])
+    h = height + rng.uniform(-50.0, 50.0, lat.size)
+    xyz = geodetic_to_ecef(lat, lon, h)
+    got = ecef_to_geodetic(xyz)
+    ref = _pyproj_geodetic(xyz)
+    poles = np.abs(lat) == 90.0  # longitude undefined there
+    assert np.abs(got[0] - ref[0]).max() < 1e-9
+    assert np.abs(got[1] - ref[1])[~poles].max() < 1e-9
+    assert np.abs(got[2] - ref[2]).max() < 1e-4
+    assert np.abs(got[0] - lat).max() < 1e-9 and np.abs(got[2] - h).max() < 1e-4
+
+
+def test_local_frame_to_geodetic_matches_pyproj_over_a_scene():
+    frame = LocalFrame(-25.75, 27.86, 1200.0)
+    rng = np.random.default_rng(2)
+    enu = np.column_stack([rng.uniform(-5e3, 5e3, 2000), rng.uniform(-5e3, 5e3, 2000),
+                           rng.uniform(-400.0, 800.0, 2000)])
+    got = frame.to_geodetic(enu.reshape(40, 50, 3))
+    ref = _pyproj_geodetic(frame.to_ecef(enu))
+    assert all(g.shape == (40, 50) for g in got)
+    assert np.abs(got[0].ravel() - ref[0]).max() < 1e-9
+    assert np.abs(got[1].ravel() - ref[1]).max() < 1e-9
+    assert np.abs(got[2].ravel() - ref[2]).max() < 1e-4
+    with pytest.raises(ConfigError, match="enu"):
+        frame.to_geodetic(np.zeros((4, 2)))

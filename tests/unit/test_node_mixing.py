@@ -44,3 +44,63 @@ def test_empty_and_non_contiguous_inputs(mixing):
     assert out == pytest.approx(expected, rel=1e-12)
     sky = rng.random((n_rows, n_nodes, n_b, n_k))
     assert mix_sky(sky, row[:0], index[:0], weight[:0], fractions[:0]).shape == (0, n_b)
+
+
+def test_mix_terms_matches_the_term_functions(mixing):
+    from radscene.render import terms
+    from radscene.render.node_mixing import TERM_SLOTS, mix_terms
+
+    row, index, weight, fractions, rng, (n_rows, n_nodes, n_b, n_k) = mixing
+    n_hits = len(row)
+    rank = rng.permutation(n_hits)[:120]  # a tile: some of the hits, in any order
+    n = len(rank)
+    material = row[rank]
+    n_pairs = 6
+    pair = rng.integers(0, n_pairs, n_hits)
+    t = {"sun_diffuse": rng.random((n_rows, n_nodes, n_b)),
+         "sun_specular": rng.random((n_rows, n_nodes, n_b)),
+         "emission": rng.random((n_pairs, n_nodes, n_b)),
+         "sky_diffuse": rng.random((n_rows, n_nodes, n_b, n_k)),
+         "sky_specular": rng.random((n_rows, n_nodes, n_b, n_k)),
+         "path": rng.random((1, n_nodes, n_b)), "transmittance": rng.random((1, n_nodes, n_b))}
+    cos_i = rng.uniform(-0.5, 1.0, n)
+    lit = (rng.random(n) < 0.8).astype(float)
+    refl, emis = rng.uniform(0.5, 1.5, n), rng.uniform(0.5, 1.5, n)
+    lobe = rng.random(n) * 3.0
+    specular = rng.random(n) < 0.4
+    sky_f, lobe_f = fractions[rank], rng.random((n, n_k))
+    pixel = rng.permutation(500)[:n]
+    pixel_weight = rng.uniform(0.2, 1.0, n)
+    from radscene.render import TERMS
+
+    assert TERM_SLOTS == TERMS  # the renderer's outputs, in its order
+    out = np.full((len(TERM_SLOTS), n_b, 500), -7.0)
+    tau = np.full((n_b, 500), -7.0)
+    mix_terms(out, tau, pixel, pixel_weight, rank, material, pair, index, weight,
+              cos_incidence=cos_i, lit=lit, reflectance=refl, emissivity=emis, lobe=lobe,
+              specular=specular, sky_fractions=sky_f, lobe_fractions=lobe_f, **t)
+
+    idx, wgt = index[rank], weight[rank]
+    mix = lambda table, r: mix_rows(table, r, idx, wgt)  # noqa: E731
+    spec_sun = np.where(specular[:, None], mix(t["sun_specular"], material), 0.0)
+    spec_sky = np.where(specular[:, None],
+                        mix_sky(t["sky_specular"], material, idx, wgt, lobe_f), 0.0)
+    expected = {
+        "sun_diffuse": terms.sun_diffuse(mix(t["sun_diffuse"], material), cos_i, lit, refl),
+        "sun_specular": terms.sun_specular(spec_sun, lobe, lit, refl),
+        "thermal_emission": terms.thermal_emission(mix(t["emission"], pair[rank]), emis),
+        "sky_reflected": (mix_sky(t["sky_diffuse"], material, idx, wgt, sky_f) + spec_sky)
+        * refl[:, None],
+        "path_radiance": mix(t["path"], np.zeros(n, int)),
+    }
+    for slot, name in enumerate(TERM_SLOTS):
+        got = out[slot][:, pixel].T
+        assert got == pytest.approx(expected[name] * pixel_weight[:, None], rel=1e-12), name
+    expected_tau = mix(t["transmittance"], np.zeros(n, int)) * pixel_weight[:, None]
+    assert tau[:, pixel].T == pytest.approx(expected_tau, rel=1e-12)
+    untouched = np.setdiff1d(np.arange(500), pixel)
+    assert np.all(out[:, :, untouched] == -7.0) and np.all(tau[:, untouched] == -7.0)
+    with pytest.raises(ValueError, match="out must be"):
+        mix_terms(out[:4], tau, pixel, pixel_weight, rank, material, pair, index, weight,
+                  cos_incidence=cos_i, lit=lit, reflectance=refl, emissivity=emis, lobe=lobe,
+                  specular=specular, sky_fractions=sky_f, lobe_fractions=lobe_f, **t)

@@ -249,6 +249,25 @@ def test_band_brightness_temperature_special_values_and_errors():
         band_brightness_temperature(1e12, band)
 
 
+def test_band_brightness_temperature_table_is_built_once_per_response():
+    from radscene.radiometry.planck import _brightness_table
+
+    band = RectangularResponse(8.0, 12.0)
+    radiance = band.integrate_function(lambda wl: spectral_radiance(wl, np.array([[250.0],
+                                                                                  [320.0]])))
+    first = band_brightness_temperature(radiance, band)
+    table = band.__dict__["_brightness_table"]
+    assert _brightness_table(band) is table
+    assert np.array_equal(band_brightness_temperature(radiance, band), first)
+    assert first == pytest.approx([250.0, 320.0], abs=ROUND_TRIP_ABS, rel=0)
+    with pytest.raises(ValueError):
+        table[0][0] = 0.0  # read-only: no caller can spoil it
+    # another response gets its own table
+    other = RectangularResponse(3.0, 5.0)
+    band_brightness_temperature(1.0, other)
+    assert other.__dict__["_brightness_table"][0][0] != table[0][0]
+
+
 def test_band_brightness_temperature_is_fast_on_a_megapixel_image():
     band = GaussianResponse(10.0, 1.0)
     image = np.random.default_rng(3).uniform(5.0, 60.0, (1024, 1024))

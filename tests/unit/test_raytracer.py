@@ -161,3 +161,35 @@ def test_to_local_gives_float32_points_inside_the_box_only():
     assert rt.to_local([[100.0, 0.0, 50.0]]) is None  # above the box
     assert rt.to_local([[np.nan, 0.0, 0.0]]) is None
     assert rt.to_local([100.0, 0.0, 0.0]) is None  # not (N, 3)
+
+
+def test_compiled_clipping_equals_the_numpy_clipping():
+    """intersect's one-pass kernel against the checked numpy path occluded uses (_rays,
+    _starts): the same unit directions, box entries and float32 starts, to the bit."""
+    from radscene.geometry.raytracer import _prepare, _rays
+
+    rt = RayTracer([box((50.0, 30.0, 60.0)).transformed(translation=(20, 10, 30))])
+    rng = np.random.default_rng(4)
+    n = 5000
+    origins = rng.uniform(-200, 200, (n, 3))
+    directions = rng.normal(size=(n, 3))
+    directions[::2] = rt.center + rng.uniform(-40.0, 40.0, (n // 2, 3)) - origins[::2]  # aimed
+    directions[np.arange(300), rng.integers(0, 3, 300)] = 0.0  # parallel to a slab, on it or not
+    origins[:100, 0] = rt.center[0] + 25.0 + 1e-3 + 1e-5 * np.linalg.norm([50.0, 30.0, 60.0])
+    o, d = _rays(origins, directions)
+    traced, t_in, _, start, direction = rt._starts(o, d)
+    unit = np.empty((n, 3))
+    got = np.empty((n, 3), np.float32), np.empty((n, 3), np.float32), np.empty(n), \
+        np.empty(n, dtype=bool)
+    assert _prepare(origins, directions, rt._center, rt._half, unit, *got) == 0
+    assert np.array_equal(unit, d)
+    assert 0.05 < got[3].mean() < 0.95
+    assert np.array_equal(np.flatnonzero(got[3]), traced)
+    assert np.array_equal(got[2][traced], t_in)
+    assert np.array_equal(got[0][traced], start)
+    assert np.array_equal(got[1][traced], direction)
+    # a bad ray is counted, and intersect then names it
+    origins[7, 1] = np.inf
+    assert _prepare(origins, directions, rt._center, rt._half, unit, *got) == 1
+    with pytest.raises(ConfigError, match="first is ray 7"):
+        rt.intersect(origins, directions)

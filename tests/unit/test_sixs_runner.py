@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from radscene.atmosphere import sixs_runner as sr
@@ -109,6 +111,32 @@ def test_a_failed_run_is_an_error_naming_the_case(monkeypatch, tmp_path):
     monkeypatch.setattr(sr, "_binary", lambda: "/bin/cat")  # prints the deck, not a report
     with pytest.raises(EngineError, match="printed no results.*wavelength=0.67"):
         runner.run_one(case)
+
+
+@needs_6s
+def test_runner_reuses_one_working_folder_per_thread_and_removes_them():
+    runner = sr.SixSRunner(workers=2, cache_dir=False)
+    made = []
+    own = runner._workdir
+
+    def spy():
+        made.append(own())
+        return made[-1]
+
+    runner._workdir = spy
+    cases = [sr.SixSCase(w, profile="none", aerosol="none") for w in (0.45, 0.55, 0.65, 0.75, 0.85)]
+    values = runner.run(cases)
+    assert runner.runs == 5 and len(made) == 5
+    assert 1 <= len(set(made)) <= 2  # one per worker thread, not one per run
+    assert not any(os.path.exists(p) for p in made)  # removed once the pool is done
+    assert values[1] == sr.SixSRunner(workers=1, cache_dir=False).run_one(cases[1])
+    single = sr.SixSRunner(workers=1, cache_dir=False)
+    single.run_one(cases[0])
+    (folder,) = single._workdirs
+    single.close()
+    assert not os.path.exists(folder)
+    single.run_one(cases[2])  # a removed folder is made again
+    single.close()
 
 
 def test_runner_refuses_bad_workers():

@@ -227,6 +227,14 @@ def adaptive_grid(x, y, tolerance) -> np.ndarray:
     return np.array(sorted(keep))
 
 
+def _condition_name(cond) -> str:
+    """The table name of an aerosol condition (``rural_23km``), also its progress stage name:
+    two conditions of one model are two stages."""
+    if cond["aerosol"] == "none":
+        return "none"
+    return f"{cond['aerosol']}_{cond['visibility']:g}km"
+
+
 def _gas_values(v):
     """(down, up, total) for all gases and without water vapour, from one run."""
     others = ("ozone", "co2", "oxygen", "no2", "ch4", "co")
@@ -448,7 +456,7 @@ class _Builder:
         angles = self._angle_set(zs, zv, reciprocal)
         cases = [self._scatter_case(cond, w, hs[0], "satellite", a, b, p)
                  for w in lam_s for (a, b, p) in angles]
-        vals = iter(self.run(f"scattering {cond['aerosol']}", cases))
+        vals = iter(self.run(f"scattering {_condition_name(cond)}", cases))
         for j in range(n_s):
             for (a, b, p) in angles:
                 v = next(vals)
@@ -496,7 +504,7 @@ class _Builder:
         levels = self._levels()
         cases = [self._scatter_case(cond, w, hs[ih], sensor, a, b, p)
                  for (ih, _, sensor) in levels for w in lam_s for (a, b, p) in angles]
-        vals = iter(self.run(f"scattering {cond['aerosol']} (full)", cases))
+        vals = iter(self.run(f"scattering {_condition_name(cond)} (full)", cases))
         izs = {z: i for i, z in enumerate(zs)}
         izv = {z: i for i, z in enumerate(zv)}
         for ih, ix, _sensor in levels:
@@ -524,7 +532,7 @@ class _Builder:
                   if lv[1] == top or lv[0] == 0]  # higher surfaces at the top; aircraft at 0
         cases = [self._scatter_case(cond, w, hs[ih], sensor, a, b, p)
                  for (ih, _, sensor) in [base] + levels for w in lam_r for (a, b, p) in angles]
-        vals = iter(self.run(f"scattering {cond['aerosol']} (ratios)", cases))
+        vals = iter(self.run(f"scattering {_condition_name(cond)} (ratios)", cases))
         n_c, n_r = len(zc), lam_r.size
         izc = {z: i for i, z in enumerate(zc)}
         runs = {}
@@ -758,8 +766,7 @@ def build_database(config=None, progress=None) -> xr.Dataset:
     conds = cfg["_conditions"]
     names, tables = [], []
     for c in conds:
-        vis_km = c["visibility"]
-        names.append(f"{c['aerosol']}_{vis_km:g}km" if c["aerosol"] != "none" else "none")
+        names.append(_condition_name(c))
         tables.append(b.scattering(c, lam_s, (lam_p, pr, phase[c["aerosol"]]), frac,
                                    frac_above))
     obs_nodes = np.concatenate([[0.0], g["observer_height"], [_TOP]])

@@ -28,10 +28,12 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import shutil
 import subprocess
 import tempfile
 import threading
 import time
+import weakref
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
@@ -416,6 +418,11 @@ def _children_cpu() -> float:
     return r.ru_utime + r.ru_stime
 
 
+def _remove_folders(paths: list[str]) -> None:
+    while paths:
+        shutil.rmtree(paths.pop(), ignore_errors=True)
+
+
 def _cache_root(cache_dir) -> Path | None:
     if cache_dir is False:
         return None
@@ -454,6 +461,25 @@ class SixSRunner:
         self._lock = threading.Lock()
         self._memory: dict[str, dict[str, float]] = {}
         self._cpu0 = _children_cpu()
+        self._local = threading.local()
+        self._workdirs: list[str] = []
+        weakref.finalize(self, _remove_folders, self._workdirs)
+
+    def _workdir(self) -> str:
+        """This thread's working folder for 6S, made once and reused run after run (a fresh
+        temporary folder per run cost about as much Python time as parsing the report)."""
+        path = getattr(self._local, "cwd", None)
+        if path is None or not os.path.isdir(path):
+            path = tempfile.mkdtemp(prefix="radscene-6s-")
+            self._local.cwd = path
+            with self._lock:
+                self._workdirs.append(path)
+        return path
+
+    def close(self) -> None:
+        """Remove the working folders (also done when the runner is garbage-collected)."""
+        with self._lock:
+            _remove_folders(self._workdirs)
 
     # -- one case ---------------------------------------------------------------------------
     def _key(self, deck: str) -> str:
@@ -489,16 +515,15 @@ class SixSRunner:
 
     def _execute(self, case: SixSCase, deck: str) -> dict[str, float]:
         started = time.perf_counter()
-        with tempfile.TemporaryDirectory(prefix="radscene-6s-") as cwd:
-            try:
-                proc = subprocess.run([_binary()], input=deck.encode(), capture_output=True,
-                                      cwd=cwd, timeout=_TIMEOUT_S, check=False)
-            except subprocess.TimeoutExpired:
-                raise EngineError(f"6S ran past {_TIMEOUT_S:g} s for the case {case.label()}") \
-                    from None
-            except OSError as err:
-                raise EngineError(f"6S could not start ({err}); is libgfortran5 installed? "
-                                  f"case: {case.label()}") from None
+        try:
+            proc = subprocess.run([_binary()], input=deck.encode(), capture_output=True,
+                                  cwd=self._workdir(), timeout=_TIMEOUT_S, check=False)
+        except subprocess.TimeoutExpired:
+            raise EngineError(f"6S ran past {_TIMEOUT_S:g} s for the case {case.label()}") \
+                from None
+        except OSError as err:
+            raise EngineError(f"6S could not start ({err}); is libgfortran5 installed? "
+                              f"case: {case.label()}") from None
         if proc.returncode != 0:
             tail = (proc.stderr or proc.stdout).decode(errors="replace").strip()[-300:]
             hint = " (is libgfortran5 installed?)" if "libgfortran" in tail else ""
@@ -551,12 +576,16 @@ class SixSRunner:
                 if progress:
                     progress(i + 1, len(unique))
         else:
-            with ThreadPoolExecutor(max_workers=self.workers) as pool:
-                for i, (case, values) in enumerate(zip(unique, pool.map(self.run_one, unique),
-                                                       strict=True)):
-                    results[case] = values
-                    if progress:
-                        progress(i + 1, len(unique))
+            try:
+                with ThreadPoolExecutor(max_workers=self.workers) as pool:
+                    for i, (case, values) in enumerate(zip(unique,
+                                                           pool.map(self.run_one, unique),
+                                                           strict=True)):
+                        results[case] = values
+                        if progress:
+                            progress(i + 1, len(unique))
+            finally:  # the pool's threads are gone, and their folders with them
+                self.close()
         return [results[c] for c in cases]
 
     @property

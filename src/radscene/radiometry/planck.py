@@ -381,6 +381,29 @@ def _hermite(y, yk, uk, mk):
     )
 
 
+def _brightness_table(response: SpectralResponse):
+    """(ln L, 1/T, d(1/T)/d(ln L), largest L) of :func:`band_brightness_temperature`'s table.
+
+    Built once per response and kept with its quadrature rule (both are fixed once built).
+    """
+    table = response.__dict__.get("_brightness_table")
+    if table is not None:
+        return table
+    nodes, weights = response.quadrature()
+    t_min = C2 / (_TABLE_X_MAX * np.max(nodes) * _UM)
+    n = int(math.ceil(math.log(_TABLE_T_MAX / t_min) / _TABLE_LOG_STEP)) + 1
+    t_table = np.geomspace(t_min, _TABLE_T_MAX, n)
+    l_table = spectral_radiance(nodes, t_table[:, None]) @ weights
+    dl_table = radiance_temperature_derivative(nodes, t_table[:, None]) @ weights
+    keep = l_table > 0
+    t_table, l_table, dl_table = t_table[keep], l_table[keep], dl_table[keep]
+    yk, uk, mk = np.log(l_table), 1.0 / t_table, -l_table / (t_table**2 * dl_table)
+    for a in (yk, uk, mk):
+        a.flags.writeable = False
+    table = response.__dict__["_brightness_table"] = (yk, uk, mk, float(l_table[-1]))
+    return table
+
+
 def band_brightness_temperature(radiance, response: SpectralResponse):
     r"""Temperature of the blackbody with the given band radiance in a spectral response.
 
@@ -406,7 +429,7 @@ def band_brightness_temperature(radiance, response: SpectralResponse):
 
     Notes
     -----
-    Once per call, the band radiance :math:`L(T)` and :math:`dL/dT` are computed with the
+    Once per response (then kept with it), the band radiance :math:`L(T)` and :math:`dL/dT` are computed with the
     response's quadrature on a dense table (log step 0.008 in T, from the temperature where
     :math:`c_2 / \lambda_{max} T = 600` up to 1e6 K). The inverse :math:`u = 1/T` as a
     function of :math:`y = \ln L` is then interpolated by cubic Hermite polynomials with
@@ -429,20 +452,10 @@ def band_brightness_temperature(radiance, response: SpectralResponse):
             f"band radiance must be >= 0 W m-2 sr-1; got min {np.nanmin(rad)!r}",
             key="radiance",
         )
-    nodes, weights = response.quadrature()
-    t_min = C2 / (_TABLE_X_MAX * np.max(nodes) * _UM)
-    n = int(math.ceil(math.log(_TABLE_T_MAX / t_min) / _TABLE_LOG_STEP)) + 1
-    t_table = np.geomspace(t_min, _TABLE_T_MAX, n)
-    l_table = spectral_radiance(nodes, t_table[:, None]) @ weights
-    dl_table = radiance_temperature_derivative(nodes, t_table[:, None]) @ weights
-    keep = l_table > 0
-    t_table, l_table, dl_table = t_table[keep], l_table[keep], dl_table[keep]
-    yk = np.log(l_table)
-    uk = 1.0 / t_table
-    mk = -l_table / (t_table**2 * dl_table)
-    if np.any(rad[np.isfinite(rad)] > l_table[-1]):
+    yk, uk, mk, l_max = _brightness_table(response)
+    if np.any(rad[np.isfinite(rad)] > l_max):
         raise ConfigError(
-            f"band radiance above {l_table[-1]:.6g} W m-2 sr-1 (a {_TABLE_T_MAX:g} K "
+            f"band radiance above {l_max:.6g} W m-2 sr-1 (a {_TABLE_T_MAX:g} K "
             f"blackbody in {response.name!r}) is not accepted",
             key="radiance",
         )

@@ -253,11 +253,6 @@ def _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f, n
         values["thermal_emission"][sel] = emission * tex["emissivity"][sel, None]
 
 
-def _gather(table, material, nodes):
-    """Σ_j w_j table[m, :, idx_j] for each sample: (N, n_b); ``table`` is (n_m, n_b, n_j)."""
-    return node_mixing.mix_rows(table.transpose(0, 2, 1), material, nodes.index, nodes.weight)
-
-
 def _gather_band(table, nodes):
     """Σ_j w_j table[:, idx_j] for each sample: (N, n_b); ``table`` is (n_b, n_j)."""
     return node_mixing.mix_rows(table.T[None], np.zeros(len(nodes.index), dtype=np.int64),
@@ -319,7 +314,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     coef = bset.coefficients
     sky_nodes = bset.sky_nodes
 
-    sums = {name: np.zeros((n_b, n_pix)) for name in TERMS}
+    # the terms (term, band, pixel) and the transmittance: node_mixing.mix_terms writes them
+    acc = np.zeros((len(TERMS), n_b, n_pix))
+    sums = dict(zip(TERMS, acc, strict=True))
     transmittance = np.zeros((n_b, n_pix))
     truth_sum = {k: np.zeros(n_pix) for k in TRUTH_SUMS}
     # the sub-sample nearest each pixel centre labels ids and normals
@@ -364,7 +361,17 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
 
         ahead = 2  # tiles whose rays are queued while this thread works
         pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
-        emission = _emission_pairs(bset, hit_material, hit_temperature)
+        emission_pair, emission_tables = _emission_pairs(bset, hit_material, hit_temperature)
+        mix_tables = {  # (row, path node, band[, sky node]), as node_mixing.mix_terms takes them
+            "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
+            "sun_specular": coef.sun_specular.transpose(0, 2, 1),
+            "emission": np.stack(emission_tables, axis=-1),
+            "sky_diffuse": coef.sky_diffuse.transpose(0, 2, 1, 3),
+            "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
+            "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
+        mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
+        # one sample per pixel and no BRDF model: the terms go straight into the outputs
+        direct = per_pixel == 1 and bset.brdf is None
         for i, sl in enumerate(tiles):
             if i + ahead < len(tiles):
                 pending[i + ahead] = launch(tiles[i + ahead])
@@ -395,59 +402,48 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             hidx, rank, obj, mat, temp = st.hidx, st.rank, st.obj, st.mat, st.temp
             pos, nrm, wo, cos_v, cos_i = st.pos, st.nrm, st.wo, st.cos_v, st.cos_i
             tex = _textures(scene, obj, pos)
-            nodes = _subset_nodes(path_nodes_all, rank)
-            any_specular = bool(np.any(st.specular))
             n_hits = len(hidx)
-            diffuse = _gather(coef.sun_diffuse, mat, nodes)
-            lit, sky_f, lobe_f = job.result()
-            # --- terms ----------------------------------------------------------------------
-            if any_specular:
+            if np.any(st.specular):
                 mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
                 cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
                 lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
-                sun_specular = terms.sun_specular(_gather(coef.sun_specular, mat, nodes), lobe,
-                                                  lit, tex["reflectance"])
-                spec = np.flatnonzero(st.specular)
-                sky_specular = np.zeros((n_hits, n_b))
-                sky_specular[spec] = _sky_sum(coef.sky_specular, mat[spec],
-                                              _subset_nodes(nodes, spec), lobe_f[spec])
-            else:  # every coefficient of these materials is zero
-                sun_specular = np.zeros((n_hits, n_b))
-                sky_specular = None
-            values = {
-                "sun_diffuse": terms.sun_diffuse(diffuse, cos_i, lit, tex["reflectance"]),
-                "sun_specular": sun_specular,
-                "thermal_emission": terms.thermal_emission(
-                    _emission(emission, rank, nodes), tex["emissivity"]),
-                # terms.sky_reflected's sums over the sky nodes, without its (N, n_b, n_k) tables
-                "sky_reflected": (_sky_sum(coef.sky_diffuse, mat, nodes, sky_f) + (
-                    0.0 if sky_specular is None else sky_specular)) * tex["reflectance"][:, None],
-                "path_radiance": terms.path_radiance(_gather_band(coef.path, nodes)),
-            }
-            if bset.brdf is not None:
-                _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
-                            sky_f, nodes)
-            tau = _gather_band(coef.transmittance, nodes)
+            else:  # every specular coefficient of these materials is zero
+                lobe = np.zeros(n_hits)
             p = rays.pixel[hidx]
             wh = rays.weight[hidx]
+            lit, sky_f, lobe_f = job.result()
+            # --- terms (terms.py's, with the coefficients mixed between path nodes) ---------
+            if direct:
+                out, tau, out_pixel, out_weight = acc, transmittance, p, wh
+            else:  # per hit, then weighted and summed per pixel below
+                out, tau = np.empty((len(TERMS), n_b, n_hits)), np.empty((n_b, n_hits))
+                out_pixel, out_weight = np.arange(n_hits), np.ones(n_hits)
+            node_mixing.mix_terms(
+                out, tau, out_pixel, out_weight, rank, mat, emission_pair, path_nodes_all.index,
+                path_nodes_all.weight, cos_incidence=cos_i, lit=lit,
+                reflectance=tex["reflectance"], emissivity=tex["emissivity"], lobe=lobe,
+                specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f, **mix_tables)
+            if bset.brdf is not None:
+                values = {name: out[t].T for t, name in enumerate(TERMS)}
+                _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
+                            sky_f, _subset_nodes(path_nodes_all, rank))
             truth_rows = (cos_i, 1.0 - lit, sky_f.sum(axis=1), temp, hits.distance[hidx], None)
             if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
                 at = _as_slice(p)  # a tile of whole rows: plain slices
-                for name in TERMS:
-                    sums[name][:, at] = (values[name] if unit_weight
-                                         else values[name] * wh[:, None]).T
-                transmittance[:, at] = (tau if unit_weight else tau * wh[:, None]).T
+                if not direct:
+                    acc[:, :, at] = out if unit_weight else out * wh
+                    transmittance[:, at] = tau if unit_weight else tau * wh
                 for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
                     truth_sum[key][at] = wh if row is None else row if unit_weight else row * wh
             else:
-                rows = np.vstack([values[name].T for name in TERMS] + [tau.T] + [
-                    np.ones(len(p)) if row is None else row for row in truth_rows])
+                n_rows = len(TERMS) * n_b
+                rows = np.concatenate([out.reshape(n_rows, n_hits), tau, np.vstack(
+                    [np.ones(n_hits) if row is None else row for row in truth_rows])])
                 pixels, totals = _pixel_sums(p, wh, rows)
-                for t, name in enumerate(TERMS):
-                    sums[name][:, pixels] += totals[t * n_b:(t + 1) * n_b]
-                transmittance[:, pixels] += totals[len(TERMS) * n_b:(len(TERMS) + 1) * n_b]
+                acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
+                transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
                 for c, key in enumerate(TRUTH_SUMS):
-                    truth_sum[key][pixels] += totals[(len(TERMS) + 1) * n_b + c]
+                    truth_sum[key][pixels] += totals[n_rows + n_b + c]
             if per_pixel == 1:  # every sample is its pixel's central one
                 object_id[at], material_id[at], normal_map[:, at] = obj, mat, nrm.T
             else:
@@ -547,13 +543,6 @@ def _emission_pairs(bset, material, temperature):
     return index.ravel(), tables
 
 
-def _emission(pairs, rank, nodes):
-    """(N, n_b) Σ_j w_j ∫ S ε B(T) τ_a,j dλ for the hits of rank ``rank`` (_emission_pairs)."""
-    index, tables = pairs
-    return node_mixing.mix_rows(np.stack(tables, axis=-1), index[rank], nodes.index,
-                                nodes.weight)
-
-
 def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_temperature):
     """The state at the hits of one tile of samples, or None where the tile has none."""
     h = hit[sl]
@@ -627,7 +616,9 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     ny, nx = shape
     n_b = len(bands)
     cube = {name: s.reshape(n_b, ny, nx) for name, s in sums.items()}
-    total = sum(cube.values())
+    total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
+    for name in TERMS[1:]:
+        total += cube[name]
     thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
     if pool is not None:  # while the rest is assembled here
         bt_jobs = {b: pool.submit(band_brightness_temperature, total[b], bands[b].response)
@@ -636,7 +627,11 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     with np.errstate(invalid="ignore", divide="ignore"):
         mean = {k: np.where(hw > 0, v / hw, np.nan).reshape(ny, nx) for k, v in truth_sum.items()
                 if k != "hit_weight"}
-        tau_map = np.where(hw > 0, transmittance / hw, np.nan).reshape(n_b, ny, nx)
+    # the render's transmittance sums become the map in place (no second 8-band array)
+    tau_map = transmittance.reshape(n_b, ny, nx)
+    seen = (hw > 0).reshape(ny, nx)
+    np.divide(tau_map, hw.reshape(ny, nx), out=tau_map, where=seen)
+    tau_map[:, ~seen] = np.nan
     radiance_attrs = {"units": "W m-2 sr-1"}
     data = {
         "radiance": (("band", "y", "x"), total, {

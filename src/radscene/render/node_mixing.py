@@ -5,8 +5,11 @@ line-of-sight geometry of the atmosphere, :meth:`radscene.atmosphere.Atmosphere.
 each ray sample then mixes a few nodes with its weights. Done with numpy fancy indexing this
 builds (samples × bands × sky nodes) temporaries per node; these kernels write the mixed band
 values directly, skipping zero weights (the sky sum is a dense dot product over the sky nodes
-per band, which vectorises better than skipping zero fractions). The numpy expressions they
-replace are their oracle (tests/unit/test_node_mixing.py).
+per band, which vectorises better than skipping zero fractions). :func:`mix_terms` does the
+same mixing for every signature term of a tile of hits at once and multiplies in the terms'
+geometry (:mod:`radscene.render.terms`), writing each term into the render's (term, band,
+pixel) outputs: no per-term (samples × bands) arrays and no transposed copies. The numpy
+expressions they replace are their oracle (tests/unit/test_node_mixing.py).
 """
 
 from __future__ import annotations
@@ -14,44 +17,92 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["mix_rows", "mix_sky"]
+__all__ = ["mix_rows", "mix_sky", "mix_terms", "TERM_SLOTS"]
+
+
+@numba.njit(inline="always")
+def _row_sample(table, r, index, weight, h, b):
+    """Σ_s w_s table[r, idx[h, s], b] (zero weights skipped)."""
+    acc = 0.0
+    for s in range(index.shape[1]):
+        w = weight[h, s]
+        if w == 0.0:
+            continue
+        acc += w * table[r, index[h, s], b]
+    return acc
+
+
+@numba.njit(fastmath=True)  # not inlined: its callers' flags would replace fastmath
+def _sky_sample(table, r, index, weight, h, fractions, i, b):
+    """Σ_s w_s Σ_k table[r, idx[h, s], b, k] F[i, k] (zero weights skipped)."""
+    acc = 0.0
+    for s in range(index.shape[1]):
+        w = weight[h, s]
+        if w == 0.0:
+            continue
+        j = index[h, s]
+        dot = 0.0
+        for k in range(table.shape[3]):
+            dot += fractions[i, k] * table[r, j, b, k]
+        acc += w * dot
+    return acc
 
 
 @numba.njit(parallel=True, cache=True)
 def _mix_rows(table, row, index, weight, out):
-    n, n_s = index.shape
-    n_b = table.shape[2]
-    for i in numba.prange(n):
-        r = row[i]
-        for b in range(n_b):
-            out[i, b] = 0.0
-        for s in range(n_s):
-            w = weight[i, s]
-            if w == 0.0:
-                continue
-            j = index[i, s]
-            for b in range(n_b):
-                out[i, b] += w * table[r, j, b]
+    for i in numba.prange(index.shape[0]):
+        for b in range(table.shape[2]):
+            out[i, b] = _row_sample(table, row[i], index, weight, i, b)
 
 
 @numba.njit(parallel=True, cache=True, fastmath=True)
 def _mix_sky(table, row, index, weight, fractions, out):
-    n, n_s = index.shape
-    n_b, n_k = table.shape[2], table.shape[3]
-    for i in numba.prange(n):
-        r = row[i]
-        for b in range(n_b):
-            acc = 0.0
-            for s in range(n_s):
-                w = weight[i, s]
-                if w == 0.0:
-                    continue
-                j = index[i, s]
-                dot = 0.0
-                for k in range(n_k):
-                    dot += fractions[i, k] * table[r, j, b, k]
-                acc += w * dot
-            out[i, b] = acc
+    for i in numba.prange(index.shape[0]):
+        for b in range(table.shape[2]):
+            out[i, b] = _sky_sample(table, row[i], index, weight, i, fractions, i, b)
+
+
+#: Slots of :func:`mix_terms`'s output: the signature terms, in the renderer's order.
+TERM_SLOTS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected",
+              "path_radiance")
+
+
+#: Hits per parallel work item of :func:`mix_terms`. Its outputs are rows a whole image apart,
+#: which share cache sets: writing them hit by hit would evict a line per value, so each
+#: item writes run after run of one band's values.
+_TERM_CHUNK = 256
+
+
+@numba.njit(parallel=True, cache=True)
+def _mix_terms(rank, material, pair, index, weight, cos_i, lit, tex_r, tex_e, lobe, specular,
+               sky_f, lobe_f, sun_d, sun_s, emission, sky_d, sky_s, path, tau, pixel,
+               pixel_weight, out, tau_out):
+    n = rank.shape[0]
+    for c in numba.prange((n + _TERM_CHUNK - 1) // _TERM_CHUNK):
+        lo, hi = c * _TERM_CHUNK, min(n, (c + 1) * _TERM_CHUNK)
+        geometry = np.empty(hi - lo)
+        glint = np.empty(hi - lo)
+        for i in range(lo, hi):
+            geometry[i - lo] = max(cos_i[i], 0.0) * lit[i] * tex_r[i]
+            glint[i - lo] = lobe[i] * lit[i] * tex_r[i]
+        for b in range(sun_d.shape[2]):
+            for i in range(lo, hi):
+                h = rank[i]
+                m = material[i]
+                p = pixel[i]
+                pw = pixel_weight[i]
+                sun_specular = 0.0
+                sky = _sky_sample(sky_d, m, index, weight, h, sky_f, i, b)
+                if specular[i]:
+                    sun_specular = _row_sample(sun_s, m, index, weight, h, b) * glint[i - lo]
+                    sky += _sky_sample(sky_s, m, index, weight, h, lobe_f, i, b)
+                out[0, b, p] = _row_sample(sun_d, m, index, weight, h, b) * geometry[i - lo] * pw
+                out[1, b, p] = sun_specular * pw
+                out[2, b, p] = (_row_sample(emission, pair[h], index, weight, h, b) * tex_e[i]
+                                * pw)
+                out[3, b, p] = sky * tex_r[i] * pw
+                out[4, b, p] = _row_sample(path, 0, index, weight, h, b) * pw
+                tau_out[b, p] = _row_sample(tau, 0, index, weight, h, b) * pw
 
 
 def _run(kernel, table, row, index, weight, *extra) -> np.ndarray:
@@ -99,3 +150,63 @@ def mix_sky(table, row, index, weight, fractions) -> np.ndarray:
         (N, n_b) float64.
     """
     return _run(_mix_sky, table, row, index, weight, fractions)
+
+
+def _f64(a):
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _i64(a):
+    return np.ascontiguousarray(a, dtype=np.int64)
+
+
+def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair, index, weight,
+              *, cos_incidence, lit, reflectance, emissivity, lobe, specular, sky_fractions,
+              lobe_fractions, sun_diffuse, sun_specular, emission, sky_diffuse, sky_specular, path,
+              transmittance) -> None:
+    """The signature terms of a tile of hits, written straight into ``out``.
+
+    For hit ``i`` of the tile, ``out[t, b, pixel[i]] = term_t[b] * pixel_weight[i]``, ``t``
+    running over :data:`TERM_SLOTS`, and ``transmittance_out[b, pixel[i]]`` the same for the
+    path transmittance; the terms are those of :mod:`radscene.render.terms`
+    with their band coefficients mixed between path nodes as :func:`mix_rows` and
+    :func:`mix_sky` do (the same sums in the same order):
+
+    * sun_diffuse: mix(sun_diffuse[m]) · max(cos θ_i, 0) · lit · Δρ
+    * sun_specular: mix(sun_specular[m]) · lobe · lit · Δρ where ``specular``, else 0
+    * thermal_emission: mix(emission[pair]) · Δε
+    * sky_reflected: (mix_sky(sky_diffuse[m], F) + mix_sky(sky_specular[m], G) where
+      ``specular``) · Δρ
+    * path_radiance: mix(path); the transmittance: mix(transmittance)
+
+    Parameters
+    ----------
+    out : (5, n_b, P) float64 — written at the tile's pixels only
+    transmittance_out : (n_b, P) float64 — the same
+    pixel : (N,) int — each hit's column of ``out``; distinct (hits run in parallel)
+    pixel_weight : (N,) float — each hit's weight in its pixel
+    rank : (N,) int — each hit's row of ``pair``, ``index`` and ``weight``
+    material : (N,) int — each hit's material
+    pair : (H,) int — each hit's row of ``emission`` (its material and temperature)
+    index, weight : (H, S) — path nodes and weights of every hit, as in :func:`mix_rows`
+    cos_incidence, lit, reflectance, emissivity, lobe : (N,) float — cos θ_i, 1 where sunlit,
+        Δρ, Δε, the Phong lobe (n+1)/(2π) cosⁿ θ_r
+    specular : (N,) bool — the hit's material has a specular part
+    sky_fractions, lobe_fractions : (N, n_k) float — F_k and G_k
+    sun_diffuse, sun_specular : (n_m, n_j, n_b); emission : (n_pairs, n_j, n_b)
+    sky_diffuse, sky_specular : (n_m, n_j, n_b, n_k)
+    path, transmittance : (1, n_j, n_b)
+    """
+    for name, a, shape in (("out", out, (len(TERM_SLOTS),) + transmittance_out.shape),
+                           ("transmittance_out", transmittance_out, out.shape[1:])):
+        if a.shape != shape or a.dtype != np.float64 or not a.flags.writeable:
+            raise ValueError(f"{name} must be a writable float64 array of shape {shape}; got "
+                             f"{a.dtype} {a.shape}")
+    if len(rank) == 0:
+        return
+    _mix_terms(_i64(rank), _i64(material), _i64(pair), _i64(index), _f64(weight),
+               _f64(cos_incidence), _f64(lit), _f64(reflectance), _f64(emissivity), _f64(lobe),
+               np.ascontiguousarray(specular, dtype=np.bool_), _f64(sky_fractions),
+               _f64(lobe_fractions), _f64(sun_diffuse), _f64(sun_specular), _f64(emission),
+               _f64(sky_diffuse), _f64(sky_specular), _f64(path), _f64(transmittance), _i64(pixel),
+               _f64(pixel_weight), out, transmittance_out)
