@@ -270,6 +270,26 @@ class SunDependentAtmosphere(Atmosphere):
     sun_azimuth: float = 0.0
     view_azimuth: float | None = None
 
+    def _set_geometry(self, surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
+                      view_azimuth) -> None:
+        """Check and keep the settings every such engine takes: albedo, distance, sun, view."""
+        from radscene.errors import ConfigError
+
+        albedo = float(surface_albedo)
+        if not 0.0 <= albedo <= 1.0:
+            raise ConfigError(f"must lie in [0, 1]; got {surface_albedo!r}",
+                              key="atmosphere.surface_albedo")
+        self.surface_albedo = albedo
+        d = float(earth_sun_distance)
+        if not d > 0:
+            raise ConfigError("must be > 0 AU", key="atmosphere.earth_sun_distance")
+        self.earth_sun_distance = d
+        self.view_azimuth = None if view_azimuth is None else float(view_azimuth)
+        self.sun_zenith = None
+        self.sun_azimuth = 0.0
+        if sun_zenith is not None:
+            self.set_sun(sun_zenith, sun_azimuth)
+
     def set_sun(self, sun_zenith, sun_azimuth=0.0) -> None:
         """Set the sun position [deg] used by :meth:`path`."""
         from radscene.errors import ConfigError

@@ -196,20 +196,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             self._ia = match[0]
         self.aerosol = aer
         self.visibility = float(vis[self._ia])
-        albedo = float(surface_albedo)
-        if not 0.0 <= albedo <= 1.0:
-            raise ConfigError(f"must lie in [0, 1]; got {surface_albedo!r}",
-                              key="atmosphere.surface_albedo")
-        self.surface_albedo = albedo
-        d = float(earth_sun_distance)
-        if not d > 0:
-            raise ConfigError("must be > 0 AU", key="atmosphere.earth_sun_distance")
-        self.earth_sun_distance = d
-        self.view_azimuth = None if view_azimuth is None else float(view_azimuth)
-        self.sun_zenith = None
-        self.sun_azimuth = 0.0
-        if sun_zenith is not None:
-            self.set_sun(sun_zenith, sun_azimuth)
+        self._set_geometry(surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
+                           view_azimuth)
         self._prepare()
 
     # -- tables ------------------------------------------------------------------------------

@@ -208,23 +208,11 @@ class SixSAtmosphere(SunDependentAtmosphere):
         if multiple_scattering is not True:
             raise ConfigError("6S always computes multiple scattering; only true is accepted",
                               key="atmosphere.multiple_scattering")
-        albedo = float(surface_albedo)
-        if not 0.0 <= albedo <= 1.0:
-            raise ConfigError(f"must lie in [0, 1]; got {surface_albedo!r}",
-                              key="atmosphere.surface_albedo")
-        self.surface_albedo = albedo
-        d = float(earth_sun_distance)
-        if not d > 0:
-            raise ConfigError("must be > 0 AU", key="atmosphere.earth_sun_distance")
-        self.earth_sun_distance = d
         self.solar_spectrum = _choice(solar_spectrum, ("radscene", "6s"),
                                       "atmosphere.solar_spectrum")
         self.spectral = _choice(spectral, ("interpolated", "direct"), "atmosphere.spectral")
-        self.view_azimuth = None if view_azimuth is None else float(view_azimuth)
-        self.sun_zenith = None
-        self.sun_azimuth = 0.0
-        if sun_zenith is not None:
-            self.set_sun(sun_zenith, sun_azimuth)
+        self._set_geometry(surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
+                           view_azimuth)
         self.runner = SixSRunner(workers=workers, cache_dir=cache)
 
     # -- settings ---------------------------------------------------------------------------
