@@ -74,10 +74,11 @@ def test_conditions_accept_units_and_mixtures():
     assert dict(c["aerosol"]) == {"dust": 0.3, "water": 0.0, "oceanic": 0.7, "soot": 0.0}
 
 
-@pytest.mark.parametrize("angle", [3.0, 10.0, 60.0, 120.0, 180.0])
+@pytest.mark.parametrize("angle", [3.0, 10.0, 60.0, 89.0, 90.0, 120.0, 180.0])
 def test_phase_geometry_gives_the_asked_scattering_angle(angle):
-    zen, phi = phase_geometry(angle)
-    assert scattering_angle_view(zen, zen, phi) == pytest.approx(angle, abs=1e-6)
+    sun, view, phi = phase_geometry(angle)
+    assert scattering_angle_view(sun, view, phi) == pytest.approx(angle, abs=1e-6)
+    assert (sun == 0.0) == (angle >= 90.0)
 
 
 def test_nodes_and_azimuths(no_runs):

@@ -13,7 +13,8 @@ radiance alone 5.3 %), 3 km above a surface at 500 m within 0.9 % (8.3 %). The a
 levels of the database are 6S runs at ``grid.coarse_zenith`` and ``grid.ratio_wavelengths``
 only (the "reduced" build); with the earlier coarse grid (zeniths 0, 60, 85 deg; 0.44, 0.67,
 1.65 um) the aircraft was 1.2 % off, 0.9 % of it already at the table's own nodes (4 km,
-40 deg), so the fix was to run those levels at 40 deg and at 0.55 and 0.87 um too.
+40 deg), so the fix was to run those levels at 40 deg and at 0.55 and 0.87 um too (now 6S's own
+0.86 um, and 0.4425 for 0.44: the worst band errors moved by at most 0.02 points).
 """
 
 from __future__ import annotations

@@ -17,8 +17,13 @@
    reflectance ρ(θ_s, θ_v) = ρ(θ_v, θ_s) (6S keeps it to 0.5 %) — and fills the other surface
    altitudes and observer heights from runs on a coarse angular grid at a few wavelengths:
    the ratios to the top of the multiple-scattering factors ρ / ρ_ss (molecules and aerosol
-   apart) and of the diffuse shares of the transmittances, which are smooth there;
-3. the aerosol phase functions at fixed scattering angles, for the sky model;
+   apart) and of the diffuse shares of the transmittances, which are smooth there. The
+   ratio wavelengths are 6S's own, so the reference level's runs are cases of the main grid
+   (run once); levels seen from the top of the atmosphere use reciprocity too. Each run puts
+   the smaller zenith on the sun's side: with the sun at the zenith 6S needs one azimuthal
+   term and runs in 0.03 s instead of 0.4-0.6 s with an aerosol;
+3. the aerosol phase functions at fixed scattering angles, for the sky model (backward
+   angles with the sun at the zenith, for the same reason);
 4. optionally the **thermal** tables with any emitting engine that implements
    :class:`~radscene.atmosphere.base.Atmosphere` (``thermal.engine: lowtran``): transmittance
    and path thermal radiance over (surface altitude, observer height, view zenith) and the
@@ -40,7 +45,7 @@ Configuration (YAML or dict; every key optional)::
       sun_zenith: [0, 40, 60, 75, 85]            # deg
       view_zenith: [0, 40, 60, 75, 85]           # deg
       coarse_zenith: [0, 40, 60, 85]             # deg, ratio tables
-      ratio_wavelengths: [0.44, 0.55, 0.67, 0.87, 1.65]  # um, ratio tables
+      ratio_wavelengths: [0.4425, 0.55, 0.67, 0.86, 1.65]  # um, ratio tables (6S nodes)
       phase_wavelengths: [0.4, 0.55, 0.86, 1.24, 2.25, 3.75]  # um, phase functions
       airmass_pairs: [[0, 48.19], [60, 70.53], [75.52, 81.79], [85, 88]]  # gas runs (sun, view)
       partial_zenith: [0, 80]                    # deg, gas below an aircraft observer
@@ -97,7 +102,7 @@ DEFAULT_CONFIG: dict = {
         # path reflectance was 3 % off 6S at the table's own nodes (tests/validation/
         # test_database_accuracy.py)
         "coarse_zenith": [0.0, 40.0, 60.0, 85.0],
-        "ratio_wavelengths": [0.44, 0.55, 0.67, 0.87, 1.65],
+        "ratio_wavelengths": [0.4425, 0.55, 0.67, 0.86, 1.65],
         "phase_wavelengths": [0.4, 0.55, 0.86, 1.24, 2.25, 3.75],
         "airmass_pairs": [[0.0, 48.19], [60.0, 70.53], [75.52, 81.79], [85.0, 88.0]],
         "partial_zenith": [0.0, 80.0],
@@ -399,10 +404,10 @@ class _Builder:
         cases = []
         for aer in models:
             for angle in PHASE_ANGLES:
-                t0, phi = phase_geometry(angle)
+                zs, zv, phi = phase_geometry(angle)
                 for w in lam_p:
-                    cases.append(self.case(w, aerosol=aer, visibility=23.0, sun_zenith=t0,
-                                           view_zenith=t0, view_azimuth=phi))
+                    cases.append(self.case(w, aerosol=aer, visibility=23.0, sun_zenith=zs,
+                                           view_zenith=zv, view_azimuth=phi))
         vals = iter(self.run("phase functions", cases))
         pr = np.zeros((len(PHASE_ANGLES), lam_p.size))
         out = {}
@@ -525,13 +530,22 @@ class _Builder:
         hs, obs = g["surface_altitude"], g["observer_height"]
         zs, zv, zc = g["sun_zenith"], g["view_zenith"], g["coarse_zenith"]
         lam_r = np.asarray(g["ratio_wavelengths"], dtype=float)
-        angles = self._angle_set(zc, zc, False)
         top = len(obs) + 1
         base = (0, top, "satellite")
         levels = [lv for lv in self._levels()
                   if lv[1] == top or lv[0] == 0]  # higher surfaces at the top; aircraft at 0
+
+        def angles_of(level):
+            # seen from the top of the atmosphere, path reflectance is reciprocal in the sun
+            # and view zeniths, and the upward and downward transmittances of the full column
+            # are one function: half of the angle pairs give all of them
+            return self._angle_set(zc, zc, level[2] == "satellite")
+
+        # the base level at 6S's discrete wavelengths repeats cases of the main grid, which
+        # the runner does not run twice
         cases = [self._scatter_case(cond, w, hs[ih], sensor, a, b, p)
-                 for (ih, _, sensor) in [base] + levels for w in lam_r for (a, b, p) in angles]
+                 for (ih, _, sensor) in [base] + levels for w in lam_r
+                 for (a, b, p) in angles_of((ih, _, sensor))]
         vals = iter(self.run(f"scattering {_condition_name(cond)} (ratios)", cases))
         n_c, n_r = len(zc), lam_r.size
         izc = {z: i for i, z in enumerate(zc)}
@@ -540,14 +554,19 @@ class _Builder:
             d = {k: np.zeros((n_r, n_c, n_c, 3)) for k in ("mix", "ray")}
             d.update(td=np.zeros((n_r, n_c)), tu=np.zeros((n_r, n_c)), sa=np.zeros(n_r),
                      ta=np.zeros(n_r), tr=np.zeros(n_r), om=np.ones(n_r), tp=np.zeros(n_r))
+            reciprocal = lev[2] == "satellite"
             for j in range(n_r):
-                for (a, b, p) in angles:
+                for (a, b, p) in angles_of(lev):
                     v = next(vals)
                     sel = slice(None) if (a == 0.0 or b == 0.0) else _AZIMUTHS.index(p)
-                    d["mix"][j, izc[a], izc[b], sel] = v["apparent_reflectance"]
-                    d["ray"][j, izc[a], izc[b], sel] = v["reflectance_I.rayleigh"]
+                    for aa, bb in [(a, b)] + ([(b, a)] if reciprocal and a != b else []):
+                        d["mix"][j, izc[aa], izc[bb], sel] = v["apparent_reflectance"]
+                        d["ray"][j, izc[aa], izc[bb], sel] = v["reflectance_I.rayleigh"]
                     d["td"][j, izc[a]] = v["total_scattering.downward"]
                     d["tu"][j, izc[b]] = v["total_scattering.upward"]
+                    if reciprocal:
+                        d["td"][j, izc[b]] = v["total_scattering.upward"]
+                        d["tu"][j, izc[a]] = v["total_scattering.downward"]
                     d["sa"][j] = v["spherical_albedo.total"]
                     d["ta"][j] = v["optical_depth_total.aerosol"]
                     d["tr"][j] = v["optical_depth_total.rayleigh"]

