@@ -181,3 +181,14 @@ def test_with_sun_copies_and_checks_the_sun(db):
         db.with_sun(181.0, 0.0)
     with pytest.raises(ConfigError, match="sun_azimuth"):
         db.with_sun(30.0, float("nan"))
+
+
+def test_path_reflectances_are_never_negative():
+    """Every stored path reflectance, molecules and mixture, at every level, is ≥ 0 (the
+    aircraft levels are interpolated from ratios; where the aerosol's share changes sign the
+    mixture's own ratio is used, see radscene.atmosphere.build)."""
+    ds = open_database()
+    for name in ("rho_mixture", "rho_rayleigh"):
+        values = ds[name].values
+        assert np.all(np.isfinite(values)), name
+        assert values.min() >= 0.0, name

@@ -584,7 +584,8 @@ class _Builder:
             return float(np.interp(obs_nodes[ix], g["rayleigh_heights"], frac[ih]))
 
         def ss(lam, zs_, zv_, tau_r, tau_a, om, ih, ix, kind):
-            """Single scattering of the molecules ("ray") or of the aerosol ("aer") alone."""
+            """Single scattering of the molecules ("ray"), of the aerosol alone ("aer") or of
+            the mixture ("mix")."""
             prs = model.loglog_interp(lam, lam_p, pr_p)
             pas = model.loglog_interp(lam, lam_p, pa_p)
             if kind == "aer":
@@ -592,6 +593,9 @@ class _Builder:
             return model.single_scattering_grid(zs_, zv_, _AZIMUTHS, PHASE_ANGLES, prs, pas,
                                                 tau_r, tau_a, om, fr_of(ih, ix), x_nodes[ix],
                                                 kind == "ray")
+
+        def component(table, kind):
+            return table["mix"] - table["ray"] if kind == "aer" else table[kind]
 
         def ratio(num, den):
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -636,26 +640,28 @@ class _Builder:
         q_top_down = diffuse_share(t["t_down"][:, 0], t["tau_r"][:, 0] + t["tau_a"][:, 0], mu_s)
 
         def fill_rho(ih, ix, d):
-            """ρ_R and ρ_R+A at a level from the ratios of ρ / ρ_ss to the top's, the
-            molecules and the aerosol (ρ_R+A - ρ_R) each normalised by its own single
-            scattering."""
+            """ρ_R and ρ_R+A at a level from the ratios of ρ / ρ_ss to the top's: the
+            molecules and the aerosol's share ρ_R+A - ρ_R each normalised by its own single
+            scattering. That share changes sign where the aerosol dims more of the molecules'
+            light than it adds (long slant paths through haze); wherever it is not positive
+            at every coarse node an entry is interpolated from, the mixture's own ratio
+            (normalised by the mixture's single scattering) takes its place."""
             parts = {}
-            for kind in ("ray", "aer"):
-                lev_c = d["ray"] if kind == "ray" else d["mix"] - d["ray"]
-                ref_c = ref["ray"] if kind == "ray" else ref["mix"] - ref["ray"]
-                r = ratio(ratio(lev_c, ss(lam_r, zc, zc, d["tr"], d["ta"], d["om"], ih, ix,
-                                          kind)),
-                          ratio(ref_c, ss(lam_r, zc, zc, ref["tr"], ref["ta"], ref["om"], 0, top,
-                                          kind)))
-                top_dense = (t["ray"][:, 0, top] if kind == "ray"
-                             else t["mix"][:, 0, top] - t["ray"][:, 0, top])
+            for kind in ("ray", "aer", "mix"):
+                r = ratio(ratio(component(d, kind), ss(lam_r, zc, zc, d["tr"], d["ta"], d["om"],
+                                                       ih, ix, kind)),
+                          ratio(component(ref, kind), ss(lam_r, zc, zc, ref["tr"], ref["ta"],
+                                                         ref["om"], 0, top, kind)))
                 ss_lev = ss(lam_s, zs, zv, t["tau_r"][:, ih], t["tau_a"][:, ih], t["omega"], ih,
                             ix, kind)
                 ss_ref = ss(lam_s, zs, zv, t["tau_r"][:, 0], t["tau_a"][:, 0], t["omega"], 0,
                             top, kind)
+                top_dense = component({k: t[k][:, 0, top] for k in ("ray", "mix")}, kind)
                 parts[kind] = ratio(top_dense, ss_ref) * onto_dense(r, [(1, zs), (2, zv)]) * ss_lev
+            positive = ((component(d, "aer") > 0) & (component(ref, "aer") > 0)).astype(float)
+            safe = onto_dense(positive, [(1, zs), (2, zv)]) > 1.0 - 1e-9
             t["ray"][:, ih, ix] = parts["ray"]
-            t["mix"][:, ih, ix] = parts["ray"] + parts["aer"]
+            t["mix"][:, ih, ix] = np.where(safe, parts["ray"] + parts["aer"], parts["mix"])
 
         # the lowest surface first, then the higher ones (their aircraft levels use them)
         for (ih, ix, _sensor) in sorted(levels, key=lambda lv: (lv[0], -lv[1])):
@@ -682,10 +688,9 @@ class _Builder:
                 qht = diffuse_share(t["t_up"][:, ih, top], tau_layer(ih, top), mu_v)
                 t["t_up"][:, ih, ix] = from_share(qht * ratio(q0x, q0t), tau_layer(ih, ix), mu_v)
                 parts = {}
-                for kind in ("ray", "aer"):
+                for kind in ("ray", "aer", "mix"):
                     def comp(ih_, ix_, kind=kind):
-                        return (t["ray"][:, ih_, ix_] if kind == "ray"
-                                else t["mix"][:, ih_, ix_] - t["ray"][:, ih_, ix_])
+                        return component({k: t[k][:, ih_, ix_] for k in ("ray", "mix")}, kind)
 
                     def ss_at(ih_, ix_, kind=kind):
                         return ss(lam_s, zs, zv, t["tau_r"][:, ih_], t["tau_a"][:, ih_],
@@ -693,8 +698,10 @@ class _Builder:
 
                     r = ratio(ratio(comp(0, ix), ss_at(0, ix)), ratio(comp(0, top), ss_at(0, top)))
                     parts[kind] = ratio(comp(ih, top), ss_at(ih, top)) * r * ss_at(ih, ix)
+                safe = ((comp(0, ix, "aer") > 0) & (comp(0, top, "aer") > 0)
+                        & (comp(ih, top, "aer") > 0))
                 t["ray"][:, ih, ix] = parts["ray"]
-                t["mix"][:, ih, ix] = parts["ray"] + parts["aer"]
+                t["mix"][:, ih, ix] = np.where(safe, parts["ray"] + parts["aer"], parts["mix"])
 
 
 def _shape(f, axis, ndim):
