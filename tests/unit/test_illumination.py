@@ -148,3 +148,40 @@ def test_cast_shadow_fast_path_equals_the_checked_query(tracer):
     assert 0.0 < lit.mean() < 1.0
     assert tracer.to_local(origins) is None  # the last point took the checked path
     assert np.array_equal(illumination.cast_shadow(tracer, origins[:-1], sun), expected[:-1])
+
+
+@pytest.mark.parametrize("grid", [np.array([0.0, 30.0, 60.0, 90.0]),
+                                  (np.array([0.0, 45.0, 90.0]), np.array([0.0, 90.0, 180.0, 270.0]))],
+                         ids=["zenith", "zenith-azimuth"])
+def test_folded_sky_sums_equal_fractions_times_tables(tracer, grid):
+    """illumination.sky_sums against sky_fractions followed by node_mixing.mix_sky, with the
+    same rotations: several materials, path nodes with two weights per point, three bands."""
+    from radscene.render.node_mixing import mix_sky
+
+    origins, normals = _points(500, seed=6)
+    n = len(origins)
+    rng = np.random.default_rng(2)
+    n_k = len(grid) if not isinstance(grid, tuple) else grid[0].size * grid[1].size
+    table = rng.random((3, 5, 3, n_k))  # (materials, path nodes, bands, sky nodes)
+    rank = rng.permutation(n)  # hits' rows of index/weight in another order
+    index = rng.integers(0, 5, (n, 2))
+    weight = rng.random((n, 2))
+    weight[::7, 1] = 0.0
+    material = rng.integers(0, 3, n)
+    shift = rng.random((n, 2))
+    f = illumination.sky_fractions(tracer, origins, normals, 16, grid, None, shift=shift)
+    sums, view = illumination.sky_sums(tracer, origins, normals, 16, grid, None, rank=rank,
+                                       material=material, index=index, weight=weight,
+                                       table=table, shift=shift)
+    want = np.empty((n, 3))
+    for m in range(3):
+        sel = material == m
+        want[sel] = mix_sky(table[m][None], np.zeros(sel.sum(), int), index[rank[sel]],
+                            weight[rank[sel]], f[sel])
+    assert sums == pytest.approx(want, rel=1e-12, abs=1e-15)
+    assert view == pytest.approx(f.sum(axis=1), rel=1e-12, abs=1e-15)
+    assert view.min() < 0.95  # the box hides part of the sky from some points
+    with pytest.raises(ValueError, match="table must be"):
+        illumination.sky_sums(tracer, origins, normals, 16, grid, None, rank=rank,
+                              material=material, index=index, weight=weight,
+                              table=table[..., :-1], shift=shift)

@@ -16,6 +16,7 @@ __all__ = [
     "stratified_square",
     "cast_shadow",
     "sky_fractions",
+    "sky_sums",
     "lobe_sky_fractions",
     "sky_fractions_reference",
     "lobe_sky_fractions_reference",
@@ -152,15 +153,12 @@ def lobe_sky_fractions_reference(tracer, origins, normals, axes, exponents, n_sa
     return _visible_fractions(tracer, origins, directions, above_surface, zenith_nodes)
 
 
-def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes, rng,
-                   check_normal, shift=None, scratch=None):
+def _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift, scratch):
+    """Generate and trace one fan per point: (occluded (N·n,), float32 directions (N·n, 3),
+    float64 normals (N, 3))."""
     from radscene.render import kernels
 
     n = len(origins)
-    zen_nodes, az_nodes = _node_grids(zenith_nodes)
-    out = np.zeros((n, zen_nodes.size * az_nodes.size))
-    if n == 0:
-        return out
     if shift is None:
         shift = rng.random((n, 2))
     elif np.shape(shift) != (n, 2):
@@ -172,9 +170,70 @@ def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes
     pos = np.ascontiguousarray(origins, dtype=np.float64)
     nrm = np.ascontiguousarray(normals, dtype=np.float64)
     fan(pos, nrm, *extra, tracer.center, 0.0, shift, base, side, o32, d32)
-    occluded = tracer.occluded_local(o32, d32)
+    return tracer.occluded_local(o32, d32), d32, nrm
+
+
+def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes, rng,
+                   check_normal, shift=None, scratch=None):
+    from radscene.render import kernels
+
+    n = len(origins)
+    zen_nodes, az_nodes = _node_grids(zenith_nodes)
+    out = np.empty((n, zen_nodes.size * az_nodes.size))
+    if n == 0:
+        return out
+    occluded, d32, nrm = _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift,
+                                    scratch)
     kernels.fold_fractions(occluded, d32, nrm, check_normal, zen_nodes, az_nodes, n_samples, out)
     return out
+
+
+def sky_sums(tracer, origins, normals, n_samples, sky_nodes, rng, *, rank, material, index,
+             weight, table, shift=None, scratch=None):
+    """The reflected-sky band sums and the sky-view factor of each point, from the same fan
+    as :func:`sky_fractions`, without storing the fractions.
+
+    ``sums[i, b] = Σ_s weight[h, s] Σ_k F_ik table[material[i], index[h, s], b, k]`` with
+    ``h = rank[i]`` and F the fractions :func:`sky_fractions` returns for the same arguments;
+    ``view[i] = Σ_k F_ik``. With ~100 sky nodes F is larger than everything else a tile holds:
+    folding each point's fan straight into its band sums keeps it in cache.
+
+    Parameters
+    ----------
+    tracer, origins, normals, n_samples, sky_nodes, rng, shift, scratch
+        As for :func:`sky_fractions`.
+    rank : (N,) int — each point's row of ``index`` and ``weight``
+    material : (N,) int — each point's row of ``table``
+    index, weight : (H, S) — path nodes and their weights, as
+        :func:`radscene.render.node_mixing.mix_sky` takes them
+    table : (n_m, n_j, n_b, K) — band sky coefficients per material, path node, band, sky node
+
+    Returns
+    -------
+    sums : numpy.ndarray
+        Shape (N, n_b).
+    view : numpy.ndarray
+        Shape (N,).
+    """
+    from radscene.render import kernels
+
+    n = len(origins)
+    zen_nodes, az_nodes = _node_grids(sky_nodes)
+    table = np.ascontiguousarray(table, dtype=np.float64)
+    if table.ndim != 4 or table.shape[3] != zen_nodes.size * az_nodes.size:
+        raise ValueError(f"table must be (materials, path nodes, bands, "
+                         f"{zen_nodes.size * az_nodes.size}); got {table.shape}")
+    sums, view = np.empty((n, table.shape[2])), np.empty(n)
+    if n == 0:
+        return sums, view
+    occluded, d32, nrm = _trace_fan(tracer, kernels.cosine_fan, origins, normals, (), n_samples,
+                                    rng, shift, scratch)
+    kernels.fold_sky_sums(occluded, d32, nrm, False, zen_nodes, az_nodes, n_samples,
+                          np.ascontiguousarray(rank, dtype=np.int64),
+                          np.ascontiguousarray(material, dtype=np.int64),
+                          np.ascontiguousarray(index, dtype=np.int64),
+                          np.ascontiguousarray(weight, dtype=np.float64), table, sums, view)
+    return sums, view
 
 
 def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng, *, shift=None,

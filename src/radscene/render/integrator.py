@@ -357,10 +357,8 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             shifts = (rng.random((len(state.mat), 2)),
                       rng.random((n_specular, 2)) if n_specular else None)
             return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
-                                        sun_dir, shifts, scratch)
+                                        sun_dir, shifts, scratch, fused_sky)
 
-        ahead = 2  # tiles whose rays are queued while this thread works
-        pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
         emission_pair, emission_tables = _emission_pairs(bset, hit_material, hit_temperature)
         mix_tables = {  # (row, path node, band[, sky node]), as node_mixing.mix_terms takes them
             "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
@@ -370,6 +368,12 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
             "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
         mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
+        # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
+        # sky fan is folded straight into it on the worker thread
+        fused_sky = None if bset.brdf is not None else (
+            mix_tables["sky_diffuse"], path_nodes_all.index, path_nodes_all.weight)
+        ahead = 2  # tiles whose rays are queued while this thread works
+        pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
         # one sample per pixel and no BRDF model: the terms go straight into the outputs
         direct = per_pixel == 1 and bset.brdf is None
         for i, sl in enumerate(tiles):
@@ -411,7 +415,11 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                 lobe = np.zeros(n_hits)
             p = rays.pixel[hidx]
             wh = rays.weight[hidx]
-            lit, sky_f, lobe_f = job.result()
+            lit, sky_out, lobe_f = job.result()
+            if fused_sky is None:
+                sky_f, sky_sums, sky_view = sky_out, None, sky_out.sum(axis=1)
+            else:
+                sky_f, (sky_sums, sky_view) = None, sky_out
             # --- terms (terms.py's, with the coefficients mixed between path nodes) ---------
             if direct:
                 out, tau, out_pixel, out_weight = acc, transmittance, p, wh
@@ -422,12 +430,13 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                 out, tau, out_pixel, out_weight, rank, mat, emission_pair, path_nodes_all.index,
                 path_nodes_all.weight, cos_incidence=cos_i, lit=lit,
                 reflectance=tex["reflectance"], emissivity=tex["emissivity"], lobe=lobe,
-                specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f, **mix_tables)
+                specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f,
+                sky_sums=sky_sums, **mix_tables)
             if bset.brdf is not None:
                 values = {name: out[t].T for t, name in enumerate(TERMS)}
                 _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
                             sky_f, _subset_nodes(path_nodes_all, rank))
-            truth_rows = (cos_i, 1.0 - lit, sky_f.sum(axis=1), temp, hits.distance[hidx], None)
+            truth_rows = (cos_i, 1.0 - lit, sky_view, temp, hits.distance[hidx], None)
             if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
                 at = _as_slice(p)  # a tile of whole rows: plain slices
                 if not direct:
@@ -563,11 +572,14 @@ def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_t
         origin=pos + tables.epsilon * nrm)
 
 
-def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch):
-    """Shadow, sky and lobe rays of one tile's hits: (lit, sky fractions, lobe fractions).
+def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky=None):
+    """Shadow, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
 
     ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
-    the fans' ray buffers between tiles.
+    the fans' ray buffers between tiles. ``sky`` is None, or (table, index, weight): then the
+    sky fan is folded straight into the reflected-sky band sums and the second item is
+    (sums (N, n_b), sky view (N,)) instead of the fractions (N, K). The lobe fractions have
+    no rows where the tile has no specular hit.
     """
     lit = np.zeros(len(st.mat))
     facing = (st.cos_i > 0.0) & (tables.sun.zenith < 90.0)
@@ -575,16 +587,26 @@ def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch):
         lit[facing] = illumination.cast_shadow(tables.tracer, st.origin[facing], sun_dir)
     else:
         lit[facing] = 1.0
-    sky_f = illumination.sky_fractions(tables.tracer, st.origin, st.nrm, settings.sky_samples,
-                                       sky_nodes, None, shift=shifts[0], scratch=scratch)
-    lobe_f = np.zeros_like(sky_f)
-    if shifts[1] is not None:
-        sel = st.specular
-        axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
-        lobe_f[sel] = illumination.lobe_sky_fractions(
-            tables.tracer, st.origin[sel], st.nrm[sel], axis, tables.exponent[st.mat[sel]],
-            settings.specular_samples, sky_nodes, None, shift=shifts[1], scratch=scratch)
-    return lit, sky_f, lobe_f
+    if sky is None:
+        sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
+                                             settings.sky_samples, sky_nodes, None,
+                                             shift=shifts[0], scratch=scratch)
+    else:
+        table, index, weight = sky
+        sky_out = illumination.sky_sums(tables.tracer, st.origin, st.nrm, settings.sky_samples,
+                                        sky_nodes, None, rank=st.rank, material=st.mat,
+                                        index=index, weight=weight, table=table,
+                                        shift=shifts[0], scratch=scratch)
+    n_k = len(sky_nodes[0]) * len(sky_nodes[1])
+    if shifts[1] is None:
+        return lit, sky_out, np.zeros((0, n_k))
+    lobe_f = np.zeros((len(st.mat), n_k))
+    sel = st.specular
+    axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
+    lobe_f[sel] = illumination.lobe_sky_fractions(
+        tables.tracer, st.origin[sel], st.nrm[sel], axis, tables.exponent[st.mat[sel]],
+        settings.specular_samples, sky_nodes, None, shift=shifts[1], scratch=scratch)
+    return lit, sky_out, lobe_f
 
 
 def _as_slice(index):

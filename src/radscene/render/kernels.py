@@ -14,7 +14,9 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["cosine_fan", "lobe_fan", "fold_fractions"]
+from radscene.render.node_mixing import _sky_sample
+
+__all__ = ["cosine_fan", "lobe_fan", "fold_fractions", "fold_sky_sums"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -154,32 +156,70 @@ def fold_fractions(occluded, directions, normal, check_normal, zenith_nodes, azi
     direction counts as sky when it is unoccluded and above the horizon (and, with
     ``check_normal``, above the surface).
     """
-    n = out.shape[0]
+    for i in numba.prange(out.shape[0]):
+        _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
+                    n_samples, i, out[i])
+
+
+@numba.njit(inline="always")
+def _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
+                n_samples, i, row):
+    """:func:`fold_fractions` for point ``i`` into ``row`` (K·L,)."""
     n_az = azimuth_nodes.shape[0]
-    for i in numba.prange(n):
-        for k in range(out.shape[1]):
-            out[i, k] = 0.0
-        for j in range(n_samples):
-            r = i * n_samples + j
-            dx, dy, dz = directions[r, 0], directions[r, 1], directions[r, 2]
-            if occluded[r] or dz <= 0.0:
-                continue
-            if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
-                continue
-            zen = math.degrees(math.acos(min(1.0, dz)))
-            z0, z1, fz = _hat(zen, zenith_nodes, False)
-            if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
-                out[i, z0] += 1.0 - fz
-                out[i, z1] += fz
-                continue
-            azi = math.degrees(math.atan2(dx, dy))
-            a0, a1, fa = _hat(azi, azimuth_nodes, True)
-            out[i, z0 * n_az + a0] += (1.0 - fz) * (1.0 - fa)
-            out[i, z0 * n_az + a1] += (1.0 - fz) * fa
-            out[i, z1 * n_az + a0] += fz * (1.0 - fa)
-            out[i, z1 * n_az + a1] += fz * fa
-        for k in range(out.shape[1]):
-            out[i, k] /= n_samples
+    for k in range(row.shape[0]):
+        row[k] = 0.0
+    for j in range(n_samples):
+        r = i * n_samples + j
+        dx, dy, dz = directions[r, 0], directions[r, 1], directions[r, 2]
+        if occluded[r] or dz <= 0.0:
+            continue
+        if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
+            continue
+        zen = math.degrees(math.acos(min(1.0, dz)))
+        z0, z1, fz = _hat(zen, zenith_nodes, False)
+        if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
+            row[z0] += 1.0 - fz
+            row[z1] += fz
+            continue
+        azi = math.degrees(math.atan2(dx, dy))
+        a0, a1, fa = _hat(azi, azimuth_nodes, True)
+        row[z0 * n_az + a0] += (1.0 - fz) * (1.0 - fa)
+        row[z0 * n_az + a1] += (1.0 - fz) * fa
+        row[z1 * n_az + a0] += fz * (1.0 - fa)
+        row[z1 * n_az + a1] += fz * fa
+    for k in range(row.shape[0]):
+        row[k] /= n_samples
+
+
+#: Points per parallel work item of :func:`fold_sky_sums` (each keeps its fractions locally).
+_SKY_CHUNK = 64
+
+
+@numba.njit(parallel=True, cache=True)
+def fold_sky_sums(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
+                  n_samples, rank, material, index, weight, table, sums, view):
+    """:func:`fold_fractions` and the reflected-sky sum in one pass, never storing F.
+
+    For point ``i`` (hit ``h = rank[i]``, material ``m``): its fractions F_k as
+    :func:`fold_fractions` makes them, then ``sums[i, b] = Σ_s weight[h, s] Σ_k F_k
+    table[m, index[h, s], b, k]`` (the sum of :func:`radscene.render.node_mixing.mix_sky`, in
+    the same order) and ``view[i] = Σ_k F_k``.
+    """
+    n = sums.shape[0]
+    n_k = table.shape[3]
+    for c in numba.prange((n + _SKY_CHUNK - 1) // _SKY_CHUNK):
+        lo, hi = c * _SKY_CHUNK, min(n, (c + 1) * _SKY_CHUNK)
+        rows = np.empty((hi - lo, n_k))
+        for i in range(lo, hi):
+            _fold_point(occluded, directions, normal, check_normal, zenith_nodes,
+                        azimuth_nodes, n_samples, i, rows[i - lo])
+            total = 0.0
+            for k in range(n_k):
+                total += rows[i - lo, k]
+            view[i] = total
+            for b in range(table.shape[2]):
+                sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
+                                         i - lo, b)
 
 
 def empty_fan(n_rays: int, scratch: dict | None = None):

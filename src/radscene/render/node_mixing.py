@@ -76,7 +76,7 @@ _TERM_CHUNK = 256
 @numba.njit(parallel=True, cache=True)
 def _mix_terms(rank, material, pair, index, weight, cos_i, lit, tex_r, tex_e, lobe, specular,
                sky_f, lobe_f, sun_d, sun_s, emission, sky_d, sky_s, path, tau, pixel,
-               pixel_weight, out, tau_out):
+               pixel_weight, presummed, sky_sums, out, tau_out):
     n = rank.shape[0]
     for c in numba.prange((n + _TERM_CHUNK - 1) // _TERM_CHUNK):
         lo, hi = c * _TERM_CHUNK, min(n, (c + 1) * _TERM_CHUNK)
@@ -92,7 +92,10 @@ def _mix_terms(rank, material, pair, index, weight, cos_i, lit, tex_r, tex_e, lo
                 p = pixel[i]
                 pw = pixel_weight[i]
                 sun_specular = 0.0
-                sky = _sky_sample(sky_d, m, index, weight, h, sky_f, i, b)
+                if presummed:
+                    sky = sky_sums[i, b]
+                else:
+                    sky = _sky_sample(sky_d, m, index, weight, h, sky_f, i, b)
                 if specular[i]:
                     sun_specular = _row_sample(sun_s, m, index, weight, h, b) * glint[i - lo]
                     sky += _sky_sample(sky_s, m, index, weight, h, lobe_f, i, b)
@@ -163,7 +166,7 @@ def _i64(a):
 def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair, index, weight,
               *, cos_incidence, lit, reflectance, emissivity, lobe, specular, sky_fractions,
               lobe_fractions, sun_diffuse, sun_specular, emission, sky_diffuse, sky_specular, path,
-              transmittance) -> None:
+              transmittance, sky_sums=None) -> None:
     """The signature terms of a tile of hits, written straight into ``out``.
 
     For hit ``i`` of the tile, ``out[t, b, pixel[i]] = term_t[b] * pixel_weight[i]``, ``t``
@@ -192,10 +195,13 @@ def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair,
     cos_incidence, lit, reflectance, emissivity, lobe : (N,) float — cos θ_i, 1 where sunlit,
         Δρ, Δε, the Phong lobe (n+1)/(2π) cosⁿ θ_r
     specular : (N,) bool — the hit's material has a specular part
-    sky_fractions, lobe_fractions : (N, n_k) float — F_k and G_k
+    sky_fractions, lobe_fractions : (N, n_k) float — F_k and G_k (G is read only where
+        ``specular``; F not at all where ``sky_sums`` is given)
     sun_diffuse, sun_specular : (n_m, n_j, n_b); emission : (n_pairs, n_j, n_b)
     sky_diffuse, sky_specular : (n_m, n_j, n_b, n_k)
     path, transmittance : (1, n_j, n_b)
+    sky_sums : (N, n_b) float, optional — mix_sky(sky_diffuse[m], F) already summed, as
+        :func:`radscene.render.illumination.sky_sums` returns it
     """
     for name, a, shape in (("out", out, (len(TERM_SLOTS),) + transmittance_out.shape),
                            ("transmittance_out", transmittance_out, out.shape[1:])):
@@ -204,9 +210,18 @@ def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair,
                              f"{a.dtype} {a.shape}")
     if len(rank) == 0:
         return
+    presummed = sky_sums is not None
+    if presummed:
+        sky_sums = _f64(sky_sums)
+        if sky_sums.shape != (len(rank), transmittance_out.shape[0]):
+            raise ValueError(f"sky_sums must have shape {(len(rank), transmittance_out.shape[0])};"
+                             f" got {sky_sums.shape}")
+        sky_fractions = np.zeros((0, np.shape(sky_diffuse)[-1]))
+    else:
+        sky_sums = np.zeros((0, transmittance_out.shape[0]))
     _mix_terms(_i64(rank), _i64(material), _i64(pair), _i64(index), _f64(weight),
                _f64(cos_incidence), _f64(lit), _f64(reflectance), _f64(emissivity), _f64(lobe),
                np.ascontiguousarray(specular, dtype=np.bool_), _f64(sky_fractions),
                _f64(lobe_fractions), _f64(sun_diffuse), _f64(sun_specular), _f64(emission),
                _f64(sky_diffuse), _f64(sky_specular), _f64(path), _f64(transmittance), _i64(pixel),
-               _f64(pixel_weight), out, transmittance_out)
+               _f64(pixel_weight), presummed, sky_sums, out, transmittance_out)
