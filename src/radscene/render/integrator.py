@@ -289,6 +289,8 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         ``radiance(band, y, x)`` [W m-2 sr-1], one variable per signature term (same dims),
         and the truth maps; see ``docs/outputs.md``.
     """
+    from radscene.radiometry import band_brightness_temperature
+
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     tables = _tables or scene_tables(scene)
     bands = [scene.band(name) for name in setup.bands]
@@ -368,14 +370,30 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
             "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
         mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
+        # one sample per pixel and no BRDF model: the terms go straight into the outputs
+        direct = per_pixel == 1 and bset.brdf is None
         # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
         # sky fan is folded straight into it on the worker thread
         fused_sky = None if bset.brdf is not None else (
             mix_tables["sky_diffuse"], path_nodes_all.index, path_nodes_all.weight)
         ahead = 2  # tiles whose rays are queued while this thread works
         pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
-        # one sample per pixel and no BRDF model: the terms go straight into the outputs
-        direct = per_pixel == 1 and bset.brdf is None
+        # with one sample per pixel a tile's pixels are final once its terms are written: their
+        # brightness temperatures are computed here, while the next tiles' rays are traced
+        thermal = [b for b, band in enumerate(bands)
+                   if band.response.center >= THERMAL_BAND_START]
+        bt_map = np.full((n_b, n_pix), np.nan) if direct and thermal else None
+        pixel_coords = None
+
+        def tile_brightness(sl):
+            if bt_map is None:
+                return
+            at = _as_slice(rays.pixel[sl])
+            for b in thermal:
+                total = acc[0, b, at].copy()  # in TERMS order, as _dataset sums them
+                for t in range(1, len(TERMS)):
+                    total += acc[t, b, at]
+                bt_map[b, at] = band_brightness_temperature(total, bands[b].response)
         for i, sl in enumerate(tiles):
             if i + ahead < len(tiles):
                 pending[i + ahead] = launch(tiles[i + ahead])
@@ -383,6 +401,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                 position_map[:, rays.pixel[labelled]] = hits.position[labelled].T
                 view_map[:, rays.pixel[labelled]] = -rays.directions[labelled].T
                 geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
+                pixel_coords = _pixel_coordinates(setup, rays.shape)
             current = pending.pop(i)
             pix = rays.pixel[sl]
             w = rays.weight[sl]
@@ -400,6 +419,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                     sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b],
                                                             n_pix)
             if current is None:  # no hits in this tile
+                tile_brightness(sl)
                 _report(progress, sl.stop, total)
                 continue
             st, job = current
@@ -460,10 +480,12 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                 object_id[p[c]] = obj[c]
                 material_id[p[c]] = mat[c]
                 normal_map[:, p[c]] = nrm[c].T
+            tile_brightness(sl)
             _report(progress, sl.stop, total)
         elapsed = _time.perf_counter() - started
         ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
-                      object_id, material_id, normal_map, sun, elapsed, pool=worker)
+                      object_id, material_id, normal_map, sun, elapsed, pool=worker,
+                      brightness=bt_map, pixel_coords=pixel_coords)
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
     return ds.assign(geolocation)
@@ -630,8 +652,13 @@ def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
 
 
 def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_id, material_id,
-             normal_map, sun, elapsed, pool=None) -> xr.Dataset:
-    """The render's Dataset; ``pool``, an executor, may take the brightness temperatures."""
+             normal_map, sun, elapsed, pool=None, brightness=None,
+             pixel_coords=None) -> xr.Dataset:
+    """The render's Dataset; ``pool``, an executor, may take the brightness temperatures.
+
+    ``brightness`` (band, pixel), when given, holds them already for the thermal bands;
+    ``pixel_coords`` the observer's pixel coordinates (:func:`_pixel_coordinates`).
+    """
     from radscene import __version__
     from radscene.radiometry import band_brightness_temperature
 
@@ -642,6 +669,8 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     for name in TERMS[1:]:
         total += cube[name]
     thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
+    if brightness is not None:
+        thermal = []  # done during the render
     if pool is not None:  # while the rest is assembled here
         bt_jobs = {b: pool.submit(band_brightness_temperature, total[b], bands[b].response)
                    for b in thermal}
@@ -663,7 +692,7 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     for name in TERMS:
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
-    bt = np.full((n_b, ny, nx), np.nan)
+    bt = np.full((n_b, ny, nx), np.nan) if brightness is None else brightness.reshape(n_b, ny, nx)
     for b in thermal:
         bt[b] = (bt_jobs[b].result() if pool is not None
                  else band_brightness_temperature(total[b], bands[b].response))
@@ -700,7 +729,7 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
                              {"units": "um", "long_name": "integral of the response"}),
         "vector": ("vector", ["east", "north", "up"]),
     }
-    coords.update(_pixel_coordinates(setup, shape))
+    coords.update(_pixel_coordinates(setup, shape) if pixel_coords is None else pixel_coords)
     ds = xr.Dataset(data, coords=coords)
     ds.attrs = {
         "Conventions": "CF-1.10",
