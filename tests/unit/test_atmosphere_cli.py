@@ -100,3 +100,29 @@ def test_band_values_integrate_the_spectrum():
         np.trapezoid(ds["path_radiance"].values, wl), rel=1e-12)
     assert ds["band_transmittance"].item() == pytest.approx(
         np.trapezoid(ds["transmittance"].values, wl) / 0.1, rel=1e-12)
+
+
+def test_build_without_a_terminal_reports_each_stage(tmp_path):
+    """Written to a log (no terminal), ``atmosphere build`` prints one line per finished
+    stage instead of a live progress bar, then its summary; the file is a database."""
+    from radscene.atmosphere.sixs_runner import sixs_available
+
+    ok, reason = sixs_available()
+    if not ok:
+        pytest.skip(f"6S cannot run here: {reason}")
+    config = tmp_path / "tiny.yaml"
+    config.write_text(
+        "profiles: [us_standard]\naerosols: [{model: rural, visibility: 23 km}]\n"
+        "wavelength: {min: 0.5, max: 0.6}\nthermal: {engine: none}\n"
+        "grid: {surface_altitude: [0], observer_height: [1000], sun_zenith: [0, 40],\n"
+        "       view_zenith: [0, 40], coarse_zenith: [0, 40], ratio_wavelengths: [0.55],\n"
+        "       phase_wavelengths: [0.4, 0.86]}\n")
+    out = tmp_path / "tiny.nc"
+    res = runner.invoke(app, ["build", str(config), "-o", str(out), "--cache",
+                              str(tmp_path / "cache")])
+    assert res.exit_code == 0, res.output
+    for stage in ("spectral grid", "gas", "phase functions", "scattering rural_23km"):
+        assert f"{stage}: " in res.output
+    assert "runs in" in res.output
+    with xr.open_dataset(out) as ds:
+        assert float(ds["rho_mixture"].min()) >= 0.0

@@ -50,6 +50,7 @@ def test_default_configuration_is_valid_and_complete():
     ({"grid": {"sun_zenith": [0, 60, 30]}}, r"grid.sun_zenith: an increasing list"),
     ({"grid": {"sun_zenith": [10, 60]}}, "start at 0"),
     ({"grid": {"airmass_pairs": [[0, 95]]}}, "airmass_pairs"),
+    ({"grid": {"phase_wavelengths": [0.55]}}, r"grid.phase_wavelengths: at least two"),
     ({"wavelength": {"min": 0.4, "max": 5.0}}, r"max <= 4 um \(6S\)"),
     ({"strategy": "quick"}, "reduced or full"),
     ({"thermal": {"engine": "modtran"}}, "none, lowtran or auto"),

@@ -77,7 +77,7 @@ from radscene.atmosphere.sixs_runner import (
     SixSCase,
     SixSRunner,
 )
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, EngineError
 
 __all__ = ["DEFAULT_CONFIG", "build_database", "load_config", "adaptive_grid"]
 
@@ -177,6 +177,9 @@ def load_config(config) -> dict:
         if a.ndim != 1 or a.size < 1 or np.any(np.diff(a) <= 0) or a[0] < lo or a[-1] > hi:
             raise ConfigError(f"an increasing list within [{lo}, {hi}]", key=f"grid.{name}")
         g[name] = a.tolist()
+    if len(g["phase_wavelengths"]) < 2:
+        raise ConfigError("at least two wavelengths (the phase functions are interpolated "
+                          "log-log between them)", key="grid.phase_wavelengths")
     pairs = np.asarray(g["airmass_pairs"], dtype=float)
     if pairs.ndim != 2 or pairs.shape[1] != 2 or pairs.min() < 0 or pairs.max() > 89:
         raise ConfigError("a list of [sun, view] zenith pairs within [0, 89] deg",
@@ -902,4 +905,9 @@ def build_database(config=None, progress=None) -> xr.Dataset:
     })
     if thermal is not None:
         ds.attrs["thermal_provenance"] = json.dumps(thermal[-1])
+    bad = [name for name, v in ds.data_vars.items()
+           if v.dtype.kind == "f" and not np.all(np.isfinite(v.values))]
+    if bad:
+        raise EngineError(f"the build produced non-finite values in {', '.join(bad)}; "
+                          "the configuration's grids are too sparse for its interpolations")
     return ds

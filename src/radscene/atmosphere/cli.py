@@ -119,15 +119,20 @@ def build(
     if cache is not None:
         user["cache"] = str(cache)
     started = time.perf_counter()
+    live = err_console.is_terminal  # elsewhere (a log file, CI) one line per finished stage
     with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                  console=err_console) as bar:
-        tasks = {}
+                  console=err_console, disable=not live) as bar:
+        tasks, begun = {}, {}
 
         def progress(stage, done, total):
             if stage not in tasks:
                 tasks[stage] = bar.add_task(stage, total=total)
+                begun[stage] = time.perf_counter()
             bar.update(tasks[stage], completed=done, total=total)
+            if not live and done == total:
+                err_console.print(f"{stage}: {total} runs in "
+                                  f"{time.perf_counter() - begun[stage]:.0f} s")
 
         ds = build_database(user, progress=progress)
     path = write_netcdf(ds, output, compress=True)
