@@ -104,3 +104,37 @@ def test_mix_terms_matches_the_term_functions(mixing):
         mix_terms(out[:4], tau, pixel, pixel_weight, rank, material, pair, index, weight,
                   cos_incidence=cos_i, lit=lit, reflectance=refl, emissivity=emis, lobe=lobe,
                   specular=specular, sky_fractions=sky_f, lobe_fractions=lobe_f, **t)
+
+
+def test_mix_terms_takes_presummed_sky_sums(mixing):
+    """With ``sky_sums`` (the diffuse sky already mixed, as illumination.sky_sums gives it)
+    the terms are those of the fractions' path, and the fractions are not needed."""
+    from radscene.render.node_mixing import mix_terms
+
+    row, index, weight, fractions, rng, (n_rows, n_nodes, n_b, n_k) = mixing
+    rank = rng.permutation(len(row))[:80]
+    n = len(rank)
+    material = row[rank]
+    t = {"sun_diffuse": rng.random((n_rows, n_nodes, n_b)),
+         "sun_specular": rng.random((n_rows, n_nodes, n_b)),
+         "emission": rng.random((3, n_nodes, n_b)),
+         "sky_diffuse": rng.random((n_rows, n_nodes, n_b, n_k)),
+         "sky_specular": rng.random((n_rows, n_nodes, n_b, n_k)),
+         "path": rng.random((1, n_nodes, n_b)), "transmittance": rng.random((1, n_nodes, n_b))}
+    kw = dict(cos_incidence=rng.uniform(-0.5, 1.0, n), lit=np.ones(n),
+              reflectance=rng.uniform(0.5, 1.5, n), emissivity=np.ones(n),
+              lobe=rng.random(n), specular=rng.random(n) < 0.5,
+              lobe_fractions=rng.random((n, n_k)), **t)
+    pair = rng.integers(0, 3, len(row))
+    pixel, pixel_weight = np.arange(n), np.ones(n)
+    want, tau = np.zeros((5, n_b, n)), np.zeros((n_b, n))
+    mix_terms(want, tau, pixel, pixel_weight, rank, material, pair, index, weight,
+              sky_fractions=fractions[rank], **kw)
+    sums = mix_sky(t["sky_diffuse"], material, index[rank], weight[rank], fractions[rank])
+    got = np.zeros_like(want)
+    mix_terms(got, tau, pixel, pixel_weight, rank, material, pair, index, weight,
+              sky_fractions=None, sky_sums=sums, **kw)
+    assert got == pytest.approx(want, rel=1e-12)
+    with pytest.raises(ValueError, match="sky_sums must have shape"):
+        mix_terms(got, tau, pixel, pixel_weight, rank, material, pair, index, weight,
+                  sky_fractions=None, sky_sums=sums[:, :-1], **kw)

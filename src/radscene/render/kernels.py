@@ -147,20 +147,6 @@ def _hat(value, nodes, periodic):
     return lo, lo + 1, (value - nodes[lo]) / (nodes[lo + 1] - nodes[lo])
 
 
-@numba.njit(parallel=True, cache=True)
-def fold_fractions(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
-                   n_samples, out):
-    """Per-point mean of visibility × bilinear sky-node weight over its fan; writes ``out``.
-
-    ``out`` is (N, K·L) with node (i, j) of the zenith × azimuth grid at ``i * L + j``. A
-    direction counts as sky when it is unoccluded and above the horizon (and, with
-    ``check_normal``, above the surface).
-    """
-    for i in numba.prange(out.shape[0]):
-        _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
-                    n_samples, i, out[i])
-
-
 @numba.njit(inline="always")
 def _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
                 n_samples, i, row):
@@ -189,6 +175,20 @@ def _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimut
         row[z1 * n_az + a1] += fz * fa
     for k in range(row.shape[0]):
         row[k] /= n_samples
+
+
+@numba.njit(parallel=True, cache=True)
+def fold_fractions(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
+                   n_samples, out):
+    """Per-point mean of visibility × bilinear sky-node weight over its fan; writes ``out``.
+
+    ``out`` is (N, K·L) with node (i, j) of the zenith × azimuth grid at ``i * L + j``. A
+    direction counts as sky when it is unoccluded and above the horizon (and, with
+    ``check_normal``, above the surface).
+    """
+    for i in numba.prange(out.shape[0]):
+        _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
+                    n_samples, i, out[i])
 
 
 #: Points per parallel work item of :func:`fold_sky_sums` (each keeps its fractions locally).
