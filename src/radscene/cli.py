@@ -14,7 +14,7 @@ from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, Ti
 from rich.table import Table
 
 from radscene import __version__
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, EngineError
 
 app = typer.Typer(
     name="radscene",
@@ -28,19 +28,21 @@ err_console = Console(stderr=True)
 
 
 def _fail(err: Exception) -> None:
+    """One line on stderr; exit code 2 for bad input, 1 for an engine that failed."""
     err_console.print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
-    raise typer.Exit(code=2)
+    raise typer.Exit(code=2 if isinstance(err, ConfigError) else 1)
 
 
 def _guarded(function):
-    """Wrap a command so that a ConfigError becomes one line on stderr and exit code 2."""
+    """Wrap a command so that a ConfigError becomes one line on stderr and exit code 2, an
+    EngineError one line and exit code 1."""
     import functools
 
     @functools.wraps(function)
     def wrapper(*args, **kwargs):
         try:
             return function(*args, **kwargs)
-        except ConfigError as err:
+        except (ConfigError, EngineError) as err:
             _fail(err)
 
     return wrapper
@@ -107,7 +109,7 @@ def render(
                     bar.update(task, completed=done, total=total)
 
                 results[name], signals[name] = simulate(scene, name, progress=progress)
-    except ConfigError as err:
+    except (ConfigError, EngineError) as err:
         _fail(err)
     written = []
     for name, ds in results.items():

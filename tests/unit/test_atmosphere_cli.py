@@ -126,3 +126,22 @@ def test_build_without_a_terminal_reports_each_stage(tmp_path):
     assert "runs in" in res.output
     with xr.open_dataset(out) as ds:
         assert float(ds["rho_mixture"].min()) >= 0.0
+
+
+def test_an_engine_failure_is_one_line_and_exit_code_1(tmp_path, monkeypatch):
+    """An engine that fails during ``atmosphere build`` (through the radscene command) gives
+    one error line, exit code 1, no traceback and no file."""
+    from radscene.atmosphere import build as build_module
+    from radscene.cli import app as main_app
+    from radscene.errors import EngineError
+
+    def failing(config, progress=None):
+        raise EngineError("6S failed with exit code 3 for the case wavelength=0.55")
+
+    monkeypatch.setattr(build_module, "build_database", failing)
+    out = tmp_path / "atm.nc"
+    res = runner.invoke(main_app, ["atmosphere", "build", "default", "-o", str(out)])
+    assert res.exit_code == 1
+    assert "error:" in res.output and "exit code 3 for the case wavelength=0.55" in res.output
+    assert "Traceback" not in res.output and isinstance(res.exception, SystemExit)
+    assert not out.exists()

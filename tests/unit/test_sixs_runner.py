@@ -142,3 +142,33 @@ def test_runner_reuses_one_working_folder_per_thread_and_removes_them():
 def test_runner_refuses_bad_workers():
     with pytest.raises(ConfigError, match="positive integer"):
         sr.SixSRunner(workers=0)
+
+
+@needs_6s
+def test_6s_runs_with_a_malloc_top_pad_and_gives_the_same_report(monkeypatch):
+    import subprocess
+
+    monkeypatch.setenv("GLIBC_TUNABLES", "glibc.malloc.tcache_count=7")
+    sr._environment.cache_clear()
+    try:
+        env = sr._environment()
+        assert env["GLIBC_TUNABLES"] == ("glibc.malloc.tcache_count=7:"
+                                         f"glibc.malloc.top_pad={sr._MALLOC_TOP_PAD}")
+        seen = []
+        run = subprocess.run
+
+        def spy(*args, **kwargs):
+            seen.append(kwargs.get("env"))
+            return run(*args, **kwargs)
+
+        monkeypatch.setattr(subprocess, "run", spy)
+        case = sr.SixSCase(0.55, profile="none", aerosol="maritime", visibility=23.0,
+                           sun_zenith=40.0, view_zenith=30.0, view_azimuth=90.0)
+        padded = sr.SixSRunner(workers=1, cache_dir=False).run_one(case)
+        assert seen == [env]
+        plain = run([sr._binary()], input=sr.input_deck(case).encode(), capture_output=True,
+                    check=True)
+        assert padded == sr.parse_output(plain.stdout)
+    finally:
+        monkeypatch.delenv("GLIBC_TUNABLES")
+        sr._environment.cache_clear()

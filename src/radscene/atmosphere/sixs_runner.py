@@ -92,6 +92,21 @@ SIXS_WAVELENGTH_RANGE = (0.25, 4.0)
 _AEROSOL_COMPONENTS = ("dust", "water", "oceanic", "soot")
 _TIMEOUT_S = 120.0
 
+#: glibc's malloc keeps this much free memory at the top of 6S's heap instead of returning it
+#: to the system: 6S allocates and frees its working arrays over and over, and with glibc's
+#: defaults each run with an aerosol took about 43 000 page faults and spent 17 % of its time
+#: in the kernel (0.53 s a run against 0.43 s with the pad; results identical).
+_MALLOC_TOP_PAD = 64 * 1024 * 1024
+
+
+@lru_cache(maxsize=1)
+def _environment() -> dict[str, str]:
+    """The environment 6S runs in: the caller's, with glibc's malloc top pad raised."""
+    env = dict(os.environ)
+    tunable = f"glibc.malloc.top_pad={_MALLOC_TOP_PAD}"
+    env["GLIBC_TUNABLES"] = ":".join(filter(None, [env.get("GLIBC_TUNABLES"), tunable]))
+    return env
+
 
 @dataclass(frozen=True)
 class SixSCase:
@@ -517,7 +532,8 @@ class SixSRunner:
         started = time.perf_counter()
         try:
             proc = subprocess.run([_binary()], input=deck.encode(), capture_output=True,
-                                  cwd=self._workdir(), timeout=_TIMEOUT_S, check=False)
+                                  cwd=self._workdir(), env=_environment(), timeout=_TIMEOUT_S,
+                                  check=False)
         except subprocess.TimeoutExpired:
             raise EngineError(f"6S ran past {_TIMEOUT_S:g} s for the case {case.label()}") \
                 from None
