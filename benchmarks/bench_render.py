@@ -201,9 +201,25 @@ class RayCounter:
 
         return wrapped
 
+    def _kernel(self, function, kind_default):
+        """A packet kernel that generates, traces and folds a fan: it returns its ray count;
+        its whole time is booked as engine time."""
+        counter = self
+
+        def wrapped(*args, **kwargs):
+            kind = counter._kind or kind_default
+            t0 = time.perf_counter()
+            traced = function(*args, **kwargs)
+            counter.engine_s[kind] += time.perf_counter() - t0
+            counter.rays[kind] += int(traced)
+            counter.calls[kind] += 1
+            return traced
+
+        return wrapped
+
     def __enter__(self):
         from radscene.geometry import raytracer
-        from radscene.render import illumination
+        from radscene.render import illumination, kernels
 
         patches = [
             (raytracer.RayTracer, "intersect",
@@ -215,6 +231,9 @@ class RayCounter:
             (illumination, "lobe_sky_fractions",
              self._query(illumination.lobe_sky_fractions, "lobe")),
         ]
+        for name in ("packet_sky_sums", "packet_fractions"):  # fans traced inside kernels
+            if hasattr(kernels, name):
+                patches.append((kernels, name, self._kernel(getattr(kernels, name), "sky")))
         if hasattr(raytracer.RayTracer, "occluded_local"):  # the fast path for secondary rays
             patches.append((raytracer.RayTracer, "occluded_local",
                             self._engine(raytracer.RayTracer.occluded_local, "shadow")))
@@ -319,7 +338,7 @@ class AtmosphereTimer:
     interpolation between path and sky nodes: in ``node_mixing.mix_terms``, which also forms
     the terms, its time less that of the same call with one path node per hit (the rest is
     counted as ``terms``); the integrator's ``_gather_band``, ``_sky_sum``, ``_subset_nodes``,
-    ``sky_node_weights`` whole. ``sky_fold``: ``kernels.fold_sky_sums`` on the secondary-ray
+    ``sky_node_weights`` whole. ``sky_fold``: ``kernels.fold_sky_sums`` (``packet_sky_sums``) on the secondary-ray
     thread, which folds each point's sky rays onto the atmosphere's sky nodes and sums the band
     sky tables over them: only the sums are a look-up. Each call is repeated with no bands (the
     fold alone); the difference is counted as ``sky_fold``, and the repeat's time as ``extra``,
@@ -369,12 +388,13 @@ class AtmosphereTimer:
         return wrapped
 
     def _sky_fold(self, function):
-        """``kernels.fold_sky_sums``, timed with and without its band sums."""
+        """``kernels.fold_sky_sums`` (or ``packet_sky_sums``, which also traces the fans),
+        timed with and without its band sums."""
         timer = self
 
         def wrapped(*args):
             t0 = time.perf_counter()
-            function(*args)
+            result = function(*args)
             t1 = time.perf_counter()
             *head, table, sums, view = args
             no_bands = np.empty(table.shape[:2] + (0,) + table.shape[3:])
@@ -384,6 +404,7 @@ class AtmosphereTimer:
                 timer.seconds["sky_fold"] += max(0.0, (t1 - t0) - (t2 - t1))
                 timer.seconds["extra"] += t2 - t1
                 timer.calls["fold_sky_sums"] = timer.calls.get("fold_sky_sums", 0) + 1
+            return result
 
         return wrapped
 
@@ -433,8 +454,10 @@ class AtmosphereTimer:
                 setattr(owner, name, self._wrap(old, group, name))
         from radscene.render import kernels
 
-        self._saved.append((kernels, "fold_sky_sums", kernels.fold_sky_sums))
-        kernels.fold_sky_sums = self._sky_fold(kernels.fold_sky_sums)
+        for name in ("fold_sky_sums", "packet_sky_sums"):
+            if hasattr(kernels, name):
+                self._saved.append((kernels, name, getattr(kernels, name)))
+                setattr(kernels, name, self._sky_fold(getattr(kernels, name)))
         for name in self.TABLES:  # inclusive: their queries are counted there too
             old = getattr(integrator, name, None)
             if old is not None:
@@ -545,6 +568,17 @@ class BareTrace:
             o = np.repeat(start[s:s + per_block, None, :], sky_samples, axis=1)[up]
             self.sky.append((o.astype(np.float32), dirs[up].astype(np.float32)))
         self.rays = {"primary": n, "shadow": len(so), "sky": sum(len(b[0]) for b in self.sky)}
+        # the same occlusion rays as Embree packets of eight, where radscene uses them
+        from radscene.geometry import embree
+
+        self.packets = None
+        if embree.packets_available():
+            self.packets = embree.PacketScene([(mesh.vertices - center).astype(np.float32)],
+                                              [mesh.faces], robust)
+            self.packet_rays = {
+                "shadow": tuple(np.concatenate(x) for x in zip(*self.shadow, strict=True)),
+                "sky": tuple(np.concatenate(x) for x in zip(*self.sky, strict=True))}
+            self.packets.occluded(self.packet_rays["sky"][0][:64], self.packet_rays["sky"][1][:64])
 
     @staticmethod
     def _chunked(o, d):
@@ -564,9 +598,18 @@ class BareTrace:
             timing[kind] = time.perf_counter() - t0
         total_s = sum(timing.values())
         total_rays = sum(self.rays.values())
-        return {"rays": dict(self.rays), "time_s": timing, "total_rays": total_rays,
-                "total_s": total_s, "rays_per_s": total_rays / total_s, "threads": self.threads,
-                "robust": self.robust, "bvh_build_s": self.build_s}
+        out = {"rays": dict(self.rays), "time_s": timing, "total_rays": total_rays,
+               "total_s": total_s, "rays_per_s": total_rays / total_s, "threads": self.threads,
+               "robust": self.robust, "bvh_build_s": self.build_s}
+        if self.packets is not None:  # primary rays as above; occlusion as packets
+            packet = {"primary": timing["primary"]}
+            for kind, (o, d) in self.packet_rays.items():
+                t0 = time.perf_counter()
+                self.packets.occluded(o, d)
+                packet[kind] = time.perf_counter() - t0
+            out["packets_time_s"] = packet
+            out["packets_total_s"] = sum(packet.values())
+        return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1073,6 +1116,11 @@ def run(args) -> dict:
     bare = sorted(bares, key=lambda r: r["total_s"])[len(bares) // 2]
     bare["totals_s"] = [b["total_s"] for b in bares]
     ratios = [r["wall_s"] / b["total_s"] for r, b in zip(runs, bares, strict=True)]
+    if all("packets_total_s" in b for b in bares):
+        report["render_over_bare_packets_each"] = [
+            r["wall_s"] / b["packets_total_s"] for r, b in zip(runs, bares, strict=True)]
+        report["render_over_bare_packets"] = float(np.median(
+            report["render_over_bare_packets_each"]))
     report["load_s"] = load_s
     report["triangles"] = n_tri
     report["render"] = render
@@ -1168,6 +1216,16 @@ def print_table(r: dict) -> None:
         ("render / bare (median)", f"{r['render_over_bare']:.2f}  (rounds: "
          + ", ".join(f"{x:.2f}" for x in r["render_over_bare_each"]) + ")"),
         ("bare BVH build", f"{bare['bvh_build_s']:.2f} s (not in the bare time)"),
+    ]
+    if "packets_total_s" in bare:
+        rows += [
+            ("bare, Embree packets", f"{bare['packets_total_s']:.2f} s ("
+             + "  ".join(f"{k} {v:.2f}" for k, v in bare["packets_time_s"].items())
+             + " s; shadow and sky rays as packets of eight, as radscene traces them)"),
+            ("render / bare packets", f"{r['render_over_bare_packets']:.2f}  (rounds: "
+             + ", ".join(f"{x:.2f}" for x in r["render_over_bare_packets_each"]) + ")"),
+        ]
+    rows += [
         ("target wall <= 2 s", _verdict(r["targets"], "wall_met")),
         ("target ratio <= 1.5", _verdict(r["targets"], "ratio_met")),
     ]

@@ -185,3 +185,40 @@ def test_folded_sky_sums_equal_fractions_times_tables(tracer, grid):
         illumination.sky_sums(tracer, origins, normals, 16, grid, None, rank=rank,
                               material=material, index=index, weight=weight,
                               table=table[..., :-1], shift=shift)
+
+
+@pytest.mark.parametrize("grid", [np.array([0.0, 30.0, 60.0, 90.0]),
+                                  (np.array([0.0, 45.0, 90.0]), np.array([0.0, 90.0, 180.0, 270.0]))],
+                         ids=["zenith", "zenith-azimuth"])
+def test_packet_kernels_equal_the_single_ray_path(tracer, grid):
+    """Fans traced as Embree packets inside the kernels give the same fractions and sky sums
+    as the fans written out and traced ray by ray through embreex, for the same rotations."""
+    if tracer.packets is None:
+        pytest.skip("Embree's packet queries are not available here")
+    single = RayTracer(tracer.meshes, packets=False)
+    assert single.packets is None
+    origins, normals = _points(600, seed=9)
+    normals[::5] = normalize(normals[::5] + [0.3, -0.2, 0.0])  # some tilted surfaces
+    n = len(origins)
+    rng = np.random.default_rng(4)
+    shift, lobe_shift = rng.random((n, 2)), rng.random((n, 2))
+    for n_samples in (16, 10):  # the regular grid, and the golden-ratio pattern
+        f_packets = illumination.sky_fractions(tracer, origins, normals, n_samples, grid, None,
+                                               shift=shift)
+        f_single = illumination.sky_fractions(single, origins, normals, n_samples, grid, None,
+                                              shift=shift)
+        np.testing.assert_array_equal(f_packets, f_single)
+    assert f_packets.sum(axis=1).min() < 0.95  # the box hides sky: occlusion is exercised
+    axes = normalize(np.tile([0.6, 0.0, 0.8], (n, 1)))
+    expo = np.linspace(1.0, 50.0, n)
+    g = [illumination.lobe_sky_fractions(t, origins, normals, axes, expo, 12, grid, None,
+                                         shift=lobe_shift) for t in (tracer, single)]
+    np.testing.assert_array_equal(g[0], g[1])
+    n_k = g[0].shape[1]
+    table = rng.random((2, 3, 4, n_k))
+    kw = dict(rank=np.arange(n), material=rng.integers(0, 2, n), index=rng.integers(0, 3, (n, 2)),
+              weight=rng.random((n, 2)), table=table, shift=shift)
+    sums = [illumination.sky_sums(t, origins, normals, 16, grid, None, **kw)
+            for t in (tracer, single)]
+    np.testing.assert_array_equal(sums[0][0], sums[1][0])
+    np.testing.assert_array_equal(sums[0][1], sums[1][1])

@@ -210,6 +210,9 @@ class RayTracer:
         Rays per Embree call and per thread-pool task.
     threads : int, optional
         Worker threads; default ``os.cpu_count()``.
+    packets : bool
+        Trace occlusion queries and secondary-ray fans as Embree packets of eight where the
+        library allows it (:mod:`radscene.geometry.embree`; same answers); default True.
 
     Examples
     --------
@@ -220,7 +223,7 @@ class RayTracer:
     """
 
     def __init__(self, meshes: Sequence[Mesh], robust: bool = True, chunk_size: int = 65536,
-                 threads: int | None = None):
+                 threads: int | None = None, packets: bool = True):
         from embreex import mesh_construction, rtcore_scene
 
         meshes = list(meshes)
@@ -234,6 +237,7 @@ class RayTracer:
         self.chunk_size = int(chunk_size)
         self.threads = int(threads) if threads else (os.cpu_count() or 1)
         self.robust = bool(robust)
+        self.use_packets = bool(packets)
 
         filled = [k for k, m in enumerate(meshes) if len(m.faces)]
         if filled:
@@ -261,6 +265,20 @@ class RayTracer:
         self._empty = not filled
         if not self._empty:  # embreex commits the scene on its first query: do it here, once
             self._scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32))
+
+    @property
+    def packets(self):
+        """The same geometry as an Embree scene for the packet kernels
+        (:class:`radscene.geometry.embree.PacketScene`, built on first use), or None where
+        Embree's packet queries are not available or the scene is empty."""
+        from radscene.geometry import embree
+
+        if self._empty or not self.use_packets:
+            return None
+        filled = [m for m in self.meshes if len(m.faces)]
+        return embree.packet_scene(
+            self, lambda: [(m.vertices - self._center).astype(np.float32) for m in filled],
+            lambda: [m.faces for m in filled], self.robust)
 
     def __repr__(self) -> str:
         return (f"RayTracer({len(self.meshes)} meshes, "
@@ -455,6 +473,10 @@ class RayTracer:
         out = np.zeros(n, dtype=bool)
         if self._empty or n == 0:
             return out
+
+        packets = self.packets
+        if packets is not None:  # Embree's packets of eight, on numba's threads
+            return packets.occluded(origins, directions)
 
         def work(sl):
             out[sl] = self._scene.run(origins[sl], directions[sl], query="OCCLUDED") >= 0

@@ -153,11 +153,8 @@ def lobe_sky_fractions_reference(tracer, origins, normals, axes, exponents, n_sa
     return _visible_fractions(tracer, origins, directions, above_surface, zenith_nodes)
 
 
-def _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift, scratch):
-    """Generate and trace one fan per point: (occluded (N·n,), float32 directions (N·n, 3),
-    float64 normals (N, 3))."""
-    from radscene.render import kernels
-
+def _fan_setup(origins, normals, n_samples, rng, shift):
+    """The fans' inputs: (shift (N, 2), pattern (M, 2), its side or 0, positions, normals)."""
     n = len(origins)
     if shift is None:
         shift = rng.random((n, 2))
@@ -166,9 +163,17 @@ def _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift, scra
     base = stratified_pattern(n_samples)
     side = int(np.floor(np.sqrt(n_samples)))
     side = side if side * side == n_samples else 0  # the pattern is the regular grid
-    o32, d32 = kernels.empty_fan(n * n_samples, scratch)
-    pos = np.ascontiguousarray(origins, dtype=np.float64)
-    nrm = np.ascontiguousarray(normals, dtype=np.float64)
+    return (shift, base, side, np.ascontiguousarray(origins, dtype=np.float64),
+            np.ascontiguousarray(normals, dtype=np.float64))
+
+
+def _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift, scratch):
+    """Generate and trace one fan per point: (occluded (N·n,), float32 directions (N·n, 3),
+    float64 normals (N, 3))."""
+    from radscene.render import kernels
+
+    shift, base, side, pos, nrm = _fan_setup(origins, normals, n_samples, rng, shift)
+    o32, d32 = kernels.empty_fan(len(pos) * n_samples, scratch)
     fan(pos, nrm, *extra, tracer.center, 0.0, shift, base, side, o32, d32)
     return tracer.occluded_local(o32, d32), d32, nrm
 
@@ -181,6 +186,15 @@ def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes
     zen_nodes, az_nodes = _node_grids(zenith_nodes)
     out = np.empty((n, zen_nodes.size * az_nodes.size))
     if n == 0:
+        return out
+    packets = getattr(tracer, "packets", None)
+    if packets is not None:  # each point's fan traced as Embree packets inside the kernel
+        shift, base, side, pos, nrm = _fan_setup(origins, normals, n_samples, rng, shift)
+        axis, exponent = extra if extra else (nrm, np.zeros(0))
+        kernels.packet_fractions(packets, pos, nrm, np.ascontiguousarray(axis, np.float64),
+                                 np.ascontiguousarray(exponent, np.float64), bool(extra),
+                                 tracer.center, 0.0, shift, base, side, check_normal, zen_nodes,
+                                 az_nodes, out)
         return out
     occluded, d32, nrm = _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift,
                                     scratch)
@@ -226,13 +240,19 @@ def sky_sums(tracer, origins, normals, n_samples, sky_nodes, rng, *, rank, mater
     sums, view = np.empty((n, table.shape[2])), np.empty(n)
     if n == 0:
         return sums, view
+    mix = (np.ascontiguousarray(rank, dtype=np.int64),
+           np.ascontiguousarray(material, dtype=np.int64),
+           np.ascontiguousarray(index, dtype=np.int64),
+           np.ascontiguousarray(weight, dtype=np.float64), table, sums, view)
+    packets = getattr(tracer, "packets", None)
+    if packets is not None:  # each point's fan traced as Embree packets inside the kernel
+        shift, base, side, pos, nrm = _fan_setup(origins, normals, n_samples, rng, shift)
+        kernels.packet_sky_sums(packets, pos, nrm, tracer.center, 0.0, shift, base, side,
+                                zen_nodes, az_nodes, *mix)
+        return sums, view
     occluded, d32, nrm = _trace_fan(tracer, kernels.cosine_fan, origins, normals, (), n_samples,
                                     rng, shift, scratch)
-    kernels.fold_sky_sums(occluded, d32, nrm, False, zen_nodes, az_nodes, n_samples,
-                          np.ascontiguousarray(rank, dtype=np.int64),
-                          np.ascontiguousarray(material, dtype=np.int64),
-                          np.ascontiguousarray(index, dtype=np.int64),
-                          np.ascontiguousarray(weight, dtype=np.float64), table, sums, view)
+    kernels.fold_sky_sums(occluded, d32, nrm, False, zen_nodes, az_nodes, n_samples, *mix)
     return sums, view
 
 

@@ -14,9 +14,12 @@ import math
 import numba
 import numpy as np
 
+from radscene.geometry.embree import LANES as _LANES
+from radscene.geometry.embree import RAY8_FLOATS, aligned
 from radscene.render.node_mixing import _sky_sample
 
-__all__ = ["cosine_fan", "lobe_fan", "fold_fractions", "fold_sky_sums"]
+__all__ = ["cosine_fan", "lobe_fan", "fold_fractions", "fold_sky_sums", "packet_fractions",
+           "packet_sky_sums"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -43,6 +46,46 @@ def _levels(j, side):
     return j, j
 
 
+@numba.njit(inline="always")
+def _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon, shift, base, side,
+               sin_t, cos_t, cos_phi, sin_phi, directions, row0):
+    """Point ``i``'s fan: its directions into ``directions[row0:row0 + M]`` (float32 rows)
+    and its local-frame origin, returned as (x, y, z); ``sin_t`` … ``sin_phi`` are scratch
+    arrays of the pattern's level count."""
+    m = base.shape[0]
+    levels = side if side > 0 else m
+    if lobe:
+        ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
+        power = 1.0 / (exponent[i] + 1.0)
+    else:
+        ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
+        power = 0.0
+    tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
+    for a in range(levels):
+        u1 = base[a * side if side > 0 else a, 0] + shift[i, 0]
+        u1 = u1 - 1.0 if u1 >= 1.0 else u1
+        if lobe:  # cos α = u1^(1/(n+1))
+            cos_t[a] = u1**power
+            sin_t[a] = math.sqrt(max(0.0, 1.0 - cos_t[a] * cos_t[a]))
+        else:  # cosine-weighted: sin θ = √u1
+            sin_t[a] = math.sqrt(u1)
+            cos_t[a] = math.sqrt(max(0.0, 1.0 - u1))
+        u2 = base[a, 1] + shift[i, 1]
+        u2 = u2 - 1.0 if u2 >= 1.0 else u2
+        phi = _TWO_PI * u2
+        cos_phi[a] = math.cos(phi)
+        sin_phi[a] = math.sin(phi)
+    for j in range(m):
+        a, b = _levels(j, side)
+        lx, ly, lz = sin_t[a] * cos_phi[b], sin_t[a] * sin_phi[b], cos_t[a]
+        directions[row0 + j, 0] = lx * tx + ly * bx + lz * ax
+        directions[row0 + j, 1] = lx * ty + ly * by + lz * ay
+        directions[row0 + j, 2] = lx * tz + ly * bz + lz * az
+    return (position[i, 0] + epsilon * normal[i, 0] - center[0],
+            position[i, 1] + epsilon * normal[i, 1] - center[1],
+            position[i, 2] + epsilon * normal[i, 2] - center[2])
+
+
 @numba.njit(parallel=True, cache=True)
 def _fan(position, normal, axis, exponent, lobe, center, epsilon, shift, base, side, origins,
          directions):
@@ -57,38 +100,12 @@ def _fan(position, normal, axis, exponent, lobe, center, epsilon, shift, base, s
         cos_phi = np.empty(levels)
         sin_phi = np.empty(levels)
         for i in range(c * _FAN_CHUNK, min(n, (c + 1) * _FAN_CHUNK)):
-            if lobe:
-                ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
-                power = 1.0 / (exponent[i] + 1.0)
-            else:
-                ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
-                power = 0.0
-            tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
-            ox = position[i, 0] + epsilon * normal[i, 0] - center[0]
-            oy = position[i, 1] + epsilon * normal[i, 1] - center[1]
-            oz = position[i, 2] + epsilon * normal[i, 2] - center[2]
-            for a in range(levels):
-                u1 = base[a * side if side > 0 else a, 0] + shift[i, 0]
-                u1 = u1 - 1.0 if u1 >= 1.0 else u1
-                if lobe:  # cos α = u1^(1/(n+1))
-                    cos_t[a] = u1**power
-                    sin_t[a] = math.sqrt(max(0.0, 1.0 - cos_t[a] * cos_t[a]))
-                else:  # cosine-weighted: sin θ = √u1
-                    sin_t[a] = math.sqrt(u1)
-                    cos_t[a] = math.sqrt(max(0.0, 1.0 - u1))
-                u2 = base[a, 1] + shift[i, 1]
-                u2 = u2 - 1.0 if u2 >= 1.0 else u2
-                phi = _TWO_PI * u2
-                cos_phi[a] = math.cos(phi)
-                sin_phi[a] = math.sin(phi)
+            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
+                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi,
+                                    directions, i * m)
             for j in range(m):
-                a, b = _levels(j, side)
-                lx, ly, lz = sin_t[a] * cos_phi[b], sin_t[a] * sin_phi[b], cos_t[a]
                 k = i * m + j
                 origins[k, 0], origins[k, 1], origins[k, 2] = ox, oy, oz
-                directions[k, 0] = lx * tx + ly * bx + lz * ax
-                directions[k, 1] = lx * ty + ly * by + lz * ay
-                directions[k, 2] = lx * tz + ly * bz + lz * az
 
 
 def cosine_fan(position, normal, center, epsilon, shift, base, side, origins, directions):
@@ -148,10 +165,27 @@ def _hat(value, nodes, periodic):
 
 
 @numba.njit(inline="always")
+def _fold_direction(row, dx, dy, dz, zenith_nodes, azimuth_nodes):
+    """Add one visible sky direction's bilinear sky-node weights to ``row`` (K·L,)."""
+    n_az = azimuth_nodes.shape[0]
+    zen = math.degrees(math.acos(min(1.0, dz)))
+    z0, z1, fz = _hat(zen, zenith_nodes, False)
+    if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
+        row[z0] += 1.0 - fz
+        row[z1] += fz
+        return
+    azi = math.degrees(math.atan2(dx, dy))
+    a0, a1, fa = _hat(azi, azimuth_nodes, True)
+    row[z0 * n_az + a0] += (1.0 - fz) * (1.0 - fa)
+    row[z0 * n_az + a1] += (1.0 - fz) * fa
+    row[z1 * n_az + a0] += fz * (1.0 - fa)
+    row[z1 * n_az + a1] += fz * fa
+
+
+@numba.njit(inline="always")
 def _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimuth_nodes,
                 n_samples, i, row):
     """:func:`fold_fractions` for point ``i`` into ``row`` (K·L,)."""
-    n_az = azimuth_nodes.shape[0]
     for k in range(row.shape[0]):
         row[k] = 0.0
     for j in range(n_samples):
@@ -161,18 +195,7 @@ def _fold_point(occluded, directions, normal, check_normal, zenith_nodes, azimut
             continue
         if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
             continue
-        zen = math.degrees(math.acos(min(1.0, dz)))
-        z0, z1, fz = _hat(zen, zenith_nodes, False)
-        if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
-            row[z0] += 1.0 - fz
-            row[z1] += fz
-            continue
-        azi = math.degrees(math.atan2(dx, dy))
-        a0, a1, fa = _hat(azi, azimuth_nodes, True)
-        row[z0 * n_az + a0] += (1.0 - fz) * (1.0 - fa)
-        row[z0 * n_az + a1] += (1.0 - fz) * fa
-        row[z1 * n_az + a0] += fz * (1.0 - fa)
-        row[z1 * n_az + a1] += fz * fa
+        _fold_direction(row, dx, dy, dz, zenith_nodes, azimuth_nodes)
     for k in range(row.shape[0]):
         row[k] /= n_samples
 
@@ -220,6 +243,144 @@ def fold_sky_sums(occluded, directions, normal, check_normal, zenith_nodes, azim
             for b in range(table.shape[2]):
                 sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
                                          i - lo, b)
+
+
+# -- fans traced as Embree packets, from inside the kernels --------------------------------
+# The packet kernels generate each point's fan, trace it in packets of eight
+# (radscene.geometry.embree) and fold its visible directions, point by point: no ray arrays.
+# Directions at or below the horizon (or, for lobes, below the surface) are not traced, as the
+# folds above skip them whatever Embree says. Same directions, same answers, same sums.
+
+#: Points per parallel work item of the packet kernels.
+_PACKET_CHUNK = 64
+
+
+@numba.njit(inline="always")
+def _trace_point(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i, check_normal,
+                 zenith_nodes, azimuth_nodes, row):
+    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
+    visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
+    Returns the number of rays traced."""
+    m = dirs.shape[0]
+    traced = 0
+    for k in range(row.shape[0]):
+        row[k] = 0.0
+    for start in range(0, m, _LANES):
+        lanes = 0
+        for lane in range(_LANES):
+            j = start + lane
+            valid[lane] = 0
+            if j >= m:
+                continue
+            dx, dy, dz = dirs[j, 0], dirs[j, 1], dirs[j, 2]
+            if dz <= 0.0:
+                continue
+            if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
+                continue
+            valid[lane] = -1  # RTCRay8: org_x, org_y, org_z, tnear, dir_x, dir_y, dir_z,
+            ray[lane] = ox  # time, tfar (float32), mask, id, flags (uint32), 8 lanes each
+            ray[_LANES + lane] = oy
+            ray[2 * _LANES + lane] = oz
+            ray[3 * _LANES + lane] = 0.0
+            ray[4 * _LANES + lane] = dx
+            ray[5 * _LANES + lane] = dy
+            ray[6 * _LANES + lane] = dz
+            ray[7 * _LANES + lane] = 0.0
+            ray[8 * _LANES + lane] = np.inf
+            words[9 * _LANES + lane] = 0xFFFFFFFF
+            words[10 * _LANES + lane] = 0
+            words[11 * _LANES + lane] = 0
+            lanes += 1
+        if lanes == 0:
+            continue
+        traced += lanes
+        occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
+        for lane in range(_LANES):
+            if valid[lane] != 0 and ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
+                j = start + lane
+                _fold_direction(row, dirs[j, 0], dirs[j, 1], dirs[j, 2], zenith_nodes,
+                                azimuth_nodes)
+    for k in range(row.shape[0]):
+        row[k] /= m
+    return traced
+
+
+@numba.njit(parallel=True, cache=True)
+def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon,
+                      shift, base, side, check_normal, zenith_nodes, azimuth_nodes, out):
+    n = position.shape[0]
+    m = base.shape[0]
+    levels = side if side > 0 else m
+    traced = 0
+    for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
+        sin_t, cos_t = np.empty(levels), np.empty(levels)
+        cos_phi, sin_phi = np.empty(levels), np.empty(levels)
+        dirs = np.empty((m, 3), np.float32)
+        ray = aligned(RAY8_FLOATS, np.float32)
+        words = ray.view(np.uint32)
+        valid = aligned(_LANES, np.int32)
+        for i in range(c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)):
+            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
+                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
+            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, np.float32(ox),
+                                   np.float32(oy), np.float32(oz), normal, i, check_normal,
+                                   zenith_nodes, azimuth_nodes, out[i])
+    return traced
+
+
+@numba.njit(parallel=True, cache=True)
+def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift, base, side,
+                     zenith_nodes, azimuth_nodes, rank, material, index, weight, table, sums,
+                     view):
+    n = position.shape[0]
+    m = base.shape[0]
+    levels = side if side > 0 else m
+    n_k = table.shape[3]
+    traced = 0
+    for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
+        lo, hi = c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)
+        sin_t, cos_t = np.empty(levels), np.empty(levels)
+        cos_phi, sin_phi = np.empty(levels), np.empty(levels)
+        dirs = np.empty((m, 3), np.float32)
+        ray = aligned(RAY8_FLOATS, np.float32)
+        words = ray.view(np.uint32)
+        valid = aligned(_LANES, np.int32)
+        rows = np.empty((hi - lo, n_k))
+        for i in range(lo, hi):
+            ox, oy, oz = _fan_point(i, position, normal, normal, np.zeros(0), False, center,
+                                    epsilon, shift, base, side, sin_t, cos_t, cos_phi, sin_phi,
+                                    dirs, 0)
+            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, np.float32(ox),
+                                   np.float32(oy), np.float32(oz), normal, i, False,
+                                   zenith_nodes, azimuth_nodes, rows[i - lo])
+            total = 0.0
+            for k in range(n_k):
+                total += rows[i - lo, k]
+            view[i] = total
+            for b in range(table.shape[2]):
+                sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
+                                         i - lo, b)
+    return traced
+
+
+def packet_fractions(packets, position, normal, axis, exponent, lobe, center, epsilon, shift,
+                     base, side, check_normal, zenith_nodes, azimuth_nodes, out):
+    """:func:`cosine_fan` (or :func:`lobe_fan`) then :func:`fold_fractions`, tracing each
+    point's fan as Embree packets in ``packets`` (a
+    :class:`radscene.geometry.embree.PacketScene` of the same local frame): writes ``out``
+    (N, K·L) without any ray arrays. Returns the number of rays traced."""
+    return _packet_fractions(packets.occluded8, packets.handle, position, normal, axis, exponent, lobe,
+                      center, epsilon, shift, base, side, check_normal, zenith_nodes,
+                      azimuth_nodes, out)
+
+
+def packet_sky_sums(packets, position, normal, center, epsilon, shift, base, side, zenith_nodes,
+                    azimuth_nodes, rank, material, index, weight, table, sums, view):
+    """:func:`cosine_fan` then :func:`fold_sky_sums`, as :func:`packet_fractions` traces.
+    Returns the number of rays traced."""
+    return _packet_sky_sums(packets.occluded8, packets.handle, position, normal, center, epsilon, shift,
+                     base, side, zenith_nodes, azimuth_nodes, rank, material, index, weight,
+                     table, sums, view)
 
 
 def empty_fan(n_rays: int, scratch: dict | None = None):

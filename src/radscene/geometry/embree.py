@@ -1,0 +1,245 @@
+"""Embree's eight-ray packet queries, for compiled kernels.
+
+embreex binds Embree 4's single-ray queries and calls them one ray at a time. The rays of a
+fan — the sky directions of one hit point, all from the same origin — are coherent enough for
+Embree's packet traversal: on the render benchmark's terrain (999 698 triangles, 16.8 M
+cosine-distributed sky rays, 2 threads, robust mode) they took 1.03 s as packets of eight
+against 1.50 s through embreex, with identical answers.
+
+This module loads the Embree library that the embreex wheel ships (no other copy is used),
+builds a scene of the same float32 geometry, and gives numba kernels the scene's handle and
+Embree's ``rtcOccluded8`` entry point; the kernels fill the packets themselves
+(:mod:`radscene.render.kernels`). :func:`packet_scene` returns None where that library cannot
+be found or loaded, or when the environment variable ``RADSCENE_EMBREE_PACKETS`` is ``0``;
+callers then keep to embreex.
+
+Embree's C interface (``rtcore_ray.h``): a packet is ``struct RTCRay8`` — eight-wide arrays
+org_x, org_y, org_z, tnear, dir_x, dir_y, dir_z, time, tfar (float32), mask, id, flags
+(uint32), 32-byte aligned — with an ``int valid[8]`` mask (-1 traces a lane); an occluded
+lane comes back with tfar = -inf.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import glob
+import os
+import threading
+import weakref
+from functools import lru_cache
+
+import numba
+import numpy as np
+
+__all__ = ["PacketScene", "packet_scene", "packets_available", "aligned", "RAY8_FLOATS", "LANES"]
+
+#: Rays per packet.
+LANES = 8
+#: float32 words in one ``RTCRay8``.
+RAY8_FLOATS = 12 * LANES
+
+_RTC_GEOMETRY_TYPE_TRIANGLE = 0
+_RTC_BUFFER_TYPE_INDEX = 0
+_RTC_BUFFER_TYPE_VERTEX = 1
+_RTC_FORMAT_UINT3 = 0x5003
+_RTC_FORMAT_FLOAT3 = 0x9003
+_RTC_SCENE_FLAG_ROBUST = 1 << 2
+_RTC_ERROR_NONE = 0
+
+_PTR = ctypes.c_size_t  # pointers and handles travel as 64-bit integers
+
+
+def _candidates() -> list[str]:
+    """Paths of the Embree library inside the installed embreex wheel."""
+    try:
+        import embreex
+    except ImportError:
+        return []
+    package = os.path.dirname(os.path.abspath(embreex.__file__))
+    site = os.path.dirname(package)
+    patterns = [os.path.join(site, "embreex.libs", "libembree4*.so*"),  # Linux (auditwheel)
+                os.path.join(package, ".dylibs", "libembree4*.dylib"),  # macOS (delocate)
+                os.path.join(site, "embreex.libs", "embree4*.dll"),  # Windows (delvewheel)
+                os.path.join(package, "libembree4*"), os.path.join(package, "embree4*.dll")]
+    return sorted({p for pattern in patterns for p in glob.glob(pattern)})
+
+
+@lru_cache(maxsize=1)
+def _library():
+    """(ctypes library, rtcOccluded8) or None."""
+    if os.environ.get("RADSCENE_EMBREE_PACKETS", "1").strip() == "0":
+        return None
+    for path in _candidates():
+        try:
+            lib = ctypes.CDLL(path)
+            signatures = {
+                "rtcNewDevice": (_PTR, [ctypes.c_char_p]),
+                "rtcGetDeviceError": (ctypes.c_int, [_PTR]),
+                "rtcReleaseDevice": (None, [_PTR]),
+                "rtcNewScene": (_PTR, [_PTR]),
+                "rtcSetSceneFlags": (None, [_PTR, ctypes.c_int]),
+                "rtcCommitScene": (None, [_PTR]),
+                "rtcReleaseScene": (None, [_PTR]),
+                "rtcNewGeometry": (_PTR, [_PTR, ctypes.c_int]),
+                "rtcSetSharedGeometryBuffer": (None, [_PTR, ctypes.c_int, ctypes.c_uint,
+                                                      ctypes.c_int, _PTR, ctypes.c_size_t,
+                                                      ctypes.c_size_t, ctypes.c_size_t]),
+                "rtcCommitGeometry": (None, [_PTR]),
+                "rtcAttachGeometry": (ctypes.c_uint, [_PTR, _PTR]),
+                "rtcReleaseGeometry": (None, [_PTR]),
+                "rtcOccluded8": (None, [_PTR, _PTR, _PTR, _PTR]),
+            }
+            for name, (restype, argtypes) in signatures.items():
+                function = getattr(lib, name)
+                function.restype, function.argtypes = restype, argtypes
+        except (OSError, AttributeError):
+            continue
+        return lib, lib.rtcOccluded8
+    return None
+
+
+def packets_available() -> bool:
+    """Whether Embree's packet queries can be used here."""
+    return _library() is not None
+
+
+def _release(lib, scene, device, buffers):
+    lib.rtcReleaseScene(scene)
+    lib.rtcReleaseDevice(device)
+    buffers.clear()
+
+
+class PacketScene:
+    """An Embree scene of triangle meshes for the packet kernels.
+
+    Parameters
+    ----------
+    vertices : sequence of (V_k, 3) float32 arrays
+        Each mesh's vertices, already in the caller's local frame [m].
+    faces : sequence of (F_k, 3) integer arrays
+        Each mesh's triangles; geometry ``k`` is mesh ``k``.
+    robust : bool
+        Embree's watertight ray-triangle test.
+
+    Attributes
+    ----------
+    handle : int
+        The committed ``RTCScene``.
+    occluded8 : ctypes function
+        Embree's ``rtcOccluded8(valid, scene, ray, args)``.
+    """
+
+    def __init__(self, vertices, faces, robust: bool = True):
+        found = _library()
+        if found is None:
+            raise RuntimeError("Embree's packet queries are not available here")
+        lib, self.occluded8 = found
+        device = lib.rtcNewDevice(None)
+        if not device:
+            raise RuntimeError("Embree could not make a device")
+        scene = lib.rtcNewScene(device)
+        self._buffers = []  # Embree reads the arrays in place: they live as long as the scene
+        self._finalizer = weakref.finalize(self, _release, lib, scene, device, self._buffers)
+        for v, f in zip(vertices, faces, strict=True):
+            v = np.ascontiguousarray(v, dtype=np.float32)
+            f = np.ascontiguousarray(f, dtype=np.uint32)
+            if len(f) == 0:
+                continue
+            self._buffers += [v, f]
+            geometry = lib.rtcNewGeometry(device, _RTC_GEOMETRY_TYPE_TRIANGLE)
+            lib.rtcSetSharedGeometryBuffer(geometry, _RTC_BUFFER_TYPE_VERTEX, 0,
+                                           _RTC_FORMAT_FLOAT3, v.ctypes.data, 0, 12, len(v))
+            lib.rtcSetSharedGeometryBuffer(geometry, _RTC_BUFFER_TYPE_INDEX, 0,
+                                           _RTC_FORMAT_UINT3, f.ctypes.data, 0, 12, len(f))
+            lib.rtcCommitGeometry(geometry)
+            lib.rtcAttachGeometry(scene, geometry)
+            lib.rtcReleaseGeometry(geometry)
+        lib.rtcSetSceneFlags(scene, _RTC_SCENE_FLAG_ROBUST if robust else 0)
+        lib.rtcCommitScene(scene)
+        error = lib.rtcGetDeviceError(device)
+        if error != _RTC_ERROR_NONE:
+            self._finalizer()
+            raise RuntimeError(f"Embree failed to build the scene (error code {error})")
+        self.handle = int(scene)
+
+    def close(self) -> None:
+        """Release the Embree scene now (also done when the object is garbage-collected)."""
+        self._finalizer()
+
+    def occluded(self, origins, directions) -> np.ndarray:
+        """Occlusion of rays in the scene's frame, traced as packets on numba's threads.
+
+        Parameters
+        ----------
+        origins, directions : (N, 3)
+            float32 (converted if not), finite, unit directions; rays look to infinity.
+
+        Returns
+        -------
+        numpy.ndarray
+            (N,) bool.
+        """
+        o = np.ascontiguousarray(origins, dtype=np.float32)
+        d = np.ascontiguousarray(directions, dtype=np.float32)
+        out = np.zeros(len(o), dtype=bool)
+        if len(o):
+            _occluded_rays(self.occluded8, self.handle, o, d, out)
+        return out
+
+
+#: Rays per parallel work item of :func:`_occluded_rays`.
+_RAY_CHUNK = 4096
+
+
+@numba.njit(inline="always")
+def aligned(n, dtype):
+    """A zeroed array of ``n`` 4-byte words starting on a 64-byte boundary (Embree's packets
+    and their valid masks must be 32-byte aligned)."""
+    raw = np.zeros(n + 16, dtype)
+    skip = ((64 - raw.ctypes.data % 64) % 64) // 4
+    return raw[skip:skip + n]
+
+
+@numba.njit(parallel=True, cache=True)
+def _occluded_rays(occluded8, scene, origins, directions, out):
+    n = origins.shape[0]
+    for c in numba.prange((n + _RAY_CHUNK - 1) // _RAY_CHUNK):
+        ray = aligned(RAY8_FLOATS, np.float32)
+        words = ray.view(np.uint32)
+        valid = aligned(LANES, np.int32)
+        for start in range(c * _RAY_CHUNK, min(n, (c + 1) * _RAY_CHUNK), LANES):
+            for lane in range(LANES):
+                k = start + lane
+                if k >= n:
+                    valid[lane] = 0
+                    continue
+                valid[lane] = -1
+                for a in range(3):
+                    ray[a * LANES + lane] = origins[k, a]
+                    ray[(4 + a) * LANES + lane] = directions[k, a]
+                ray[3 * LANES + lane] = 0.0
+                ray[7 * LANES + lane] = 0.0
+                ray[8 * LANES + lane] = np.inf
+                words[9 * LANES + lane] = 0xFFFFFFFF
+                words[10 * LANES + lane] = 0
+                words[11 * LANES + lane] = 0
+            occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
+            for lane in range(LANES):
+                if valid[lane] != 0:
+                    out[start + lane] = ray[8 * LANES + lane] < 0.0
+
+
+_lock = threading.Lock()
+
+
+def packet_scene(owner, vertices, faces, robust: bool = True) -> PacketScene | None:
+    """``owner``'s packet scene, built on first use and kept on it (as ``_packet_scene``);
+    None where packets are not available here."""
+    if not packets_available():
+        return None
+    with _lock:
+        scene = getattr(owner, "_packet_scene", None)
+        if scene is None:
+            scene = PacketScene(vertices(), faces(), robust)
+            owner._packet_scene = scene
+    return scene

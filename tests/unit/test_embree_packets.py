@@ -1,0 +1,54 @@
+"""Embree's packet queries on the library the embreex wheel ships."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from radscene.geometry import RayTracer, box, embree, plate
+
+pytestmark = pytest.mark.skipif(not embree.packets_available(),
+                                reason="Embree's packet queries are not available here")
+
+
+@pytest.fixture(scope="module")
+def tracer():
+    return RayTracer([plate(100.0, 100.0), box((10.0, 10.0, 10.0)),
+                      box((4.0, 4.0, 30.0)).transformed(translation=(20.0, 5.0, 0.0))])
+
+
+def test_packets_answer_as_embreex_does(tracer):
+    rng = np.random.default_rng(3)
+    n = 5001  # not a multiple of the packet width
+    origins = np.column_stack([rng.uniform(-40, 40, (n, 2)), rng.uniform(0.01, 20.0, n)])
+    directions = rng.normal(size=(n, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    local = tracer.to_local(origins)
+    d32 = directions.astype(np.float32)
+    single = RayTracer(tracer.meshes, packets=False).occluded_local(local, d32)  # embreex
+    packets = tracer.occluded_local(local, d32)
+    np.testing.assert_array_equal(packets, single)
+    assert 0.2 < single.mean() < 0.8  # both answers are common
+
+
+def test_the_packet_scene_is_built_once_and_released(tracer):
+    first = tracer.packets
+    assert tracer.packets is first and first.handle
+    scene = embree.PacketScene([np.zeros((3, 3), np.float32) + [[0, 0, 0], [1, 0, 0], [0, 1, 0]]],
+                               [np.array([[0, 1, 2]])])
+    hit = scene.occluded(np.array([[0.2, 0.2, 1.0]]), np.array([[0.0, 0.0, -1.0]]))
+    assert hit.tolist() == [True]
+    scene.close()
+    scene.close()  # a second release does nothing
+
+
+def test_packets_can_be_switched_off(monkeypatch):
+    monkeypatch.setenv("RADSCENE_EMBREE_PACKETS", "0")
+    embree._library.cache_clear()
+    try:
+        assert not embree.packets_available()
+        assert RayTracer([plate(10.0, 10.0)]).packets is None
+    finally:
+        monkeypatch.delenv("RADSCENE_EMBREE_PACKETS")
+        embree._library.cache_clear()
+    assert embree.packets_available()
