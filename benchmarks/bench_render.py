@@ -388,21 +388,40 @@ class AtmosphereTimer:
         return wrapped
 
     def _sky_fold(self, function):
-        """``kernels.fold_sky_sums`` (or ``packet_sky_sums``, which also traces the fans),
-        timed with and without its band sums."""
+        """``kernels.fold_sky_sums``, timed with and without its band sums; or
+        ``kernels.packet_sky_sums``, which also traces the fans: there the band sums are timed
+        apart, on the fractions of the same fans (``node_mixing._mix_sky``, the same sums)."""
         timer = self
+        packet = function.__name__ == "packet_sky_sums"
 
         def wrapped(*args):
+            from radscene.render import kernels, node_mixing
+
             t0 = time.perf_counter()
             result = function(*args)
             t1 = time.perf_counter()
             *head, table, sums, view = args
-            no_bands = np.empty(table.shape[:2] + (0,) + table.shape[3:])
-            function(*head, no_bands, np.empty((len(sums), 0)), np.empty_like(view))
-            t2 = time.perf_counter()
+            if packet:
+                (packets, position, normal, center, epsilon, shift, base, side, zen, az, rank,
+                 material, index, weight) = head
+                fractions = np.empty((len(position), zen.size * az.size))
+                kernels.packet_fractions(packets, position, normal, normal, np.zeros(0), False,
+                                         center, epsilon, shift, base, side, False, zen, az,
+                                         fractions)
+                idx, w = np.ascontiguousarray(index[rank]), np.ascontiguousarray(weight[rank])
+                out = np.empty_like(sums)
+                t2 = time.perf_counter()
+                node_mixing._mix_sky(table, material, idx, w, fractions, out)
+                t3 = time.perf_counter()
+                fold, extra = t3 - t2, t3 - t1
+            else:
+                no_bands = np.empty(table.shape[:2] + (0,) + table.shape[3:])
+                function(*head, no_bands, np.empty((len(sums), 0)), np.empty_like(view))
+                t2 = time.perf_counter()
+                fold, extra = max(0.0, (t1 - t0) - (t2 - t1)), t2 - t1
             with timer._lock:
-                timer.seconds["sky_fold"] += max(0.0, (t1 - t0) - (t2 - t1))
-                timer.seconds["extra"] += t2 - t1
+                timer.seconds["sky_fold"] += fold
+                timer.seconds["extra"] += extra
                 timer.calls["fold_sky_sums"] = timer.calls.get("fold_sky_sums", 0) + 1
             return result
 
