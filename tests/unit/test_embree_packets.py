@@ -52,3 +52,22 @@ def test_packets_can_be_switched_off(monkeypatch):
         monkeypatch.delenv("RADSCENE_EMBREE_PACKETS")
         embree._library.cache_clear()
     assert embree.packets_available()
+
+
+def test_packet_intersections_equal_embreex_ones(tracer):
+    """First hits from packets of eight: the same faces, distances, barycentrics and misses as
+    embreex's single rays, through RayTracer.intersect (clipping and hit forming included)."""
+    rng = np.random.default_rng(8)
+    n = 3003
+    origins = np.column_stack([rng.uniform(-60, 60, (n, 2)), rng.uniform(0.5, 40.0, n)])
+    directions = rng.normal(size=(n, 3))
+    directions[::3, 2] = -np.abs(directions[::3, 2]) - 0.5  # many towards the ground
+    origins[::11] += [0.0, 0.0, 500.0]  # some start outside the scene's box
+    directions[7::13] = [1.0, 0.0, 0.0]  # some parallel to the plate
+    single = RayTracer(tracer.meshes, packets=False).intersect(origins, directions)
+    packed = tracer.intersect(origins, directions)
+    assert 0.2 < single.hit.mean() < 0.9
+    for name in ("object", "primitive", "hit"):
+        np.testing.assert_array_equal(getattr(packed, name), getattr(single, name))
+    for name in ("distance", "u", "v", "normal", "position"):
+        np.testing.assert_array_equal(getattr(packed, name), getattr(single, name))

@@ -66,7 +66,7 @@ def _candidates() -> list[str]:
 
 @lru_cache(maxsize=1)
 def _library():
-    """(ctypes library, rtcOccluded8) or None."""
+    """(ctypes library, rtcOccluded8, rtcIntersect8) or None."""
     if os.environ.get("RADSCENE_EMBREE_PACKETS", "1").strip() == "0":
         return None
     for path in _candidates():
@@ -88,13 +88,14 @@ def _library():
                 "rtcAttachGeometry": (ctypes.c_uint, [_PTR, _PTR]),
                 "rtcReleaseGeometry": (None, [_PTR]),
                 "rtcOccluded8": (None, [_PTR, _PTR, _PTR, _PTR]),
+                "rtcIntersect8": (None, [_PTR, _PTR, _PTR, _PTR]),
             }
             for name, (restype, argtypes) in signatures.items():
                 function = getattr(lib, name)
                 function.restype, function.argtypes = restype, argtypes
         except (OSError, AttributeError):
             continue
-        return lib, lib.rtcOccluded8
+        return lib, lib.rtcOccluded8, lib.rtcIntersect8
     return None
 
 
@@ -125,15 +126,16 @@ class PacketScene:
     ----------
     handle : int
         The committed ``RTCScene``.
-    occluded8 : ctypes function
-        Embree's ``rtcOccluded8(valid, scene, ray, args)``.
+    occluded8, intersect8 : ctypes functions
+        Embree's ``rtcOccluded8(valid, scene, ray, args)`` and ``rtcIntersect8(valid, scene,
+        rayhit, args)``.
     """
 
     def __init__(self, vertices, faces, robust: bool = True):
         found = _library()
         if found is None:
             raise RuntimeError("Embree's packet queries are not available here")
-        lib, self.occluded8 = found
+        lib, self.occluded8, self.intersect8 = found
         device = lib.rtcNewDevice(None)
         if not device:
             raise RuntimeError("Embree could not make a device")
@@ -185,6 +187,25 @@ class PacketScene:
         if len(o):
             _occluded_rays(self.occluded8, self.handle, o, d, out)
         return out
+
+
+    def intersect(self, origins, directions):
+        """First hits of rays in the scene's frame, traced as packets on numba's threads.
+
+        Returns
+        -------
+        geom, prim : (N,) int32 — geometry and triangle index, -1 on a miss
+        tfar : (N,) float32 — distance along the direction
+        u, v : (N,) float32 — barycentric coordinates of the hit
+        """
+        o = np.ascontiguousarray(origins, dtype=np.float32)
+        d = np.ascontiguousarray(directions, dtype=np.float32)
+        n = len(o)
+        geom, prim = np.empty(n, np.int32), np.empty(n, np.int32)
+        tfar, u, v = np.empty(n, np.float32), np.empty(n, np.float32), np.empty(n, np.float32)
+        if n:
+            _intersect_rays(self.intersect8, self.handle, o, d, geom, prim, tfar, u, v)
+        return geom, prim, tfar, u, v
 
 
 #: Rays per parallel work item of :func:`_occluded_rays`.
@@ -243,3 +264,51 @@ def packet_scene(owner, vertices, faces, robust: bool = True) -> PacketScene | N
             scene = PacketScene(vertices(), faces(), robust)
             owner._packet_scene = scene
     return scene
+
+
+#: float32 words of one ``RTCRayHit8``: the ray, then Ng_x, Ng_y, Ng_z, u, v, primID, geomID,
+#: instID[1] (and, where Embree has instance arrays, instPrimID[1]), eight lanes each.
+RAYHIT8_FLOATS = RAY8_FLOATS + 10 * LANES
+_HIT = RAY8_FLOATS  # offset of the hit part
+_INVALID_ID = 0xFFFFFFFF
+
+
+@numba.njit(parallel=True, cache=True)
+def _intersect_rays(intersect8, scene, origins, directions, geom, prim, tfar, u, v):
+    n = origins.shape[0]
+    for c in numba.prange((n + _RAY_CHUNK - 1) // _RAY_CHUNK):
+        rayhit = aligned(RAYHIT8_FLOATS, np.float32)
+        words = rayhit.view(np.uint32)
+        valid = aligned(LANES, np.int32)
+        for start in range(c * _RAY_CHUNK, min(n, (c + 1) * _RAY_CHUNK), LANES):
+            for lane in range(LANES):
+                k = start + lane
+                if k >= n:
+                    valid[lane] = 0
+                    continue
+                valid[lane] = -1
+                for a in range(3):
+                    rayhit[a * LANES + lane] = origins[k, a]
+                    rayhit[(4 + a) * LANES + lane] = directions[k, a]
+                rayhit[3 * LANES + lane] = 0.0
+                rayhit[7 * LANES + lane] = 0.0
+                rayhit[8 * LANES + lane] = np.inf
+                words[9 * LANES + lane] = 0xFFFFFFFF
+                words[10 * LANES + lane] = 0
+                words[11 * LANES + lane] = 0
+                for f in range(6, 10):  # geomID, instID, instPrimID: invalid
+                    words[_HIT + f * LANES + lane] = _INVALID_ID
+            intersect8(valid.ctypes.data, scene, rayhit.ctypes.data, 0)
+            for lane in range(LANES):
+                k = start + lane
+                if k >= n:
+                    continue
+                g = words[_HIT + 6 * LANES + lane]
+                if g == _INVALID_ID:
+                    geom[k], prim[k], tfar[k], u[k], v[k] = -1, -1, 0.0, 0.0, 0.0
+                else:
+                    geom[k] = g
+                    prim[k] = words[_HIT + 5 * LANES + lane]
+                    tfar[k] = rayhit[8 * LANES + lane]
+                    u[k] = rayhit[_HIT + 3 * LANES + lane]
+                    v[k] = rayhit[_HIT + 4 * LANES + lane]

@@ -1,4 +1,4 @@
-"""The ray engine: ray-triangle queries on Embree (via embreex), in batches, on threads.
+"""The ray engine: ray-triangle queries on Embree, in batches, on threads.
 
 Precision. Embree works in float32. The scene is therefore moved into a local frame centred on
 the centre of its bounding box, and every ray is first clipped, in float64, to that box (grown
@@ -12,9 +12,11 @@ two triangles that share an edge, as a ray aimed exactly at a terrain grid verte
 on by default; measured on the development machine it cost 1-5 % for intersection and
 about 10-18 % for occlusion queries, a fair price for no light leaks through terrain seams.
 
-Cost. embreex traces one ray at a time in C and releases the GIL, so batches are cut into
-chunks that a thread pool runs in parallel. A ray with NaN components or a zero direction
-costs Embree milliseconds; such input is refused with :class:`ConfigError`. :meth:`intersect`
+Cost. Where Embree's packet queries can be used (:mod:`radscene.geometry.embree`, the default),
+rays are traced eight at a time from numba kernels on numba's threads; otherwise embreex traces
+one ray at a time in C and releases the GIL, so batches are cut into chunks that a thread pool
+runs in parallel. Both give the same answers (unit tests). A ray with NaN components or a
+zero direction costs Embree milliseconds; such input is refused with :class:`ConfigError`. :meth:`intersect`
 checks, normalises and clips its rays in one compiled pass (numba) and forms the hits in
 another, so that a million primary rays cost little beyond Embree's own time.
 """
@@ -396,7 +398,12 @@ class RayTracer:
             geom[at], prim[at], tfar[at] = res["geomID"], res["primID"], res["tfar"]
             hit_u[at], hit_v[at] = res["u"], res["v"]
 
-        if not self._empty:
+        packets = self.packets
+        if packets is not None and len(start):  # Embree's packets of eight, numba's threads
+            at = slice(None) if traced is None else traced
+            geom[at], prim[at], tfar[at], hit_u[at], hit_v[at] = packets.intersect(start,
+                                                                                   direction)
+        elif not self._empty:
             self._run_chunks(len(start), work)
         distance = np.empty(n)
         obj = np.empty(n, dtype=np.int32)

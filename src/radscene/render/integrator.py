@@ -361,39 +361,46 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
             return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
                                         sun_dir, shifts, scratch, fused_sky)
 
-        emission_pair, emission_tables = _emission_pairs(bset, hit_material, hit_temperature)
-        mix_tables = {  # (row, path node, band[, sky node]), as node_mixing.mix_terms takes them
-            "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
-            "sun_specular": coef.sun_specular.transpose(0, 2, 1),
-            "emission": np.stack(emission_tables, axis=-1),
-            "sky_diffuse": coef.sky_diffuse.transpose(0, 2, 1, 3),
-            "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
-            "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
-        mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
+        sky_diffuse = np.ascontiguousarray(coef.sky_diffuse.transpose(0, 2, 1, 3), dtype=float)
         # one sample per pixel and no BRDF model: the terms go straight into the outputs
         direct = per_pixel == 1 and bset.brdf is None
         # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
         # sky fan is folded straight into it on the worker thread
         fused_sky = None if bset.brdf is not None else (
-            mix_tables["sky_diffuse"], path_nodes_all.index, path_nodes_all.weight)
+            sky_diffuse, path_nodes_all.index, path_nodes_all.weight)
         ahead = 2  # tiles whose rays are queued while this thread works
         pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
+        # the other tables while the first tiles' rays are traced
+        emission_pair, emission_tables = _emission_pairs(bset, hit_material, hit_temperature)
+        mix_tables = {  # (row, path node, band[, sky node]), as node_mixing.mix_terms takes them
+            "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
+            "sun_specular": coef.sun_specular.transpose(0, 2, 1),
+            "emission": np.stack(emission_tables, axis=-1),
+            "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
+            "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
+        mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
+        mix_tables["sky_diffuse"] = sky_diffuse
         # with one sample per pixel a tile's pixels are final once its terms are written: their
         # brightness temperatures are computed here, while the next tiles' rays are traced
         thermal = [b for b, band in enumerate(bands)
                    if band.response.center >= THERMAL_BAND_START]
         bt_map = np.full((n_b, n_pix), np.nan) if direct and thermal else None
+        radiance = np.empty((n_b, n_pix)) if direct else None
         pixel_coords = None
 
-        def tile_brightness(sl):
-            if bt_map is None:
+        def tile_totals(sl):
+            """The tile's total radiance (the terms summed in TERMS order, as _dataset would)
+            and brightness temperatures, while later tiles are traced."""
+            if radiance is None:
                 return
             at = _as_slice(rays.pixel[sl])
-            for b in thermal:
-                total = acc[0, b, at].copy()  # in TERMS order, as _dataset sums them
-                for t in range(1, len(TERMS)):
-                    total += acc[t, b, at]
-                bt_map[b, at] = band_brightness_temperature(total, bands[b].response)
+            total = radiance[:, at]
+            np.copyto(total, acc[0, :, at])
+            for t in range(1, len(TERMS)):
+                total += acc[t, :, at]
+            if bt_map is not None:
+                for b in thermal:
+                    bt_map[b, at] = band_brightness_temperature(total[b], bands[b].response)
         for i, sl in enumerate(tiles):
             if i + ahead < len(tiles):
                 pending[i + ahead] = launch(tiles[i + ahead])
@@ -419,7 +426,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                     sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b],
                                                             n_pix)
             if current is None:  # no hits in this tile
-                tile_brightness(sl)
+                tile_totals(sl)
                 _report(progress, sl.stop, total)
                 continue
             st, job = current
@@ -480,12 +487,12 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                 object_id[p[c]] = obj[c]
                 material_id[p[c]] = mat[c]
                 normal_map[:, p[c]] = nrm[c].T
-            tile_brightness(sl)
+            tile_totals(sl)
             _report(progress, sl.stop, total)
         elapsed = _time.perf_counter() - started
         ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
                       object_id, material_id, normal_map, sun, elapsed, pool=worker,
-                      brightness=bt_map, pixel_coords=pixel_coords)
+                      brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
     return ds.assign(geolocation)
@@ -653,11 +660,12 @@ def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
 
 def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_id, material_id,
              normal_map, sun, elapsed, pool=None, brightness=None,
-             pixel_coords=None) -> xr.Dataset:
+             pixel_coords=None, radiance=None) -> xr.Dataset:
     """The render's Dataset; ``pool``, an executor, may take the brightness temperatures.
 
     ``brightness`` (band, pixel), when given, holds them already for the thermal bands;
-    ``pixel_coords`` the observer's pixel coordinates (:func:`_pixel_coordinates`).
+    ``pixel_coords`` the observer's pixel coordinates (:func:`_pixel_coordinates`);
+    ``radiance`` (band, pixel) the terms' sum, when the render made it.
     """
     from radscene import __version__
     from radscene.radiometry import band_brightness_temperature
@@ -665,9 +673,12 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     ny, nx = shape
     n_b = len(bands)
     cube = {name: s.reshape(n_b, ny, nx) for name, s in sums.items()}
-    total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
-    for name in TERMS[1:]:
-        total += cube[name]
+    if radiance is not None:
+        total = radiance.reshape(n_b, ny, nx)
+    else:
+        total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
+        for name in TERMS[1:]:
+            total += cube[name]
     thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
     if brightness is not None:
         thermal = []  # done during the render
