@@ -164,11 +164,27 @@ def _hat(value, nodes, periodic):
     return lo, lo + 1, (value - nodes[lo]) / (nodes[lo + 1] - nodes[lo])
 
 
+#: Abramowitz & Stegun (1964), eq. 4.4.46: arccos x = √(1 − x) Σ_k a_k x^k for 0 ≤ x ≤ 1, with
+#: an error ≤ 2e-8 rad (2.2e-8 measured) — below the precision of the float32 directions.
+_ACOS = (1.5707963050, -0.2145988016, 0.0889789874, -0.0501743046, 0.0308918810,
+         -0.0170881256, 0.0066700901, -0.0012624911)
+
+
+@numba.njit(inline="always")
+def _zenith_degrees(z):
+    """Zenith angle [deg] of a direction whose vertical component is 0 ≤ z ≤ 1 (A&S 4.4.46:
+    the library arc cosine was a twentieth of a render's CPU time)."""
+    z = min(1.0, z)
+    p = ((((((_ACOS[7] * z + _ACOS[6]) * z + _ACOS[5]) * z + _ACOS[4]) * z + _ACOS[3]) * z
+          + _ACOS[2]) * z + _ACOS[1]) * z + _ACOS[0]
+    return math.degrees(math.sqrt(1.0 - z) * p)
+
+
 @numba.njit(inline="always")
 def _fold_direction(row, dx, dy, dz, zenith_nodes, azimuth_nodes):
-    """Add one visible sky direction's bilinear sky-node weights to ``row`` (K·L,)."""
+    """Add one visible sky direction's (dz > 0) bilinear sky-node weights to ``row`` (K·L,)."""
     n_az = azimuth_nodes.shape[0]
-    zen = math.degrees(math.acos(min(1.0, dz)))
+    zen = _zenith_degrees(dz)
     z0, z1, fz = _hat(zen, zenith_nodes, False)
     if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
         row[z0] += 1.0 - fz
