@@ -71,3 +71,33 @@ def test_packet_intersections_equal_embreex_ones(tracer):
         np.testing.assert_array_equal(getattr(packed, name), getattr(single, name))
     for name in ("distance", "u", "v", "normal", "position"):
         np.testing.assert_array_equal(getattr(packed, name), getattr(single, name))
+
+
+def test_render_shadows_from_packets_equal_the_checked_queries(tracer):
+    """The renderer's shadow pass (integrator._shadows): packets of eight neighbouring hits,
+    against the same hits through embreex — normals turned to face the viewer, faces turned
+    from the sun unlit, hits whose offset origin leaves the scene's box (here: above it) sent
+    to the checked query; and with shadows off, only the faces' orientation."""
+    from types import SimpleNamespace
+
+    from radscene.render.integrator import _shadows
+
+    rng = np.random.default_rng(12)
+    n = 4001
+    down = np.tile([0.0, 0.0, -1.0], (n, 1)) + rng.normal(scale=0.2, size=(n, 3))
+    down /= np.linalg.norm(down, axis=1, keepdims=True)
+    origins = np.column_stack([rng.uniform(-45, 45, (n, 2)), np.full(n, 60.0)])
+    hits = tracer.intersect(origins, down)
+    assert hits.hit.mean() > 0.8  # some rays leave the 100 m plate
+    hits.position[:50] += [0.0, 0.0, 100.0]  # offset origins above the box
+    sun = np.array([0.5, -0.3, 0.81])
+    sun /= np.linalg.norm(sun)
+    single = RayTracer(tracer.meshes, packets=False)
+    for trace in (True, False):
+        got = [_shadows(SimpleNamespace(tracer=t, sun=SimpleNamespace(zenith=36.0), epsilon=1e-3),
+                        hits, hits.hit, down, sun, trace) for t in (tracer, single)]
+        np.testing.assert_array_equal(got[0], got[1])
+        assert set(np.unique(got[0])) == {0.0, 1.0}
+        if trace:  # the boxes cast shadows on the plate
+            shaded = 1.0 - got[0].mean()
+    assert 0.02 < shaded < 0.9 and shaded > 1.0 - got[0].mean()

@@ -296,6 +296,12 @@ class RayTracer:
         """Origin of the tracer's local float32 frame in world coordinates [m]."""
         return self._center.copy()
 
+    @property
+    def half_size(self) -> np.ndarray:
+        """Half-size of the box rays are clipped to, about :attr:`center` [m] (the meshes' box
+        grown by a small margin)."""
+        return self._half.copy()
+
     def to_local(self, points) -> np.ndarray | None:
         """float32 local-frame copies of world points ``(N, 3)``, for :meth:`occluded_local`.
 

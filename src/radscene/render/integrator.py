@@ -289,8 +289,6 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         ``radiance(band, y, x)`` [W m-2 sr-1], one variable per signature term (same dims),
         and the truth maps; see ``docs/outputs.md``.
     """
-    from radscene.radiometry import band_brightness_temperature
-
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     tables = _tables or scene_tables(scene)
     bands = [scene.band(name) for name in setup.bands]
@@ -298,14 +296,31 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     sun_dir = sun.direction
     settings = scene.settings
     rays = setup.camera.rays(supersample=setup.supersample)
-    ny, nx = rays.shape
-    n_pix = ny * nx
-    n_b = len(bands)
     started = _time.perf_counter()
 
     # first pass: primary hits, for the path nodes of the whole image
     hits = tables.tracer.intersect(rays.origins, rays.directions)
     hit = hits.hit
+    # The shadow rays of every hit are traced on a worker thread while this one prepares the
+    # tables; the shadow, sky and lobe rays of the later tiles go to the same thread.
+    worker = ThreadPoolExecutor(max_workers=1)
+    try:
+        shadows = worker.submit(_shadows, tables, hits, hit, rays.directions, sun_dir,
+                                settings.shadows)
+        return _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits,
+                            hit, shadows, worker, started, progress)
+    finally:
+        worker.shutdown(wait=True, cancel_futures=True)
+
+
+def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits, hit, shadows,
+                 worker, started, progress) -> xr.Dataset:
+    """:func:`render` after the primary rays: the path nodes, the band tables and the tiles."""
+    from radscene.radiometry import band_brightness_temperature
+
+    ny, nx = rays.shape
+    n_pix = ny * nx
+    n_b = len(bands)
     alt0 = scene.location.altitude
     obs_alt = rays.origins[hit, 2] + alt0
     tgt_alt = hits.position[hit, 2] + alt0
@@ -347,152 +362,151 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     unit_weight = bool(np.all(rays.weight == 1.0))  # then weighting changes nothing: skip it
     geolocation = None
     labelled = central & hit  # positions and view directions are known from the primary rays
-    with ThreadPoolExecutor(max_workers=1) as worker:
 
-        def launch(sl):
-            state = _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
-                             hit_temperature)
-            if state is None:
-                return None
-            state.specular = specular_material[state.mat]
-            n_specular = int(np.count_nonzero(state.specular))
-            shifts = (rng.random((len(state.mat), 2)),
-                      rng.random((n_specular, 2)) if n_specular else None)
-            return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
-                                        sun_dir, shifts, scratch, fused_sky)
+    def launch(sl):
+        state = _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
+                         hit_temperature)
+        if state is None:
+            return None
+        state.specular = specular_material[state.mat]
+        n_specular = int(np.count_nonzero(state.specular))
+        shifts = (rng.random((len(state.mat), 2)),
+                  rng.random((n_specular, 2)) if n_specular else None)
+        return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
+                                    sun_dir, shifts, scratch, fused_sky, shadows)
 
-        sky_diffuse = np.ascontiguousarray(coef.sky_diffuse.transpose(0, 2, 1, 3), dtype=float)
-        # one sample per pixel and no BRDF model: the terms go straight into the outputs
-        direct = per_pixel == 1 and bset.brdf is None
-        # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
-        # sky fan is folded straight into it on the worker thread
-        fused_sky = None if bset.brdf is not None else (
-            sky_diffuse, path_nodes_all.index, path_nodes_all.weight)
-        ahead = 2  # tiles whose rays are queued while this thread works
-        pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
-        # the other tables while the first tiles' rays are traced
-        emission_pair, emission_tables = _emission_pairs(bset, hit_material, hit_temperature)
-        mix_tables = {  # (row, path node, band[, sky node]), as node_mixing.mix_terms takes them
-            "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
-            "sun_specular": coef.sun_specular.transpose(0, 2, 1),
-            "emission": np.stack(emission_tables, axis=-1),
-            "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
-            "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
-        mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
-        mix_tables["sky_diffuse"] = sky_diffuse
-        # with one sample per pixel a tile's pixels are final once its terms are written: their
-        # brightness temperatures are computed here, while the next tiles' rays are traced
-        thermal = [b for b, band in enumerate(bands)
-                   if band.response.center >= THERMAL_BAND_START]
-        bt_map = np.full((n_b, n_pix), np.nan) if direct and thermal else None
-        radiance = np.empty((n_b, n_pix)) if direct else None
-        pixel_coords = None
+    sky_diffuse = np.ascontiguousarray(coef.sky_diffuse.transpose(0, 2, 1, 3), dtype=float)
+    # one sample per pixel and no BRDF model: the terms go straight into the outputs
+    direct = per_pixel == 1 and bset.brdf is None
+    # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
+    # sky fan is folded straight into it on the worker thread
+    fused_sky = None if bset.brdf is not None else (
+        sky_diffuse, path_nodes_all.index, path_nodes_all.weight)
+    ahead = 2  # tiles whose rays are queued while this thread works
+    pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
+    # the other tables while the first tiles' rays are traced
+    emission_pair, emission_tables = _emission_pairs(bset, hit_material, hit_temperature)
+    mix_tables = {  # (row, path node, band[, sky node]), as node_mixing.mix_terms takes them
+        "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
+        "sun_specular": coef.sun_specular.transpose(0, 2, 1),
+        "emission": np.stack(emission_tables, axis=-1),
+        "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
+        "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
+    mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
+    mix_tables["sky_diffuse"] = sky_diffuse
+    # with one sample per pixel a tile's pixels are final once its terms are written: their
+    # brightness temperatures are computed here, while the next tiles' rays are traced
+    thermal = [b for b, band in enumerate(bands)
+               if band.response.center >= THERMAL_BAND_START]
+    bt_map = np.full((n_b, n_pix), np.nan) if direct and thermal else None
+    radiance = np.empty((n_b, n_pix)) if direct else None
+    pixel_coords = None
 
-        def tile_totals(sl):
-            """The tile's total radiance (the terms summed in TERMS order, as _dataset would)
-            and brightness temperatures, while later tiles are traced."""
-            if radiance is None:
-                return
-            at = _as_slice(rays.pixel[sl])
-            total = radiance[:, at]
-            np.copyto(total, acc[0, :, at])
-            for t in range(1, len(TERMS)):
-                total += acc[t, :, at]
-            if bt_map is not None:
-                for b in thermal:
-                    bt_map[b, at] = band_brightness_temperature(total[b], bands[b].response)
-        for i, sl in enumerate(tiles):
-            if i + ahead < len(tiles):
-                pending[i + ahead] = launch(tiles[i + ahead])
-            if geolocation is None:  # while the first tiles' rays are traced
-                position_map[:, rays.pixel[labelled]] = hits.position[labelled].T
-                view_map[:, rays.pixel[labelled]] = -rays.directions[labelled].T
-                geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
-                pixel_coords = _pixel_coordinates(setup, rays.shape)
-            current = pending.pop(i)
-            pix = rays.pixel[sl]
-            w = rays.weight[sl]
-            d = rays.directions[sl]
-            h = hit[sl]
-            # --- rays that leave the scene see the sky (upwards) or nothing (downwards) ----
-            miss = ~h
-            if np.any(miss):
-                dz = d[miss, 2]
-                zen = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
-                azi = np.degrees(np.arctan2(d[miss, 0], d[miss, 1]))
-                weights = sky_node_weights(zen, azi, *sky_nodes)
-                sky_seen = (weights @ coef.sky_view.T) * (dz > 0)[:, None]
-                for b in range(n_b):
-                    sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b],
-                                                            n_pix)
-            if current is None:  # no hits in this tile
-                tile_totals(sl)
-                _report(progress, sl.stop, total)
-                continue
-            st, job = current
-            hidx, rank, obj, mat, temp = st.hidx, st.rank, st.obj, st.mat, st.temp
-            pos, nrm, wo, cos_v, cos_i = st.pos, st.nrm, st.wo, st.cos_v, st.cos_i
-            tex = _textures(scene, obj, pos)
-            n_hits = len(hidx)
-            if np.any(st.specular):
-                mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
-                cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
-                lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
-            else:  # every specular coefficient of these materials is zero
-                lobe = np.zeros(n_hits)
-            p = rays.pixel[hidx]
-            wh = rays.weight[hidx]
-            lit, sky_out, lobe_f = job.result()
-            if fused_sky is None:
-                sky_f, sky_sums, sky_view = sky_out, None, sky_out.sum(axis=1)
-            else:
-                sky_f, (sky_sums, sky_view) = None, sky_out
-            # --- terms (terms.py's, with the coefficients mixed between path nodes) ---------
-            if direct:
-                out, tau, out_pixel, out_weight = acc, transmittance, p, wh
-            else:  # per hit, then weighted and summed per pixel below
-                out, tau = np.empty((len(TERMS), n_b, n_hits)), np.empty((n_b, n_hits))
-                out_pixel, out_weight = np.arange(n_hits), np.ones(n_hits)
-            node_mixing.mix_terms(
-                out, tau, out_pixel, out_weight, rank, mat, emission_pair, path_nodes_all.index,
-                path_nodes_all.weight, cos_incidence=cos_i, lit=lit,
-                reflectance=tex["reflectance"], emissivity=tex["emissivity"], lobe=lobe,
-                specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f,
-                sky_sums=sky_sums, **mix_tables)
-            if bset.brdf is not None:
-                values = {name: out[t].T for t, name in enumerate(TERMS)}
-                _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
-                            sky_f, _subset_nodes(path_nodes_all, rank))
-            truth_rows = (cos_i, 1.0 - lit, sky_view, temp, hits.distance[hidx], None)
-            if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
-                at = _as_slice(p)  # a tile of whole rows: plain slices
-                if not direct:
-                    acc[:, :, at] = out if unit_weight else out * wh
-                    transmittance[:, at] = tau if unit_weight else tau * wh
-                for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
-                    truth_sum[key][at] = wh if row is None else row if unit_weight else row * wh
-            else:
-                n_rows = len(TERMS) * n_b
-                rows = np.concatenate([out.reshape(n_rows, n_hits), tau, np.vstack(
-                    [np.ones(n_hits) if row is None else row for row in truth_rows])])
-                pixels, totals = _pixel_sums(p, wh, rows)
-                acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
-                transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
-                for c, key in enumerate(TRUTH_SUMS):
-                    truth_sum[key][pixels] += totals[n_rows + n_b + c]
-            if per_pixel == 1:  # every sample is its pixel's central one
-                object_id[at], material_id[at], normal_map[:, at] = obj, mat, nrm.T
-            else:
-                c = central[hidx]
-                object_id[p[c]] = obj[c]
-                material_id[p[c]] = mat[c]
-                normal_map[:, p[c]] = nrm[c].T
+    def tile_totals(sl):
+        """The tile's total radiance (the terms summed in TERMS order, as _dataset would)
+        and brightness temperatures, while later tiles are traced."""
+        if radiance is None:
+            return
+        at = _as_slice(rays.pixel[sl])
+        total = radiance[:, at]
+        np.copyto(total, acc[0, :, at])
+        for t in range(1, len(TERMS)):
+            total += acc[t, :, at]
+        if bt_map is not None:
+            for b in thermal:
+                bt_map[b, at] = band_brightness_temperature(total[b], bands[b].response)
+    for i, sl in enumerate(tiles):
+        if i + ahead < len(tiles):
+            pending[i + ahead] = launch(tiles[i + ahead])
+        if geolocation is None:  # while the first tiles' rays are traced
+            position_map[:, rays.pixel[labelled]] = hits.position[labelled].T
+            view_map[:, rays.pixel[labelled]] = -rays.directions[labelled].T
+            geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
+            pixel_coords = _pixel_coordinates(setup, rays.shape)
+        current = pending.pop(i)
+        pix = rays.pixel[sl]
+        w = rays.weight[sl]
+        d = rays.directions[sl]
+        h = hit[sl]
+        # --- rays that leave the scene see the sky (upwards) or nothing (downwards) ----
+        miss = ~h
+        if np.any(miss):
+            dz = d[miss, 2]
+            zen = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
+            azi = np.degrees(np.arctan2(d[miss, 0], d[miss, 1]))
+            weights = sky_node_weights(zen, azi, *sky_nodes)
+            sky_seen = (weights @ coef.sky_view.T) * (dz > 0)[:, None]
+            for b in range(n_b):
+                sums["path_radiance"][b] += np.bincount(pix[miss], w[miss] * sky_seen[:, b],
+                                                        n_pix)
+        if current is None:  # no hits in this tile
             tile_totals(sl)
             _report(progress, sl.stop, total)
-        elapsed = _time.perf_counter() - started
-        ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
-                      object_id, material_id, normal_map, sun, elapsed, pool=worker,
-                      brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
+            continue
+        st, job = current
+        hidx, rank, obj, mat, temp = st.hidx, st.rank, st.obj, st.mat, st.temp
+        pos, nrm, wo, cos_v, cos_i = st.pos, st.nrm, st.wo, st.cos_v, st.cos_i
+        tex = _textures(scene, obj, pos)
+        n_hits = len(hidx)
+        if np.any(st.specular):
+            mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
+            cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
+            lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
+        else:  # every specular coefficient of these materials is zero
+            lobe = np.zeros(n_hits)
+        p = rays.pixel[hidx]
+        wh = rays.weight[hidx]
+        lit, sky_out, lobe_f = job.result()
+        if fused_sky is None:
+            sky_f, sky_sums, sky_view = sky_out, None, sky_out.sum(axis=1)
+        else:
+            sky_f, (sky_sums, sky_view) = None, sky_out
+        # --- terms (terms.py's, with the coefficients mixed between path nodes) ---------
+        if direct:
+            out, tau, out_pixel, out_weight = acc, transmittance, p, wh
+        else:  # per hit, then weighted and summed per pixel below
+            out, tau = np.empty((len(TERMS), n_b, n_hits)), np.empty((n_b, n_hits))
+            out_pixel, out_weight = np.arange(n_hits), np.ones(n_hits)
+        node_mixing.mix_terms(
+            out, tau, out_pixel, out_weight, rank, mat, emission_pair, path_nodes_all.index,
+            path_nodes_all.weight, cos_incidence=cos_i, lit=lit,
+            reflectance=tex["reflectance"], emissivity=tex["emissivity"], lobe=lobe,
+            specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f,
+            sky_sums=sky_sums, **mix_tables)
+        if bset.brdf is not None:
+            values = {name: out[t].T for t, name in enumerate(TERMS)}
+            _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
+                        sky_f, _subset_nodes(path_nodes_all, rank))
+        truth_rows = (cos_i, 1.0 - lit, sky_view, temp, hits.distance[hidx], None)
+        if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
+            at = _as_slice(p)  # a tile of whole rows: plain slices
+            if not direct:
+                acc[:, :, at] = out if unit_weight else out * wh
+                transmittance[:, at] = tau if unit_weight else tau * wh
+            for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
+                truth_sum[key][at] = wh if row is None else row if unit_weight else row * wh
+        else:
+            n_rows = len(TERMS) * n_b
+            rows = np.concatenate([out.reshape(n_rows, n_hits), tau, np.vstack(
+                [np.ones(n_hits) if row is None else row for row in truth_rows])])
+            pixels, totals = _pixel_sums(p, wh, rows)
+            acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
+            transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
+            for c, key in enumerate(TRUTH_SUMS):
+                truth_sum[key][pixels] += totals[n_rows + n_b + c]
+        if per_pixel == 1:  # every sample is its pixel's central one
+            object_id[at], material_id[at], normal_map[:, at] = obj, mat, nrm.T
+        else:
+            c = central[hidx]
+            object_id[p[c]] = obj[c]
+            material_id[p[c]] = mat[c]
+            normal_map[:, p[c]] = nrm[c].T
+        tile_totals(sl)
+        _report(progress, sl.stop, total)
+    elapsed = _time.perf_counter() - started
+    ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
+                  object_id, material_id, normal_map, sun, elapsed, pool=worker,
+                  brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
     return ds.assign(geolocation)
@@ -601,21 +615,63 @@ def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_t
         origin=pos + tables.epsilon * nrm)
 
 
-def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky=None):
+def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
+    """1.0 for each hit (in hit order) where the sun is above its face (the normal turned to
+    face the viewer) and, with ``trace``, seen from it; else 0.0."""
+    from radscene.render import kernels
+
+    sel = slice(None) if hit.all() else hit
+    pos, nrm, view = hits.position[sel], hits.normal[sel], directions[sel]
+    lit = np.zeros(len(pos))
+    if tables.sun.zenith >= 90.0 or len(pos) == 0:
+        return lit
+    tracer = tables.tracer
+    packets = tracer.packets
+    if packets is not None:  # one pass, packets of eight neighbouring hits
+        outside = kernels.packet_shadows(packets, np.ascontiguousarray(pos),
+                                         np.ascontiguousarray(nrm), np.ascontiguousarray(view),
+                                         tracer.center, tracer.half_size, tables.epsilon,
+                                         sun_dir, trace, lit)
+        if not outside:
+            return lit
+        todo = np.flatnonzero(lit < 0.0)  # origins outside the box: the checked query
+        pos, nrm, view, lit_all, lit = pos[todo], nrm[todo], view[todo], lit, None
+    else:
+        todo, lit_all = None, None
+    nrm = np.where((np.einsum("nc,nc->n", nrm, view) > 0.0)[:, None], -nrm, nrm)
+    facing = nrm @ sun_dir > 0.0
+    out = np.zeros(len(pos))
+    if trace:
+        out[facing] = illumination.cast_shadow(tracer, pos[facing] + tables.epsilon
+                                               * nrm[facing], sun_dir)
+    else:
+        out[facing] = 1.0
+    if todo is None:
+        return out
+    lit_all[todo] = out
+    return lit_all
+
+
+def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky=None,
+                    shadows=None):
     """Shadow, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
 
     ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
     the fans' ray buffers between tiles. ``sky`` is None, or (table, index, weight): then the
     sky fan is folded straight into the reflected-sky band sums and the second item is
     (sums (N, n_b), sky view (N,)) instead of the fractions (N, K). The lobe fractions have
-    no rows where the tile has no specular hit.
+    no rows where the tile has no specular hit. ``shadows``, a future of :func:`_shadows` for
+    every hit of the render, gives ``lit``; without it the tile's shadow rays are cast here.
     """
-    lit = np.zeros(len(st.mat))
-    facing = (st.cos_i > 0.0) & (tables.sun.zenith < 90.0)
-    if settings.shadows:
-        lit[facing] = illumination.cast_shadow(tables.tracer, st.origin[facing], sun_dir)
+    if shadows is not None:
+        lit = shadows.result()[st.rank]
     else:
-        lit[facing] = 1.0
+        lit = np.zeros(len(st.mat))
+        facing = (st.cos_i > 0.0) & (tables.sun.zenith < 90.0)
+        if settings.shadows:
+            lit[facing] = illumination.cast_shadow(tables.tracer, st.origin[facing], sun_dir)
+        else:
+            lit[facing] = 1.0
     if sky is None:
         sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, sky_nodes, None,

@@ -19,7 +19,7 @@ from radscene.geometry.embree import RAY8_FLOATS, aligned
 from radscene.render.node_mixing import _sky_sample
 
 __all__ = ["cosine_fan", "lobe_fan", "fold_fractions", "fold_sky_sums", "packet_fractions",
-           "packet_sky_sums"]
+           "packet_sky_sums", "packet_shadows"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -377,6 +377,76 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
                 sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
                                          i - lo, b)
     return traced
+
+
+@numba.njit(parallel=True, cache=True)
+def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsilon, sun,
+                    trace, lit):
+    n = position.shape[0]
+    outside = 0
+    for c in numba.prange((n + _SHADOW_CHUNK - 1) // _SHADOW_CHUNK):
+        ray = aligned(RAY8_FLOATS, np.float32)
+        words = ray.view(np.uint32)
+        valid = aligned(_LANES, np.int32)
+        for start in range(c * _SHADOW_CHUNK, min(n, (c + 1) * _SHADOW_CHUNK), _LANES):
+            lanes = 0
+            for lane in range(_LANES):
+                i = start + lane
+                valid[lane] = 0
+                if i >= n:
+                    continue
+                nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
+                if nx * view[i, 0] + ny * view[i, 1] + nz * view[i, 2] > 0.0:  # face the viewer
+                    nx, ny, nz = -nx, -ny, -nz
+                lit[i] = 0.0
+                if nx * sun[0] + ny * sun[1] + nz * sun[2] <= 0.0:
+                    continue
+                lit[i] = 1.0
+                if not trace:
+                    continue
+                ox = position[i, 0] + epsilon * nx - center[0]
+                oy = position[i, 1] + epsilon * ny - center[1]
+                oz = position[i, 2] + epsilon * nz - center[2]
+                if abs(ox) > half[0] or abs(oy) > half[1] or abs(oz) > half[2]:
+                    lit[i] = -1.0  # outside the scene's box: for the checked query
+                    outside += 1
+                    continue
+                valid[lane] = -1
+                ray[lane] = np.float32(ox)
+                ray[_LANES + lane] = np.float32(oy)
+                ray[2 * _LANES + lane] = np.float32(oz)
+                ray[3 * _LANES + lane] = 0.0
+                ray[4 * _LANES + lane] = np.float32(sun[0])
+                ray[5 * _LANES + lane] = np.float32(sun[1])
+                ray[6 * _LANES + lane] = np.float32(sun[2])
+                ray[7 * _LANES + lane] = 0.0
+                ray[8 * _LANES + lane] = np.inf
+                words[9 * _LANES + lane] = 0xFFFFFFFF
+                words[10 * _LANES + lane] = 0
+                words[11 * _LANES + lane] = 0
+                lanes += 1
+            if lanes == 0:
+                continue
+            occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
+            for lane in range(_LANES):
+                if valid[lane] != 0 and ray[8 * _LANES + lane] < 0.0:  # occluded: tfar = -inf
+                    lit[start + lane] = 0.0
+    return outside
+
+
+#: Hits per parallel work item of :func:`_packet_shadows`.
+_SHADOW_CHUNK = 4096
+
+
+def packet_shadows(packets, position, normal, view, center, half, epsilon, sun, trace, lit):
+    """Sunlit (1) or not (0) for each hit, into ``lit`` (N,): the normal is turned to face
+    the viewer (``view``, the primary ray's direction, points away from it), a face turned
+    from the sun is not lit, and with ``trace`` a shadow ray towards ``sun`` (unit, world
+    frame) leaves ``position + epsilon · normal``, as Embree packets of eight neighbouring
+    hits. Where that origin lies outside the tracer's box (``center`` ± ``half``), ``lit`` is
+    -1: such rays are left to the caller. Returns their number."""
+    return _packet_shadows(packets.occluded8, packets.handle, position, normal, view, center,
+                           half, epsilon, np.asarray(sun, dtype=np.float64), bool(trace), lit)
 
 
 def packet_fractions(packets, position, normal, axis, exponent, lobe, center, epsilon, shift,
