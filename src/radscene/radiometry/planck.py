@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+import numba
 import numpy as np
 from scipy.special import bernoulli
 
@@ -366,21 +367,6 @@ def brightness_temperature(wavelength, radiance):
         return C2 / (lam * np.log1p(C1L / (lam**5 * (rad / _UM))))
 
 
-def _hermite(y, yk, uk, mk):
-    """Cubic Hermite interpolation of u(y) through (yk, uk) with slopes mk; y inside."""
-    idx = np.clip(np.searchsorted(yk, y, side="right") - 1, 0, yk.size - 2)
-    h = yk[idx + 1] - yk[idx]
-    s = (y - yk[idx]) / h
-    s2 = s * s
-    s3 = s2 * s
-    return (
-        (2 * s3 - 3 * s2 + 1) * uk[idx]
-        + (s3 - 2 * s2 + s) * h * mk[idx]
-        + (-2 * s3 + 3 * s2) * uk[idx + 1]
-        + (s3 - s2) * h * mk[idx + 1]
-    )
-
-
 def _brightness_table(response: SpectralResponse):
     """(ln L, 1/T, d(1/T)/d(ln L), largest L) of :func:`band_brightness_temperature`'s table.
 
@@ -447,26 +433,62 @@ def band_brightness_temperature(radiance, response: SpectralResponse):
     300.0
     """
     rad = np.asarray(radiance, dtype=float)
-    if np.any(rad < 0):
+    yk, uk, mk, l_max = _brightness_table(response)
+    result = np.empty(rad.shape)
+    status = _invert_band(np.ascontiguousarray(rad).reshape(-1), yk, uk, mk, l_max,
+                          result.reshape(-1))
+    if status == 1:
         raise ConfigError(
             f"band radiance must be >= 0 W m-2 sr-1; got min {np.nanmin(rad)!r}",
             key="radiance",
         )
-    yk, uk, mk, l_max = _brightness_table(response)
-    if np.any(rad[np.isfinite(rad)] > l_max):
+    if status == 2:
         raise ConfigError(
             f"band radiance above {l_max:.6g} W m-2 sr-1 (a {_TABLE_T_MAX:g} K "
             f"blackbody in {response.name!r}) is not accepted",
             key="radiance",
         )
-    result = np.full(rad.shape, np.nan)
-    positive = np.isfinite(rad) & (rad > 0)
-    y = np.log(rad[positive])
-    inside = y >= yk[0]
-    u = np.empty_like(y)
-    u[inside] = _hermite(y[inside], yk, uk, mk)
-    u[~inside] = uk[0] + mk[0] * (y[~inside] - yk[0])
-    result[positive] = 1.0 / u
-    result[rad == 0] = 0.0
-    result[rad == np.inf] = np.inf
     return result[()] if result.ndim == 0 else result
+
+
+@numba.njit(cache=True)
+def _invert_band(rad, yk, uk, mk, l_max, out):
+    """:func:`band_brightness_temperature` per value, into ``out``: the cubic Hermite
+    interpolant of u = 1/T in y = ln L through the table's nodes and slopes inside it, its
+    Wien-limit line below it;
+    NaN for NaN, 0 K for 0, inf for inf. Returns 1 at a negative radiance, 2 at a finite one
+    above ``l_max``, else 0 (``out`` is then complete)."""
+    n = yk.size
+    for i in range(rad.size):
+        r = rad[i]
+        if r != r:
+            out[i] = np.nan
+        elif r < 0.0:
+            return 1
+        elif r == 0.0:
+            out[i] = 0.0
+        elif r == np.inf:
+            out[i] = np.inf
+        elif r > l_max:
+            return 2
+        else:
+            y = math.log(r)
+            if y >= yk[0]:
+                lo, hi = 0, n  # searchsorted(yk, y, side="right")
+                while lo < hi:
+                    mid = (lo + hi) // 2
+                    if yk[mid] <= y:
+                        lo = mid + 1
+                    else:
+                        hi = mid
+                k = min(max(lo - 1, 0), n - 2)
+                h = yk[k + 1] - yk[k]
+                s = (y - yk[k]) / h
+                s2 = s * s
+                s3 = s2 * s
+                u = ((2 * s3 - 3 * s2 + 1) * uk[k] + (s3 - 2 * s2 + s) * h * mk[k]
+                     + (-2 * s3 + 3 * s2) * uk[k + 1] + (s3 - s2) * h * mk[k + 1])
+            else:
+                u = uk[0] + mk[0] * (y - yk[0])
+            out[i] = 1.0 / u
+    return 0
