@@ -22,7 +22,7 @@ validate: $(STAMP)  ## every test, the long validations included
 	$(BIN)/python -m pytest -q
 
 bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
-	$(BIN)/python benchmarks/bench_render.py
+	$(BIN)/python benchmarks/bench_render.py --warmup --repeat 5
 	$(BIN)/python benchmarks/bench_sensor.py
 	$(BIN)/python benchmarks/bench_brdf.py
 

@@ -202,18 +202,19 @@ class RayCounter:
         return wrapped
 
     def _kernel(self, function, kind_default):
-        """A packet kernel that generates, traces and folds a fan: it returns its ray count;
-        its whole time is booked as engine time."""
+        """A packet kernel that traces its own rays (a fan's, generated and folded; every
+        hit's shadow ray): it returns its ray count (first of a pair); its whole time is
+        booked as engine time."""
         counter = self
 
         def wrapped(*args, **kwargs):
             kind = counter._kind or kind_default
             t0 = time.perf_counter()
-            traced = function(*args, **kwargs)
+            out = function(*args, **kwargs)
             counter.engine_s[kind] += time.perf_counter() - t0
-            counter.rays[kind] += int(traced)
+            counter.rays[kind] += int(out[0] if isinstance(out, tuple) else out)
             counter.calls[kind] += 1
-            return traced
+            return out
 
         return wrapped
 
@@ -231,9 +232,10 @@ class RayCounter:
             (illumination, "lobe_sky_fractions",
              self._query(illumination.lobe_sky_fractions, "lobe")),
         ]
-        for name in ("packet_sky_sums", "packet_fractions"):  # fans traced inside kernels
+        for name, kind in (("packet_sky_sums", "sky"), ("packet_fractions", "sky"),
+                           ("packet_shadows", "shadow")):  # rays traced inside kernels
             if hasattr(kernels, name):
-                patches.append((kernels, name, self._kernel(getattr(kernels, name), "sky")))
+                patches.append((kernels, name, self._kernel(getattr(kernels, name), kind)))
         if hasattr(raytracer.RayTracer, "occluded_local"):  # the fast path for secondary rays
             patches.append((raytracer.RayTracer, "occluded_local",
                             self._engine(raytracer.RayTracer.occluded_local, "shadow")))

@@ -628,10 +628,11 @@ def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
     tracer = tables.tracer
     packets = tracer.packets
     if packets is not None:  # one pass, packets of eight neighbouring hits
-        outside = kernels.packet_shadows(packets, np.ascontiguousarray(pos),
-                                         np.ascontiguousarray(nrm), np.ascontiguousarray(view),
-                                         tracer.center, tracer.half_size, tables.epsilon,
-                                         sun_dir, trace, lit)
+        _traced, outside = kernels.packet_shadows(packets, np.ascontiguousarray(pos),
+                                                  np.ascontiguousarray(nrm),
+                                                  np.ascontiguousarray(view),
+                                                  tracer.center, tracer.half_size,
+                                                  tables.epsilon, sun_dir, trace, lit)
         if not outside:
             return lit
         todo = np.flatnonzero(lit < 0.0)  # origins outside the box: the checked query

@@ -381,10 +381,12 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
 
 @numba.njit(parallel=True, cache=True)
 def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsilon, sun,
-                    trace, lit):
+                    trace, lit, counts):
+    """:func:`packet_shadows`; ``counts[c]`` gets work item c's (rays traced, rays left)."""
     n = position.shape[0]
-    outside = 0
     for c in numba.prange((n + _SHADOW_CHUNK - 1) // _SHADOW_CHUNK):
+        traced = 0
+        outside = 0
         ray = aligned(RAY8_FLOATS, np.float32)
         words = ray.view(np.uint32)
         valid = aligned(_LANES, np.int32)
@@ -427,11 +429,13 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
                 lanes += 1
             if lanes == 0:
                 continue
+            traced += lanes
             occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
             for lane in range(_LANES):
                 if valid[lane] != 0 and ray[8 * _LANES + lane] < 0.0:  # occluded: tfar = -inf
                     lit[start + lane] = 0.0
-    return outside
+        counts[c, 0] = traced
+        counts[c, 1] = outside
 
 
 #: Hits per parallel work item of :func:`_packet_shadows`.
@@ -444,9 +448,12 @@ def packet_shadows(packets, position, normal, view, center, half, epsilon, sun, 
     from the sun is not lit, and with ``trace`` a shadow ray towards ``sun`` (unit, world
     frame) leaves ``position + epsilon · normal``, as Embree packets of eight neighbouring
     hits. Where that origin lies outside the tracer's box (``center`` ± ``half``), ``lit`` is
-    -1: such rays are left to the caller. Returns their number."""
-    return _packet_shadows(packets.occluded8, packets.handle, position, normal, view, center,
-                           half, epsilon, np.asarray(sun, dtype=np.float64), bool(trace), lit)
+    -1: such rays are left to the caller. Returns (rays traced, rays left)."""
+    counts = np.zeros(((len(position) + _SHADOW_CHUNK - 1) // _SHADOW_CHUNK, 2), np.int64)
+    _packet_shadows(packets.occluded8, packets.handle, position, normal, view, center, half,
+                    epsilon, np.asarray(sun, dtype=np.float64), bool(trace), lit, counts)
+    traced, outside = counts.sum(axis=0)
+    return int(traced), int(outside)
 
 
 def packet_fractions(packets, position, normal, axis, exponent, lobe, center, epsilon, shift,
