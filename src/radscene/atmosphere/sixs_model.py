@@ -49,6 +49,9 @@ plane-parallel layer).
 
 from __future__ import annotations
 
+import math
+
+import numba
 import numpy as np
 
 __all__ = [
@@ -462,18 +465,10 @@ def multilinear_nodes(coordinates, axes):
     return [a[m] for a, m in zip(axes, multi, strict=True)], index, weight
 
 
-def _h(tau, mu, mu_s):
-    """(e^{-τ/μ} - e^{-τ/μs}) / (τ (1/μs - 1/μ)), stable for every μ, μs in (0, 1]."""
-    y = tau * np.abs(1.0 / mu_s - 1.0 / mu)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        phi = np.where(y > 1e-8, -np.expm1(-y) / y, 1.0 - 0.5 * y)
-    return np.exp(-tau / np.maximum(mu, mu_s)) * phi
-
-
 def single_scattering_sky(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down,
                           tau_rayleigh, tau_aerosol, omega_aerosol, angle_nodes, phase_rayleigh,
                           phase_aerosol):
-    """Singly scattered sky radiance at the bottom of a plane-parallel layer.
+    r"""Singly scattered sky radiance at the bottom of a plane-parallel layer.
 
     Parameters
     ----------
@@ -495,16 +490,74 @@ def single_scattering_sky(zenith, relative_azimuth, sun_zenith, toa_irradiance, 
     -------
     numpy.ndarray
         Radiance, shape S + (n,) [W m-2 sr-1 um-1].
+
+    Notes
+    -----
+    .. math:: L = \frac{E_0 T_g}{4\pi\mu} (\tau_R P_R(\Theta) + \omega_A \tau_A P_A(\Theta))
+              \, e^{-\tau/\max(\mu, \mu_s)} \frac{1 - e^{-y}}{y},\quad
+              y = \tau \left|\frac{1}{\mu_s} - \frac{1}{\mu}\right|
+
+    (the layer integral of single scattering; :math:`(1 - e^{-y})/y \to 1 - y/2` for small
+    :math:`y`), with the phase functions log-linear in angle as :func:`phase_interp`.
     """
     z, p = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(relative_azimuth, float))
-    theta = scattering_angle_sky(sun_zenith, z, p)
-    pr = phase_interp(theta, angle_nodes, phase_rayleigh)
-    pa = phase_interp(theta, angle_nodes, phase_aerosol)
-    tau = tau_rayleigh + tau_aerosol
-    mu = np.cos(np.radians(z))[..., None]
-    mu_s = np.cos(np.radians(sun_zenith))
-    source = tau_rayleigh * pr + omega_aerosol * tau_aerosol * pa
-    return toa_irradiance * gas_down / (4.0 * np.pi * mu) * source * _h(tau, mu, mu_s)
+    out = np.empty(z.size * np.size(toa_irradiance))
+    _sky_terms(z.ravel(), p.ravel(), np.zeros(0), sun_zenith, toa_irradiance, gas_down,
+               tau_rayleigh, tau_aerosol, omega_aerosol, angle_nodes, phase_rayleigh,
+               phase_aerosol, out)
+    return out.reshape(z.shape + (np.size(toa_irradiance),))
+
+
+def _sky_terms(zenith, relative_azimuth, weight, sun_zenith, toa_irradiance, gas_down,
+               tau_rayleigh, tau_aerosol, omega_aerosol, angle_nodes, phase_rayleigh,
+               phase_aerosol, out):
+    """:func:`single_scattering_sky` of flat directions into ``out`` (K·n,), or, with
+    ``weight`` (K,), only Σ_k weight_k L_k into ``out`` (n,)."""
+    e0g = (np.asarray(toa_irradiance, dtype=float)
+           * np.asarray(gas_down, dtype=float)).reshape(-1)
+    n = e0g.size
+    tau_r, tau_a, om = (np.broadcast_to(np.asarray(x, dtype=float), (n,)).copy()
+                        for x in (tau_rayleigh, tau_aerosol, omega_aerosol))
+    nodes = np.ascontiguousarray(angle_nodes, dtype=float)
+    logs = [np.ascontiguousarray(np.log(np.maximum(np.asarray(ph, dtype=float), 1e-12))
+                                 .reshape(nodes.size, n)) for ph in (phase_rayleigh, phase_aerosol)]
+    theta = np.ascontiguousarray(scattering_angle_sky(sun_zenith, zenith, relative_azimuth))
+    mu = np.cos(np.radians(zenith))
+    _sky_kernel(theta, mu, np.ascontiguousarray(weight, dtype=float),
+                float(np.cos(np.radians(sun_zenith))), nodes, logs[0], logs[1], e0g, tau_r,
+                tau_a, om, out)
+
+
+@numba.njit(parallel=True, cache=True)
+def _sky_kernel(theta, mu, weight, mu_s, nodes, log_pr, log_pa, e0g, tau_r, tau_a, om, out):
+    k_n = nodes.size
+    n = e0g.size
+    summed = weight.size > 0
+    if summed:
+        for j in range(n):
+            out[j] = 0.0
+    for j in numba.prange(n):
+        tau = tau_r[j] + tau_a[j]
+        total = 0.0
+        for k in range(theta.size):
+            a = min(max(theta[k], nodes[0]), nodes[k_n - 1])
+            i = 0  # searchsorted(nodes, a, "right") - 1, within [0, k_n - 2]
+            while i < k_n - 2 and nodes[i + 1] <= a:
+                i += 1
+            t = (a - nodes[i]) / (nodes[i + 1] - nodes[i])
+            pr = math.exp(log_pr[i, j] * (1.0 - t) + log_pr[i + 1, j] * t)
+            pa = math.exp(log_pa[i, j] * (1.0 - t) + log_pa[i + 1, j] * t)
+            y = tau * abs(1.0 / mu_s - 1.0 / mu[k])
+            phi = -math.expm1(-y) / y if y > 1e-8 else 1.0 - 0.5 * y
+            h = math.exp(-tau / max(mu[k], mu_s)) * phi
+            source = tau_r[j] * pr + om[j] * tau_a[j] * pa
+            value = e0g[j] / (4.0 * np.pi * mu[k]) * source * h
+            if summed:
+                total += weight[k] * value
+            else:
+                out[k * n + j] = value
+        if summed:
+            out[j] = total
 
 
 def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):
@@ -569,7 +622,9 @@ def sky_radiance(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down,
     args = (sun_zenith, e0, gas_down, tau_rayleigh, tau_aerosol, omega_aerosol, angle_nodes,
             phase_rayleigh, phase_aerosol)
     qz, qp, qw = hemisphere_quadrature()
-    e_ss = np.einsum("q,qn->n", qw, single_scattering_sky(qz, qp, *args))
+    e_ss = np.empty(e0.size)  # Σ_q w_q L_ss(q), without the (directions × n) array
+    _sky_terms(qz, qp, qw, *args, e_ss)
+    e_ss = e_ss.reshape(e0.shape)
     scale = np.where(e_ss > e_dif, e_dif / np.maximum(e_ss, 1e-300), 1.0)
     rest = np.maximum(e_dif - e_ss, 0.0)
     rb = float(background_albedo) * np.asarray(spherical_albedo, dtype=float)
