@@ -532,24 +532,32 @@ def _sky_terms(zenith, relative_azimuth, weight, sun_zenith, toa_irradiance, gas
 def _sky_kernel(theta, mu, weight, mu_s, nodes, log_pr, log_pa, e0g, tau_r, tau_a, om, out):
     k_n = nodes.size
     n = e0g.size
+    n_dir = theta.size
     summed = weight.size > 0
-    if summed:
-        for j in range(n):
-            out[j] = 0.0
+    # per direction: the phase-table interval and weight, |1/μs - 1/μ|, max(μ, μs)
+    lower = np.empty(n_dir, np.int64)
+    frac = np.empty(n_dir)
+    slant = np.empty(n_dir)
+    longest = np.empty(n_dir)
+    for k in range(n_dir):
+        a = min(max(theta[k], nodes[0]), nodes[k_n - 1])
+        i = 0  # searchsorted(nodes, a, "right") - 1, within [0, k_n - 2]
+        while i < k_n - 2 and nodes[i + 1] <= a:
+            i += 1
+        lower[k] = i
+        frac[k] = (a - nodes[i]) / (nodes[i + 1] - nodes[i])
+        slant[k] = abs(1.0 / mu_s - 1.0 / mu[k])
+        longest[k] = max(mu[k], mu_s)
     for j in numba.prange(n):
         tau = tau_r[j] + tau_a[j]
         total = 0.0
-        for k in range(theta.size):
-            a = min(max(theta[k], nodes[0]), nodes[k_n - 1])
-            i = 0  # searchsorted(nodes, a, "right") - 1, within [0, k_n - 2]
-            while i < k_n - 2 and nodes[i + 1] <= a:
-                i += 1
-            t = (a - nodes[i]) / (nodes[i + 1] - nodes[i])
+        for k in range(n_dir):
+            i, t = lower[k], frac[k]
             pr = math.exp(log_pr[i, j] * (1.0 - t) + log_pr[i + 1, j] * t)
             pa = math.exp(log_pa[i, j] * (1.0 - t) + log_pa[i + 1, j] * t)
-            y = tau * abs(1.0 / mu_s - 1.0 / mu[k])
+            y = tau * slant[k]
             phi = -math.expm1(-y) / y if y > 1e-8 else 1.0 - 0.5 * y
-            h = math.exp(-tau / max(mu[k], mu_s)) * phi
+            h = math.exp(-tau / longest[k]) * phi
             source = tau_r[j] * pr + om[j] * tau_a[j] * pa
             value = e0g[j] / (4.0 * np.pi * mu[k]) * source * h
             if summed:
