@@ -31,7 +31,9 @@ from functools import lru_cache
 import numba
 import numpy as np
 
-__all__ = ["PacketScene", "packet_scene", "packets_available", "aligned", "RAY8_FLOATS", "LANES"]
+__all__ = ["PacketScene", "packet_scene", "packets_available", "aligned", "packet_buffers", "set_lane",
+           "RAY8_FLOATS",
+           "LANES"]
 
 #: Rays per packet.
 LANES = 8
@@ -221,13 +223,37 @@ def aligned(n, dtype):
     return raw[skip:skip + n]
 
 
+@numba.njit(inline="always")
+def packet_buffers(n_floats):
+    """A packet (``n_floats`` float32 words, 64-byte aligned), its uint32 view and its valid
+    mask: (ray, words, valid)."""
+    ray = aligned(n_floats, np.float32)
+    return ray, ray.view(np.uint32), aligned(LANES, np.int32)
+
+
+@numba.njit(inline="always")
+def set_lane(ray, words, lane, ox, oy, oz, dx, dy, dz):
+    """Write one ray into lane ``lane`` of a packet (``ray`` float32 and ``words``, its uint32
+    view): origin, tnear 0, direction, time 0, tfar inf, mask all ones, id and flags 0."""
+    ray[lane] = ox
+    ray[LANES + lane] = oy
+    ray[2 * LANES + lane] = oz
+    ray[3 * LANES + lane] = 0.0
+    ray[4 * LANES + lane] = dx
+    ray[5 * LANES + lane] = dy
+    ray[6 * LANES + lane] = dz
+    ray[7 * LANES + lane] = 0.0
+    ray[8 * LANES + lane] = np.inf
+    words[9 * LANES + lane] = 0xFFFFFFFF
+    words[10 * LANES + lane] = 0
+    words[11 * LANES + lane] = 0
+
+
 @numba.njit(parallel=True, cache=True)
 def _occluded_rays(occluded8, scene, origins, directions, out):
     n = origins.shape[0]
     for c in numba.prange((n + _RAY_CHUNK - 1) // _RAY_CHUNK):
-        ray = aligned(RAY8_FLOATS, np.float32)
-        words = ray.view(np.uint32)
-        valid = aligned(LANES, np.int32)
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
         for start in range(c * _RAY_CHUNK, min(n, (c + 1) * _RAY_CHUNK), LANES):
             for lane in range(LANES):
                 k = start + lane
@@ -235,15 +261,8 @@ def _occluded_rays(occluded8, scene, origins, directions, out):
                     valid[lane] = 0
                     continue
                 valid[lane] = -1
-                for a in range(3):
-                    ray[a * LANES + lane] = origins[k, a]
-                    ray[(4 + a) * LANES + lane] = directions[k, a]
-                ray[3 * LANES + lane] = 0.0
-                ray[7 * LANES + lane] = 0.0
-                ray[8 * LANES + lane] = np.inf
-                words[9 * LANES + lane] = 0xFFFFFFFF
-                words[10 * LANES + lane] = 0
-                words[11 * LANES + lane] = 0
+                set_lane(ray, words, lane, origins[k, 0], origins[k, 1], origins[k, 2],
+                         directions[k, 0], directions[k, 1], directions[k, 2])
             occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
             for lane in range(LANES):
                 if valid[lane] != 0:
@@ -277,9 +296,7 @@ _INVALID_ID = 0xFFFFFFFF
 def _intersect_rays(intersect8, scene, origins, directions, geom, prim, tfar, u, v):
     n = origins.shape[0]
     for c in numba.prange((n + _RAY_CHUNK - 1) // _RAY_CHUNK):
-        rayhit = aligned(RAYHIT8_FLOATS, np.float32)
-        words = rayhit.view(np.uint32)
-        valid = aligned(LANES, np.int32)
+        rayhit, words, valid = packet_buffers(RAYHIT8_FLOATS)
         for start in range(c * _RAY_CHUNK, min(n, (c + 1) * _RAY_CHUNK), LANES):
             for lane in range(LANES):
                 k = start + lane
@@ -287,15 +304,8 @@ def _intersect_rays(intersect8, scene, origins, directions, geom, prim, tfar, u,
                     valid[lane] = 0
                     continue
                 valid[lane] = -1
-                for a in range(3):
-                    rayhit[a * LANES + lane] = origins[k, a]
-                    rayhit[(4 + a) * LANES + lane] = directions[k, a]
-                rayhit[3 * LANES + lane] = 0.0
-                rayhit[7 * LANES + lane] = 0.0
-                rayhit[8 * LANES + lane] = np.inf
-                words[9 * LANES + lane] = 0xFFFFFFFF
-                words[10 * LANES + lane] = 0
-                words[11 * LANES + lane] = 0
+                set_lane(rayhit, words, lane, origins[k, 0], origins[k, 1], origins[k, 2],
+                         directions[k, 0], directions[k, 1], directions[k, 2])
                 for f in range(6, 10):  # geomID, instID, instPrimID: invalid
                     words[_HIT + f * LANES + lane] = _INVALID_ID
             intersect8(valid.ctypes.data, scene, rayhit.ctypes.data, 0)

@@ -15,7 +15,7 @@ import numba
 import numpy as np
 
 from radscene.geometry.embree import LANES as _LANES
-from radscene.geometry.embree import RAY8_FLOATS, aligned
+from radscene.geometry.embree import RAY8_FLOATS, packet_buffers, set_lane
 from radscene.render.node_mixing import _sky_sample
 
 __all__ = ["cosine_fan", "lobe_fan", "fold_fractions", "fold_sky_sums", "packet_fractions",
@@ -293,19 +293,8 @@ def _trace_point(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, 
                 continue
             if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
                 continue
-            valid[lane] = -1  # RTCRay8: org_x, org_y, org_z, tnear, dir_x, dir_y, dir_z,
-            ray[lane] = ox  # time, tfar (float32), mask, id, flags (uint32), 8 lanes each
-            ray[_LANES + lane] = oy
-            ray[2 * _LANES + lane] = oz
-            ray[3 * _LANES + lane] = 0.0
-            ray[4 * _LANES + lane] = dx
-            ray[5 * _LANES + lane] = dy
-            ray[6 * _LANES + lane] = dz
-            ray[7 * _LANES + lane] = 0.0
-            ray[8 * _LANES + lane] = np.inf
-            words[9 * _LANES + lane] = 0xFFFFFFFF
-            words[10 * _LANES + lane] = 0
-            words[11 * _LANES + lane] = 0
+            valid[lane] = -1
+            set_lane(ray, words, lane, ox, oy, oz, dx, dy, dz)
             lanes += 1
         if lanes == 0:
             continue
@@ -332,9 +321,7 @@ def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, 
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs = np.empty((m, 3), np.float32)
-        ray = aligned(RAY8_FLOATS, np.float32)
-        words = ray.view(np.uint32)
-        valid = aligned(_LANES, np.int32)
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
         for i in range(c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)):
             ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
                                     shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
@@ -358,9 +345,7 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs = np.empty((m, 3), np.float32)
-        ray = aligned(RAY8_FLOATS, np.float32)
-        words = ray.view(np.uint32)
-        valid = aligned(_LANES, np.int32)
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
         rows = np.empty((hi - lo, n_k))
         for i in range(lo, hi):
             ox, oy, oz = _fan_point(i, position, normal, normal, np.zeros(0), False, center,
@@ -387,9 +372,7 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
     for c in numba.prange((n + _SHADOW_CHUNK - 1) // _SHADOW_CHUNK):
         traced = 0
         outside = 0
-        ray = aligned(RAY8_FLOATS, np.float32)
-        words = ray.view(np.uint32)
-        valid = aligned(_LANES, np.int32)
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
         for start in range(c * _SHADOW_CHUNK, min(n, (c + 1) * _SHADOW_CHUNK), _LANES):
             lanes = 0
             for lane in range(_LANES):
@@ -414,18 +397,8 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
                     outside += 1
                     continue
                 valid[lane] = -1
-                ray[lane] = np.float32(ox)
-                ray[_LANES + lane] = np.float32(oy)
-                ray[2 * _LANES + lane] = np.float32(oz)
-                ray[3 * _LANES + lane] = 0.0
-                ray[4 * _LANES + lane] = np.float32(sun[0])
-                ray[5 * _LANES + lane] = np.float32(sun[1])
-                ray[6 * _LANES + lane] = np.float32(sun[2])
-                ray[7 * _LANES + lane] = 0.0
-                ray[8 * _LANES + lane] = np.inf
-                words[9 * _LANES + lane] = 0xFFFFFFFF
-                words[10 * _LANES + lane] = 0
-                words[11 * _LANES + lane] = 0
+                set_lane(ray, words, lane, np.float32(ox), np.float32(oy), np.float32(oz),
+                         np.float32(sun[0]), np.float32(sun[1]), np.float32(sun[2]))
                 lanes += 1
             if lanes == 0:
                 continue
