@@ -626,19 +626,17 @@ def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
     if tables.sun.zenith >= 90.0 or len(pos) == 0:
         return lit
     tracer = tables.tracer
-    packets = tracer.packets
-    if packets is not None:  # one pass, packets of eight neighbouring hits
-        _traced, outside = kernels.packet_shadows(packets, np.ascontiguousarray(pos),
+    todo = slice(None)  # the hits left to the checked query below: all of them, or
+    if tracer.packets is not None:  # one pass, packets of eight neighbouring hits
+        _traced, outside = kernels.packet_shadows(tracer.packets, np.ascontiguousarray(pos),
                                                   np.ascontiguousarray(nrm),
                                                   np.ascontiguousarray(view),
                                                   tracer.center, tracer.half_size,
                                                   tables.epsilon, sun_dir, trace, lit)
         if not outside:
             return lit
-        todo = np.flatnonzero(lit < 0.0)  # origins outside the box: the checked query
-        pos, nrm, view, lit_all, lit = pos[todo], nrm[todo], view[todo], lit, None
-    else:
-        todo, lit_all = None, None
+        todo = np.flatnonzero(lit < 0.0)  # those whose origin lies outside the scene's box
+    pos, nrm, view = pos[todo], nrm[todo], view[todo]
     nrm = np.where((np.einsum("nc,nc->n", nrm, view) > 0.0)[:, None], -nrm, nrm)
     facing = nrm @ sun_dir > 0.0
     out = np.zeros(len(pos))
@@ -647,10 +645,8 @@ def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
                                                * nrm[facing], sun_dir)
     else:
         out[facing] = 1.0
-    if todo is None:
-        return out
-    lit_all[todo] = out
-    return lit_all
+    lit[todo] = out
+    return lit
 
 
 def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky=None,

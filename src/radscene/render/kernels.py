@@ -364,6 +364,10 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
     return traced
 
 
+#: Hits per parallel work item of :func:`_packet_shadows`.
+_SHADOW_CHUNK = 4096
+
+
 @numba.njit(parallel=True, cache=True)
 def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsilon, sun,
                     trace, lit, counts):
@@ -409,10 +413,6 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
                     lit[start + lane] = 0.0
         counts[c, 0] = traced
         counts[c, 1] = outside
-
-
-#: Hits per parallel work item of :func:`_packet_shadows`.
-_SHADOW_CHUNK = 4096
 
 
 def packet_shadows(packets, position, normal, view, center, half, epsilon, sun, trace, lit):
