@@ -105,3 +105,15 @@ def test_phase_functions_6s_printed_as_nan_are_filled_from_larger_angles():
     filled = _fill_forward(printed)
     np.testing.assert_allclose(filled, exact, rtol=1e-12)
     assert _fill_forward(exact) is not exact and np.array_equal(_fill_forward(exact), exact)
+
+
+def test_phase_functions_without_two_valid_angles_are_an_engine_error():
+    from radscene.atmosphere.build import _fill_forward
+    from radscene.atmosphere.sixs import PHASE_ANGLES
+    from radscene.errors import EngineError
+
+    printed = np.full((len(PHASE_ANGLES), 2), 2.0)
+    printed[1:, 1] = np.nan
+    with pytest.raises(EngineError, match="fewer than two valid phase-function values at "
+                                          "wavelength index 1"):
+        _fill_forward(printed)

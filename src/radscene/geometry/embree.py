@@ -8,8 +8,8 @@ against 1.50 s through embreex, with identical answers.
 
 This module loads the Embree library that the embreex wheel ships (no other copy is used),
 builds a scene of the same float32 geometry, and gives numba kernels the scene's handle and
-Embree's ``rtcOccluded8`` entry point; the kernels fill the packets themselves
-(:mod:`radscene.render.kernels`). :func:`packet_scene` returns None where that library cannot
+Embree's ``rtcOccluded8`` and ``rtcIntersect8`` entry points; the kernels fill the packets
+themselves (here, and in :mod:`radscene.render.kernels`). :func:`packet_scene` returns None where that library cannot
 be found or loaded, or when the environment variable ``RADSCENE_EMBREE_PACKETS`` is ``0``;
 callers then keep to embreex.
 
@@ -31,9 +31,8 @@ from functools import lru_cache
 import numba
 import numpy as np
 
-__all__ = ["PacketScene", "packet_scene", "packets_available", "aligned", "packet_buffers", "set_lane",
-           "RAY8_FLOATS",
-           "LANES"]
+__all__ = ["PacketScene", "packet_scene", "packets_available", "aligned", "packet_buffers",
+           "set_lane", "RAY8_FLOATS", "LANES"]
 
 #: Rays per packet.
 LANES = 8
@@ -190,7 +189,6 @@ class PacketScene:
             _occluded_rays(self.occluded8, self.handle, o, d, out)
         return out
 
-
     def intersect(self, origins, directions):
         """First hits of rays in the scene's frame, traced as packets on numba's threads.
 
@@ -210,7 +208,7 @@ class PacketScene:
         return geom, prim, tfar, u, v
 
 
-#: Rays per parallel work item of :func:`_occluded_rays`.
+#: Rays per parallel work item of :func:`_occluded_rays` and :func:`_intersect_rays`.
 _RAY_CHUNK = 4096
 
 

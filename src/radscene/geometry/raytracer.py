@@ -16,9 +16,9 @@ Cost. Where Embree's packet queries can be used (:mod:`radscene.geometry.embree`
 rays are traced eight at a time from numba kernels on numba's threads; otherwise embreex traces
 one ray at a time in C and releases the GIL, so batches are cut into chunks that a thread pool
 runs in parallel. Both give the same answers (unit tests). A ray with NaN components or a
-zero direction costs Embree milliseconds; such input is refused with :class:`ConfigError`. :meth:`intersect`
-checks, normalises and clips its rays in one compiled pass (numba) and forms the hits in
-another, so that a million primary rays cost little beyond Embree's own time.
+zero direction costs Embree milliseconds; such input is refused with :class:`ConfigError`.
+:meth:`intersect` checks, normalises and clips its rays in one compiled pass (numba) and forms
+the hits in another, so that a million primary rays cost little beyond Embree's own time.
 """
 
 from __future__ import annotations
@@ -213,8 +213,9 @@ class RayTracer:
     threads : int, optional
         Worker threads; default ``os.cpu_count()``.
     packets : bool
-        Trace occlusion queries and secondary-ray fans as Embree packets of eight where the
-        library allows it (:mod:`radscene.geometry.embree`; same answers); default True.
+        Trace intersections, occlusion queries and secondary-ray fans as Embree packets of
+        eight where the library allows it (:mod:`radscene.geometry.embree`; same answers);
+        default True.
 
     Examples
     --------

@@ -649,26 +649,17 @@ def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
     return lit
 
 
-def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky=None,
-                    shadows=None):
-    """Shadow, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
+def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky, shadows):
+    """Lit flags, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
 
     ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
     the fans' ray buffers between tiles. ``sky`` is None, or (table, index, weight): then the
     sky fan is folded straight into the reflected-sky band sums and the second item is
     (sums (N, n_b), sky view (N,)) instead of the fractions (N, K). The lobe fractions have
-    no rows where the tile has no specular hit. ``shadows``, a future of :func:`_shadows` for
-    every hit of the render, gives ``lit``; without it the tile's shadow rays are cast here.
+    no rows where the tile has no specular hit. ``shadows`` is the future of :func:`_shadows`
+    for every hit of the render (run earlier on the same thread).
     """
-    if shadows is not None:
-        lit = shadows.result()[st.rank]
-    else:
-        lit = np.zeros(len(st.mat))
-        facing = (st.cos_i > 0.0) & (tables.sun.zenith < 90.0)
-        if settings.shadows:
-            lit[facing] = illumination.cast_shadow(tables.tracer, st.origin[facing], sun_dir)
-        else:
-            lit[facing] = 1.0
+    lit = shadows.result()[st.rank]
     if sky is None:
         sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, sky_nodes, None,
