@@ -193,3 +193,14 @@ def test_perspective_weights_sum_to_one():
 def test_perspective_rejects_bad_parameters(kwargs, match):
     with pytest.raises(ConfigError, match=match):
         PerspectiveCamera((0, 0, 10.0), (4, 4), **kwargs)
+
+
+def test_map_axes_are_the_first_row_and_column_of_the_pixel_coordinates():
+    cam = OrthographicCamera(center=(10.0, 20.0), shape=(5, 7), gsd=3.0, altitude=1000.0)
+    x, y = cam.pixel_coordinates()
+    xs, ys = cam.map_axes()
+    assert np.array_equal(xs, x[0]) and np.array_equal(ys, y[:, 0])
+    assert np.array_equal(x, np.broadcast_to(xs, x.shape))  # north-up: one easting per column
+    assert np.array_equal(y, np.broadcast_to(ys[:, None], y.shape))
+    with pytest.raises(ValueError, match="nadir"):
+        OrthographicCamera((0, 0), (4, 4), gsd=1.0, zenith=20.0).map_axes()

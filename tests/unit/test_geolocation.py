@@ -268,3 +268,28 @@ def test_local_frame_to_geodetic_matches_pyproj_over_a_scene():
     assert np.abs(got[2].ravel() - ref[2]).max() < 1e-4
     with pytest.raises(ConfigError, match="enu"):
         frame.to_geodetic(np.zeros((4, 2)))
+
+
+def test_pixel_geolocation_is_to_geodetic_and_the_view_angles_per_pixel():
+    from radscene.geometry.frames import angles_from_direction
+
+    frame = LocalFrame(-25.75, 27.86, 1200.0)
+    rng = np.random.default_rng(5)
+    n, size = 300, 500
+    enu = np.column_stack([rng.uniform(-5e3, 5e3, n), rng.uniform(-5e3, 5e3, n),
+                           rng.uniform(-400.0, 800.0, n)])
+    travel = rng.normal(size=(n, 3))
+    travel[0] = [0.0, 0.0, -2.0]  # straight down, not unit: zenith 0
+    pixel = rng.permutation(size)[:n]
+    got = frame.pixel_geolocation(enu, travel, pixel, size)
+    assert got.shape == (5, size)
+    lat, lon, h = frame.to_geodetic(enu)
+    zen, azi = angles_from_direction(-travel)
+    for row, ref in zip(got, (lat, lon, h, zen, azi), strict=True):
+        assert np.abs(row[pixel] - ref).max() < 1e-9
+    assert got[3, pixel[0]] == 0.0
+    assert np.all((got[4, pixel] >= 0.0) & (got[4, pixel] < 360.0))
+    missing = np.setdiff1d(np.arange(size), pixel)
+    assert np.isnan(got[:, missing]).all()
+    assert np.isnan(frame.pixel_geolocation(np.zeros((0, 3)), np.zeros((0, 3)),
+                                            np.zeros(0, int), 3)).all()

@@ -292,6 +292,27 @@ class OrthographicCamera:
         g = self._to_ground(self._plane_points(row_f, col_f), float(height))
         return g[..., 0], g[..., 1]
 
+    def map_axes(self, height: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """At nadir, the easting of each column and the northing of each row [m].
+
+        The values :meth:`pixel_coordinates` gives along the first row and the first column
+        (at nadir every row has the same eastings, every column the same northings).
+
+        Examples
+        --------
+        >>> OrthographicCamera(center=(0.0, 0.0), shape=(2, 4), gsd=10.0).map_axes()
+        (array([-15.,  -5.,   5.,  15.]), array([ 5., -5.]))
+        """
+        if self.zenith != 0.0:
+            raise ValueError(f"map axes need a nadir camera; this one looks {self.zenith} deg "
+                             "off nadir")
+        ny, nx = self.shape
+        x = self._to_ground(self._plane_points(np.full(nx, 0.5), np.arange(nx) + 0.5),
+                            float(height))[:, 0]
+        y = self._to_ground(self._plane_points(np.arange(ny) + 0.5, np.full(ny, 0.5)),
+                            float(height))[:, 1]
+        return x, y
+
     @property
     def extent(self) -> tuple[float, float, float, float]:
         """``(xmin, xmax, ymin, ymax)`` of the image's footprint on z = 0 [m].

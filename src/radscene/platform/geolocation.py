@@ -137,30 +137,51 @@ def ecef_to_geodetic(xyz) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 _LATITUDE_STEPS = 2
 
 
-@numba.njit(parallel=True, cache=True, error_model="numpy")
-def _geodetic_kernel(points, rotation, origin, lat, lon, height):
-    """Geodetic coordinates of ``points @ rotation + origin`` (ECEF) [deg, deg, m]."""
+@numba.njit(inline="always", error_model="numpy")
+def _geodetic_point(px, py, pz, rotation, origin):
+    """Geodetic coordinates of the ECEF point (px, py, pz) @ rotation + origin [deg, deg, m]."""
     a, e2 = WGS84_A, WGS84_E2
     b = a * math.sqrt(1.0 - e2)
     ep2 = e2 / (1.0 - e2)
+    x = px * rotation[0, 0] + py * rotation[1, 0] + pz * rotation[2, 0] + origin[0]
+    y = px * rotation[0, 1] + py * rotation[1, 1] + pz * rotation[2, 1] + origin[1]
+    z = px * rotation[0, 2] + py * rotation[1, 2] + pz * rotation[2, 2] + origin[2]
+    rho = math.sqrt(x * x + y * y)
+    # Bowring's estimate through the parametric latitude β, then fixed-point steps on
+    # tan φ = (z + e² N sin φ) / p, each gaining a factor ≈ e² (exact to double precision);
+    # angles are carried as (cos, sin) pairs: no trigonometric call until the last
+    c, s = _unit(b * rho, a * z)
+    c, s = _unit(rho - e2 * a * c * c * c, z + ep2 * b * s * s * s)
+    u, v = rho, z
+    for _ in range(_LATITUDE_STEPS):
+        n = a / math.sqrt(1.0 - e2 * s * s)
+        u, v = rho, z + e2 * n * s
+        c, s = _unit(u, v)
+    return (math.degrees(math.atan2(v, u)), math.degrees(math.atan2(y, x)),
+            rho * c + z * s - a * math.sqrt(1.0 - e2 * s * s))
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def _geodetic_kernel(points, rotation, origin, lat, lon, height):
+    """Geodetic coordinates of ``points @ rotation + origin`` (ECEF) [deg, deg, m]."""
     for i in numba.prange(points.shape[0]):
-        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
-        x = px * rotation[0, 0] + py * rotation[1, 0] + pz * rotation[2, 0] + origin[0]
-        y = px * rotation[0, 1] + py * rotation[1, 1] + pz * rotation[2, 1] + origin[1]
-        z = px * rotation[0, 2] + py * rotation[1, 2] + pz * rotation[2, 2] + origin[2]
-        rho = math.sqrt(x * x + y * y)
-        # Bowring's estimate through the parametric latitude β, then fixed-point steps on
-        # tan φ = (z + e² N sin φ) / p, each gaining a factor ≈ e² (exact to double precision);
-        # angles are carried as (cos, sin) pairs: no trigonometric call until the last
-        c, s = _unit(b * rho, a * z)
-        c, s = _unit(rho - e2 * a * c * c * c, z + ep2 * b * s * s * s)
-        for _ in range(_LATITUDE_STEPS):
-            n = a / math.sqrt(1.0 - e2 * s * s)
-            u, v = rho, z + e2 * n * s
-            c, s = _unit(u, v)
-        lat[i] = math.degrees(math.atan2(v, u))
-        lon[i] = math.degrees(math.atan2(y, x))
-        height[i] = rho * c + z * s - a * math.sqrt(1.0 - e2 * s * s)
+        lat[i], lon[i], height[i] = _geodetic_point(points[i, 0], points[i, 1], points[i, 2],
+                                                    rotation, origin)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def _pixel_kernel(points, travel, pixel, rotation, origin, out):
+    """:meth:`LocalFrame.pixel_geolocation` into ``out`` (5, n_pixels), NaN-filled."""
+    for i in numba.prange(points.shape[0]):
+        p = pixel[i]
+        out[0, p], out[1, p], out[2, p] = _geodetic_point(points[i, 0], points[i, 1],
+                                                          points[i, 2], rotation, origin)
+        # the direction from the surface back along the ray, as angles_from_direction
+        dx, dy, dz = -travel[i, 0], -travel[i, 1], -travel[i, 2]
+        norm = math.sqrt(dx * dx + dy * dy + dz * dz)
+        out[3, p] = math.degrees(math.acos(min(1.0, max(-1.0, dz / norm))))
+        azimuth = math.degrees(math.atan2(dx, dy))
+        out[4, p] = azimuth + 360.0 if azimuth < 0.0 else azimuth
 
 
 @numba.njit(inline="always", error_model="numpy")
@@ -273,6 +294,33 @@ class LocalFrame:
         if p.shape[-1:] != (3,):
             raise ConfigError(f"must have shape (..., 3); got {p.shape}", key="enu")
         return _geodetic(p, self.rotation, self.origin_ecef)
+
+    def pixel_geolocation(self, points, travel, pixel, size: int) -> np.ndarray:
+        """Per-pixel geolocation of the surface points rays met, in one compiled pass.
+
+        Parameters
+        ----------
+        points : (N, 3) float64 — local points [m], one per pixel
+        travel : (N, 3) float64 — the direction each ray travelled to its point
+        pixel : (N,) int — the flat pixel of each point, all distinct, in ``[0, size)``
+        size : int — the number of pixels
+
+        Returns
+        -------
+        numpy.ndarray
+            (5, size): latitude [deg], longitude [deg], height [m] (as :meth:`to_geodetic`),
+            then the zenith and azimuth [deg] of ``-travel`` (as
+            :func:`radscene.geometry.frames.angles_from_direction`); NaN at pixels without a
+            point.
+        """
+        out = np.full((5, int(size)), np.nan)
+        if len(pixel):
+            _pixel_kernel(np.ascontiguousarray(points, dtype=np.float64),
+                          np.ascontiguousarray(travel, dtype=np.float64),
+                          np.ascontiguousarray(pixel, dtype=np.int64),
+                          np.ascontiguousarray(self.rotation, dtype=np.float64),
+                          np.ascontiguousarray(self.origin_ecef, dtype=np.float64), out)
+        return out
 
     def from_geodetic(self, latitude, longitude, height=0.0) -> np.ndarray:
         """Local ENU coordinates [m] of geodetic positions ([deg], [deg], [m])."""

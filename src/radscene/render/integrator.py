@@ -341,8 +341,6 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
     object_id = np.full(n_pix, -1, dtype=np.int32)
     material_id = np.full(n_pix, -1, dtype=np.int32)
     normal_map = np.full((3, n_pix), np.nan)
-    position_map = np.full((3, n_pix), np.nan)
-    view_map = np.full((3, n_pix), np.nan)
 
     hit_rank = np.cumsum(hit) - 1  # index of each hit sample among hits
     rng = np.random.default_rng(settings.seed)
@@ -419,9 +417,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
         if i + ahead < len(tiles):
             pending[i + ahead] = launch(tiles[i + ahead])
         if geolocation is None:  # while the first tiles' rays are traced
-            position_map[:, rays.pixel[labelled]] = hits.position[labelled].T
-            view_map[:, rays.pixel[labelled]] = -rays.directions[labelled].T
-            geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
+            geolocation = _geolocation(scene, hits, rays, labelled, sun)
             pixel_coords = _pixel_coordinates(setup, rays.shape)
         current = pending.pop(i)
         pix = rays.pixel[sl]
@@ -508,7 +504,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
                   object_id, material_id, normal_map, sun, elapsed, pool=worker,
                   brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
-        geolocation = _geolocation(scene, position_map, view_map, rays.shape, sun)
+        geolocation = _geolocation(scene, hits, rays, labelled, sun)
     return ds.assign(geolocation)
 
 
@@ -810,25 +806,18 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     return ds
 
 
-def _geolocation(scene, position, view, shape, sun) -> dict:
-    """Per-pixel geodetic position and view/sun angles of the surface each pixel sees."""
-    from radscene.geometry.frames import angles_from_direction
+def _geolocation(scene, hits, rays, labelled, sun) -> dict:
+    """Per-pixel geodetic position and view/sun angles of the surface each pixel sees, from
+    the ``labelled`` hits (one per pixel)."""
     from radscene.platform.geolocation import LocalFrame
 
-    ny, nx = shape
+    ny, nx = rays.shape
     loc = scene.location
     frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
-    pts = position.T.reshape(ny, nx, 3)
-    hit = np.isfinite(pts[..., 0])
-    lat = np.full((ny, nx), np.nan)
-    lon = np.full((ny, nx), np.nan)
-    height = np.full((ny, nx), np.nan)
-    if hit.any():
-        lat[hit], lon[hit], height[hit] = frame.to_geodetic(pts[hit])
-    with np.errstate(invalid="ignore"):
-        vz, va = angles_from_direction(view.T.reshape(ny, nx, 3))
-    vz = np.where(hit, vz, np.nan)
-    va = np.where(hit, va, np.nan)
+    pick = slice(None) if labelled.all() else labelled
+    lat, lon, height, vz, va = frame.pixel_geolocation(
+        hits.position[pick], rays.directions[pick], rays.pixel[pick], ny * nx).reshape(5, ny, nx)
+    hit = np.isfinite(lat)
     deg = {"units": "degree"}
     return {
         "latitude": (("y", "x"), lat, {"units": "degrees_north", "standard_name": "latitude",
@@ -851,11 +840,7 @@ def _geolocation(scene, position, view, shape, sun) -> dict:
 def _pixel_coordinates(setup, shape) -> dict:
     ny, nx = shape
     if setup.kind == "orthographic" and getattr(setup.camera, "zenith", 0.0) == 0.0:
-        x, y = setup.camera.pixel_coordinates()
-        x = np.asarray(x)
-        y = np.asarray(y)
-        xs = x[0] if x.ndim == 2 else x
-        ys = y[:, 0] if y.ndim == 2 else y
+        xs, ys = setup.camera.map_axes()
         return {"x": ("x", xs, {"units": "m", "long_name": "easting in the scene frame",
                                 "axis": "X"}),
                 "y": ("y", ys, {"units": "m", "long_name": "northing in the scene frame",

@@ -61,6 +61,9 @@ def _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon, shift
         ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
         power = 0.0
     tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
+    # the regular grid's columns (b + 1/2) / side are spaced evenly in azimuth: with side a
+    # multiple of four, column b + side/4 is column b turned by a quarter turn
+    quarter = side // 4 if side > 0 and side % 4 == 0 else 0
     for a in range(levels):
         u1 = base[a * side if side > 0 else a, 0] + shift[i, 0]
         u1 = u1 - 1.0 if u1 >= 1.0 else u1
@@ -70,6 +73,10 @@ def _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon, shift
         else:  # cosine-weighted: sin θ = √u1
             sin_t[a] = math.sqrt(u1)
             cos_t[a] = math.sqrt(max(0.0, 1.0 - u1))
+        if quarter > 0 and a >= quarter:  # cos(φ + π/2) = −sin φ, sin(φ + π/2) = cos φ
+            cos_phi[a] = -sin_phi[a - quarter]
+            sin_phi[a] = cos_phi[a - quarter]
+            continue
         u2 = base[a, 1] + shift[i, 1]
         u2 = u2 - 1.0 if u2 >= 1.0 else u2
         phi = _TWO_PI * u2
@@ -183,8 +190,13 @@ def _zenith_degrees(z):
 @numba.njit(inline="always")
 def _fold_direction(row, dx, dy, dz, zenith_nodes, azimuth_nodes):
     """Add one visible sky direction's (dz > 0) bilinear sky-node weights to ``row`` (K·L,)."""
+    _fold_zenith(row, dx, dy, _zenith_degrees(dz), zenith_nodes, azimuth_nodes)
+
+
+@numba.njit(inline="always")
+def _fold_zenith(row, dx, dy, zen, zenith_nodes, azimuth_nodes):
+    """:func:`_fold_direction` with the direction's zenith angle ``zen`` [deg] given."""
     n_az = azimuth_nodes.shape[0]
-    zen = _zenith_degrees(dz)
     z0, z1, fz = _hat(zen, zenith_nodes, False)
     if n_az == 1:  # a sky uniform in azimuth: no azimuth to find
         row[z0] += 1.0 - fz
@@ -272,15 +284,18 @@ _PACKET_CHUNK = 64
 
 
 @numba.njit(inline="always")
-def _trace_point(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i, check_normal,
-                 zenith_nodes, azimuth_nodes, row):
+def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, normal, i,
+                 check_normal, zenith_nodes, azimuth_nodes, row):
     """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
     visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
-    Returns the number of rays traced."""
+    ``zen`` (M,) is scratch for the directions' zenith angles. Returns the number of rays
+    traced."""
     m = dirs.shape[0]
     traced = 0
     for k in range(row.shape[0]):
         row[k] = 0.0
+    for j in range(m):  # independent of each other: the compiler takes them four at a time
+        zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
     for start in range(0, m, _LANES):
         lanes = 0
         for lane in range(_LANES):
@@ -303,8 +318,7 @@ def _trace_point(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, 
         for lane in range(_LANES):
             if valid[lane] != 0 and ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
                 j = start + lane
-                _fold_direction(row, dirs[j, 0], dirs[j, 1], dirs[j, 2], zenith_nodes,
-                                azimuth_nodes)
+                _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
     for k in range(row.shape[0]):
         row[k] /= m
     return traced
@@ -320,12 +334,12 @@ def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, 
     for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
-        dirs = np.empty((m, 3), np.float32)
+        dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         for i in range(c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)):
             ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
                                     shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
-            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, np.float32(ox),
+            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
                                    np.float32(oy), np.float32(oz), normal, i, check_normal,
                                    zenith_nodes, azimuth_nodes, out[i])
     return traced
@@ -344,14 +358,14 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
         lo, hi = c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
-        dirs = np.empty((m, 3), np.float32)
+        dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         rows = np.empty((hi - lo, n_k))
         for i in range(lo, hi):
             ox, oy, oz = _fan_point(i, position, normal, normal, np.zeros(0), False, center,
                                     epsilon, shift, base, side, sin_t, cos_t, cos_phi, sin_phi,
                                     dirs, 0)
-            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, np.float32(ox),
+            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
                                    np.float32(oy), np.float32(oz), normal, i, False,
                                    zenith_nodes, azimuth_nodes, rows[i - lo])
             total = 0.0
