@@ -38,6 +38,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from radscene.errors import ConfigError
@@ -183,6 +184,17 @@ def _sample_grid(shape, supersample, window):
     return row_f, col_f, pixel, sub, weight
 
 
+@numba.njit(parallel=True, cache=True)
+def _plane_kernel(row_f, col_f, half_rows, half_cols, pitch, center, right, up, out):
+    """Points of an image plane at continuous pixel coordinates (row, col): the centre, plus
+    (col − nx/2) · pitch along ``right`` and (ny/2 − row) · pitch along ``up``, into ``out``."""
+    for i in numba.prange(row_f.shape[0]):
+        a = (col_f[i] - half_cols) * pitch
+        b = (half_rows - row_f[i]) * pitch
+        for c in range(3):
+            out[i, c] = center[c] + a * right[c] + b * up[c]
+
+
 # -- cameras ---------------------------------------------------------------------------------
 
 
@@ -243,10 +255,13 @@ class OrthographicCamera:
                 f"altitude={self.altitude}, zenith={self.zenith}, azimuth={self.azimuth})")
 
     def _plane_points(self, row_f, col_f) -> np.ndarray:
+        row_f, col_f = np.broadcast_arrays(np.asarray(row_f, dtype=float),
+                                           np.asarray(col_f, dtype=float))
+        out = np.empty(row_f.shape + (3,))
         ny, nx = self.shape
-        a = (np.asarray(col_f) - 0.5 * nx) * self.gsd
-        b = (0.5 * ny - np.asarray(row_f)) * self.gsd
-        return self.plane_center + a[..., None] * self.right + b[..., None] * self.up
+        _plane_kernel(row_f.ravel(), col_f.ravel(), 0.5 * ny, 0.5 * nx, self.gsd,
+                      self.plane_center, self.right, self.up, out.reshape(-1, 3))
+        return out
 
     def _to_ground(self, points, height: float) -> np.ndarray:
         t = (points[..., 2] - height) / (-self.direction[2])

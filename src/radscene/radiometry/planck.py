@@ -459,6 +459,7 @@ def _invert_band(rad, yk, uk, mk, l_max, out):
     NaN for NaN, 0 K for 0, inf for inf. Returns 1 at a negative radiance, 2 at a finite one
     above ``l_max``, else 0 (``out`` is then complete)."""
     n = yk.size
+    k = 0  # the interval of the last value: neighbouring pixels mostly share it
     for i in range(rad.size):
         r = rad[i]
         if r != r:
@@ -474,14 +475,15 @@ def _invert_band(rad, yk, uk, mk, l_max, out):
         else:
             y = math.log(r)
             if y >= yk[0]:
-                lo, hi = 0, n  # searchsorted(yk, y, side="right")
-                while lo < hi:
-                    mid = (lo + hi) // 2
-                    if yk[mid] <= y:
-                        lo = mid + 1
-                    else:
-                        hi = mid
-                k = min(max(lo - 1, 0), n - 2)
+                if not (yk[k] <= y < yk[k + 1]):
+                    lo, hi = 0, n  # searchsorted(yk, y, side="right")
+                    while lo < hi:
+                        mid = (lo + hi) // 2
+                        if yk[mid] <= y:
+                            lo = mid + 1
+                        else:
+                            hi = mid
+                    k = min(max(lo - 1, 0), n - 2)
                 h = yk[k + 1] - yk[k]
                 s = (y - yk[k]) / h
                 s2 = s * s

@@ -325,7 +325,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
     obs_alt = rays.origins[hit, 2] + alt0
     tgt_alt = hits.position[hit, 2] + alt0
     view_zenith = np.degrees(np.arccos(np.clip(-rays.directions[hit, 2], -1.0, 1.0)))
-    atm = _configured_atmosphere(scene, sun, -rays.directions[hit])
+    atm = _configured_atmosphere(scene, sun, rays.directions, hit)
     path_nodes_all = atm.path_nodes(obs_alt, tgt_alt, view_zenith)
     bset = _BandSetup(scene, tables, bands, path_nodes_all, atm)
     coef = bset.coefficients
@@ -533,11 +533,15 @@ def _report(progress, done, total):
         progress(done, total)
 
 
-def _configured_atmosphere(scene, sun, to_observer):
-    """The scene's atmosphere set up for the sun and the mean azimuth of the lines of sight."""
+def _configured_atmosphere(scene, sun, directions, hit):
+    """The scene's atmosphere set up for the sun and the mean azimuth of the lines of sight
+    (from the hits, ``hit``, back along the rays' ``directions``)."""
     day = scene.time.timetuple().tm_yday if scene.time is not None else None
-    if len(to_observer):
-        azimuth = np.degrees(np.arctan2(to_observer[:, 0].mean(), to_observer[:, 1].mean())) % 360
+    if np.any(hit):
+        pick = slice(None) if hit.all() else hit
+        east = -directions[pick, 0].mean()
+        north = -directions[pick, 1].mean()
+        azimuth = np.degrees(np.arctan2(east, north)) % 360
     else:
         azimuth = None
     return scene.atmosphere.with_sun(sun.zenith, sun.azimuth, day_of_year=day,
@@ -593,22 +597,19 @@ def _emission_pairs(bset, material, temperature):
 
 def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_temperature):
     """The state at the hits of one tile of samples, or None where the tile has none."""
+    from radscene.render import kernels
+
     h = hit[sl]
     if not np.any(h):
         return None
     hidx = np.nonzero(h)[0] + sl.start
     rank = hit_rank[hidx]
-    nrm = hits.normal[hidx].copy()
-    dh = rays.directions[hidx]
-    flip = np.einsum("nc,nc->n", nrm, dh) > 0.0  # two-sided: face the viewer
-    nrm[flip] *= -1.0
-    wo = -dh
-    pos = hits.position[hidx]
+    nrm, wo, cos_v, cos_i, origin = kernels.surface_state(
+        hits.normal, rays.directions, hits.position, hidx, tables.epsilon, sun_dir)
     return SimpleNamespace(
         hidx=hidx, rank=rank, obj=hits.object[hidx], mat=hit_material[rank],
-        temp=hit_temperature[rank], pos=pos, nrm=nrm, wo=wo,
-        cos_v=np.einsum("nc,nc->n", nrm, wo), cos_i=nrm @ sun_dir,
-        origin=pos + tables.epsilon * nrm)
+        temp=hit_temperature[rank], pos=hits.position[hidx], nrm=nrm, wo=wo, cos_v=cos_v,
+        cos_i=cos_i, origin=origin)
 
 
 def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
@@ -726,12 +727,16 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         bt_jobs = {b: pool.submit(band_brightness_temperature, total[b], bands[b].response)
                    for b in thermal}
     hw = truth_sum["hit_weight"]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = {k: np.where(hw > 0, v / hw, np.nan).reshape(ny, nx) for k, v in truth_sum.items()
-                if k != "hit_weight"}
-    # the render's transmittance sums become the map in place (no second 8-band array)
+    seen = hw > 0
+    # the render's sums become the maps in place (no second array of each)
+    mean = {}
+    for k, v in truth_sum.items():
+        if k != "hit_weight":
+            np.divide(v, hw, out=v, where=seen)
+            v[~seen] = np.nan
+            mean[k] = v.reshape(ny, nx)
     tau_map = transmittance.reshape(n_b, ny, nx)
-    seen = (hw > 0).reshape(ny, nx)
+    seen = seen.reshape(ny, nx)
     np.divide(tau_map, hw.reshape(ny, nx), out=tau_map, where=seen)
     tau_map[:, ~seen] = np.nan
     radiance_attrs = {"units": "W m-2 sr-1"}

@@ -19,7 +19,7 @@ from radscene.geometry.embree import RAY8_FLOATS, packet_buffers, set_lane
 from radscene.render.node_mixing import _sky_sample
 
 __all__ = ["cosine_fan", "lobe_fan", "fold_fractions", "fold_sky_sums", "packet_fractions",
-           "packet_sky_sums", "packet_shadows"]
+           "packet_sky_sums", "packet_shadows", "surface_state"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -476,3 +476,47 @@ def empty_fan(n_rays: int, scratch: dict | None = None):
         held = scratch["fan"] = (np.empty((n_rays, 3), np.float32),
                                  np.empty((n_rays, 3), np.float32))
     return held[0][:n_rays], held[1][:n_rays]
+
+
+@numba.njit(parallel=True, cache=True)
+def _surface_state(normal, direction, position, index, epsilon, sun, nrm, wo, cos_v, cos_i,
+                   origin):
+    for n in numba.prange(index.shape[0]):
+        i = index[n]
+        nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
+        dx, dy, dz = direction[i, 0], direction[i, 1], direction[i, 2]
+        if nx * dx + ny * dy + nz * dz > 0.0:  # two-sided: face the viewer
+            nx, ny, nz = -nx, -ny, -nz
+        nrm[n, 0], nrm[n, 1], nrm[n, 2] = nx, ny, nz
+        wo[n, 0], wo[n, 1], wo[n, 2] = -dx, -dy, -dz
+        cos_v[n] = nx * -dx + ny * -dy + nz * -dz
+        cos_i[n] = nx * sun[0] + ny * sun[1] + nz * sun[2]
+        origin[n, 0] = position[i, 0] + epsilon * nx
+        origin[n, 1] = position[i, 1] + epsilon * ny
+        origin[n, 2] = position[i, 2] + epsilon * nz
+
+
+def surface_state(normal, direction, position, index, epsilon, sun):
+    """The geometry at hits ``index`` of the primary rays, in one pass.
+
+    Parameters
+    ----------
+    normal, direction, position : (N, 3) float64 — each ray's hit normal, direction of
+        travel and hit point
+    index : (n,) int — the rays whose hits are wanted
+    epsilon : float — offset of secondary-ray origins along the normal [m]
+    sun : (3,) float64 — unit vector towards the sun
+
+    Returns
+    -------
+    nrm, wo : (n, 3) — the normal turned to face the viewer, the unit vector to the viewer
+    cos_v, cos_i : (n,) — nrm · wo and nrm · sun
+    origin : (n, 3) — position + epsilon · nrm
+    """
+    n = len(index)
+    nrm, wo, origin = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
+    cos_v, cos_i = np.empty(n), np.empty(n)
+    _surface_state(normal, direction, position, np.ascontiguousarray(index, dtype=np.int64),
+                   float(epsilon), np.ascontiguousarray(sun, dtype=np.float64), nrm, wo, cos_v,
+                   cos_i, origin)
+    return nrm, wo, cos_v, cos_i, origin
