@@ -234,3 +234,54 @@ def test_fold_zenith_angles_equal_the_arc_cosine_to_float32_precision():
     want = np.degrees(np.arccos(np.minimum(z, 1.0)))
     assert np.abs(got - want).max() <= np.degrees(2.2e-8)
     assert _zenith_degrees(1.0) == 0.0 and _zenith_degrees(1.0 + 1e-12) == 0.0
+
+
+def test_surface_state_turns_normals_to_the_viewer_and_offsets_the_origins():
+    from radscene.render import kernels
+
+    rng = np.random.default_rng(4)
+    n = 500
+    normal = normalize(rng.normal(size=(n, 3)))
+    direction = normalize(rng.normal(size=(n, 3)))
+    position = rng.uniform(-50.0, 50.0, (n, 3))
+    sun = normalize(np.array([0.3, -0.2, 0.9]))
+    index = np.sort(rng.choice(n, 300, replace=False))
+    nrm, wo, cos_v, cos_i, origin = kernels.surface_state(normal, direction, position, index,
+                                                          0.01, sun)
+    flip = np.einsum("nc,nc->n", normal[index], direction[index]) > 0.0
+    expected = np.where(flip[:, None], -normal[index], normal[index])
+    assert np.array_equal(nrm, expected) and np.array_equal(wo, -direction[index])
+    assert cos_v == pytest.approx(np.einsum("nc,nc->n", expected, -direction[index]), abs=1e-15)
+    assert np.all(cos_v >= 0.0)  # facing the viewer
+    assert cos_i == pytest.approx(expected @ sun, abs=1e-15)
+    assert origin == pytest.approx(position[index] + 0.01 * expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("n_samples", [16, 64, 10])
+def test_compiled_fans_point_where_the_reference_samples_do(n_samples):
+    # the compiled fans take the sines and cosines of a square pattern's later azimuth
+    # columns from its first quarter, turned by a quarter turn: same directions
+    from radscene.materials.brdf import lambertian, phong
+    from radscene.render import kernels
+
+    rng = np.random.default_rng(8)
+    n = 50
+    position = rng.uniform(-5.0, 5.0, (n, 3))
+    normal = normalize(rng.normal(size=(n, 3)))
+    axis = normalize(normal + 0.3 * rng.normal(size=(n, 3)))
+    exponent = rng.uniform(5.0, 200.0, n)
+    shift = np.random.default_rng(9).random((n, 2))
+    base = illumination.stratified_pattern(n_samples)
+    side = int(np.sqrt(n_samples)) if int(np.sqrt(n_samples)) ** 2 == n_samples else 0
+    u1, u2 = illumination.stratified_square(n, n_samples, np.random.default_rng(9))
+    origins = np.empty((n * n_samples, 3), np.float32)
+    directions = np.empty((n * n_samples, 3), np.float32)
+    kernels.cosine_fan(position, normal, np.zeros(3), 0.0, shift, base, side, origins,
+                       directions)
+    expected, _ = lambertian.sample(np.repeat(normal[:, None, :], n_samples, axis=1), u1, u2)
+    assert np.abs(directions - expected.reshape(-1, 3)).max() < 1e-6  # float32 rays
+    kernels.lobe_fan(position, normal, axis, exponent, np.zeros(3), 0.0, shift, base, side,
+                     origins, directions)
+    expected, _ = phong.sample(np.repeat(axis[:, None, :], n_samples, axis=1),
+                               np.repeat(exponent[:, None], n_samples, axis=1), u1, u2)
+    assert np.abs(directions - expected.reshape(-1, 3)).max() < 1e-6
