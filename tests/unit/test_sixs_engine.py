@@ -49,6 +49,8 @@ def test_bad_parameters_name_the_key(no_runs, params, match):
 @pytest.mark.parametrize(("call", "match"), [
     (lambda a: a.path(1e5, 0.0, 0.0, [0.55, 4.5]), r"covers 0.25–4 um; asked for 0.55–4.5"),
     (lambda a: a.path(1e5, -20.0, 0.0, [0.55]), "below the ground"),
+    (lambda a: a.path(1e5, -1.0, 0.0, [0.55]), "below the ground: -1 m"),
+    (lambda a: a.sun(-1.0, 30.0, [0.55], [1.0]), "below the ground: -1 m"),
     (lambda a: a.path(2e5, 1.2e5, 0.0, [0.55]), "above the atmosphere"),
     (lambda a: a.path(1e5, 0.0, 89.5, [0.55]), "view zenith must be <= 89"),
     (lambda a: a.path(1e3, 0.0, 95.0, [0.55]), "contradicts the altitudes"),
@@ -121,6 +123,9 @@ def test_path_sun_and_zero_length_paths(tmp_path):
     assert np.all(p.thermal_radiance == 0.0)  # 6S emits nothing
     assert p.transmittance[1, 0, 0] > p.transmittance[0, 0, 0]  # a shorter path
     assert p.scattered_radiance[1, 0, 0] < p.scattered_radiance[0, 0, 0]
+    noisy = atm.path(1e5, -5.8e-11, 20.0, wl)  # a float32 hit on the ground: on it
+    assert np.array_equal(noisy.transmittance, p.transmittance[0, 0])
+    assert np.array_equal(noisy.radiance, p.radiance[0, 0])
     zero = atm.path(500.0, 500.0, 40.0, wl)
     assert zero.transmittance == pytest.approx([1.0]) and zero.radiance == pytest.approx([0.0])
     ds = atm.components(1e5, 0.0, 0.0, wl, sun_zenith=35.0, relative_azimuth=0.0)

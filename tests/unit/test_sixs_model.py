@@ -159,6 +159,21 @@ def test_check_path_geometry_turns_upward_paths_round_and_refuses_bad_ones():
         m.check_path_geometry(np.nan, 0.0, 0.0)
 
 
+def test_check_path_geometry_puts_ends_within_noise_below_the_ground_on_it():
+    # float32 ray hits on a surface at the engine's lowest altitude land a little below it
+    upper, lower, zen = m.check_path_geometry(7e5, [-5.8e-11, -4.7e-10, 3.0], 30.0)
+    assert np.array_equal(lower, [0.0, 0.0, 3.0]) and np.all(upper == 7e5)
+    upper, lower, _ = m.check_path_geometry([1500.0, 1199.99], 1199.9999, [0.0, 95.0],
+                                            min_target=1200.0)
+    assert np.array_equal(lower, [1200.0, 1200.0]) and np.array_equal(upper, [1500.0, 1200.0])
+    for below in (-1.0, -m.GROUND_TOLERANCE - 1e-6):
+        with pytest.raises(ConfigError, match="target_altitude: a path below the ground"):
+            m.check_path_geometry(7e5, below, 30.0)
+    with pytest.raises(ConfigError, match="a path below the ground: 1199 m is under the "
+                                          "engine's lowest altitude 1200 m"):
+        m.check_path_geometry(1199.0, 1500.0, 120.0, min_target=1200.0)
+
+
 def test_phase_interp_holds_its_ends_and_is_log_linear():
     nodes = np.array([10.0, 20.0])
     table = np.array([[4.0], [1.0]])

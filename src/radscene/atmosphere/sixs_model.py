@@ -73,11 +73,16 @@ __all__ = [
     "single_scattering_grid",
     "earth_sun_factor_6s",
     "TOP_OF_ATMOSPHERE",
+    "GROUND_TOLERANCE",
     "check_path_geometry",
 ]
 
 #: Altitude [m] at and above which an observer is outside the atmosphere of every engine.
 TOP_OF_ATMOSPHERE = 100_000.0
+#: How far [m] below an engine's lowest altitude a path end is still taken to lie on it (and
+#: moved up to it): ray hits on a surface at that altitude carry float32 noise (about 1e-7 of
+#: the scene's size), and LOWTRAN allows the same 0.5 m below its ground.
+GROUND_TOLERANCE = 0.5
 
 
 def earth_sun_factor_6s(month: int, day: int) -> float:
@@ -103,20 +108,23 @@ def check_path_geometry(observer_altitude, target_altitude, view_zenith, min_tar
     view_zenith : array_like
         Zenith angle of the direction from target to observer [deg], in [0, 180].
     min_target : float
-        Lowest target altitude the engine accepts [m].
+        Lowest altitude the engine accepts [m]; an end up to :data:`GROUND_TOLERANCE` below it
+        (ray-hit noise on a surface at that altitude) is taken to lie at it.
 
     Returns
     -------
     upper, lower, zenith : numpy.ndarray
-        Broadcast arrays: the upper and lower end of each path [m] and the zenith angle seen
-        from the lower end [deg], < 90. A path whose observer is below its target is turned
-        round (transmittance is reciprocal; for path radiance this is an approximation).
+        Broadcast arrays: the upper and lower end of each path [m], neither below
+        ``min_target``, and the zenith angle seen from the lower end [deg], < 90. A path
+        whose observer is below its target is turned round (transmittance is reciprocal; for
+        path radiance this is an approximation).
 
     Raises
     ------
     ConfigError
-        Non-finite values, an end below ``min_target`` or a target above 100 km, a zenith
-        outside [0, 180] or one that contradicts the altitudes.
+        Non-finite values, an end more than :data:`GROUND_TOLERANCE` below ``min_target`` or
+        a target above 100 km, a zenith outside [0, 180] or one that contradicts the
+        altitudes.
     """
     from radscene.errors import ConfigError
 
@@ -125,10 +133,11 @@ def check_path_geometry(observer_altitude, target_altitude, view_zenith, min_tar
     for name, arr in (("observer_altitude", o), ("target_altitude", t), ("view_zenith", z)):
         if arr.size and not np.all(np.isfinite(arr)):
             raise ConfigError("must be finite", key=name)
-    if t.size and (t.min() < min_target or o.min() < min_target):
+    if t.size and min(t.min(), o.min()) < min_target - GROUND_TOLERANCE:
         low = min(t.min(), o.min())
         raise ConfigError(f"a path below the ground: {low:g} m is under the engine's lowest "
                           f"altitude {min_target:g} m", key="target_altitude")
+    o, t = np.maximum(o, min_target), np.maximum(t, min_target)  # on the ground, within noise
     if t.size and t.max() >= TOP_OF_ATMOSPHERE:
         raise ConfigError(f"a target at {t.max():g} m is above the atmosphere's top "
                           f"({TOP_OF_ATMOSPHERE:g} m)", key="target_altitude")

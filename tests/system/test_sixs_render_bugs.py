@@ -1,0 +1,60 @@
+"""System tests: scenes rendered with the ``sixs`` engine that used to fail.
+
+A flat terrain at sea level seen by a satellite at 700 km looking 30 deg off nadir, in a
+maritime aerosol. The primary rays' hits on the terrain carry float32 noise of ~1e-10 m
+around 0 m, which the engine refused as "a path below the ground".
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+
+from radscene import load_scene, render
+from radscene.atmosphere import sixs_runner as sr
+from radscene.errors import ConfigError
+
+AVAILABLE, REASON = sr.sixs_available()
+pytestmark = pytest.mark.skipif(not AVAILABLE, reason=f"6S cannot run here: {REASON}")
+
+
+def _scene(terrain: dict | None = None) -> dict:
+    return {
+        "name": "sixs_satellite",
+        "environment": {
+            "location": {"latitude": 0.0, "longitude": 0.0, "altitude": "0 m"},
+            "sun": {"zenith": "30 deg", "azimuth": "180 deg"},
+            "atmosphere": {"type": "sixs", "profile": "us_standard", "aerosol": "maritime",
+                           "aot550": 0.2},
+        },
+        "materials": {"gray": {"reflectance": 0.3}},
+        "terrain": terrain or {"type": "procedural", "size": ["2 km", "2 km"],
+                               "spacing": "100 m", "relief": "0 m", "material": "gray"},
+        "bands": [{"name": "green", "min": "0.55 um", "max": "0.57 um"}],
+        "observers": [{"name": "sat", "type": "orthographic", "center": ["1 km", "1 km"],
+                       "gsd": "100 m", "shape": [16, 16], "altitude": "700 km",
+                       "zenith": "30 deg"}],
+        "render": {"sky_samples": 4},
+    }
+
+
+@functools.cache
+def _rendered():
+    return render(load_scene(_scene()))
+
+
+def test_flat_terrain_at_the_engines_lowest_altitude_renders():
+    ds = _rendered()
+    assert ds["view_zenith"].values == pytest.approx(30.0, abs=1e-6)
+    for term in ("sun_diffuse", "path_radiance", "path_transmittance"):
+        values = ds[term].values
+        assert np.all(np.isfinite(values)) and np.all(values > 0), term
+
+
+def test_terrain_a_metre_below_the_ground_is_still_refused():
+    dem = {"type": "dem", "elevation": np.full((5, 5), -1.0).tolist(), "spacing": [500, 500],
+           "material": "gray"}
+    with pytest.raises(ConfigError, match="a path below the ground: -1 m"):
+        render(load_scene(_scene(dem)))
