@@ -91,29 +91,3 @@ def test_a_small_build_round_trips(tmp_path):
     assert np.all((p.transmittance > 0.5) & (p.transmittance < 1.0))
     with pytest.raises(ConfigError, match="covers 0.5–0.9 um"):
         db.path(1e5, 0.0, 40.0, [1.6])
-
-
-def test_phase_functions_6s_printed_as_nan_are_filled_from_larger_angles():
-    from radscene.atmosphere.build import _fill_forward
-    from radscene.atmosphere.sixs import PHASE_ANGLES
-
-    angles = np.asarray(PHASE_ANGLES)
-    exact = np.exp(-0.05 * angles)[:, None] * np.array([[2.0, 3.0]])  # log-linear in angle
-    printed = exact.copy()
-    printed[0, 0] = np.nan
-    printed[:2, 1] = [np.nan, -1.0]
-    filled = _fill_forward(printed)
-    np.testing.assert_allclose(filled, exact, rtol=1e-12)
-    assert _fill_forward(exact) is not exact and np.array_equal(_fill_forward(exact), exact)
-
-
-def test_phase_functions_without_two_valid_angles_are_an_engine_error():
-    from radscene.atmosphere.build import _fill_forward
-    from radscene.atmosphere.sixs import PHASE_ANGLES
-    from radscene.errors import EngineError
-
-    printed = np.full((len(PHASE_ANGLES), 2), 2.0)
-    printed[1:, 1] = np.nan
-    with pytest.raises(EngineError, match="fewer than two valid phase-function values at "
-                                          "wavelength index 1"):
-        _fill_forward(printed)

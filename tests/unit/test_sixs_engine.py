@@ -83,6 +83,37 @@ def test_phase_geometry_gives_the_asked_scattering_angle(angle):
     assert (sun == 0.0) == (angle >= 90.0)
 
 
+def _phase_runs(nan_below_um):
+    """A stand-in for SixSRunner.run at the phase geometries: P_A = 50 exp(-angle / 20 deg) λ,
+    printed as NaN at 3 deg for wavelengths below ``nan_below_um``, as 6S does for its
+    maritime model."""
+
+    def run(self, cases, progress=None):
+        out = []
+        for c in cases:
+            angle = float(scattering_angle_view(c.sun_zenith, c.view_zenith, c.view_azimuth))
+            pa = 50.0 * np.exp(-angle / 20.0) * c.wavelength
+            if abs(angle - 3.0) < 1e-6 and c.wavelength < nan_below_um:
+                pa = np.nan
+            out.append({"phase_function_I.rayleigh": 0.75 * (1.0 + np.cos(np.radians(angle))**2),
+                        "phase_function_I.aerosol": pa, "single_scattering_albedo.aerosol": 0.99})
+        return out
+
+    return run
+
+
+@pytest.mark.parametrize("spectral", ["interpolated", "direct"])
+def test_phase_functions_6s_printed_as_nan_are_filled(monkeypatch, spectral):
+    monkeypatch.setattr(sr.SixSRunner, "run", _phase_runs(nan_below_um=0.8))
+    atm = SixSAtmosphere(aerosol="maritime", sun_zenith=30.0, spectral=spectral, cache=False)
+    wl = np.array([0.55, 0.56, 0.85])
+    angles, pr, pa, om = atm._phase(wl)
+    assert np.all(np.isfinite(pr)) and np.all(np.isfinite(pa)) and np.all(np.isfinite(om))
+    # the stand-in is log-linear in angle and a power law in wavelength: the fill is exact
+    expected = 50.0 * np.exp(-np.asarray(angles) / 20.0)[:, None] * wl[None, :]
+    np.testing.assert_allclose(pa, expected, rtol=1e-9)
+
+
 def test_nodes_and_azimuths(no_runs):
     atm = SixSAtmosphere(sun_zenith=30.0, sun_azimuth=350.0)
     az = atm.sky_azimuth_nodes()

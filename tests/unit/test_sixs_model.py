@@ -174,6 +174,36 @@ def test_check_path_geometry_puts_ends_within_noise_below_the_ground_on_it():
         m.check_path_geometry(1199.0, 1500.0, 120.0, min_target=1200.0)
 
 
+def test_phase_functions_6s_printed_as_nan_are_filled_from_larger_angles():
+    from radscene.atmosphere.sixs import PHASE_ANGLES
+
+    angles = np.asarray(PHASE_ANGLES)
+    exact = np.exp(-0.05 * angles)[:, None] * np.array([[2.0, 3.0]])  # log-linear in angle
+    printed = exact.copy()
+    printed[0, 0] = np.nan
+    printed[:2, 1] = [np.nan, -1.0]
+    filled = m.fill_phase_function(PHASE_ANGLES, printed)
+    np.testing.assert_allclose(filled, exact, rtol=1e-12)
+    assert np.isnan(printed[0, 0])  # a copy
+    again = m.fill_phase_function(PHASE_ANGLES, exact)
+    assert again is not exact and np.array_equal(again, exact)
+    # a gap at the largest angle: from the two below it
+    printed = exact.copy()
+    printed[-1, 1] = np.nan
+    np.testing.assert_allclose(m.fill_phase_function(angles, printed), exact, rtol=1e-12)
+
+
+def test_phase_functions_without_two_valid_angles_are_an_engine_error():
+    from radscene.atmosphere.sixs import PHASE_ANGLES
+    from radscene.errors import EngineError
+
+    printed = np.full((len(PHASE_ANGLES), 2), 2.0)
+    printed[1:, 1] = np.nan
+    with pytest.raises(EngineError, match="fewer than two valid phase-function values at "
+                                          "wavelength index 1"):
+        m.fill_phase_function(PHASE_ANGLES, printed)
+
+
 def test_phase_interp_holds_its_ends_and_is_log_linear():
     nodes = np.array([10.0, 20.0])
     table = np.array([[4.0], [1.0]])

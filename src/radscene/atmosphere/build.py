@@ -421,7 +421,7 @@ class _Builder:
                     v = next(vals)
                     pr[k, j] = v["phase_function_I.rayleigh"]
                     pa[k, j] = v["phase_function_I.aerosol"] if aer != "none" else 1.0
-            out[aer] = _fill_forward(pa)
+            out[aer] = model.fill_phase_function(PHASE_ANGLES, pa)
         return lam_p, pr, out
 
     def _scatter_case(self, cond, wl, h, sensor, sz, vz, phi):
@@ -705,31 +705,6 @@ class _Builder:
                         & (comp(ih, top, "aer") > 0))
                 t["ray"][:, ih, ix] = parts["ray"]
                 t["mix"][:, ih, ix] = np.where(safe, parts["ray"] + parts["aer"], parts["mix"])
-
-
-def _fill_forward(phase):
-    """Phase functions (angle, wavelength) with the entries 6S printed as NaN (or not
-    positive) filled log-linearly in angle from the two nearest valid angles on the side of
-    larger angles. 6S prints NaN for its maritime model at 3 deg between 0.4 and 0.67 um
-    (its values there are erratic below about 4 deg: 89 at 3.5 deg, 52 at 4 deg, 41 at 5 deg
-    for 0.4 um); the other angles are kept as they are."""
-    angles = np.asarray(PHASE_ANGLES, dtype=float)
-    out = np.array(phase, dtype=float)
-    for j in range(out.shape[1]):
-        ok = np.isfinite(out[:, j]) & (out[:, j] > 0.0)
-        if ok.all():
-            continue
-        if ok.sum() < 2:
-            raise EngineError(f"6S gave fewer than two valid phase-function values at "
-                              f"wavelength index {j}")
-        good = np.nonzero(ok)[0]
-        for i in np.nonzero(~ok)[0]:
-            after = good[good > i][:2]
-            pair = after if after.size == 2 else good[good < i][-2:]
-            a0, a1 = angles[pair]
-            l0, l1 = np.log(out[pair, j])
-            out[i, j] = np.exp(l0 + (l1 - l0) * (angles[i] - a0) / (a1 - a0))
-    return out
 
 
 def _shape(f, axis, ndim):

@@ -291,7 +291,11 @@ class SixSAtmosphere(SunDependentAtmosphere):
         return {k: np.array([_pick(v, k) for v in flat]).reshape(len(geoms), -1) for k in keys}
 
     def _phase(self, wavelength):
-        """(angles, P_R (k, n), P_A (k, n), ω_A (n,)) from runs at fixed scattering angles."""
+        """(angles, P_R (k, n), P_A (k, n), ω_A (n,)) from runs at fixed scattering angles.
+
+        The aerosol values 6S prints as NaN are filled as in the database build, by
+        :func:`~radscene.atmosphere.sixs_model.fill_phase_function`.
+        """
         nodes, used = self._nodes(wavelength)
         if self.spectral == "direct":
             waves, interp = np.asarray(wavelength, float), False
@@ -309,6 +313,8 @@ class SixSAtmosphere(SunDependentAtmosphere):
         om = np.array([v["single_scattering_albedo.aerosol"] for v in flat]).reshape(shape)[0]
         if self.conditions["aerosol"] == "none":
             pa, om = np.ones_like(pa), np.ones_like(om)
+        else:  # 6S prints NaN at small angles for some models (maritime at 3 deg)
+            pa = model.fill_phase_function(PHASE_ANGLES, pa)
         if interp:
             full = np.ones((len(PHASE_ANGLES), nodes.size))
             fr, fa, fo = full.copy(), full.copy(), np.ones(nodes.size)

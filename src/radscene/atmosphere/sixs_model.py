@@ -64,6 +64,7 @@ __all__ = [
     "scattering_angle_sky",
     "scattering_angle_view",
     "phase_interp",
+    "fill_phase_function",
     "single_scattering_sky",
     "sky_radiance",
     "hemisphere_quadrature",
@@ -328,6 +329,53 @@ def phase_interp(angle, angle_nodes, phase):
     i = np.clip(np.searchsorted(nodes, a, side="right") - 1, 0, nodes.size - 2)
     t = ((a - nodes[i]) / (nodes[i + 1] - nodes[i]))[..., None]
     return np.exp(logp[i] * (1.0 - t) + logp[i + 1] * t)
+
+
+def fill_phase_function(angle_nodes, phase):
+    """Phase functions with the entries 6S printed as NaN (or not positive) filled.
+
+    Each such entry is extrapolated log-linearly in angle from the two nearest valid angles
+    on the side of larger angles (of smaller ones if there are not two larger). 6S prints NaN
+    for its maritime model at 3 deg at its wavelengths from 0.35 to 0.76 um (its values there
+    are erratic below about 4 deg: 89 at 3.5 deg, 52 at 4 deg, 41 at 5 deg for 0.4 um); the
+    other entries are kept as they are.
+
+    Parameters
+    ----------
+    angle_nodes : array_like
+        Increasing scattering angles [deg], shape (k,).
+    phase : array_like
+        Phase function at the angles, shape (k, n) for n wavelengths.
+
+    Returns
+    -------
+    numpy.ndarray
+        A filled copy, shape (k, n).
+
+    Raises
+    ------
+    EngineError
+        A wavelength with fewer than two valid values.
+    """
+    from radscene.errors import EngineError
+
+    angles = np.asarray(angle_nodes, dtype=float)
+    out = np.array(phase, dtype=float)
+    for j in range(out.shape[1]):
+        ok = np.isfinite(out[:, j]) & (out[:, j] > 0.0)
+        if ok.all():
+            continue
+        if ok.sum() < 2:
+            raise EngineError(f"6S gave fewer than two valid phase-function values at "
+                              f"wavelength index {j}")
+        good = np.nonzero(ok)[0]
+        for i in np.nonzero(~ok)[0]:
+            after = good[good > i][:2]
+            pair = after if after.size == 2 else good[good < i][-2:]
+            a0, a1 = angles[pair]
+            l0, l1 = np.log(out[pair, j])
+            out[i, j] = np.exp(l0 + (l1 - l0) * (angles[i] - a0) / (a1 - a0))
+    return out
 
 
 def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase_aerosol,
