@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from radscene.atmosphere.base import (
     Atmosphere,
+    CouplingSpectra,
     PathNodes,
     PathSpectra,
     SkyGeometry,
@@ -25,6 +26,7 @@ from radscene.errors import ConfigError
 
 __all__ = [
     "Atmosphere",
+    "CouplingSpectra",
     "PathNodes",
     "PathSpectra",
     "SkyGeometry",

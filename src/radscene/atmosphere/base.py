@@ -36,6 +36,7 @@ __all__ = [
     "SunDependentAtmosphere",
     "PathSpectra",
     "SunSpectra",
+    "CouplingSpectra",
     "PathNodes",
     "SkyGeometry",
     "zenith_hat_weights",
@@ -83,6 +84,38 @@ class SunSpectra:
 
     transmittance: np.ndarray
     irradiance: np.ndarray
+
+
+@dataclass(frozen=True)
+class CouplingSpectra:
+    """What couples the surface to the atmosphere beyond the direct beams (wavelength last).
+
+    With them the radiance of a Lambertian surface of reflectance ρ amid surroundings of
+    reflectance ρ_e is (6S's formulation, Vermote et al. 1997)::
+
+        L = L_path + (E_dir + E_dif) / π / (1 - S ρ_e) · (ρ τ_a + ρ_e t_d)
+
+    Attributes
+    ----------
+    diffuse_transmittance : numpy.ndarray
+        Diffuse (scattered) target-to-observer transmittance t_d, gaseous absorption
+        included [-]: the share of the radiance leaving the surroundings that reaches the
+        observer along the line of sight.
+    rayleigh_share : numpy.ndarray
+        Share of t_d scattered by molecules (the rest by aerosol) [-]; it weights the two
+        environment functions of the atmospheric point-spread function.
+    spherical_albedo : numpy.ndarray
+        Spherical albedo S of the atmosphere above the target [-].
+    direct_irradiance, diffuse_irradiance : numpy.ndarray
+        Direct and diffuse solar irradiance on a horizontal surface at the target over black
+        ground [W m-2 um-1].
+    """
+
+    diffuse_transmittance: np.ndarray
+    rayleigh_share: np.ndarray
+    spherical_albedo: np.ndarray
+    direct_irradiance: np.ndarray
+    diffuse_irradiance: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -206,11 +239,29 @@ class Atmosphere(abc.ABC):
             [W m-2 sr-1 um-1].
         """
 
-    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
+    #: Whether :meth:`coupling` gives the diffuse transmittance and spherical albedo.
+    couples: bool = False
+
+    def coupling(self, observer_altitude, target_altitude, view_zenith, wavelength
+                 ) -> CouplingSpectra:
+        """Surface–atmosphere coupling of lines of sight (see :class:`CouplingSpectra`).
+
+        Broadcast over the geometry arrays like :meth:`path`. The default, for engines that
+        do not scatter (or cannot say), is no coupling: every array zero.
+        """
+        wl = self.check_wavelength(wavelength)
+        shape = np.broadcast(np.asarray(observer_altitude), np.asarray(target_altitude),
+                             np.asarray(view_zenith)).shape + wl.shape
+        zero = np.zeros(shape)
+        return CouplingSpectra(zero, zero, zero, zero, zero)
+
+    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None,
+                 earth_sun_distance=None):
         """This engine set up for a sun position and a line-of-sight azimuth [deg].
 
         Engines whose spectra depend on the sun (scattered path radiance, sky) return a
         configured copy; the default, for engines that do not, returns the engine itself.
+        ``earth_sun_distance`` [AU], when given, scales their solar spectrum to the day's.
         """
         return self
 
@@ -301,17 +352,25 @@ class SunDependentAtmosphere(Atmosphere):
             raise ConfigError("must be finite", key="atmosphere.sun_azimuth")
         self.sun_zenith, self.sun_azimuth = z, a % 360.0
 
-    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None):
+    def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None, view_azimuth=None,
+                 earth_sun_distance=None):
         """A copy with the sun (and the line of sight's azimuth) set; tables shared.
 
         ``day_of_year`` is accepted for symmetry with engines that take the Earth–Sun
-        distance from the date (``lowtran``); these engines take theirs from their
-        ``earth_sun_distance``.
+        distance from the date (``lowtran``); these engines take theirs from
+        ``earth_sun_distance`` [AU] when it is given, else keep their own.
         """
         import copy
 
+        from radscene.errors import ConfigError
+
         new = copy.copy(self)
         new.set_sun(sun_zenith, sun_azimuth)
+        if earth_sun_distance is not None:
+            d = float(earth_sun_distance)
+            if not d > 0:
+                raise ConfigError("must be > 0 AU", key="atmosphere.earth_sun_distance")
+            new.earth_sun_distance = d
         if view_azimuth is not None:
             new.view_azimuth = float(view_azimuth)
         return new

@@ -72,6 +72,7 @@ import numpy as np
 
 from radscene.atmosphere import sixs_model as model
 from radscene.atmosphere.base import (
+    CouplingSpectra,
     PathNodes,
     PathSpectra,
     SkyGeometry,
@@ -576,7 +577,56 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         rad[zero] = 0.0
         return tau, rad, inside
 
+    def _forward_fraction(self, wavelength) -> np.ndarray:
+        """Share of the aerosol's scattered light that goes into the forward hemisphere."""
+        theta = np.radians(self.axes["scattering_angle"])
+        pa = model.loglog_interp(wavelength, self.axes["phase_wavelength"],
+                                 self.t["phase_aerosol"])  # (angle, n)
+        dens = pa * np.sin(theta)[:, None]
+        whole = np.trapezoid(dens, theta, axis=0)
+        fwd = theta <= np.pi / 2
+        return np.trapezoid(dens[fwd], theta[fwd], axis=0) / whole
+
     # -- the Atmosphere interface -------------------------------------------------------------
+    couples = True
+
+    def coupling(self, observer_altitude, target_altitude, view_zenith, wavelength
+                 ) -> CouplingSpectra:
+        """Diffuse transmittance up, spherical albedo and irradiances over black ground from
+        the scattering tables (reflective range; zero beyond it, where nothing scatters).
+
+        The molecular share of t_d is that of the light scattered forward in single
+        scattering by the column above the target: τ_R / 2 against ω_A τ_A f_A, with f_A
+        the aerosol phase function's forward-hemisphere fraction.
+        """
+        wl = self.check_wavelength(wavelength)
+        shape = np.broadcast(np.asarray(observer_altitude), np.asarray(target_altitude),
+                             np.asarray(view_zenith)).shape
+        n = int(np.prod(shape))
+        out = {k: np.zeros((n, wl.size)) for k in ("t_d", "share", "s", "dir", "dif")}
+        refl = wl <= self.reflective_range[1]
+        if np.any(refl):
+            if self.sun_zenith is None:
+                raise ConfigError("the database engine needs the sun position: give sun_zenith "
+                                  "or call set_sun()", key="atmosphere.sun_zenith")
+            w = wl[refl]
+            c = self.components(observer_altitude, target_altitude, view_zenith, w,
+                                sun_zenith=min(self.sun_zenith, 89.0))
+            out["t_d"][:, refl] = c["diffuse_transmittance_up"] * c["gas_transmittance_up"]
+            out["s"][:, refl] = c["spherical_albedo"]
+            lay_r = c["optical_depth_rayleigh"] * 0.5
+            lay_a = (c["optical_depth_aerosol"] * self._spectral(self.t["omega_aerosol"], w)
+                     * self._forward_fraction(w))
+            total = lay_r + lay_a
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out["share"][:, refl] = np.where(total > 0, lay_r / total, 1.0)
+            if self.sun_zenith < 90.0:
+                out["dir"][:, refl] = c["direct_irradiance"]
+                out["dif"][:, refl] = c["diffuse_irradiance"]
+        full = shape + wl.shape
+        return CouplingSpectra(*(out[k].reshape(full) for k in ("t_d", "share", "s", "dir",
+                                                                 "dif")))
+
     def path(self, observer_altitude, target_altitude, view_zenith, wavelength,
              view_azimuth=None) -> PathSpectra:
         wl = self.check_wavelength(wavelength)

@@ -71,6 +71,7 @@ import xarray as xr
 
 from radscene.atmosphere import sixs_model as model
 from radscene.atmosphere.base import (
+    CouplingSpectra,
     PathNodes,
     PathSpectra,
     SkyGeometry,
@@ -257,8 +258,8 @@ class SixSAtmosphere(SunDependentAtmosphere):
         carry 6S's own path reflectance with gaseous absorption (``rho_path``) and the gaseous
         transmittances.
         """
-        keys = ("rho_mix", "rho_r", "t_down", "t_up", "s_alb", "tau_r", "tau_a", "tau_r_view",
-                "tau_a_view", "omega_a")
+        keys = ("rho_mix", "rho_r", "t_down", "t_up", "t_up_r", "t_up_a", "s_alb", "tau_r",
+                "tau_a", "tau_r_view", "tau_a_view", "omega_a")
         if self.spectral == "direct":
             cases = [self._case(w, target_altitude=g[0], sensor=g[1], sun_zenith=g[2],
                                 view_zenith=g[3], view_azimuth=g[4])
@@ -430,6 +431,12 @@ class SixSAtmosphere(SunDependentAtmosphere):
         tg_up = np.where(zero[:, None], 1.0, g_["tg_up"])
         t_up = np.where(zero[:, None], 1.0, out["t_up"])
         tau_view = np.where(zero[:, None], 0.0, out["tau_r_view"] + out["tau_a_view"])
+        # the molecules' share of the diffuse upward transmittance (6S's own split)
+        mu_v = np.cos(np.radians(z))[:, None]
+        dif_r = np.maximum(out["t_up_r"] - np.exp(-out["tau_r_view"] / mu_v), 0.0)
+        dif_a = np.maximum(out["t_up_a"] - np.exp(-out["tau_a_view"] / mu_v), 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            share_r = np.where(dif_r + dif_a > 0.0, dif_r / (dif_r + dif_a), 1.0)
         data = {
             "path_reflectance": (rho, "1", "path reflectance with gaseous absorption"),
             "path_reflectance_scattering": (np.where(zero[:, None], 0.0, out["rho_mix"]), "1",
@@ -441,6 +448,8 @@ class SixSAtmosphere(SunDependentAtmosphere):
             "diffuse_transmittance_up": (np.maximum(t_up - t_dir_up, 0.0), "1",
                                          "diffuse scattering transmittance up"),
             "gas_transmittance_up": (tg_up, "1", "gaseous transmittance up"),
+            "rayleigh_share_up": (share_r, "1",
+                                  "molecular share of the diffuse transmittance up"),
             "sun_transmittance": (t_dir_down * g_["tg_down"], "1",
                                   "direct transmittance sun to target"),
             "direct_transmittance_down": (np.broadcast_to(t_dir_down, (n, m)), "1",
@@ -503,6 +512,32 @@ class SixSAtmosphere(SunDependentAtmosphere):
         tau = ds["transmittance"].values.reshape(shape + wl.shape)
         return PathSpectra(transmittance=tau, thermal_radiance=np.zeros(shape + wl.shape),
                            scattered_radiance=scattered)
+
+    couples = True
+
+    def coupling(self, observer_altitude, target_altitude, view_zenith, wavelength
+                 ) -> CouplingSpectra:
+        """Diffuse transmittance up, its molecular share, spherical albedo and the irradiances
+        over black ground, from the same 6S runs as :meth:`path` (see
+        :class:`~radscene.atmosphere.base.CouplingSpectra`)."""
+        wl = self.check_wavelength(wavelength)
+        shape = np.broadcast(np.asarray(observer_altitude), np.asarray(target_altitude),
+                             np.asarray(view_zenith)).shape + wl.shape
+        if self.sun_zenith is None:
+            raise ConfigError("the sixs engine needs the sun position: give sun_zenith or call "
+                              "set_sun()", key="atmosphere.sun_zenith")
+        sun_up = self.sun_zenith < 90.0
+        ds = self.components(observer_altitude, target_altitude, view_zenith, wl,
+                             sun_zenith=self.sun_zenith if sun_up else 0.0)
+        get = {k: ds[k].values.reshape(shape) for k in (
+            "diffuse_transmittance_up", "gas_transmittance_up", "rayleigh_share_up",
+            "spherical_albedo", "direct_irradiance", "diffuse_irradiance")}
+        sun = 1.0 if sun_up else 0.0
+        return CouplingSpectra(
+            diffuse_transmittance=get["diffuse_transmittance_up"] * get["gas_transmittance_up"],
+            rayleigh_share=get["rayleigh_share_up"], spherical_albedo=get["spherical_albedo"],
+            direct_irradiance=sun * get["direct_irradiance"],
+            diffuse_irradiance=sun * get["diffuse_irradiance"])
 
     def sun(self, target_altitude, sun_zenith, wavelength, toa_irradiance) -> SunSpectra:
         wl = self.check_wavelength(wavelength)
@@ -583,6 +618,10 @@ def _pick(values: dict, key: str, full: bool = False) -> float:
         return v["total_scattering.downward"]
     if key == "t_up":
         return v["total_scattering.upward"]
+    if key == "t_up_r":
+        return v["rayleigh_scattering.upward"]
+    if key == "t_up_a":
+        return v["aerosol_scattering.upward"]
     if key == "s_alb":
         return v["spherical_albedo.total"]
     if key == "tau_r":

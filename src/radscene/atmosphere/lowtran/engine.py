@@ -345,7 +345,7 @@ class LowtranAtmosphere(Atmosphere):
 
     # -- copies with the sun -------------------------------------------------------------------
     def with_sun(self, sun_zenith, sun_azimuth, day_of_year=None,
-                 view_azimuth=None) -> LowtranAtmosphere:
+                 view_azimuth=None, earth_sun_distance=None) -> LowtranAtmosphere:
         """A copy of this engine with the sun (and the line of sight's azimuth) set.
 
         Parameters
@@ -355,6 +355,8 @@ class LowtranAtmosphere(Atmosphere):
         day_of_year : int, optional
         view_azimuth : float, optional
             Azimuth from target towards observer [deg]; None keeps this engine's.
+        earth_sun_distance : float, optional
+            Not used: LOWTRAN takes the Earth–Sun distance from ``day_of_year``.
         """
         params = dict(self._params)
         params.update(sun_zenith=sun_zenith, sun_azimuth=sun_azimuth, time=None,
