@@ -23,7 +23,8 @@ from radscene.atmosphere import SkyGeometry, sky_node_weights
 from radscene.render import illumination, node_mixing, terms
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 
-__all__ = ["render", "render_all", "SunGeometry", "sun_geometry", "TERMS", "TILE_SAMPLES"]
+__all__ = ["render", "render_all", "SunGeometry", "sun_geometry", "TERMS", "COUPLING_TERMS",
+           "TILE_SAMPLES"]
 
 #: Output layer names of the signature terms, in the order they are summed.
 TERMS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance")
@@ -33,6 +34,17 @@ TERM_LONG_NAMES = {
     "thermal_emission": "self-emitted thermal radiance",
     "sky_reflected": "reflected sky radiance",
     "path_radiance": "atmospheric path radiance (sky radiance where a ray leaves the scene)",
+}
+#: Output layers of the surface–atmosphere coupling (:mod:`radscene.render.coupling`),
+#: summed into the radiance after the terms.
+COUPLING_TERMS = ("multiple_reflection", "diffuse_transmitted", "adjacency")
+COUPLING_LONG_NAMES = {
+    "multiple_reflection": "surface radiance from light reflected between the ground and "
+                           "the atmosphere",
+    "diffuse_transmitted": "the surface's own radiance scattered on its way to the sensor "
+                           "(diffuse upward transmittance, uniform surroundings)",
+    "adjacency": "adjacency effect: the surroundings' radiance through the atmospheric "
+                 "point-spread function, minus the uniform-surroundings part",
 }
 #: Per-pixel sums kept for the truth maps (the last is the weight of surface samples).
 TRUTH_SUMS = ("cos_incidence", "shadow", "sky_view", "temperature", "range", "hit_weight")
@@ -129,6 +141,10 @@ class _BandSetup:
         )
         self.quadrature = []
         self.emissivity_tau = []
+        taus = []  # the direct transmittance at the path nodes, per band
+        couplings = []  # the engine's coupling spectra at the path nodes, per band
+        self.sky_scale = []  # per band: the node table's factors (see _sky_scale)
+        hemisphere = _hemisphere_weights(zen_nodes, az_nodes) if atm.couples else None
         for b, band in enumerate(bands):
             nodes, weights = band_quadrature(band.response, breakpoints)
             atm.check_wavelength(nodes, key=f"bands[{band.name}]")
@@ -142,6 +158,12 @@ class _BandSetup:
                             path_nodes.view_zenith, nodes)  # (j, q)
             tau = path.transmittance
             sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k·l, q)
+            if atm.couples:
+                cp = atm.coupling(path_nodes.observer_altitude, path_nodes.target_altitude,
+                                  path_nodes.view_zenith, nodes)
+                couplings.append(cp)
+                self.sky_scale.append(_sky_scale(atm, sky, hemisphere, cp))
+                sky = sky * self.sky_scale[-1]
             comps = [m.components(nodes) for m in scene.materials]
             rho_d = np.array([cc["diffuse_reflectance"] for cc in comps])  # (m, q)
             rho_s = np.array([cc["specular_reflectance"] for cc in comps])
@@ -155,10 +177,76 @@ class _BandSetup:
             c.transmittance[b] = tau @ weights / weights.sum()
             c.sky_view[b] = sky @ weights
             self.emissivity_tau.append(eps[:, None, :] * tau[None, :, :])
+            taus.append(tau)
         self.coefficients = c
+        self.coupling = (_CouplingTables(self.quadrature, taus, couplings, path_nodes)
+                         if atm.couples and scene.settings.coupling else None)
         self.sky_nodes = (zen_nodes, az_nodes)
         self.brdf = _BrdfTables(scene, bands, self.quadrature, path_nodes, atm, sun, target_alt,
-                                sky_zenith, sky_azimuth, sky_geom) if scene.brdfs else None
+                                sky_zenith, sky_azimuth, sky_geom, self.sky_scale
+                                ) if scene.brdfs else None
+
+
+def _hemisphere_weights(zen_nodes, az_nodes) -> np.ndarray:
+    """∫ h_k(ω) cos θ dω over the hemisphere for each node k of the sky table [sr], with h_k
+    the bilinear interpolation weights the renderer uses (1° × 2° midpoint rule)."""
+    z = np.arange(0.5, 90.0, 1.0)
+    a = np.arange(1.0, 360.0, 2.0)
+    zz, aa = (g.ravel() for g in np.meshgrid(z, a, indexing="ij"))
+    dw = np.cos(np.radians(zz)) * np.sin(np.radians(zz)) * np.radians(1.0) * np.radians(2.0)
+    return dw @ sky_node_weights(zz, aa, zen_nodes, az_nodes)
+
+
+def _sky_scale(atm, sky, hemisphere, cp) -> np.ndarray:
+    """Per wavelength, the factor that makes the interpolated sky table's irradiance on a
+    horizontal surface equal the engine's own diffuse irradiance (q,).
+
+    Between its zenith nodes the table's linear interpolation cuts the aureole around the
+    sun (an 11 % loss with maritime aerosol and the sun at 30°); the engine's hemispheric
+    integral is E_dif + E_0 S ρ_b / (1 − S ρ_b), with ρ_b its own surroundings' albedo.
+    """
+    e_dir = cp.direct_irradiance.mean(axis=0)
+    e_dif = cp.diffuse_irradiance.mean(axis=0)
+    rb = float(getattr(atm, "surface_albedo", 0.0) or 0.0) * cp.spherical_albedo.mean(axis=0)
+    target = e_dif + (e_dir + e_dif) * rb / (1.0 - rb)
+    table = hemisphere @ sky
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where((table > 0.0) & (target > 0.0), target / table, 1.0)
+
+
+class _CouplingTables:
+    """Band values of the surface–atmosphere coupling (:mod:`radscene.render.coupling`).
+
+    Spectral factors are weighted by the band response times the irradiance of a horizontal
+    surface E_0 = E_dir + E_dif (the spectrum of the light a gray surface sends up; the
+    response alone where there is none): per path node j the direct and diffuse upward
+    transmittances ``tau[b, j]`` and ``t_d[b, j]``; per band the spherical albedo ``s``, the
+    molecular share of t_d ``share``, and the band irradiances ``e0`` and ``e_dif``
+    [W m-2].
+    """
+
+    def __init__(self, quadrature, taus, couplings, path_nodes):
+        n_b, n_j = len(quadrature), path_nodes.size
+        self.tau, self.t_d = np.zeros((n_b, n_j)), np.zeros((n_b, n_j))
+        self.s, self.share = np.zeros(n_b), np.zeros(n_b)
+        self.e0, self.e_dif = np.zeros(n_b), np.zeros(n_b)
+        for b, (_, weights) in enumerate(quadrature):
+            cp, tau = couplings[b], taus[b]  # (j, q) each
+            e0 = (cp.direct_irradiance + cp.diffuse_irradiance).mean(axis=0)  # (q,)
+            w = weights * e0
+            if not w.sum() > 0.0:
+                w = weights
+            w = w / w.sum()
+            self.tau[b], self.t_d[b] = tau @ w, cp.diffuse_transmittance @ w
+            self.s[b] = float(np.mean(cp.spherical_albedo @ w))
+            self.share[b] = float(np.mean(cp.rayleigh_share @ w))
+            self.e0[b] = float(e0 @ weights)
+            self.e_dif[b] = float(cp.diffuse_irradiance.mean(axis=0) @ weights)
+
+    @property
+    def active(self) -> bool:
+        """Whether anything couples (a scattering atmosphere in some band)."""
+        return bool(np.any(self.t_d > 0.0) or np.any(self.s > 0.0))
 
 
 #: Cosines of the view zenith at which BRDF materials' directional emissivity and albedo are
@@ -183,7 +271,7 @@ class _BrdfTables:
     """
 
     def __init__(self, scene, bands, quadrature, path_nodes, atm, sun, target_alt, sky_zenith,
-                 sky_azimuth, sky_geom):
+                 sky_azimuth, sky_geom, sky_scale=()):
         from radscene.sun import toa_solar_irradiance
 
         mu = VIEW_COSINES
@@ -202,6 +290,8 @@ class _BrdfTables:
                                 toa_solar_irradiance(nodes, sun.distance)).irradiance
                 self.sun[b] = tau @ (weights * e_sun)
             sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q)
+            if sky_scale:
+                sky = sky * sky_scale[b]
             coarse = np.linspace(nodes.min(), nodes.max(), BRDF_WAVELENGTHS)
             for m, model in self.models.items():
                 # the hemispherical integrals are costly: evaluate them on a coarse grid
@@ -499,6 +589,16 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
             normal_map[:, p[c]] = nrm[c].T
         tile_totals(sl)
         _report(progress, sl.stop, total)
+    coupled = _coupling_pass(scene, bset, acc, truth_sum["hit_weight"], rays, hits, labelled,
+                             hit_rank, path_nodes_all, obs_alt, tgt_alt, view_zenith)
+    if radiance is not None:
+        for layer in coupled.values():
+            radiance += layer
+        if bt_map is not None:
+            for b in thermal:
+                if any(np.any(layer[b]) for layer in coupled.values()):
+                    bt_map[b] = band_brightness_temperature(radiance[b], bands[b].response)
+    sums.update(coupled)
     elapsed = _time.perf_counter() - started
     ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
                   object_id, material_id, normal_map, sun, elapsed, pool=worker,
@@ -506,6 +606,51 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, hits, rays, labelled, sun)
     return ds.assign(geolocation)
+
+
+def _adjacency_on(scene, height) -> bool:
+    """Whether the render applies the PSF: the scene's setting, or ``auto``: for observers
+    more than :data:`~radscene.render.coupling.BOUNDARY_LAYER_HEIGHT` above the ground."""
+    from radscene.render.coupling import BOUNDARY_LAYER_HEIGHT
+
+    setting = scene.settings.adjacency
+    return height > BOUNDARY_LAYER_HEIGHT if setting == "auto" else bool(setting)
+
+
+def _coupling_pass(scene, bset, acc, coverage, rays, hits, labelled, hit_rank, path_nodes,
+                   obs_alt, tgt_alt, view_zenith) -> dict:
+    """The coupling layers (band, pixel) of a render: zero where nothing couples."""
+    from radscene.render import coupling
+
+    n_b, n_pix = acc.shape[1], acc.shape[2]
+    tables = bset.coupling
+    if tables is None or not tables.active or not np.any(labelled):
+        return {name: np.zeros((n_b, n_pix)) for name in COUPLING_TERMS}
+    slot = {name: i for i, name in enumerate(TERMS)}
+    sample = np.flatnonzero(labelled)  # one hit per pixel: its position and path nodes
+    pix = rays.pixel[sample]
+    rank = hit_rank[sample]
+    table = np.ascontiguousarray(np.concatenate([tables.tau, tables.t_d]).T[None])
+    mixed = node_mixing.mix_rows(table, np.zeros(len(rank), dtype=np.int64),
+                                 path_nodes.index[rank], path_nodes.weight[rank]).T
+    tau, t_d = mixed[:n_b], mixed[n_b:]
+    sky = acc[slot["sky_reflected"]][:, pix]
+    reflected = acc[slot["sun_diffuse"]][:, pix] + acc[slot["sun_specular"]][:, pix] + sky
+    emitted = acc[slot["thermal_emission"]][:, pix]
+    environment = None
+    height = float(np.mean(obs_alt) - np.mean(tgt_alt))
+    if _adjacency_on(scene, height):
+        pos = hits.position[sample]
+        cos_view = float(np.cos(np.radians(np.mean(view_zenith))))
+        cover = coverage[pix]
+
+        def environment(values):
+            return coupling.surroundings(pos[:, 0], pos[:, 1], values, cover, height / 1000.0,
+                                         cos_view, tables.share)
+    out = {name: np.zeros((n_b, n_pix)) for name in COUPLING_TERMS}
+    coupling.coupling_terms(reflected, emitted, sky, coverage[pix], tau, t_d, tables.s,
+                            tables.e0, tables.e_dif, environment, out=out, pixel=pix)
+    return out
 
 
 def scene_tables(scene) -> _SceneTables:
@@ -545,7 +690,7 @@ def _configured_atmosphere(scene, sun, directions, hit):
     else:
         azimuth = None
     return scene.atmosphere.with_sun(sun.zenith, sun.azimuth, day_of_year=day,
-                                     view_azimuth=azimuth)
+                                     view_azimuth=azimuth, earth_sun_distance=sun.distance)
 
 
 def _pixel_sums(pixel, weight, rows):
@@ -718,8 +863,9 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         total = radiance.reshape(n_b, ny, nx)
     else:
         total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
-        for name in TERMS[1:]:
-            total += cube[name]
+        for name in TERMS[1:] + COUPLING_TERMS:
+            if name in cube:
+                total += cube[name]
     thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
     if brightness is not None:
         thermal = []  # done during the render
@@ -748,6 +894,10 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     for name in TERMS:
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
+    for name in COUPLING_TERMS:
+        if name in cube:
+            data[name] = (("band", "y", "x"), cube[name],
+                          {**radiance_attrs, "long_name": COUPLING_LONG_NAMES[name]})
     bt = np.full((n_b, ny, nx), np.nan) if brightness is None else brightness.reshape(n_b, ny, nx)
     for b in thermal:
         bt[b] = (bt_jobs[b].result() if pool is not None

@@ -584,6 +584,13 @@ class _Resolver:
             if key.startswith("atmosphere"):
                 key = "environment." + key
             raise ConfigError(err.message, key=key or "environment.atmosphere") from None
+        if spec.render.coupling and getattr(atmosphere, "couples", False) and float(
+                getattr(atmosphere, "surface_albedo", 0.0) or 0.0) > 0.0:
+            raise ConfigError(
+                "the render takes the surroundings' albedo from the scene itself (multiple "
+                "reflection, render.coupling: true); remove surface_albedo, or set "
+                "render: {coupling: false} to use a fixed albedo instead",
+                key="environment.atmosphere.surface_albedo")
         hf, objects = None, []
         if spec.terrain is not None:
             hf, terrain_obj = self.terrain()

@@ -391,6 +391,11 @@ class RenderSettings(_Model):
     specular_samples: Annotated[int, Field(ge=1, le=4096)] = 16
     shadows: bool = True
     seed: int = 0
+    coupling: bool = Field(True, description="surface-atmosphere coupling: multiple reflection "
+                           "and the diffusely transmitted surface radiance")
+    adjacency: Literal["auto"] | bool = Field(
+        "auto", description="the atmospheric point-spread function over the scene's surface "
+        "radiance; auto: for observers more than 2 km above the ground")
 
 
 class SceneSpec(_Model):
