@@ -10,7 +10,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from radscene.atmosphere.api import line_of_sight, sky_radiance
-from radscene.atmosphere.cli import app
+from radscene.cli.atmosphere import app
 from radscene.errors import ConfigError
 
 runner = CliRunner()

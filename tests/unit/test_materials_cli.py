@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from radscene.cli.materials import app
 from radscene.errors import ConfigError
 from radscene.materials import list_materials
-from radscene.materials.cli import app
 
 runner = CliRunner()
 
@@ -64,7 +64,7 @@ def test_plot_writes_spectrum_and_polar_brdf_pngs(tmp_path):
 
 def test_material_brdf_is_the_materials_lambert_plus_phong():
     from radscene.materials import get_material
-    from radscene.materials.cli import material_brdf
+    from radscene.materials.plot import material_brdf
 
     m = get_material("painted_metal")
     b = material_brdf(m)

@@ -10,6 +10,7 @@ import xarray as xr
 import yaml
 from typer.testing import CliRunner
 
+from radscene.cli.sensor import app
 from radscene.errors import ConfigError
 from radscene.sensor import (
     DETECTORS,
@@ -21,7 +22,6 @@ from radscene.sensor import (
     load_sensor,
     make_sensor,
 )
-from radscene.sensor.cli import app
 from radscene.sensor.config import read_sensor_file
 
 BASE = {

@@ -1,7 +1,7 @@
 """``radscene sensor ...``: apply a sensor to rendered radiance, report a sensor's performance.
 
-The lead's CLI registers this sub-app with
-``add_subcommands(sensor_cli.app, "sensor", "Sensor models: ...")``; a
+:mod:`radscene.cli` registers this sub-app with
+``add_subcommands(app, "sensor", "Sensor models: ...")``; a
 :class:`~radscene.errors.ConfigError` raised here becomes one line and exit code 2 there.
 """
 

@@ -1,8 +1,8 @@
 """``radscene atmosphere``: build a database, look along one line of sight, look at the sky.
 
-Registered by the main CLI as ``radscene atmosphere`` (``add_subcommands(app, "atmosphere",
-...)``); bad input raises :class:`radscene.errors.ConfigError`, which the main CLI prints as
-one line with exit code 2. Quantities take units: ``10km``, ``"550 nm"``, ``"25 degC"``
+Registered by :mod:`radscene.cli` as ``radscene atmosphere`` (``add_subcommands(app,
+"atmosphere", ...)``); bad input raises :class:`radscene.errors.ConfigError`, which the main CLI
+prints as one line with exit code 2. Quantities take units: ``10km``, ``"550 nm"``, ``"25 degC"``
 (bare numbers: m, um, deg, K).
 """
 

@@ -1,4 +1,7 @@
-"""The ``radscene`` command line."""
+"""The ``radscene`` command line: ``render``, ``check``, ``examples`` here, and the sub-apps
+``atmosphere``, ``materials`` and ``sensor`` (:mod:`radscene.cli.atmosphere`,
+:mod:`radscene.cli.materials`, :mod:`radscene.cli.sensor`), registered with
+:func:`add_subcommands`. The domain packages hold no command-line code."""
 
 from __future__ import annotations
 
@@ -209,9 +212,9 @@ def examples(
 
 
 def _register_subcommands() -> None:
-    from radscene.atmosphere.cli import app as atmosphere_app
-    from radscene.materials.cli import app as materials_app
-    from radscene.sensor.cli import app as sensor_app
+    from radscene.cli.atmosphere import app as atmosphere_app
+    from radscene.cli.materials import app as materials_app
+    from radscene.cli.sensor import app as sensor_app
 
     add_subcommands(atmosphere_app, "atmosphere",
                     "Atmospheric databases, lines of sight and skies.")
