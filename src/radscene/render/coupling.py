@@ -328,7 +328,8 @@ def coupling_terms(reflected, emitted, sky_reflected, coverage, tau, t_d, spheri
 
 
 def _f64(a):
-    return np.ascontiguousarray(a, dtype=np.float64)
+    """``a`` as float64 without a copy where it is one already (views of any layout)."""
+    return np.asarray(a, dtype=np.float64)
 
 
 @numba.njit(parallel=True, cache=True)

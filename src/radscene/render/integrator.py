@@ -634,21 +634,22 @@ def _coupling_pass(scene, bset, acc, coverage, rays, hits, labelled, hit_rank, p
     mixed = node_mixing.mix_rows(table, np.zeros(len(rank), dtype=np.int64),
                                  path_nodes.index[rank], path_nodes.weight[rank]).T
     tau, t_d = mixed[:n_b], mixed[n_b:]
-    sky = acc[slot["sky_reflected"]][:, pix]
-    reflected = acc[slot["sun_diffuse"]][:, pix] + acc[slot["sun_specular"]][:, pix] + sky
-    emitted = acc[slot["thermal_emission"]][:, pix]
+    at = _as_slice(pix)  # every pixel in order (the usual case): views, not copies
+    sky = acc[slot["sky_reflected"]][:, at]
+    reflected = acc[slot["sun_diffuse"]][:, at] + acc[slot["sun_specular"]][:, at] + sky
+    emitted = acc[slot["thermal_emission"]][:, at]
     environment = None
     height = float(np.mean(obs_alt) - np.mean(tgt_alt))
     if _adjacency_on(scene, height):
         pos = hits.position[sample]
         cos_view = float(np.cos(np.radians(np.mean(view_zenith))))
-        cover = coverage[pix]
+        cover = coverage[at]
 
         def environment(values):
             return coupling.surroundings(pos[:, 0], pos[:, 1], values, cover, height / 1000.0,
                                          cos_view, tables.share)
     out = {name: np.zeros((n_b, n_pix)) for name in COUPLING_TERMS}
-    coupling.coupling_terms(reflected, emitted, sky, coverage[pix], tau, t_d, tables.s,
+    coupling.coupling_terms(reflected, emitted, sky, coverage[at], tau, t_d, tables.s,
                             tables.e0, tables.e_dif, environment, out=out, pixel=pix)
     return out
 
