@@ -126,3 +126,18 @@ def test_coupling_terms_leave_uncovered_pixels_and_black_surfaces_alone():
     for layer in out.values():
         assert layer[0, 0] == 0.0
         assert np.all(np.isfinite(layer))
+
+
+@pytest.mark.parametrize(("args", "key"), [
+    ((-0.1, 700.0, 1.0, 0.5), "r_km"), ((np.nan, 700.0, 1.0, 0.5), "r_km"),
+    ((1.0, 0.0, 1.0, 0.5), "height_km"), ((1.0, 700.0, 0.0, 0.5), "cos_view"),
+    ((1.0, 700.0, 1.2, 0.5), "cos_view"), ((1.0, 700.0, 1.0, 1.5), "rayleigh_share"),
+])
+def test_environment_function_refuses_bad_input(args, key):
+    with pytest.raises(ValueError, match=key):
+        coupling.environment_function(*args)
+
+
+def test_environment_function_below_the_table_uses_its_lowest_row():
+    assert coupling.environment_function(0.3, 0.2, 1.0, 0.4) == pytest.approx(
+        coupling.environment_function(0.3, 0.5, 1.0, 0.4), rel=1e-12)

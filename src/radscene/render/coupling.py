@@ -32,8 +32,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["environment_function", "psf_kernel", "environment_map", "blur_environment",
-           "BOUNDARY_LAYER_HEIGHT", "SATELLITE_HEIGHT_KM"]
+__all__ = ["environment_function", "psf_kernel", "psf_kernel_fast", "environment_map",
+           "blur_environment", "surroundings", "coupling_terms", "BOUNDARY_LAYER_HEIGHT",
+           "SATELLITE_HEIGHT_KM", "MAP_CELLS"]
 
 #: Observers higher than this above the ground see the adjacency effect by default [m].
 BOUNDARY_LAYER_HEIGHT = 2000.0
@@ -79,19 +80,35 @@ def environment_function(r_km, height_km, cos_view, rayleigh_share):
     r_km : array_like
         Distance from the target [km], >= 0.
     height_km : float
-        Sensor height above the target [km]; from 60 km on, the satellite functions.
+        Sensor height above the target [km], > 0; from 60 km on, the satellite functions;
+        below 0.5 km 6S's lowest row (6S's own rule).
     cos_view : float
-        Cosine of the view zenith angle (0, 1].
+        Cosine of the view zenith angle, in (0, 1].
     rayleigh_share : float
-        Molecular share of the diffuse upward transmittance [-].
+        Molecular share of the diffuse upward transmittance, in [0, 1].
 
     Returns
     -------
     numpy.ndarray
         F(r) in [0, 1], 0 at r = 0 and 1 far away.
+
+    Raises
+    ------
+    ValueError
+        A negative or non-finite distance, a height <= 0, a cosine outside (0, 1] or a share
+        outside [0, 1].
     """
-    f_r0, f_a0 = _nadir_functions(r_km, height_km)
-    ln_mu = np.log(min(max(float(cos_view), 1e-3), 1.0))
+    r = np.asarray(r_km, dtype=float)
+    if r.size and not (np.all(np.isfinite(r)) and r.min() >= 0.0):
+        raise ValueError("r_km: distances must be finite and >= 0")
+    if not float(height_km) > 0.0:
+        raise ValueError(f"height_km: must be > 0; got {height_km!r}")
+    if not 0.0 < float(cos_view) <= 1.0:
+        raise ValueError(f"cos_view: must lie in (0, 1]; got {cos_view!r}")
+    if not 0.0 <= float(rayleigh_share) <= 1.0:
+        raise ValueError(f"rayleigh_share: must lie in [0, 1]; got {rayleigh_share!r}")
+    f_r0, f_a0 = _nadir_functions(r, height_km)
+    ln_mu = np.log(float(cos_view))
     f_r = f_r0 * (ln_mu * (1.0 - f_r0) + 1.0)
     f_a = f_a0 * (_VA0 * ln_mu + 1.0 + _VB0 * ln_mu**2
                   + f_a0 * (_VA1 * ln_mu + _VB1 * ln_mu**2)

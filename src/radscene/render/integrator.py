@@ -865,8 +865,7 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     else:
         total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
         for name in TERMS[1:] + COUPLING_TERMS:
-            if name in cube:
-                total += cube[name]
+            total += cube[name]
     thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
     if brightness is not None:
         thermal = []  # done during the render
@@ -896,9 +895,8 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
     for name in COUPLING_TERMS:
-        if name in cube:
-            data[name] = (("band", "y", "x"), cube[name],
-                          {**radiance_attrs, "long_name": COUPLING_LONG_NAMES[name]})
+        data[name] = (("band", "y", "x"), cube[name],
+                      {**radiance_attrs, "long_name": COUPLING_LONG_NAMES[name]})
     bt = np.full((n_b, ny, nx), np.nan) if brightness is None else brightness.reshape(n_b, ny, nx)
     for b in thermal:
         bt[b] = (bt_jobs[b].result() if pool is not None

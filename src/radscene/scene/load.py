@@ -584,7 +584,7 @@ class _Resolver:
             if key.startswith("atmosphere"):
                 key = "environment." + key
             raise ConfigError(err.message, key=key or "environment.atmosphere") from None
-        if spec.render.coupling and getattr(atmosphere, "couples", False) and float(
+        if spec.render.coupling and atmosphere.couples and float(
                 getattr(atmosphere, "surface_albedo", 0.0) or 0.0) > 0.0:
             raise ConfigError(
                 "the render takes the surroundings' albedo from the scene itself (multiple "
