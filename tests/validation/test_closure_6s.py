@@ -44,7 +44,7 @@ ABSOLUTE = 2e-5
 AEROSOL = {"cont": "rural", "mari": "maritime"}
 
 
-def _scene(rho, aerosol, aot, sensor, view_zenith):
+def _scene(rho, aerosol, aot, sensor, view_zenith, atmosphere=None):
     bands = [{"name": f"b{lo:.2f}", "min": f"{lo} um", "max": f"{hi} um"}
              for lo, hi in ref.BANDS_UM]
     altitude = "700 km" if sensor == "toa" else f"{ref.AIRCRAFT_ALTITUDE_KM} km"
@@ -53,8 +53,8 @@ def _scene(rho, aerosol, aot, sensor, view_zenith):
         "environment": {
             "location": {"latitude": 0.0, "longitude": 0.0, "altitude": "0 m"},
             "sun": {"zenith": ref.SUN_ZENITH, "azimuth": ref.SUN_AZIMUTH, "distance": 1.0},
-            "atmosphere": {"type": "sixs", "profile": "us_standard",
-                           "aerosol": AEROSOL[aerosol], "aot550": aot},
+            "atmosphere": atmosphere or {"type": "sixs", "profile": "us_standard",
+                                         "aerosol": AEROSOL[aerosol], "aot550": aot},
         },
         "materials": {"plate": {"reflectance": rho}},
         "objects": [{"name": "plate", "shape": {"type": "plate", "width": "20 km",
@@ -91,10 +91,29 @@ def _apparent_reflectance(ds) -> dict:
     return out
 
 
-def _case_id(aerosol, aot, sensor, view_zenith, band, rho):
+def _case_id(aerosol, aot, sensor, view_zenith, band, rho, visibility=None):
     lo, hi = band
-    return (f"{aerosol}-aot{aot:.2f}-{'toa' if sensor == 'toa' else 'air3km'}-"
+    condition = f"aot{aot:.2f}" if visibility is None else f"vis{int(visibility)}"
+    return (f"{aerosol}-{condition}-{'toa' if sensor == 'toa' else 'air3km'}-"
             f"vz{int(view_zenith):02d}-b{0.5 * (lo + hi):.2f}-r{rho:.2f}")
+
+
+def _compare(tmp_path, condition, references, tolerance, atmosphere=None, visibility=None,
+             rhos=ref.RHOS):
+    """Render the plate at each of ``rhos`` and list the bands beyond tolerance."""
+    aerosol, aot, sensor, view_zenith = condition
+    failures = []
+    for rho in rhos:
+        ds = _render(tmp_path / f"r{rho}", _scene(rho, aerosol, aot, sensor, view_zenith,
+                                                  atmosphere))
+        for band, value in _apparent_reflectance(ds).items():
+            case = _case_id(aerosol, aot, sensor, view_zenith, band, rho, visibility)
+            expected = references[case]["apparent_reflectance"]
+            error = value / expected - 1.0
+            if abs(error) > tolerance and abs(value - expected) > ABSOLUTE:
+                failures.append(f"{case}: radscene {value:.5f}, 6S {expected:.5f} "
+                                f"({100 * error:+.2f} %)")
+    return failures
 
 
 CONDITIONS = [(aer, aot, sensor, vz) for aer in ("cont", "mari") for aot in ref.AOTS
@@ -118,18 +137,48 @@ def _marks(condition):
 @pytest.mark.parametrize("condition", [
     pytest.param(c, marks=_marks(c), id="-".join(str(v) for v in c)) for c in CONDITIONS])
 def test_rendered_plate_equals_6s_apparent_reflectance(tmp_path, condition):
-    aerosol, aot, sensor, view_zenith = condition
-    failures = []
-    for rho in ref.RHOS:
-        ds = _render(tmp_path / f"r{rho}", _scene(rho, aerosol, aot, sensor, view_zenith))
-        got = _apparent_reflectance(ds)
-        for band, value in got.items():
-            case = _case_id(aerosol, aot, sensor, view_zenith, band, rho)
-            expected = ref.HOMOGENEOUS[case]["apparent_reflectance"]
-            error = value / expected - 1.0
-            if abs(error) > TOLERANCE and abs(value - expected) > ABSOLUTE:
-                failures.append(f"{case}: radscene {value:.5f}, 6S {expected:.5f} "
-                                f"({100 * error:+.2f} %)")
+    failures = _compare(tmp_path, condition, ref.HOMOGENEOUS, TOLERANCE)
+    assert not failures, "\n".join(failures)
+
+
+#: The shipped database's conditions (6S's aerosol models at a visibility) against 6S run at
+#: the same visibility; the quick suite takes one, ``make validate`` the rest.
+DATABASE_TOLERANCE = 0.03
+DATABASE_QUICK = ("cont", 23.0, "toa", 0.0)
+DATABASE_CONDITIONS = [(aer, vis, sensor, vz) for aer, vis in ref.DATABASE_CONDITIONS
+                       for sensor in ("toa", "air") for vz in (0.0, 40.0)]
+
+
+def _database(aerosol, visibility):
+    return {"type": "database", "profile": "us_standard", "aerosol": AEROSOL[aerosol],
+            "visibility": f"{visibility} km"}
+
+
+@pytest.mark.parametrize("condition", [
+    pytest.param(c, marks=() if c == DATABASE_QUICK else pytest.mark.slow,
+                 id=f"{c[0]}-vis{int(c[1])}-{c[2]}-{int(c[3])}") for c in DATABASE_CONDITIONS])
+def test_rendered_plate_with_the_database_equals_6s_within_3_percent(tmp_path, condition):
+    """ρ = 0.2 and 0.5 (measured: worst band −0.6 to −1.5 % continental, −1.2 to −2.4 %
+    maritime); the black plate (the path alone) is the next test."""
+    aerosol, visibility, sensor, view_zenith = condition
+    failures = _compare(tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
+                        DATABASE_TOLERANCE, _database(aerosol, visibility), visibility,
+                        rhos=(0.2, 0.5))
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(reason="known gap: the database's path radiance between its sun-zenith "
+                   "nodes (0, 40 deg) is 3-13 % off 6S (maritime worst: -3 to -13 % at 0.45-"
+                   "0.87 um, nadir, sun at 30 deg; continental +3.4 to +5 % from 3 km and at "
+                   "5 km visibility); measured by this test", strict=False)
+@pytest.mark.parametrize("condition", [
+    pytest.param(c, id=f"{c[0]}-vis{int(c[1])}-{c[2]}-{int(c[3])}") for c in DATABASE_CONDITIONS])
+def test_black_plate_with_the_database_equals_6s_path_within_3_percent(tmp_path, condition):
+    aerosol, visibility, sensor, view_zenith = condition
+    failures = _compare(tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
+                        DATABASE_TOLERANCE, _database(aerosol, visibility), visibility,
+                        rhos=(0.0,))
     assert not failures, "\n".join(failures)
 
 
