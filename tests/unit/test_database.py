@@ -83,7 +83,8 @@ def test_table_nodes_are_reproduced_exactly(db):
     zeniths, relative azimuth 0, a 6S scattering wavelength) the path reflectance is the
     stored one, with the stored gases: the single-scattering normalisation cancels."""
     ds = db.source
-    ia, ip = db._ia, db._ip
+    assert len(db._nodes) == 1
+    ia, ip = db._nodes[0][0], db._ip
     lam = float(ds["scattering_wavelength"].values[7])
     i_sun = list(ds["sun_zenith"].values).index(40.0)
     i_view = list(ds["view_zenith"].values).index(60.0)

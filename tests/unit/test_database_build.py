@@ -29,17 +29,25 @@ def test_each_aerosol_condition_has_its_own_name_and_progress_stage():
     from radscene.atmosphere.build import _condition_name
 
     names = [_condition_name(c) for c in load_config(None)["_conditions"]]
-    # two rural conditions: two tables, and two progress stages (they once shared one bar,
-    # which then showed the time of the first only)
-    assert names == ["rural_23km", "rural_5km", "maritime_23km"]
+    # four conditions of one model: four tables, and four progress stages (two of a model
+    # once shared one bar, which then showed the time of the first only)
+    assert names[:5] == ["none", "rural_aot0.1", "rural_aot0.25", "rural_aot0.5", "rural_aot1"]
+    assert len(set(names)) == len(names)
     assert _condition_name({"aerosol": "none", "visibility": None}) == "none"
+    assert _condition_name({"aerosol": "rural", "visibility": 5.0, "aot550": None}) == "rural_5km"
 
 
 def test_default_configuration_is_valid_and_complete():
+    """Six standard profiles and none; four aerosol models on an AOT550 axis, and none."""
     cfg = load_config(None)
     assert cfg["profiles"] == DEFAULT_CONFIG["profiles"]
-    models = [(c["aerosol"], c["visibility"]) for c in cfg["_conditions"]]
-    assert models == [("rural", 23.0), ("rural", 5.0), ("maritime", 23.0)]
+    assert set(cfg["profiles"]) == set(sr.PROFILES)
+    models = {c["aerosol"] for c in cfg["_conditions"]}
+    assert models == {"none", "rural", "maritime", "urban", "desert"}
+    for m in models - {"none"}:
+        aots = [c["aot550"] for c in cfg["_conditions"] if c["aerosol"] == m]
+        assert aots == [0.1, 0.25, 0.5, 1.0]
+    assert cfg["wavelength"]["min"] == 0.3
 
 
 @pytest.mark.parametrize(("config", "match"), [
@@ -47,6 +55,10 @@ def test_default_configuration_is_valid_and_complete():
     ({"profiles": ["jovian"]}, "unknown profile 'jovian'"),
     ({"aerosols": [{"model": "rural", "visibility": 0}]}, r"aerosols\[0\].visibility"),
     ({"aerosols": [{"visibility": "5 km"}]}, r"aerosols\[0\]"),
+    ({"aerosols": [{"model": "rural", "aot550": [0.5, 0.1]}]}, r"aerosols\[0\].aot550"),
+    ({"aerosols": [{"model": "rural", "aot550": [0.1], "visibility": "5 km"}]}, "not both"),
+    ({"aerosols": [{"model": "rural", "aot550": 0.1}, {"model": "rural", "aot550": 0.1}]},
+     "given twice"),
     ({"grid": {"sun_zenith": [0, 60, 30]}}, r"grid.sun_zenith: an increasing list"),
     ({"grid": {"sun_zenith": [10, 60]}}, "start at 0"),
     ({"grid": {"airmass_pairs": [[0, 95]]}}, "airmass_pairs"),

@@ -86,11 +86,14 @@ _TOP = model.TOP_OF_ATMOSPHERE
 
 #: The configuration of the database shipped with radscene.
 DEFAULT_CONFIG: dict = {
-    "profiles": ["us_standard", "midlatitude_summer", "midlatitude_winter", "tropical"],
+    "profiles": ["us_standard", "midlatitude_summer", "midlatitude_winter", "subarctic_summer",
+                 "subarctic_winter", "tropical", "none"],
     "aerosols": [
-        {"model": "rural", "visibility": "23 km"},
-        {"model": "rural", "visibility": "5 km"},
-        {"model": "maritime", "visibility": "23 km"},
+        {"model": "none"},
+        {"model": "rural", "aot550": [0.1, 0.25, 0.5, 1.0]},
+        {"model": "maritime", "aot550": [0.1, 0.25, 0.5, 1.0]},
+        {"model": "urban", "aot550": [0.1, 0.25, 0.5, 1.0]},
+        {"model": "desert", "aot550": [0.1, 0.25, 0.5, 1.0]},
     ],
     "grid": {
         "surface_altitude": [0.0, 1500.0, 3000.0],
@@ -103,15 +106,15 @@ DEFAULT_CONFIG: dict = {
         # test_database_accuracy.py)
         "coarse_zenith": [0.0, 40.0, 60.0, 85.0],
         "ratio_wavelengths": [0.4425, 0.55, 0.67, 0.86, 1.65],
-        "phase_wavelengths": [0.4, 0.55, 0.86, 1.24, 2.25, 3.75],
+        "phase_wavelengths": [0.35, 0.4, 0.55, 0.86, 1.24, 2.25, 3.75],
         "airmass_pairs": [[0.0, 48.19], [60.0, 70.53], [75.52, 81.79], [85.0, 88.0]],
         "partial_zenith": [0.0, 80.0],
         "rayleigh_heights": [0.0, 50.0, 100.0, 200.0, 350.0, 500.0, 750.0, 1000.0, 1500.0,
                              2000.0, 3000.0, 4000.0, 5000.0, 7000.0, 10000.0, 15000.0,
                              20000.0, 30000.0, 50000.0, 100000.0],
     },
-    "wavelength": {"min": 0.4, "max": 4.0, "tolerance": 0.03, "smoothing": 0.01,
-                   "backbone": [[0.4, 1.0, 0.02], [1.0, 2.5, 0.05], [2.5, 4.0, 0.1]]},
+    "wavelength": {"min": 0.3, "max": 4.0, "tolerance": 0.03, "smoothing": 0.01,
+                   "backbone": [[0.3, 1.0, 0.02], [1.0, 2.5, 0.05], [2.5, 4.0, 0.1]]},
     "strategy": "reduced",
     "thermal": {"engine": "auto", "wavelength": {"min": 3.0, "max": 20.0, "step": 20.0}},
     "workers": None,
@@ -161,11 +164,29 @@ def load_config(config) -> dict:
         sixs_conditions(profile=p, key="profiles")
     conds = []
     for i, a in enumerate(cfg["aerosols"]):
-        if not isinstance(a, dict) or "model" not in a:
-            raise ConfigError("{model: ..., visibility: ...}", key=f"aerosols[{i}]")
-        c = sixs_conditions(aerosol=a["model"], visibility=a.get("visibility"),
-                            key=f"aerosols[{i}]")
-        conds.append(c)
+        key = f"aerosols[{i}]"
+        if not isinstance(a, dict) or "model" not in a or set(a) - {"model", "visibility",
+                                                                     "aot550"}:
+            raise ConfigError("{model: ..., visibility: ...} or {model: ..., aot550: [...]}",
+                              key=key)
+        if "aot550" in a and "visibility" in a:
+            raise ConfigError("give visibility or aot550 nodes, not both", key=key)
+        if "aot550" in a:
+            nodes = np.atleast_1d(np.asarray(a["aot550"], dtype=float))
+            if (nodes.ndim != 1 or not np.all(nodes > 0) or not np.all(np.isfinite(nodes))
+                    or np.any(np.diff(nodes) <= 0)):
+                raise ConfigError("an increasing list of optical thicknesses > 0 (the "
+                                  "aerosol-free condition is the model 'none')",
+                                  key=f"{key}.aot550")
+            conds += [sixs_conditions(aerosol=a["model"], aot550=float(t), key=key)
+                      for t in nodes]
+        else:
+            conds.append(sixs_conditions(aerosol=a["model"], visibility=a.get("visibility"),
+                                         key=key))
+    names = [_condition_name(c) for c in conds]
+    if len(set(names)) != len(names):
+        raise ConfigError(f"conditions given twice: {sorted(n for n in set(names) if names.count(n) > 1)}",
+                          key="aerosols")
     cfg["_conditions"] = conds
     g = cfg["grid"]
     for name, lo, hi in (("sun_zenith", 0, 89), ("view_zenith", 0, 89),
@@ -240,6 +261,8 @@ def _condition_name(cond) -> str:
     two conditions of one model are two stages."""
     if cond["aerosol"] == "none":
         return "none"
+    if cond.get("aot550") is not None:
+        return f"{cond['aerosol']}_aot{cond['aot550']:g}"
     return f"{cond['aerosol']}_{cond['visibility']:g}km"
 
 
@@ -250,7 +273,12 @@ def _gas_values(v):
     for d in ("downward", "upward", "total"):
         out[d] = v[f"global_gas.{d}"]
         out[d + "_nw"] = float(np.prod([v[f"{g}.{d}"] for g in others]))
+        out[d + "_o3"] = v[f"ozone.{d}"]
     return out
+
+
+#: Gas tables per kind: all gases, all but water vapour, ozone alone.
+_GAS_KINDS = ("", "_nw", "_o3")
 
 
 class _Builder:
@@ -274,7 +302,8 @@ class _Builder:
         w = self.cfg["wavelength"]
         lo, hi = float(w["min"]), float(w["max"])
         ref = np.round(np.arange(lo, hi + 1e-9, 0.0025), 6)
-        wettest = "tropical" if "tropical" in self.cfg["profiles"] else self.cfg["profiles"][0]
+        gassy = [p for p in self.cfg["profiles"] if p != "none"] or ["us_standard"]
+        wettest = "tropical" if "tropical" in gassy else gassy[0]
         cases = [self.case(x, profile=wettest, sun_zenith=60.0, view_zenith=60.0)
                  for x in ref]
         vals = self.run("spectral grid", cases)
@@ -316,7 +345,14 @@ class _Builder:
     def gas(self, wavelength):
         """Gas tables: each top-of-atmosphere run gives the column's transmittance at three
         airmasses (sun, view, and their sum: 6S's two-way value is that of the summed path);
-        each aircraft run the partial column's at the view airmass."""
+        each aircraft run the partial column's at the view airmass. Per kind of
+        :data:`_GAS_KINDS` (all gases, all but water vapour, ozone alone); the profile
+        ``none`` holds no gas (ones, no runs).
+
+        Returns
+        -------
+        (airmass nodes, {kind: column table}, {kind: partial table})
+        """
         g = self.g
         heights, obs = g["surface_altitude"], g["observer_height"]
         pairs = [tuple(map(float, p)) for p in g["airmass_pairs"]]
@@ -326,11 +362,13 @@ class _Builder:
         im = {m: i for i, m in enumerate(m_nodes)}
         profs = self.cfg["profiles"]
         shape_col = (len(profs), wavelength.size, len(heights), m_nodes.size)
-        col, col_nw = np.full(shape_col, np.nan), np.full(shape_col, np.nan)
         shape_part = (len(profs), wavelength.size, len(heights), len(obs) + 2, m_nodes.size)
-        part, part_nw = np.ones(shape_part), np.ones(shape_part)
+        col = {k: np.full(shape_col, np.nan) for k in _GAS_KINDS}
+        part = {k: np.ones(shape_part) for k in _GAS_KINDS}
         cases = []
         for p in profs:
+            if p == "none":
+                continue
             for w in wavelength:
                 for h in heights:
                     for zs_, zv_ in pairs:
@@ -343,7 +381,11 @@ class _Builder:
                                                    view_zenith=z))
         vals = iter(self.run("gas", cases))
         m_part = np.log(1.0 / np.cos(np.radians(zp)))
-        for a in range(len(profs)):
+        for a, p in enumerate(profs):
+            if p == "none":
+                for k in _GAS_KINDS:
+                    col[k][a] = 1.0
+                continue
             for b in range(wavelength.size):
                 for c in range(len(heights)):
                     for zs_, zv_ in pairs:
@@ -351,27 +393,29 @@ class _Builder:
                         ms, mv = 1.0 / np.cos(np.radians(zs_)), 1.0 / np.cos(np.radians(zv_))
                         for m, key in ((ms, "downward"), (mv, "upward"), (ms + mv, "total")):
                             i = im[round(m, 6)]
-                            col[a, b, c, i], col_nw[a, b, c, i] = v[key], v[key + "_nw"]
-                    for k in range(len(obs)):
-                        up, up_nw = [], []
+                            for k in _GAS_KINDS:
+                                col[k][a, b, c, i] = v[key + k]
+                    for n in range(len(obs)):
+                        up = {k: [] for k in _GAS_KINDS}
                         for _z in zp:
                             v = _gas_values(next(vals))
-                            up.append(v["upward"])
-                            up_nw.append(v["upward_nw"])
-                        part[a, b, c, k + 1] = np.interp(logm, m_part, up)
-                        part_nw[a, b, c, k + 1] = np.interp(logm, m_part, up_nw)
-        for arr in (col, col_nw):
-            flat = arr.reshape(-1, m_nodes.size)
+                            for k in _GAS_KINDS:
+                                up[k].append(v["upward" + k])
+                        for k in _GAS_KINDS:
+                            part[k][a, b, c, n + 1] = np.interp(logm, m_part, up[k])
+        for k in _GAS_KINDS:
+            flat = col[k].reshape(-1, m_nodes.size)
             for row in flat:
                 bad = np.isnan(row)
                 if bad.any():
                     row[bad] = np.interp(logm[bad], logm[~bad], row[~bad])
-        part[:, :, :, -1] = col
-        part_nw[:, :, :, -1] = col_nw
+            part[k][:, :, :, -1] = col[k]
+        # the exponent of the mean over each cell; powers distribute over the product of the
+        # kinds (all = water x others, others = ozone x rest), which therefore still holds
         r = self.cell_exponents(wavelength)[None, :, None, None]
-        col, col_nw = col ** r, col_nw ** r
-        part, part_nw = part ** r[..., None], part_nw ** r[..., None]
-        return m_nodes, col, col_nw, part, part_nw
+        col = {k: v ** r for k, v in col.items()}
+        part = {k: v ** r[..., None] for k, v in part.items()}
+        return m_nodes, col, part
 
     def rayleigh_fraction(self):
         heights = self.g["surface_altitude"]
@@ -392,13 +436,54 @@ class _Builder:
                                                   / v["optical_depth_total.rayleigh"])
         return frac, tau_above / tau_above[0]
 
+    def aerosol_equivalents(self):
+        """(AOT550, visibility [m]) of every condition, by 6S's own conversion: the aerosol
+        optical thickness 6S derives from a visibility over sea-level ground, interpolated
+        linearly in 1 / visibility (6S scales its extinction profile with it) for conditions
+        given by their optical thickness. The visibility is what LOWTRAN's thermal tables
+        are run at."""
+        vis = np.array([1.0, 2.0, 3.0, 5.0, 8.0, 12.0, 17.0, 23.0, 35.0, 50.0, 80.0, 120.0])
+        conds = self.cfg["_conditions"]
+        models = sorted({c["aerosol"] for c in conds if c["aerosol"] != "none"})
+        cases = [self.case(0.55, aerosol=m, visibility=float(v)) for m in models for v in vis]
+        cases += [self.case(0.55, aerosol=c["aerosol"], visibility=c["visibility"])
+                  for c in conds if c["aerosol"] != "none" and c.get("aot550") is None]
+        vals = iter(self.run("aerosol optical thickness", cases))
+        curve = {m: np.array([next(vals)["optical_depth_total.aerosol"] for _ in vis])
+                 for m in models}
+        out = []
+        for c in conds:
+            if c["aerosol"] == "none":
+                out.append((0.0, 0.0))
+            elif c.get("aot550") is None:
+                out.append((float(next(vals)["optical_depth_total.aerosol"]),
+                            float(c["visibility"]) * 1000.0))
+            else:
+                tau = curve[c["aerosol"]]  # falls as the visibility grows
+                if c["aot550"] > tau[0]:
+                    raise ConfigError(
+                        f"AOT550 {c['aot550']:g} of the {c['aerosol']} model is beyond 6S's "
+                        f"at {vis[0]:g} km visibility ({tau[0]:.3f})", key="aerosols")
+                if c["aot550"] >= tau[-1]:
+                    inv = np.interp(c["aot550"], tau[::-1], (1.0 / vis)[::-1])
+                else:  # clearer than 120 km: linear in 1 / visibility, as 6S's relation
+                    slope = (tau[-2] - tau[-1]) / (1.0 / vis[-2] - 1.0 / vis[-1])
+                    inv = max(1.0 / vis[-1] + (c["aot550"] - tau[-1]) / slope, 1.0 / 1000.0)
+                out.append((float(c["aot550"]), 1000.0 / inv))
+        return out
+
     # -- scattering --------------------------------------------------------------------------
     def scattering_wavelengths(self):
         lo, hi = float(self.cfg["wavelength"]["min"]), float(self.cfg["wavelength"]["max"])
         nodes = np.asarray(DISCRETE_WAVELENGTHS)
         i_lo = int(model.bracket([lo], nodes)[0])
         i_hi = int(model.bracket([hi], nodes)[0]) + 1
-        return nodes[i_lo:i_hi + 1]
+        out = nodes[i_lo:i_hi + 1]
+        if lo < nodes[0]:
+            # below 6S's first aerosol node 6S extrapolates the aerosol itself; the molecules'
+            # multiple scattering grows fast there, so two nodes more (e.g. 0.3, 0.325 um)
+            out = np.concatenate([np.round(np.linspace(lo, nodes[0], 3)[:-1], 4), out])
+        return out
 
     def phase(self):
         """Phase functions and ω_A at the phase wavelengths, per aerosol model."""
@@ -425,7 +510,7 @@ class _Builder:
         return lam_p, pr, out
 
     def _scatter_case(self, cond, wl, h, sensor, sz, vz, phi):
-        c = dict(cond)
+        c = {k: v for k, v in cond.items() if k != "thermal_visibility"}
         c.update(profile="none", water=None, ozone=None)
         return SixSCase(wavelength=float(wl), month=_MONTH, day=_DAY, target_altitude=h / 1000.0,
                         sensor=sensor, sun_zenith=sz, view_zenith=vz, view_azimuth=phi, **c)
@@ -748,8 +833,13 @@ def _thermal(cfg, progress):
     done = 0
     for ip, prof in enumerate(cfg["profiles"]):
         for ia, cond in enumerate(cfg["_conditions"]):
+            if prof == "none":  # no gas: nothing absorbs or emits but the aerosol, dropped
+                done += 1
+                progress("thermal", done, total)
+                continue
             engine = LowtranAtmosphere(model=prof, aerosol=cond["aerosol"],
-                                       visibility=cond["visibility"], **params)
+                                       visibility=cond.get("thermal_visibility") or None,
+                                       **params)
             for ih, h in enumerate(hs):
                 for ix, dh in enumerate([None] + list(obs) + [_TOP]):
                     if dh is None:
@@ -788,7 +878,10 @@ def build_database(config=None, progress=None) -> xr.Dataset:
     b = _Builder(cfg, progress)
     g = cfg["grid"]
     wl = b.wavelength_grid()
-    m_nodes, col, col_nw, part, part_nw = b.gas(wl)
+    m_nodes, col, part = b.gas(wl)
+    equiv = b.aerosol_equivalents()
+    for c, (_aot, vis) in zip(cfg["_conditions"], equiv, strict=True):
+        c["thermal_visibility"] = vis / 1000.0
     frac, frac_above = b.rayleigh_fraction()
     lam_s = b.scattering_wavelengths()
     lam_p, pr, phase = b.phase()
@@ -826,21 +919,28 @@ def build_database(config=None, progress=None) -> xr.Dataset:
         "phase_aerosol": (("aerosol", "scattering_angle", "phase_wavelength"),
                           np.stack([phase[c["aerosol"]] for c in conds]),
                           "aerosol phase function (mean 1 over the sphere)", "1"),
-        "gas_column": (("profile", "wavelength", "surface_altitude", "airmass"), col,
+        "gas_column": (("profile", "wavelength", "surface_altitude", "airmass"), col[""],
                        "gaseous transmittance of the column above the surface", "1"),
-        "gas_column_no_water": (("profile", "wavelength", "surface_altitude", "airmass"), col_nw,
-                                "the same without water vapour", "1"),
+        "gas_column_no_water": (("profile", "wavelength", "surface_altitude", "airmass"),
+                                col["_nw"], "the same without water vapour", "1"),
+        "gas_column_ozone": (("profile", "wavelength", "surface_altitude", "airmass"),
+                             col["_o3"], "the same of ozone alone", "1"),
         "gas_partial": (("profile", "wavelength", "surface_altitude", "observer_height",
-                         "airmass"), part, "gaseous transmittance surface to observer", "1"),
+                         "airmass"), part[""], "gaseous transmittance surface to observer", "1"),
         "gas_partial_no_water": (("profile", "wavelength", "surface_altitude", "observer_height",
-                                  "airmass"), part_nw, "the same without water vapour", "1"),
+                                  "airmass"), part["_nw"], "the same without water vapour", "1"),
+        "gas_partial_ozone": (("profile", "wavelength", "surface_altitude", "observer_height",
+                               "airmass"), part["_o3"], "the same of ozone alone", "1"),
         "rayleigh_fraction": (("surface_altitude", "height"), frac,
                               "fraction of the molecular optical depth above the surface that "
                               "lies below a height above it", "1"),
         "aerosol_model": (("aerosol",), np.array([c["aerosol"] for c in conds], dtype=object),
                           "aerosol model", ""),
-        "visibility": (("aerosol",), np.array([(c["visibility"] or 0.0) * 1000.0 for c in conds]),
-                       "horizontal visibility", "m"),
+        "visibility": (("aerosol",), np.array([v for _a, v in equiv]),
+                       "horizontal visibility (6S's, from the AOT550 where that was given; "
+                       "0: no aerosol)", "m"),
+        "aot550": (("aerosol",), np.array([a for a, _v in equiv]),
+                   "aerosol optical thickness at 550 nm over sea-level ground", "1"),
     }
     coords = {
         "aerosol": ("aerosol", np.array(names, dtype=object)),

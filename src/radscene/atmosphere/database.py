@@ -24,7 +24,16 @@ Tables, stored where the physics needs resolution (the file's ``layout`` attribu
   ``thermal_wavelength``: transmittance, path thermal radiance (surface altitude × observer
   height × view zenith) and sky thermal radiance (surface altitude × sky zenith).
 
-Any (profile, aerosol) pair of the file is a condition. Between nodes the database
+Any profile of the file goes with any aerosol condition. The conditions of one aerosol model
+at several AOT550 values (``aot550`` per condition; the condition ``none`` is every model's
+AOT550 = 0) form a continuous axis: between two of them the smooth factors below, the
+spherical albedo and the thermal tables are interpolated linearly in AOT550, the aerosol
+optical depth exactly (it scales with AOT550 within a model), with the model's optical
+properties. A visibility is turned into AOT550 by 6S's own relation (linear in
+1 / visibility, through the conditions' recorded visibilities). The water-vapour and ozone
+columns of the profile scale as absorber amounts along the path (:meth:`DatabaseAtmosphere.
+_gas`): a column f times the profile's absorbs along airmass m as the profile's along f m.
+Between nodes the database
 interpolates only smooth factors: the path reflectance divided by its single-scattering value
 ρ_ss (:func:`~radscene.atmosphere.sixs_model.single_scattering_reflectance`, with 6S's phase
 functions), which carries the sharp angular and altitude structure analytically; the diffuse
@@ -47,8 +56,14 @@ name                    unit   default           meaning
                                                  radscene (``radscene.atmosphere.database.
                                                  shipped_databases()``)
 ``profile``             -      ``us_standard``   gas profile (one of the file's)
-``aerosol``             -      ``rural``         aerosol model (one of the file's)
-``visibility``          m      23 km             picks the file's condition of that model (±2 %)
+``aerosol``             -      ``rural``         aerosol model (one of the file's; ``rural``
+                                                 and ``continental`` are 6S's continental)
+``aot550``              -      (none)            aerosol optical thickness at 550 nm, within
+                                                 the file's nodes of the model (0-1 shipped)
+``visibility``          m      23 km             instead of ``aot550``: 6S's AOT550 of it
+``water``               g cm-2 (profile's)       water-vapour column, 0-3 times the profile's
+``ozone``               cm-atm (profile's)       ozone column, 0-3 times the profile's (both
+                                                 up to 4 um; columns: ``PROFILE_COLUMNS``)
 ``surface_albedo``      -      0                 albedo of the surroundings (sky irradiance)
 ``sun_zenith``,         deg    (none), 0         sun for path radiance (renderer: :meth:`set_sun`)
 ``sun_azimuth``
@@ -58,7 +73,7 @@ name                    unit   default           meaning
 
 Example::
 
-    atmosphere: {type: database, profile: midlatitude_summer, aerosol: rural, visibility: 5 km}
+    atmosphere: {type: database, profile: midlatitude_summer, aerosol: rural, aot550: 0.3}
 """
 
 from __future__ import annotations
@@ -90,6 +105,9 @@ LAYOUT = "radscene-atmosphere-database/1"
 AEROSOL_SCALE_HEIGHT = 2000.0
 #: How far below the lowest surface-altitude node a target may lie [m].
 _BELOW_TABLE = 500.0
+_SMOOTH = os.environ.get("RADSCENE_DB_SMOOTH", "ratio")
+#: The largest scale factor of a profile's water-vapour or ozone column.
+_MAX_SCALE = 3.0
 
 
 def shipped_databases() -> dict[str, Path]:
@@ -159,7 +177,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
 
     def __init__(self, file=None, profile="us_standard", aerosol="rural", visibility=None,
                  surface_albedo=0.0, sun_zenith=None, sun_azimuth=0.0, view_azimuth=None,
-                 earth_sun_distance=1.0):
+                 earth_sun_distance=1.0, aot550=None, water=None, ozone=None):
         self.file = database_path(file)
         ds = open_database(self.file)
         self.source = ds
@@ -170,40 +188,141 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                               f"{', '.join(profiles)}", key="atmosphere.profile")
         self.profile = prof
         self._ip = profiles.index(prof)
-        models = [str(m) for m in ds["aerosol_model"].values]
-        aer = str(aerosol).lower()
-        if aer not in models:
-            raise ConfigError(f"aerosol {aerosol!r} is not in {self.file.name}; it holds: "
-                              f"{', '.join(sorted(set(models)))}", key="atmosphere.aerosol")
-        candidates = [i for i, m in enumerate(models) if m == aer]
-        vis = ds["visibility"].values
-        if aer == "none":
-            self._ia = candidates[0]
-        else:
-            from radscene.radiometry.units import parse_quantity
-
-            want = 23000.0 if visibility is None else parse_quantity(
-                visibility, "length", key="atmosphere.visibility")
-            if not want > 0:
-                raise ConfigError(f"must be > 0; got {visibility!r}",
-                                  key="atmosphere.visibility")
-            match = [i for i in candidates if abs(vis[i] / want - 1.0) <= 0.02]
-            if not match:
-                have = ", ".join(f"{vis[i] / 1000:g} km" for i in candidates)
-                raise ConfigError(f"{self.file.name} holds the {aer} aerosol at visibility "
-                                  f"{have}; not {want / 1000:g} km (build a database for it "
-                                  "with `radscene atmosphere build`)",
-                                  key="atmosphere.visibility")
-            self._ia = match[0]
-        self.aerosol = aer
-        self.visibility = float(vis[self._ia])
+        self._nodes = self._aerosol_nodes(aerosol, visibility, aot550)
+        self._scales = self._absorber_scales(water, ozone)
         self._set_geometry(surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
                            view_azimuth)
         self._prepare()
 
+    # -- the condition -------------------------------------------------------------------------
+    def _aerosol_nodes(self, aerosol, visibility, aot550):
+        """[(condition index, weight)] of the aerosol asked for: the file's conditions of that
+        model bracketing its AOT550 (the condition ``none``, where the file has it, is every
+        model's AOT550 = 0 node); one condition with weight 1 at a node."""
+        from radscene.atmosphere.sixs_runner import AEROSOLS
+        from radscene.radiometry.units import parse_quantity
+
+        ds = self.source
+        models = [str(m) for m in ds["aerosol_model"].values]
+        aer = str(aerosol).lower()
+
+        def same(a, b):
+            return a == b or (a in AEROSOLS and AEROSOLS.get(a) == AEROSOLS.get(b))
+
+        candidates = [i for i, m in enumerate(models) if same(m, aer)]
+        if not candidates:
+            raise ConfigError(f"aerosol {aerosol!r} is not in {self.file.name}; it holds: "
+                              f"{', '.join(sorted(set(models)))}", key="atmosphere.aerosol")
+        if aot550 is not None and visibility is not None:
+            raise ConfigError("give visibility or aot550, not both", key="atmosphere.aot550")
+        self.aerosol = models[candidates[0]]
+        vis = np.asarray(ds["visibility"].values, dtype=float)
+        if self.aerosol == "none":
+            if aot550 not in (None, 0, 0.0):
+                raise ConfigError("the aerosol 'none' has AOT550 0", key="atmosphere.aot550")
+            self.aot550, self.visibility = 0.0, float("inf")
+            return [(candidates[0], 1.0)]
+        want_vis = None
+        if aot550 is None:
+            want_vis = 23000.0 if visibility is None else parse_quantity(
+                visibility, "length", key="atmosphere.visibility")
+            if not (np.isfinite(want_vis) and want_vis > 0):
+                raise ConfigError(f"must be > 0; got {visibility!r}", key="atmosphere.visibility")
+        if "aot550" not in ds:  # a file of visibility conditions only
+            if aot550 is not None:
+                raise ConfigError(f"{self.file.name} has no AOT550 axis: give a visibility "
+                                  "(build a database with AOT550 nodes with `radscene "
+                                  "atmosphere build`)", key="atmosphere.aot550")
+            match = [i for i in candidates if abs(vis[i] / want_vis - 1.0) <= 0.02]
+            if not match:
+                have = ", ".join(f"{vis[i] / 1000:g} km" for i in candidates)
+                raise ConfigError(f"{self.file.name} holds the {aer} aerosol at visibility "
+                                  f"{have}; not {want_vis / 1000:g} km (build a database for it "
+                                  "with `radscene atmosphere build`)",
+                                  key="atmosphere.visibility")
+            self.aot550, self.visibility = float("nan"), float(vis[match[0]])
+            return [(match[0], 1.0)]
+        aots = np.asarray(ds["aot550"].values, dtype=float)
+        order = sorted(candidates, key=lambda i: aots[i])
+        if aot550 is None:
+            # 6S's AOT550 is linear in 1 / visibility (it scales its extinction profile)
+            inv = np.array([1.0 / vis[i] for i in order])
+            tau = np.array([aots[i] for i in order])
+            if tau.size == 1:
+                if abs(vis[order[0]] / want_vis - 1.0) > 0.02:
+                    raise ConfigError(f"{self.file.name} holds the {aer} aerosol at visibility "
+                                      f"{vis[order[0]] / 1000:g} km only; not "
+                                      f"{want_vis / 1000:g} km", key="atmosphere.visibility")
+                want = float(tau[0])
+            else:
+                k = int(np.clip(np.searchsorted(inv, 1.0 / want_vis) - 1, 0, inv.size - 2))
+                slope = (tau[k + 1] - tau[k]) / (inv[k + 1] - inv[k])
+                want = float(tau[k] + slope * (1.0 / want_vis - inv[k]))
+            key = "atmosphere.visibility"
+        else:
+            want = float(aot550)
+            key = "atmosphere.aot550"
+            if not np.isfinite(want) or want < 0:
+                raise ConfigError(f"must be >= 0; got {aot550!r}", key=key)
+        nodes = [(float(aots[i]), i) for i in order]
+        if "none" in models:
+            nodes.insert(0, (0.0, models.index("none")))
+        lo, hi = nodes[0][0], nodes[-1][0]
+        if not (lo - 1e-9 <= want <= hi + 1e-9):
+            given = (f"visibility {want_vis / 1000:g} km (AOT550 {want:.3g})"
+                     if want_vis is not None else f"AOT550 {want:g}")
+            raise ConfigError(f"{given} is outside the {self.aerosol} aerosol's range in "
+                              f"{self.file.name}: AOT550 {lo:g}-{hi:g}", key=key)
+        self.aot550 = want
+        self.visibility = float("nan") if want_vis is None else float(want_vis)
+        if want_vis is None and len(order) > 1:  # the visibility 6S would give it
+            inv = np.array([1.0 / vis[i] for i in order])
+            tau = np.array([aots[i] for i in order])
+            self.visibility = float(1.0 / np.interp(want, tau, inv))
+        for (t0, i0), (t1, i1) in zip(nodes[:-1], nodes[1:], strict=True):
+            if t0 - 1e-9 <= want <= t1 + 1e-9:
+                w = float(np.clip((want - t0) / (t1 - t0), 0.0, 1.0))
+                if w <= 1e-9:
+                    return [(i0, 1.0)]
+                if w >= 1.0 - 1e-9:
+                    return [(i1, 1.0)]
+                return [(i0, 1.0 - w), (i1, w)]
+        return [(nodes[-1][1], 1.0)]
+
+    def _absorber_scales(self, water, ozone):
+        """(water vapour, ozone) scale factors of the profile's columns."""
+        from radscene.atmosphere.sixs_runner import PROFILE_COLUMNS
+
+        out = []
+        for name, value, own, unit in (("water", water, 0, "g cm-2"),
+                                       ("ozone", ozone, 1, "cm-atm")):
+            if value is None:
+                out.append(1.0)
+                continue
+            key = f"atmosphere.{name}"
+            ref = PROFILE_COLUMNS.get(self.profile, (0.0, 0.0))[own]
+            if not ref > 0:
+                raise ConfigError(f"the profile {self.profile!r} holds no {name} to scale",
+                                  key=key)
+            if "gas_column_ozone" not in self.source:
+                raise ConfigError(f"{self.file.name} cannot scale the columns (no ozone "
+                                  "tables: rebuild it with `radscene atmosphere build`)",
+                                  key=key)
+            try:
+                v = float(value)
+            except (TypeError, ValueError):
+                raise ConfigError(f"a column in {unit}; got {value!r}", key=key) from None
+            f = v / ref
+            if not (np.isfinite(f) and 0.0 <= f <= _MAX_SCALE):
+                raise ConfigError(f"{v:g} {unit} is outside 0-{_MAX_SCALE * ref:.3g} {unit} "
+                                  f"({_MAX_SCALE:g} times the {self.profile} profile's "
+                                  f"{ref:g})", key=key)
+            out.append(f)
+        return tuple(out)
+
     # -- tables ------------------------------------------------------------------------------
     def _prepare(self):
-        ds, ia, ip = self.source, self._ia, self._ip
+        ds, ip = self.source, self._ip
         a = {k: np.asarray(ds[k].values, dtype=float) for k in (
             "scattering_wavelength", "surface_altitude", "observer_height", "sun_zenith",
             "view_zenith", "relative_azimuth", "wavelength", "airmass", "scattering_angle",
@@ -212,36 +331,60 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         self._lam_s = a["scattering_wavelength"]
         self._x_nodes = np.where(a["observer_height"] >= model.TOP_OF_ATMOSPHERE, 1.0,
                                  -np.expm1(-a["observer_height"] / AEROSOL_SCALE_HEIGHT))
-        sel = {"aerosol": ia}
-
-        def v(name, **extra):
-            da = ds[name]
-            idx = {d: i for d, i in {**sel, "profile": ip}.items() if d in da.dims}
-            return np.asarray(da.isel(idx).values, dtype=float)
-
-        self.t = {k: v(k) for k in (
-            "rho_mixture", "rho_rayleigh", "total_down", "total_up", "spherical_albedo",
-            "tau_rayleigh", "tau_aerosol", "omega_aerosol", "phase_rayleigh", "phase_aerosol",
-            "gas_column", "gas_column_no_water", "gas_partial", "gas_partial_no_water",
-            "rayleigh_fraction")}
-        # phase functions on the scattering wavelengths, (angle, λs)
-        self._pr_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
-                                         self.t["phase_rayleigh"])
-        self._pa_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
-                                         self.t["phase_aerosol"])
-        self._ratio_tables()
         lo, hi = float(self._lam_s[0]), float(ds.attrs.get("reflective_max_wavelength", 4.0))
         self.reflective_range = (float(ds.attrs.get("reflective_min_wavelength", lo)), hi)
         self.thermal = "thermal_wavelength" in ds.coords
         if self.thermal:
             self.axes["thermal_wavelength"] = np.asarray(ds["thermal_wavelength"].values, float)
             self.axes["sky_zenith"] = np.asarray(ds["sky_zenith"].values, float)
-            for k in ("thermal_transmittance", "thermal_path_radiance", "thermal_sky_radiance"):
-                self.t[k] = v(k)
-            tw = self.axes["thermal_wavelength"]
-            self.wavelength_range = (self.reflective_range[0], max(hi, float(tw[-1])))
+            self.wavelength_range = (self.reflective_range[0],
+                                     max(hi, float(self.axes["thermal_wavelength"][-1])))
         else:
             self.wavelength_range = self.reflective_range
+        names = ["rho_mixture", "rho_rayleigh", "total_down", "total_up", "spherical_albedo",
+                 "tau_rayleigh", "tau_aerosol", "omega_aerosol", "phase_rayleigh",
+                 "phase_aerosol", "gas_column", "gas_column_no_water", "gas_partial",
+                 "gas_partial_no_water", "rayleigh_fraction"]
+        names += [k for k in ("gas_column_ozone", "gas_partial_ozone") if k in ds]
+        if self.thermal:
+            names += ["thermal_transmittance", "thermal_path_radiance", "thermal_sky_radiance"]
+
+        def tables(ia):
+            out = {}
+            for name in names:
+                da = ds[name]
+                idx = {d: i for d, i in {"aerosol": ia, "profile": ip}.items() if d in da.dims}
+                out[name] = np.asarray(da.isel(idx).values, dtype=float)
+            return out
+
+        snaps = []
+        for ia, _w in self._nodes:
+            self.t = tables(ia)
+            # phase functions on the scattering wavelengths, (angle, λs)
+            self._pr_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
+                                             self.t["phase_rayleigh"])
+            self._pa_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
+                                             self.t["phase_aerosol"])
+            self._ratio_tables()
+            snaps.append((self.t, self.ratio, self.share_down, self.share_up))
+        if len(snaps) == 2:
+            # between two AOT550 nodes: the smooth factors linearly in AOT550, the optical
+            # depth exactly (one model: it scales with AOT550), the aerosol's optical
+            # properties those of the model (the upper node; the lower may be 'none')
+            (t0, r0, d0, u0), (t1, r1, d1, u1) = snaps
+            w = self._nodes[1][1]
+
+            def mix(x0, x1):
+                return (1.0 - w) * x0 + w * x1
+
+            self.t = dict(t1)
+            for k in ("rho_mixture", "rho_rayleigh", "total_down", "total_up",
+                      "spherical_albedo", "tau_aerosol", "thermal_transmittance",
+                      "thermal_path_radiance", "thermal_sky_radiance"):
+                if k in t1:
+                    self.t[k] = mix(t0[k], t1[k])
+            self.ratio = {k: mix(r0[k], r1[k]) for k in r1}
+            self.share_down, self.share_up = mix(d0, d1), mix(u0, u1)
 
     def _fractions(self, h_t, dh):
         """Shares of the molecular and aerosol columns below observers Δh above h_t [m]."""
@@ -307,8 +450,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                         a["scattering_angle"], self._pr_s, self._pa_s, self.t["tau_rayleigh"][:, ih],
                         self.t["tau_aerosol"][:, ih], self.t["omega_aerosol"], float(fr[0]),
                         float(x[0]), ray)
-                    with np.errstate(divide="ignore", invalid="ignore"):
-                        r = np.where(ss > 0, rho[:, ih, ix] / np.where(ss > 0, ss, 1.0), 1.0)
+                    if _SMOOTH == "difference":
+                        r = rho[:, ih, ix] - ss
+                    else:
+                        with np.errstate(divide="ignore", invalid="ignore"):
+                            r = np.where(ss > 0, rho[:, ih, ix] / np.where(ss > 0, ss, 1.0), 1.0)
                     out[:, ih, ix] = r
                 out[:, ih, 0] = out[:, ih, 1]
             self.ratio[key] = out
@@ -317,14 +463,22 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         """The condition and the file's provenance."""
         ds = self.source
         return {"file": str(self.file), "profile": self.profile, "aerosol": self.aerosol,
-                "visibility_m": self.visibility,
-                "aerosol_condition": str(ds["aerosol"].values[self._ia]),
+                "visibility_m": self.visibility, "aot550": self.aot550,
+                "aerosol_condition": " + ".join(f"{w:.4g} x {ds['aerosol'].values[i]}"
+                                                for i, w in self._nodes),
+                "water_scale": self._scales[0], "ozone_scale": self._scales[1],
                 **{k: ds.attrs[k] for k in ("engine", "created", "radscene_version")
                    if k in ds.attrs}}
 
     # -- settings ----------------------------------------------------------------------------
     def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
         wl = super().check_wavelength(wavelength, key)
+        if self._scales != (1.0, 1.0) and wl.size and np.nanmax(wl) > self.reflective_range[1]:
+            raise ConfigError(
+                f"{self.file.name} scales the water-vapour and ozone columns up to "
+                f"{self.reflective_range[1]:g} um only (its thermal tables hold the "
+                f"{self.profile} profile's own columns); asked for up to {np.nanmax(wl):g} um: "
+                "choose the profile whose columns are nearest instead", key=key)
         if self.thermal and wl.size:
             gap = (wl > self.reflective_range[1]) & (wl < self.axes["thermal_wavelength"][0])
             if np.any(gap):
@@ -357,6 +511,57 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         return t[..., i] * (1.0 - f) + t[..., hi] * f
 
     def _gas(self, table_name, wavelength, h_t, airmass, extra_index=None):
+        """Gas transmittance at (h_t, airmass) per geometry × wavelength: (N, n), with the
+        profile's water-vapour and ozone columns scaled by ``self._scales``.
+
+        A column scaled by f absorbs along an airmass m as the profile's own column along
+        f m (the absorber amount on the path is what counts; the line shapes of the layers
+        stay those of the profile): T = T_rest(m) T_O3(f_O3 m) T_H2O(f_H2O m), with
+        T_H2O = T_all / T_no_water and T_rest = T_no_water / T_O3 taken at one airmass.
+        """
+        fw, fo = self._scales
+        if fw == 1.0 and fo == 1.0:
+            return self._gas_table(table_name, wavelength, h_t, airmass, extra_index)
+        base = table_name.replace("_no_water", "")
+
+        def at(name, m):
+            return self._gas_table(name, wavelength, h_t, m, extra_index)
+
+        with np.errstate(divide="ignore", invalid="ignore"):
+            nw, o3 = at(base + "_no_water", airmass), at(base + "_ozone", airmass)
+            out = np.where(o3 > 0, nw / o3, 0.0) * at(base + "_ozone", fo * airmass)
+            if base == table_name:
+                m = fw * airmass
+                all_, nw_m = at(base, m), at(base + "_no_water", m)
+                out = out * np.where(nw_m > 0, all_ / nw_m, 0.0)
+        return out
+
+    def _gas_table(self, table_name, wavelength, h_t, airmass, extra_index=None):
+        """One gas table at (h_t, airmass): (N, n). Beyond the airmass nodes the optical depth
+        -ln T follows the power law of the two end nodes (exponent within 0.5-1, the strong-
+        and weak-line limits); airmass 0 transmits all."""
+        airmass = np.asarray(airmass, dtype=float)
+        nodes = self.axes["airmass"]
+        if np.all((airmass >= nodes[0]) & (airmass <= nodes[-1])):
+            return self._gas_nodes(table_name, wavelength, h_t, airmass, extra_index)
+        out = self._gas_nodes(table_name, wavelength, h_t,
+                              np.clip(airmass, nodes[0], nodes[-1]), extra_index)
+        for sel, (ma, mb) in ((airmass < nodes[0], (nodes[0], nodes[1])),
+                              (airmass > nodes[-1], (nodes[-1], nodes[-2]))):
+            if not np.any(sel):
+                continue
+            n = int(sel.sum())
+            ta = self._gas_nodes(table_name, wavelength, h_t[sel], np.full(n, ma), extra_index)
+            tb = self._gas_nodes(table_name, wavelength, h_t[sel], np.full(n, mb), extra_index)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                da, db = -np.log(np.maximum(ta, 1e-300)), -np.log(np.maximum(tb, 1e-300))
+                k = np.where((da > 0) & (db > 0), np.log(db / da) / np.log(mb / ma), 1.0)
+            k = np.clip(np.nan_to_num(k, nan=1.0), 0.5, 1.0)
+            ratio = (airmass[sel] / ma)[:, None]
+            out[sel] = np.exp(-da * ratio ** k)
+        return out
+
+    def _gas_nodes(self, table_name, wavelength, h_t, airmass, extra_index=None):
         """Gas transmittance at (h_t, airmass) per geometry × wavelength: (N, n)."""
         tab = self.t[table_name]  # (wl, h_t, [obs], m)
         if extra_index is not None:
@@ -442,7 +647,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             for phi, w in zip(phis, simpson, strict=True):
                 r_phi = model.azimuth_fourier(phi, acc[..., 0], acc[..., 1], acc[..., 2])
                 ss = self._ss(sz_eff, np.minimum(vz, 89.0), phi, tau_r_q, tau_a_q, fr_q, x_q, ray)
-                total = total + w * r_phi * ss
+                total = total + w * (r_phi + ss if _SMOOTH == "difference" else r_phi * ss)
             rho[name] = self._spectral(total.T, wl)  # (N, n)
         # total transmittances (through their diffuse shares) and spherical albedo
         tdown = self.share_down  # (λs, h, θs)

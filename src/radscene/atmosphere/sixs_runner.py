@@ -43,6 +43,7 @@ from radscene.errors import ConfigError, EngineError
 
 __all__ = [
     "PROFILES",
+    "PROFILE_COLUMNS",
     "AEROSOLS",
     "DISCRETE_WAVELENGTHS",
     "SIXS_WAVELENGTH_RANGE",
@@ -62,6 +63,18 @@ PROFILES: dict[str, str] = {
     "subarctic_winter": "SubarcticWinter",
     "us_standard": "USStandard1962",
     "none": "NoGaseousAbsorption",
+}
+
+#: Water-vapour [g cm-2] and ozone [cm-atm] columns of the profiles, as 6SV1.1 prints them in
+#: the header of its output ("uh2o=..., uo3=...").
+PROFILE_COLUMNS: dict[str, tuple[float, float]] = {
+    "tropical": (4.12, 0.247),
+    "midlatitude_summer": (2.93, 0.319),
+    "midlatitude_winter": (0.853, 0.395),
+    "subarctic_summer": (2.10, 0.480),
+    "subarctic_winter": (0.419, 0.480),
+    "us_standard": (1.42, 0.344),
+    "none": (0.0, 0.0),
 }
 
 #: Aerosol models by radscene name → Py6S ``AeroProfile`` constant name. ``rural`` is the 6S
