@@ -1,14 +1,27 @@
 """``radscene atmosphere``: build a database, look along one line of sight, look at the sky.
 
 Registered by :mod:`radscene.cli` as ``radscene atmosphere`` (``add_subcommands(app,
-"atmosphere", ...)``); bad input raises :class:`radscene.errors.ConfigError`, which the main CLI
-prints as one line with exit code 2. Quantities take units: ``10km``, ``"550 nm"``, ``"25 degC"``
-(bare numbers: m, um, deg, K).
+"atmosphere", ...)``); bad input raises :class:`radscene.errors.ConfigError` naming the option
+(``--water: must lie in [0, 10] g cm-2; got '25'``), which the main CLI prints as one line with
+exit code 2, before anything is written. Quantities take units: ``10km``, ``"550 nm"``,
+``"25 degC"`` (bare numbers: m, um, deg, K).
+
+``los`` and ``sky`` say what 6S and LOWTRAN users say: the aerosol as ``--visibility`` or
+``--aot550``, the gas columns ``--water`` [g cm-2] and ``--ozone`` [cm-atm], the ``--date``
+(Earth–Sun distance), the ``--solar-spectrum`` (``radscene``: ASTM G173-03 / Gueymard 2004;
+``6s``: 6S's own; ``lowtran``: LOWTRAN7's own; see :mod:`radscene.atmosphere.options` — no
+newer reference spectrum such as TSIS-1 HSRS is shipped), and bands as rectangles
+(``--band 0.63,0.69``), a library sensor's responses (``--sensor landsat8_oli --band B4``) or
+a response file (``--srf my_band.csv``: two numeric columns, wavelength and response). Band
+values are response-weighted (:mod:`radscene.atmosphere.bands`), with brightness temperatures
+for bands centred beyond 3 um. ``los`` reports the apparent radiance of a uniform Lambertian
+ground of ``--ground-albedo`` with the engine's ground-atmosphere coupling.
 """
 
 from __future__ import annotations
 
 import json
+import re
 import time
 from pathlib import Path
 
@@ -28,17 +41,39 @@ _ENGINE = typer.Option("database", "--engine", "-e", help="database, sixs or low
 _PROFILE = typer.Option("us_standard", help="Gas profile: tropical, midlatitude_summer, "
                         "midlatitude_winter, subarctic_summer, subarctic_winter, us_standard.")
 _AEROSOL = typer.Option("rural", help="Aerosol model: rural, maritime, urban, desert, none, ...")
-_VIS = typer.Option("23km", help="Visibility (> 0), e.g. 23km, 5000 (m).")
+_VIS = typer.Option(None, help="Visibility (> 0), e.g. 23km, 5000 (m); default 23km unless "
+                    "--aot550 is given.")
+_AOT = typer.Option(None, "--aot550", help="Aerosol optical thickness at 550 nm (>= 0), instead "
+                    "of --visibility (engine sixs; database if it has the tables).")
+_WATER = typer.Option(None, "--water", help="Water vapour column [g cm-2], 0-10 (engine sixs: "
+                      "with --ozone and profile us_standard).")
+_OZONE = typer.Option(None, "--ozone", help="Ozone column [cm-atm], 0-1 (0.3 cm-atm = 300 DU).")
+_DATE = typer.Option(None, "--date", help="Date YYYY-MM-DD: the Earth-Sun distance (NREL SPA, "
+                     "12:00 UTC; LOWTRAN: its day of year); default 1 AU.")
+_SPECTRUM = typer.Option(None, "--solar-spectrum", help="Top-of-atmosphere solar spectrum: "
+                         "radscene (ASTM G173-03 extraterrestrial, Gueymard 2004; engines "
+                         "sixs, database), 6s (6S's own; sixs), lowtran (LOWTRAN7's own; "
+                         "lowtran). Default: the engine's first. TSIS-1 HSRS and Thuillier "
+                         "2003 are not shipped, so not offered.")
 _MS = typer.Option(True, "--multiple-scattering/--single-scattering",
                    help="Multiple scattering (LOWTRAN only may switch it off).")
 _SUN_Z = typer.Option("30", help="Sun zenith [deg]; >= 90: night.")
 _SUN_A = typer.Option("180", help="Sun azimuth [deg, clockwise from north].")
-_ALBEDO = typer.Option(0.0, help="Surface albedo [0-1].")
+_ALBEDO = typer.Option(0.0, help="Albedo of the surroundings the engine's sky sees [0-1] "
+                       "(6S/database sky and diffuse light; LOWTRAN's SALB).")
+_GROUND = typer.Option(None, "--ground-albedo", help="Albedo of the uniform Lambertian ground "
+                       "whose apparent radiance is reported, with the ground-atmosphere "
+                       "coupling of sixs/database [0-1]; default --surface-albedo.")
 _WMIN = typer.Option(None, "--wavelength-min", help="Shortest wavelength, e.g. 0.4 or 400nm.")
 _WMAX = typer.Option(None, "--wavelength-max", help="Longest wavelength, e.g. 2.5 or 12um.")
 _STEP = typer.Option(None, help="Wavelength step [um] (default 0.005 below 4 um, 0.05 above).")
-_BAND = typer.Option(None, "--band", help="Band 'min,max' in um for band-integrated values "
-                     "(repeatable); default: the whole range.")
+_BAND = typer.Option(None, "--band", help="Band 'min,max' in um, or with --sensor a band name "
+                     "(B4); repeatable. Default: the whole range, or all the sensor's bands.")
+_SENSOR = typer.Option(None, "--sensor", help="Library sensor whose spectral responses are the "
+                       "bands, e.g. landsat8_oli, goes16_abi (or a multi-band SRF table).")
+_SRF = typer.Option(None, "--srf", help="Spectral response file: two numeric columns, "
+                    "wavelength and response >= 0, wavelengths increasing (repeatable).")
+_SRF_UNIT = typer.Option("um", "--srf-unit", help="Wavelength unit of --srf files (um, nm).")
 _DB = typer.Option(None, "--database", help="Database file or shipped name (engine database).")
 _JSON = typer.Option(False, "--json", help="Print JSON instead of a table.")
 _OUT = typer.Option(None, "-o", "--output", help="Write the Dataset to this NetCDF file.")
@@ -63,17 +98,128 @@ def _range(wmin, wmax):
     return (_q(wmin, "wavelength", "wavelength_min"), _q(wmax, "wavelength", "wavelength_max"))
 
 
-def _parse_bands(bands):
-    if not bands:
-        return None
-    out = []
-    for i, b in enumerate(bands):
-        parts = [p for p in str(b).replace(";", ",").split(",") if p.strip()]
-        if len(parts) != 2:
-            raise ConfigError(f"'min,max' in um; got {b!r}", key=f"band[{i}]")
-        out.append((_q(parts[0].strip(), "wavelength", f"band[{i}]"),
-                    _q(parts[1].strip(), "wavelength", f"band[{i}]")))
-    return out
+#: Option of each key that an error may name (the last part of a dotted key).
+_OPTION_OF = {"visibility": "--visibility", "aot550": "--aot550", "water": "--water",
+              "ozone": "--ozone", "date": "--date", "earth_sun_distance": "--date",
+              "solar_spectrum": "--solar-spectrum", "surface_albedo": "--surface-albedo",
+              "ground_albedo": "--ground-albedo", "profile": "--profile", "aerosol": "--aerosol",
+              "engine": "--engine", "multiple_scattering": "--single-scattering",
+              "sun_zenith": "--sun-zenith", "sun_azimuth": "--sun-azimuth",
+              "view_azimuth": "--view-azimuth", "surface_temperature": "--surface-temperature",
+              "file": "--database", "step": "--step", "sensor": "--sensor"}
+
+
+def _named(err: ConfigError, origins) -> ConfigError:
+    """The error with its key turned into the command-line option it came from."""
+    key = err.key or ""
+    band = re.fullmatch(r"bands\[(\d+)\].*", key)
+    if band and int(band.group(1)) < len(origins):
+        return ConfigError(err.message, key=origins[int(band.group(1))])
+    if key.startswith("sensor ") and key.endswith(".band"):
+        return ConfigError(f"{err.message} (of {key[7:-5]})", key="--band")
+    option = _OPTION_OF.get(key.split(".")[-1])
+    return ConfigError(err.message, key=option) if option else err
+
+
+def _srf_file(path, unit, key):
+    """A response from a two-column (wavelength, response) file; strict: one optional header
+    line, then two numbers per line."""
+    from radscene.radiometry.srf import TabulatedResponse
+
+    scale = _q(f"1 {unit}", "wavelength", "--srf-unit")
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"cannot read it: {getattr(exc, 'strerror', None) or exc}",
+                          key=key) from None
+    rows, header = [], False
+    for lineno, line in enumerate(text.splitlines(), start=1):
+        stripped = line.strip()
+        if not stripped or stripped.startswith("#"):
+            continue
+        fields = [f for f in re.split(r"[,;\s]+", stripped) if f]
+        try:
+            values = [float(f) for f in fields]
+        except ValueError:
+            values = None
+        if values is None and not rows and not header:
+            header = True  # a header line such as "wavelength,response"
+            continue
+        if values is None or len(values) != 2 or not np.all(np.isfinite(values)):
+            raise ConfigError(f"line {lineno}: not two numeric columns (wavelength, "
+                              f"response): {stripped[:60]!r}", key=key)
+        rows.append(values)
+    if len(rows) < 2:
+        raise ConfigError("needs at least two rows of wavelength, response", key=key)
+    data = np.array(rows)
+    wl = data[:, 0] * scale
+    if wl.max() > 100.0:
+        raise ConfigError(f"wavelengths up to {wl.max():g} um: are they in nm? give "
+                          "--srf-unit nm", key=key)
+    if not np.all(np.diff(wl) > 0):
+        i = int(np.flatnonzero(np.diff(wl) <= 0)[0])
+        raise ConfigError(f"wavelengths must increase; {data[i + 1, 0]:g} follows "
+                          f"{data[i, 0]:g}", key=key)
+    if np.any(data[:, 1] < 0):
+        i = int(np.argmin(data[:, 1]))
+        raise ConfigError(f"responses must be >= 0; got {data[i, 1]:g} at {data[i, 0]:g}",
+                          key=key)
+    try:
+        return TabulatedResponse(wl, data[:, 1], name=Path(path).stem)
+    except ConfigError as err:
+        raise ConfigError(err.message, key=key) from None
+
+
+def _band_options(band, sensor, srf, srf_unit):
+    """(bands for the API or None, the option each band came from)."""
+    bands, origins = [], []
+    if sensor is not None:
+        from radscene.sensor.srf_library import get_sensor_bands
+
+        try:
+            chosen = get_sensor_bands(sensor, list(band) if band else None)
+        except ConfigError as err:
+            raise _named(err, []) from None
+        for name, response in chosen:
+            bands.append(response)
+            origins.append(f"--sensor {sensor} --band {name}")
+    else:
+        for i, b in enumerate(band or []):
+            parts = [p for p in str(b).replace(";", ",").split(",") if p.strip()]
+            if len(parts) != 2:
+                raise ConfigError(f"'min,max' in um (a band name needs --sensor); got {b!r}",
+                                  key="--band")
+            bands.append((_q(parts[0].strip(), "wavelength", f"band[{i}]"),
+                          _q(parts[1].strip(), "wavelength", f"band[{i}]")))
+            origins.append(f"--band {b}")
+    for path in srf or []:
+        key = f"--srf {path}"
+        bands.append(_srf_file(path, srf_unit, key))
+        origins.append(key)
+    return (bands or None), origins
+
+
+def _run(function, origins, *args, **kwargs):
+    """Call an API function; its ConfigError names the command-line option."""
+    try:
+        return function(*args, **kwargs)
+    except ConfigError as err:
+        raise _named(err, origins) from None
+
+
+def _sun_line(ds) -> str:
+    date = ds.attrs.get("date")
+    when = f"{date}, " if date else ""
+    return (f"{when}Earth-Sun {ds.attrs['earth_sun_distance_au']:.5f} AU, solar spectrum "
+            f"{ds.attrs['solar_spectrum']}")
+
+
+def _band_label(ds, b) -> str:
+    name = str(ds["band_name"].values[b])
+    lo, hi = float(ds["band_min"][b]), float(ds["band_max"][b])
+    rect = name == f"{lo:g}-{hi:g} um"
+    return (f"{lo:.3g}–{hi:.3g}" if rect else
+            f"{name.rsplit(' ', 1)[-1]} ({float(ds['band_center'][b]):.4g})")
 
 
 def _write(ds, output, plot, plotter):
@@ -192,29 +338,38 @@ def los(
                                "direction [deg]."),
     view_azimuth: str = typer.Option(None, "--view-azimuth", help="Its azimuth [deg]."),
     engine: str = _ENGINE, profile: str = _PROFILE, aerosol: str = _AEROSOL,
-    visibility: str = _VIS, multiple_scattering: bool = _MS, sun_zenith: str = _SUN_Z,
-    sun_azimuth: str = _SUN_A, surface_albedo: float = _ALBEDO,
-    surface_temperature: str = typer.Option(None, help="Surface temperature, e.g. 300 or "
-                                            "'25 degC'."),
+    visibility: str = _VIS, aot550: str = _AOT, water: str = _WATER, ozone: str = _OZONE,
+    multiple_scattering: bool = _MS, sun_zenith: str = _SUN_Z, sun_azimuth: str = _SUN_A,
+    date: str = _DATE, solar_spectrum: str = _SPECTRUM, surface_albedo: float = _ALBEDO,
+    ground_albedo: float = _GROUND,
+    surface_temperature: str = typer.Option(None, help="Ground temperature, e.g. 300 or "
+                                            "'25 degC': its emission in the apparent radiance."),
     wavelength_min: str = _WMIN, wavelength_max: str = _WMAX, step: float = _STEP,
-    band: list[str] = _BAND, database: str = _DB, as_json: bool = _JSON,
+    band: list[str] = _BAND, sensor: str = _SENSOR, srf: list[Path] = _SRF,
+    srf_unit: str = _SRF_UNIT, database: str = _DB, as_json: bool = _JSON,
     output: Path = _OUT, plot: Path = _PLOT,
 ):
-    """One line of sight: transmittance and path radiance, thermal and solar."""
+    """One line of sight: transmittance, path radiance (thermal and solar) and the apparent
+    radiance of a Lambertian ground, per wavelength and per band (brightness temperatures
+    beyond 3 um)."""
     from radscene.atmosphere.api import line_of_sight
 
-    ds = line_of_sight(
+    bands, origins = _band_options(band, sensor, srf, srf_unit)
+    ds = _run(
+        line_of_sight, origins,
         _q(observer_altitude, "length", "observer_altitude"),
         _q(target_altitude, "length", "target_altitude"), _q(zenith, "angle", "zenith"),
-        engine=engine, profile=profile, aerosol=aerosol, visibility=visibility,
-        multiple_scattering=multiple_scattering, sun_zenith=_q(sun_zenith, "angle", "sun_zenith"),
+        engine=engine, profile=profile, aerosol=aerosol, visibility=visibility, aot550=aot550,
+        water=water, ozone=ozone, multiple_scattering=multiple_scattering,
+        sun_zenith=_q(sun_zenith, "angle", "sun_zenith"),
         sun_azimuth=_q(sun_azimuth, "angle", "sun_azimuth"),
         view_azimuth=None if view_azimuth is None else _q(view_azimuth, "angle", "view_azimuth"),
-        surface_albedo=surface_albedo,
+        date=date, solar_spectrum=solar_spectrum, surface_albedo=surface_albedo,
+        ground_albedo=ground_albedo,
         surface_temperature=None if surface_temperature is None else _q(
             surface_temperature, "temperature", "surface_temperature"),
         wavelength_range=_range(wavelength_min, wavelength_max), step=step,
-        bands=_parse_bands(band), database=database)
+        bands=bands, database=database)
     _write(ds, output, plot, _los_plot)
     if as_json:
         console.print_json(_json_dump(ds))
@@ -222,17 +377,27 @@ def los(
     table = Table(title=f"line of sight ({ds.attrs['engine']}): "
                         f"{ds.attrs['observer_altitude_m']:g} m → "
                         f"{ds.attrs['target_altitude_m']:g} m, zenith "
-                        f"{ds.attrs['view_zenith_deg']:g}°, sun {ds.attrs['sun_zenith_deg']:g}°")
-    for col in ("band [um]", "τ mean", "L path [W m-2 sr-1]", "thermal", "scattered",
-                "L apparent"):
+                        f"{ds.attrs['view_zenith_deg']:g}°, sun {ds.attrs['sun_zenith_deg']:g}°; "
+                        f"{_sun_line(ds)}; ground albedo {ds.attrs['ground_albedo']:g}",
+                  caption="L: band integrals ∫S L dλ [W m-2 sr-1]; L̄: band means "
+                          "[W m-2 sr-1 um-1]; BT: band brightness temperature [K]")
+    thermal = "band_apparent_brightness_temperature" in ds and bool(
+        np.isfinite(ds["band_apparent_brightness_temperature"].values).any())
+    columns = ["band [um]", "τ mean", "L path", "thermal", "scattered", "L apparent",
+               "L̄ apparent"] + (["BT apparent", "BT path"] if thermal else [])
+    for col in columns:
         table.add_column(col, justify="right")
-    for b in range(ds.sizes["band"]):
-        table.add_row(f"{float(ds['band_min'][b]):.3g}–{float(ds['band_max'][b]):.3g}",
-                      f"{float(ds['band_transmittance'][b]):.4f}",
-                      f"{float(ds['band_path_radiance'][b]):.4g}",
-                      f"{float(ds['band_path_thermal_radiance'][b]):.4g}",
-                      f"{float(ds['band_path_scattered_radiance'][b]):.4g}",
-                      f"{float(ds['band_apparent_radiance'][b]):.4g}")
+    for b in range(ds.sizes.get("band", 0)):
+        row = [_band_label(ds, b), f"{float(ds['band_transmittance'][b]):.4f}",
+               f"{float(ds['band_path_radiance'][b]):.4g}",
+               f"{float(ds['band_path_thermal_radiance'][b]):.4g}",
+               f"{float(ds['band_path_scattered_radiance'][b]):.4g}",
+               f"{float(ds['band_apparent_radiance'][b]):.4g}",
+               f"{float(ds['band_mean_apparent_radiance'][b]):.4g}"]
+        if thermal:
+            row += [_kelvin(ds["band_apparent_brightness_temperature"][b]),
+                    _kelvin(ds["band_path_brightness_temperature"][b])]
+        table.add_row(*row)
     console.print(table)
     spec = Table(title="spectral samples")
     for col in ("λ [um]", "τ", "τ sun", "L path [W m-2 sr-1 um-1]", "L apparent"):
@@ -244,6 +409,11 @@ def los(
                      f"{float(ds['path_radiance'][i]):.4g}",
                      f"{float(ds['apparent_radiance'][i]):.4g}")
     console.print(spec)
+
+
+def _kelvin(value) -> str:
+    v = float(value)
+    return f"{v:.2f}" if np.isfinite(v) else "—"
 
 
 # -- sky -----------------------------------------------------------------------------------------
@@ -294,36 +464,46 @@ def sky(
     zenith: str = typer.Option(None, "--zenith", help="Zenith grid, e.g. '0,30,60,85' [deg]."),
     azimuth: str = typer.Option(None, "--azimuth", help="Azimuth grid [deg, clockwise from N]."),
     engine: str = _ENGINE, profile: str = _PROFILE, aerosol: str = _AEROSOL,
-    visibility: str = _VIS, multiple_scattering: bool = _MS, sun_zenith: str = _SUN_Z,
-    sun_azimuth: str = _SUN_A, surface_albedo: float = _ALBEDO,
+    visibility: str = _VIS, aot550: str = _AOT, water: str = _WATER, ozone: str = _OZONE,
+    multiple_scattering: bool = _MS, sun_zenith: str = _SUN_Z, sun_azimuth: str = _SUN_A,
+    date: str = _DATE, solar_spectrum: str = _SPECTRUM, surface_albedo: float = _ALBEDO,
     wavelength_min: str = _WMIN, wavelength_max: str = _WMAX, step: float = _STEP,
-    band: list[str] = _BAND, database: str = _DB, as_json: bool = _JSON,
+    band: list[str] = _BAND, sensor: str = _SENSOR, srf: list[Path] = _SRF,
+    srf_unit: str = _SRF_UNIT, database: str = _DB, as_json: bool = _JSON,
     output: Path = _OUT, plot: Path = _PLOT,
 ):
-    """Sky radiance map from the surface and the downwelling irradiance."""
+    """Sky radiance map from the surface and the downwelling irradiance, per wavelength and
+    per band (brightness temperatures beyond 3 um)."""
     from radscene.atmosphere.api import sky_radiance
 
-    ds = sky_radiance(
-        _angles(zenith, "zenith"), _angles(azimuth, "azimuth"),
+    bands, origins = _band_options(band, sensor, srf, srf_unit)
+    ds = _run(
+        sky_radiance, origins, _angles(zenith, "zenith"), _angles(azimuth, "azimuth"),
         target_altitude=_q(target_altitude, "length", "target_altitude"), engine=engine,
-        profile=profile, aerosol=aerosol, visibility=visibility,
-        multiple_scattering=multiple_scattering, sun_zenith=_q(sun_zenith, "angle", "sun_zenith"),
-        sun_azimuth=_q(sun_azimuth, "angle", "sun_azimuth"), surface_albedo=surface_albedo,
+        profile=profile, aerosol=aerosol, visibility=visibility, aot550=aot550, water=water,
+        ozone=ozone, multiple_scattering=multiple_scattering,
+        sun_zenith=_q(sun_zenith, "angle", "sun_zenith"),
+        sun_azimuth=_q(sun_azimuth, "angle", "sun_azimuth"), date=date,
+        solar_spectrum=solar_spectrum, surface_albedo=surface_albedo,
         wavelength_range=_range(wavelength_min, wavelength_max), step=step,
-        bands=_parse_bands(band), database=database)
+        bands=bands, database=database)
     _write(ds, output, plot, _sky_plot)
     if as_json:
         console.print_json(_json_dump(ds))
         return
-    for b in range(ds.sizes["band"]):
-        lo, hi = float(ds["band_min"][b]), float(ds["band_max"][b])
-        table = Table(title=f"sky ({ds.attrs['engine']}), band {lo:.3g}–{hi:.3g} um "
-                            "[W m-2 sr-1]; rows zenith, columns azimuth [deg]; diffuse "
+    bt = ds.get("band_sky_brightness_temperature")
+    for b in range(ds.sizes.get("band", 0)):
+        thermal = bt is not None and bool(np.isfinite(bt.values[..., b]).any())
+        values, unit = ((bt.values[..., b], "brightness temperature [K]") if thermal else
+                        (ds["band_sky_radiance"].values[..., b], "[W m-2 sr-1]"))
+        table = Table(title=f"sky ({ds.attrs['engine']}), band {_band_label(ds, b)} um "
+                            f"{unit}; rows zenith, columns azimuth [deg]; diffuse "
                             f"irradiance {float(ds['band_downwelling_irradiance'][b]):.4g} "
-                            "W m-2")
+                            f"W m-2; {_sun_line(ds)}")
         table.add_column("zenith", justify="right")
         for a in ds["azimuth"].values:
             table.add_column(f"{a:g}", justify="right")
         for i, z in enumerate(ds["zenith"].values):
-            table.add_row(f"{z:g}", *(f"{v:.4g}" for v in ds["band_sky_radiance"].values[i, :, b]))
+            table.add_row(f"{z:g}", *((f"{v:.2f}" if thermal else f"{v:.4g}")
+                                      for v in values[i]))
         console.print(table)
