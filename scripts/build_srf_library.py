@@ -1,8 +1,11 @@
 """Generate radscene's bundled library of real sensors' spectral response functions (SRF).
 
 Writes ``src/radscene/data/srf/<sensor>.csv`` (columns ``band``, ``wavelength_um``,
-``response``) and ``src/radscene/data/srf/library.yaml`` (title, bands, original source and
-extraction route of each sensor) from two packages that carry the agencies' published tables:
+``response``) and ``src/radscene/data/srf/library.yaml`` (title, kind, bands, original source
+and extraction route of each sensor). Each entry's ``kind`` says what its responses are:
+
+* ``measured``: the agencies' published relative spectral responses, from two packages that
+  carry their tables:
 
 * ``Py6S`` (``pip install Py6S``; LGPL-3): the filter functions of
   ``Py6S.PredefinedWavelengths`` that carry tabulated values (Landsat 8 OLI, Sentinel-2A/B MSI,
@@ -12,6 +15,16 @@ extraction route of each sensor) from two packages that carry the agencies' publ
   tables (Landsat 8/9 TIRS and Landsat 9 OLI-2, Landsat 7 ETM+, Landsat 5 TM, Terra ASTER),
   each with a ``reference`` file naming the agency spreadsheet it was taken from.
 
+* ``band model``: thermal infrared imagers whose measured responses are not on this machine
+  (GOES-16 ABI bands 7-16, Meteosat-11 SEVIRI IR3.9-IR13.4, NOAA-20 VIIRS M12-M16 and I4-I5,
+  AVHRR/3 channels 3B, 4 and 5): a trapezoid built from the band limits the instrument's
+  published specification gives (:data:`BAND_MODELS`, each with its document). The trapezoid
+  reaches 50 % at the published limits, with linear edges each ``RAMP`` (10 %) of the band's
+  width wide, centred on the limits: its full width at half maximum and its equivalent width
+  are the published width, its centroid the middle of the limits. The edge width is
+  radscene's modelling choice, not a published figure; the measured responses differ in
+  shape (and by up to a few hundredths of a micrometre in centroid).
+
 Only the numbers are taken (facts, with their sources in ``library.yaml``); no code. Two edits,
 both recorded in ``library.yaml`` per sensor: tiny negative responses (measurement noise, down
 to -3.4e-4 in OLI band 4) are set to 0, since a response is >= 0; and the Landsat 8 TIRS tables,
@@ -19,8 +32,10 @@ tabulated every 1 nm over 9-14 um, keep every 5th sample (5 nm), which changes t
 equivalent widths by less than 0.05 % and keeps the renderer's quadrature small.
 
 Run from the repository root: ``python scripts/build_srf_library.py``. Py6S and pyrsr are needed
-only here, never at run time. The script loads every written band with
-:func:`radscene.sensor.srf_library.get_sensor_bands` and fails if one does not.
+only here, never at run time; ``python scripts/build_srf_library.py --band-models`` rewrites
+only the band models (no package needed) and keeps the measured entries of ``library.yaml``.
+The script loads every written band with :func:`radscene.sensor.srf_library.get_sensor_bands`
+and fails if one does not.
 """
 
 from __future__ import annotations
@@ -131,6 +146,76 @@ SENSORS = {
     },
 }
 
+#: Width of each linear edge of a band model's trapezoid, as a fraction of the band's width.
+RAMP = 0.10
+
+#: Thermal imagers as band models: title, source document, and the bands as (name, lower and
+#: upper band limit [um] of the published specification, common name); ``centres``: the
+#: centre wavelengths [um] the documents give (else the middle of the limits is recorded).
+BAND_MODELS = {
+    "goes16_abi": {
+        "title": "GOES-16 Advanced Baseline Imager (ABI), infrared bands 7-16, band model",
+        "source": "ABI band limits (bandwidths): T. J. Schmit et al., "
+                  "Introducing the next-generation Advanced Baseline Imager on GOES-R, Bull. "
+                  "Amer. Meteor. Soc. 86, 1079-1096 (2005), doi:10.1175/BAMS-86-8-1079, "
+                  "Table 1; central wavelengths: T. J. Schmit et al., A closer look at the ABI "
+                  "on the GOES-R series, Bull. Amer. Meteor. Soc. 98, 681-698 (2017), "
+                  "doi:10.1175/BAMS-D-15-00230.1",
+        "bands": [("B7", 3.80, 4.00, "shortwave window (3.9 um)"),
+                  ("B8", 5.77, 6.60, "upper-level water vapour (6.2 um)"),
+                  ("B9", 6.75, 7.15, "mid-level water vapour (6.9 um)"),
+                  ("B10", 7.24, 7.44, "lower-level water vapour (7.3 um)"),
+                  ("B11", 8.30, 8.70, "cloud-top phase (8.5 um)"),
+                  ("B12", 9.42, 9.80, "ozone (9.6 um)"),
+                  ("B13", 10.10, 10.60, "clean longwave window (10.3 um)"),
+                  ("B14", 10.80, 11.60, "longwave window (11.2 um)"),
+                  ("B15", 11.80, 12.80, "dirty longwave window (12.3 um)"),
+                  ("B16", 13.00, 13.60, "CO2 longwave (13.3 um)")],
+        "centres": {"B7": 3.90, "B8": 6.185, "B9": 6.95, "B10": 7.34, "B11": 8.50,
+                    "B12": 9.61, "B13": 10.35, "B14": 11.20, "B15": 12.30, "B16": 13.30},
+    },
+    "meteosat11_seviri": {
+        "title": "Meteosat-11 SEVIRI, infrared channels IR3.9-IR13.4, band model (the nominal "
+                 "channels of every MSG SEVIRI)",
+        "source": "SEVIRI channel limits (lambda_min, lambda_max): J. Schmetz et al., An "
+                  "introduction to Meteosat Second Generation (MSG), Bull. Amer. Meteor. Soc. "
+                  "83, 977-992 (2002), Table 1",
+        "bands": [("IR3.9", 3.48, 4.36, "shortwave window"),
+                  ("WV6.2", 5.35, 7.15, "upper-level water vapour"),
+                  ("WV7.3", 6.85, 7.85, "mid-level water vapour"),
+                  ("IR8.7", 8.30, 9.10, "window, cloud phase"),
+                  ("IR9.7", 9.38, 9.94, "ozone"),
+                  ("IR10.8", 9.80, 11.80, "longwave window"),
+                  ("IR12.0", 11.00, 13.00, "split window"),
+                  ("IR13.4", 12.40, 14.40, "CO2")],
+    },
+    "noaa20_viirs": {
+        "title": "NOAA-20 VIIRS, thermal bands M12-M16, I4, I5, band model (the VIIRS design "
+                 "bands, shared with S-NPP)",
+        "source": "VIIRS design band centres and bandwidths: C. Cao et al., Early on-orbit "
+                  "performance of the Visible Infrared Imaging Radiometer Suite onboard the "
+                  "Suomi National Polar-Orbiting Partnership (S-NPP) satellite, IEEE Trans. "
+                  "Geosci. Remote Sens. 52, 1142-1156 (2014), Table I",
+        "centres": {"M12": 3.70, "M13": 4.05, "M14": 8.55, "M15": 10.763, "M16": 12.013,
+                    "I4": 3.74, "I5": 11.45},
+        "bands": [("M12", 3.61, 3.79, "MWIR window (3.70 um, 0.180 um wide)"),
+                  ("M13", 3.9725, 4.1275, "MWIR window, fires (4.05 um, 0.155 um wide)"),
+                  ("M14", 8.40, 8.70, "cloud-top phase (8.55 um, 0.3 um wide)"),
+                  ("M15", 10.263, 11.263, "LWIR window (10.763 um, 1.0 um wide)"),
+                  ("M16", 11.538, 12.488, "split window (12.013 um, 0.95 um wide)"),
+                  ("I4", 3.55, 3.93, "imagery MWIR (3.74 um, 0.38 um wide)"),
+                  ("I5", 10.50, 12.40, "imagery LWIR (11.45 um, 1.9 um wide)")],
+    },
+    "avhrr3": {
+        "title": "AVHRR/3 (NOAA-15 to -19, MetOp-A to -C), thermal channels 3B, 4, 5, band model",
+        "source": "AVHRR/3 channel limits: NOAA KLM User's Guide (NOAA NESDIS), section 3.1, "
+                  "AVHRR/3 spectral channel characteristics",
+        "bands": [("3B", 3.55, 3.93, "MWIR window"),
+                  ("4", 10.30, 11.30, "LWIR window"),
+                  ("5", 11.50, 12.50, "split window")],
+    },
+}
+
 
 def _py6s_band(constant: str):
     from Py6S import PredefinedWavelengths
@@ -217,9 +302,64 @@ def build() -> dict:
             fh.write("band,wavelength_um,response\n")
             for name, w, r in rows:
                 fh.write(f"{name},{w:.6f},{r:.6g}\n")
-        library[sensor] = {"title": spec["title"], "file": path.name, "source": source,
-                           "via": via, "edits": edits, "bands": band_meta}
+        library[sensor] = {"title": spec["title"], "file": path.name, "kind": "measured",
+                           "source": source, "via": via, "edits": edits, "bands": band_meta}
     return library
+
+
+def band_model(lower: float, upper: float):
+    """(wavelength [um], response) of the trapezoid of a band model: 0.5 at the limits,
+    linear edges RAMP of the width wide centred on them, 1 between."""
+    half = 0.5 * RAMP * (upper - lower)
+    return (np.array([lower - half, lower + half, upper - half, upper + half]),
+            np.array([0.0, 1.0, 1.0, 0.0]))
+
+
+def build_band_models() -> dict:
+    """Write the band models' CSV files; their library entries."""
+    library = {}
+    shape = (f"trapezoid: 50 % response at the published band limits (taken as the "
+             f"half-maximum points), linear edges each {RAMP:.0%} of the band's width wide "
+             "centred on the limits (radscene's choice); a band model, not a measured response")
+    for sensor, spec in BAND_MODELS.items():
+        path = OUT / f"{sensor}.csv"
+        band_meta = {}
+        with path.open("w", encoding="utf-8", newline="\n") as fh:
+            fh.write(f"# {spec['title']}\n# source: {spec['source']}\n")
+            fh.write(f"# BAND MODEL, NOT A MEASURED RESPONSE. Shape: {shape}\n")
+            fh.write("# generated by scripts/build_srf_library.py; relative response, "
+                     "dimensionless\n")
+            fh.write("band,wavelength_um,response\n")
+            for name, lower, upper, common in spec["bands"]:
+                for w, r in zip(*band_model(lower, upper), strict=True):
+                    fh.write(f"{name},{w:.6f},{r:.6g}\n")
+                published = spec.get("centres", {})
+                band_meta[name] = {
+                    "common_name": common, "band_limits_um": [lower, upper],
+                    "center_um": published.get(name, round(0.5 * (lower + upper), 6)),
+                    "center_from": ("the source" if name in published
+                                    else "the middle of the limits")}
+        library[sensor] = {"title": spec["title"], "file": path.name, "kind": "band model",
+                           "shape": shape, "source": spec["source"],
+                           "via": "band model written by scripts/build_srf_library.py",
+                           "edits": [], "bands": band_meta}
+    return library
+
+
+def _measured_entries() -> dict:
+    """The measured entries of the present library.yaml (kind set), for --band-models."""
+    import yaml
+
+    old = yaml.safe_load((OUT / "library.yaml").read_text(encoding="utf-8"))
+    out = {}
+    for sensor, entry in old.items():
+        if sensor in BAND_MODELS or entry.get("kind") == "band model":
+            continue
+        entry = {k: v for k, v in entry.items() if k != "kind"}
+        items = list(entry.items())
+        at = [k for k, _ in items].index("file") + 1
+        out[sensor] = dict(items[:at] + [("kind", "measured")] + items[at:])
+    return out
 
 
 def _write_yaml(library: dict) -> None:
@@ -228,13 +368,16 @@ def _write_yaml(library: dict) -> None:
     header = ("# radscene's bundled spectral response functions: one entry per sensor.\n"
               "# Generated by scripts/build_srf_library.py; do not edit by hand.\n"
               "# source: where the numbers were first published; via: the package and table\n"
-              "# they were read from; edits: what the build script changed.\n")
+              "# they were read from; edits: what the build script changed; kind: measured\n"
+              "# (a published relative spectral response) or band model (a trapezoid over\n"
+              "# the published band limits, see shape).\n")
     text = yaml.safe_dump(library, sort_keys=False, allow_unicode=True, width=100)
     (OUT / "library.yaml").write_text(header + text, encoding="utf-8")
 
 
 def main() -> int:
-    library = build()
+    measured = _measured_entries() if "--band-models" in sys.argv[1:] else build()
+    library = {**measured, **build_band_models()}
     _write_yaml(library)
     sys.path.insert(0, str(ROOT / "src"))
     from radscene.sensor.srf_library import get_sensor_bands

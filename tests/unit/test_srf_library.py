@@ -27,7 +27,11 @@ def test_required_sensors_are_bundled_with_their_sources():
     for name in sensors:
         info = sensor_info(name)
         assert info["source"] and info["via"] and info["title"]
-        assert ("Py6S" in info["via"]) or ("pyrsr" in info["via"])
+        assert info["kind"] in ("measured", "band model"), name
+        if info["kind"] == "measured":
+            assert ("Py6S" in info["via"]) or ("pyrsr" in info["via"])
+        else:
+            assert "not a measured response" in info["shape"]
 
 
 @pytest.mark.parametrize("sensor", list_sensors())
@@ -97,6 +101,52 @@ def test_bundled_tables_are_the_py6s_numbers():
     wl = start + 0.0025 * np.arange(values.size)
     assert get_band("sentinel2b_msi", "b8a")(wl) == pytest.approx(np.clip(values, 0, None),
                                                                   abs=1e-6)
+
+
+# Published centre wavelengths [um] of the thermal imagers bundled as band models. ABI: Schmit
+# et al. (2017), BAMS 98, 681-698; SEVIRI: Schmetz et al. (2002), BAMS 83, 977-992, Table 1
+# (lambda_cen); VIIRS: Cao et al. (2014), IEEE TGRS 52, 1142-1156, Table I; AVHRR/3: the middle
+# of the channel limits of the NOAA KLM User's Guide, section 3.1 (it gives no centres).
+BAND_MODEL_CENTRES = {
+    "goes16_abi": {"B7": 3.90, "B8": 6.185, "B9": 6.95, "B10": 7.34, "B11": 8.50, "B12": 9.61,
+                   "B13": 10.35, "B14": 11.20, "B15": 12.30, "B16": 13.30},
+    "meteosat11_seviri": {"IR3.9": 3.92, "WV6.2": 6.25, "WV7.3": 7.35, "IR8.7": 8.70,
+                          "IR9.7": 9.66, "IR10.8": 10.80, "IR12.0": 12.00, "IR13.4": 13.40},
+    "noaa20_viirs": {"M12": 3.70, "M13": 4.05, "M14": 8.55, "M15": 10.763, "M16": 12.013,
+                     "I4": 3.74, "I5": 11.45},
+    "avhrr3": {"3B": 3.74, "4": 10.80, "5": 12.00},
+}
+BAND_MODEL_CENTRE = 5e-3  # [um]: the stated tolerance of a band model's centroid
+
+
+@pytest.mark.parametrize("sensor", sorted(BAND_MODEL_CENTRES))
+def test_thermal_band_models_are_marked_normalised_and_centred(sensor):
+    """Each band model says it is one, peaks at 1 as the library's responses do, reaches 50 %
+    at the band limits it records (so its FWHM and equivalent width are the published width)
+    and has its centroid at the published centre."""
+    info = sensor_info(sensor)
+    assert info["kind"] == "band model"
+    assert "band model" in info["title"]
+    bands = dict(get_sensor_bands(sensor))
+    assert list(bands) == list(BAND_MODEL_CENTRES[sensor])
+    for name, centre in BAND_MODEL_CENTRES[sensor].items():
+        response = bands[name]
+        lo, hi = info["bands"][name]["band_limits_um"]
+        assert response.response.max() == 1.0
+        assert response([lo, hi]) == pytest.approx([0.5, 0.5], abs=1e-9)
+        assert response.equivalent_width() == pytest.approx(hi - lo, rel=1e-9)
+        assert response.center == pytest.approx(centre, abs=BAND_MODEL_CENTRE), name
+        assert info["bands"][name]["center_um"] == pytest.approx(centre, abs=BAND_MODEL_CENTRE)
+
+
+def test_band_model_files_say_they_are_models():
+    from importlib import resources
+
+    for sensor in BAND_MODEL_CENTRES:
+        text = (resources.files("radscene") / "data" / "srf" / f"{sensor}.csv").read_text(
+            encoding="utf-8")
+        assert "# BAND MODEL, NOT A MEASURED RESPONSE" in text
+        assert "# source: " in text
 
 
 def test_selection_order_and_errors():

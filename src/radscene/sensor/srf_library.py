@@ -1,6 +1,7 @@
 """Real sensors' spectral response functions (SRF), bundled, and multi-band SRF files.
 
-The library (``radscene/data/srf``) holds the published relative spectral responses of:
+The library (``radscene/data/srf``) holds the published relative spectral responses
+(``kind: measured`` in library.yaml) of:
 
 ================  =============================================  =================================
 name              bands                                          from (details in library.yaml)
@@ -21,6 +22,20 @@ landsat7_etm      B1-B8 (B6 thermal)                             NASA, via pyrsr
 landsat5_tm       B1-B7 (B6 thermal)                             NASA, via pyrsr
 terra_aster       B1, B2, B3N, B3B, B4-B14 (B10-B14 thermal)     NASA, via pyrsr
 ================  =============================================  =================================
+
+and, as band models (``kind: band model``: a trapezoid reaching 50 % at the band limits of the
+instrument's published specification, with edges 10 % of the width wide — not a measured
+response; the measured ones are not shipped), the thermal infrared imagers:
+
+=================  ==================================  ======================================
+name               bands                               band limits from
+=================  ==================================  ======================================
+goes16_abi         B7-B16 (3.9-13.3 um)                Schmit et al. 2005, BAMS 86, Table 1
+meteosat11_seviri  IR3.9, WV6.2, WV7.3, IR8.7, IR9.7,  Schmetz et al. 2002, BAMS 83,
+                   IR10.8, IR12.0, IR13.4              Table 1
+noaa20_viirs       M12-M16, I4, I5                     Cao et al. 2014, IEEE TGRS 52, Table I
+avhrr3             3B, 4, 5                            NOAA KLM User's Guide, section 3.1
+=================  ==================================  ======================================
 
 Each sensor's entry in ``library.yaml`` names the original publication or agency file
 (``source``), the package and table the numbers were read from (``via``) and what the build
@@ -87,7 +102,8 @@ def list_sensors() -> list[str]:
 
 
 def sensor_info(name: str) -> dict:
-    """Metadata of a bundled sensor: title, file, source, via, edits and bands.
+    """Metadata of a bundled sensor: title, file, kind (``measured`` or ``band model``, then
+    with its ``shape``), source, via, edits and bands.
 
     Parameters
     ----------
