@@ -165,25 +165,12 @@ def _toa(atm, settings, target_altitude, wavelength):
     return np.asarray(getattr(toa, "values", toa), dtype=float).reshape(-1, wavelength.size)[0]
 
 
-def _band_range(bands):
-    """(min, max) [um] over the supports of the bands, or None."""
-    if not bands:
-        return None
-    from radscene.radiometry.srf import SpectralResponse
-
-    lows, highs = [], []
-    for i, b in enumerate(bands):
-        if isinstance(b, SpectralResponse):
-            lo, hi = b.support
-        else:
-            try:
-                lo, hi = (float(v) for v in b)
-            except (TypeError, ValueError):
-                raise ConfigError("(min, max) pairs [um] or spectral responses",
-                                  key=f"bands[{i}]") from None
-        lows.append(lo)
-        highs.append(hi)
-    return (min(lows), max(highs))
+def _band_range(atm, bands):
+    """(min, max) [um] over the bands' supports, each checked against the engine's range."""
+    responses = band_responses(bands, np.array([0.0, np.inf]))
+    for i, response in enumerate(responses):
+        atm.check_wavelength(np.array(response.support), key=f"bands[{i}]")
+    return (min(r.support[0] for r in responses), max(r.support[1] for r in responses))
 
 
 def _grid(atm, wavelength, wavelength_range, step, bands=None):
@@ -194,8 +181,8 @@ def _grid(atm, wavelength, wavelength_range, step, bands=None):
         if wl.ndim != 1 or wl.size == 0 or np.any(~np.isfinite(wl)) or np.any(wl <= 0):
             raise ConfigError("a non-empty list of positive wavelengths [um]", key="wavelength")
         return atm.check_wavelength(np.unique(wl))
-    if wavelength_range is None:
-        wavelength_range = _band_range(bands)
+    if wavelength_range is None and bands:
+        wavelength_range = _band_range(atm, bands)
     if wavelength_range is None:
         lo, hi = atm.wavelength_range
         lo, hi = max(float(lo), 0.4), min(float(hi), 20.0)

@@ -379,12 +379,13 @@ def los(
                         f"{ds.attrs['target_altitude_m']:g} m, zenith "
                         f"{ds.attrs['view_zenith_deg']:g}°, sun {ds.attrs['sun_zenith_deg']:g}°; "
                         f"{_sun_line(ds)}; ground albedo {ds.attrs['ground_albedo']:g}",
-                  caption="L: band integrals ∫S L dλ [W m-2 sr-1]; L̄: band means "
-                          "[W m-2 sr-1 um-1]; BT: band brightness temperature [K]")
+                  caption="L: band integrals ∫S L dλ [W m-2 sr-1] of the path (thermal, "
+                          "scattered) and the apparent (app) radiance; L̄: band means "
+                          "[W m-2 sr-1 um-1]; BT: band brightness temperatures [K]")
     thermal = "band_apparent_brightness_temperature" in ds and bool(
         np.isfinite(ds["band_apparent_brightness_temperature"].values).any())
-    columns = ["band [um]", "τ mean", "L path", "thermal", "scattered", "L apparent",
-               "L̄ apparent"] + (["BT apparent", "BT path"] if thermal else [])
+    columns = ["band [um]", "τ mean", "L path", "thermal", "scattered", "L app",
+               "L̄ app"] + (["BT app", "BT path"] if thermal else [])
     for col in columns:
         table.add_column(col, justify="right")
     for b in range(ds.sizes.get("band", 0)):
