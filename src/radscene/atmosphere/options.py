@@ -122,7 +122,8 @@ def _amount(value, key, high, unit):
     except (TypeError, ValueError):
         raise ConfigError(f"must be a number; got {value!r}", key=key) from None
     if not (np.isfinite(x) and 0.0 <= x <= high):
-        raise ConfigError(f"must lie in [0, {high:g}]{unit}; got {value!r}", key=key)
+        bounds = f"lie in [0, {high:g}]{unit}" if np.isfinite(high) else f"be >= 0{unit}"
+        raise ConfigError(f"must {bounds}; got {value!r}", key=key)
     return x
 
 
