@@ -57,7 +57,8 @@ _MAX_WATER, _MAX_OZONE = 10.0, 1.0
 _DATE = re.compile(r"\d{4}-\d{2}-\d{2}")
 
 
-def visibility_m(visibility):
+def visibility_m(visibility) -> float:
+    """Visibility [m] from a number [m] or a string with a unit; > 0."""
     from radscene.radiometry.units import parse_quantity
 
     v = parse_quantity(visibility, "length", key="visibility")
@@ -128,15 +129,46 @@ def _amount(value, key, high, unit):
 
 
 def check_options(name, visibility, aot550, water, ozone, date, earth_sun_distance,
-              solar_spectrum) -> dict:
-    """Check the aerosol, gas, date and spectrum options against the engine; the settings."""
+                  solar_spectrum) -> dict:
+    """Check the aerosol, gas, date and spectrum options against an engine.
+
+    Parameters
+    ----------
+    name : str
+        The engine: ``sixs``, ``database`` or ``lowtran``.
+    visibility : float or str or None
+        [m] or with a unit; None: 23 km unless ``aot550`` is given.
+    aot550 : float or None
+        Aerosol optical thickness at 550 nm [-], >= 0.
+    water, ozone : float or None
+        Columns [g cm-2] (0-10) and [cm-atm] (0-1).
+    date : str or datetime.date or None
+        ``YYYY-MM-DD`` (:func:`sun_date`).
+    earth_sun_distance : float or None
+        [AU], instead of ``date``.
+    solar_spectrum : str or None
+        A key of :data:`SOLAR_SPECTRA` the engine uses (:data:`ENGINE_SPECTRA`); None: the
+        engine's first.
+
+    Returns
+    -------
+    dict
+        ``visibility`` [m] or None, ``aot550``, ``water``, ``ozone``, ``distance`` [AU],
+        ``day_of_year`` and ``date`` (None without a date), ``solar_spectrum``.
+
+    Raises
+    ------
+    ConfigError
+        A value out of range, two exclusive options, or an option the engine does not take;
+        the key names the option.
+    """
     aot = _amount(aot550, "aot550", np.inf, "")
     w = _amount(water, "water", _MAX_WATER, " g cm-2")
     o3 = _amount(ozone, "ozone", _MAX_OZONE, " cm-atm (300 DU = 0.3 cm-atm)")
     if aot is not None and visibility is not None:
         raise ConfigError("give visibility or aot550, not both", key="aot550")
-    vis = None if aot is not None else visibility_m("23 km" if visibility is None
-                                                       else visibility)
+    vis = None if aot is not None else visibility_m(
+        "23 km" if visibility is None else visibility)
     if date is not None and earth_sun_distance is not None:
         raise ConfigError("give date or earth_sun_distance, not both", key="earth_sun_distance")
     distance, day_of_year, iso = 1.0, None, None
