@@ -75,6 +75,16 @@ def test_a_fixed_surface_albedo_with_coupling_is_refused(make_plate_scene):
     load_scene(scene)
 
 
+def test_lowtrans_fixed_ground_albedo_is_refused_under_its_own_key(make_plate_scene):
+    # the lowtran engine names it albedo (its SALB); the check reads the engine's key
+    scene = _plate(make_plate_scene, atmosphere={"type": "lowtran", "albedo": 0.2})
+    with pytest.raises(ConfigError) as err:
+        load_scene(scene)
+    assert err.value.key == "environment.atmosphere.albedo"
+    scene["render"]["coupling"] = False
+    load_scene(scene)
+
+
 def test_adjacency_setting_accepts_auto_or_a_boolean(make_plate_scene):
     with pytest.raises(ConfigError) as err:
         load_scene(_plate(make_plate_scene, adjacency="sometimes"))

@@ -55,6 +55,13 @@ FAKE = textwrap.dedent("""\
     open("out/TAPE6", "w").write(
         "0INTEGRATED ABSORPTION FROM 1000 TO 1010 CM-1 =      4.50 CM-1\\n"
         " AVERAGE TRANSMITTANCE = .5500\\n")
+    if int(deck.splitlines()[0][10:15]) == 2:  # TAPE7: RFLS 6e-8, RFLSS 4e-8 per cm-1
+        with open("out/TAPE7", "w") as f:
+            f.write("  FREQ   TRANS     ATMOS   PATH     SINGLE   GROUND DIRECT   TOTAL RAD\\n")
+            for r in rows:
+                f.write("%7.0f%8.4f" % (r[0], r[2]) + "".join("%9.2E" % x for x in
+                        (0.0, 1e-7, 1e-8, 6e-8, 4e-8, 2e-7)) + "%8.4f%8.4f\\n" % (0.3, 0.5))
+            f.write(" -9999.\\n")
 """)
 
 
@@ -125,6 +132,10 @@ def test_results_in_radscene_units_and_order(fake_exe, tmp_path):
     assert thermal.thermal_radiance == pytest.approx([2.0] * 3, rel=REL)  # 2e-4 W cm-2 ...
     assert thermal.scattered_radiance is None and thermal.solar_irradiance is None
     assert scatter.scattered_radiance == pytest.approx([0.05] * 3, rel=REL)
+    # TAPE7's RFLS [W cm-2 sr-1 (cm-1)-1] as RFLSOL [W m-2 sr-1 um-1]: 6e-8 v^2
+    assert scatter.ground_radiance == pytest.approx([6e-8 * v**2 for v in (1000, 1005, 1010)],
+                                                    rel=REL)
+    assert thermal.ground_radiance is None and irr.ground_radiance is None
     assert irr.solar_irradiance == pytest.approx([0.3] * 3, rel=REL)
     assert irr.toa_irradiance == pytest.approx([0.4] * 3, rel=REL)
     assert irr.thermal_radiance is None

@@ -588,9 +588,10 @@ class _Resolver:
                 getattr(atmosphere, "surface_albedo", 0.0) or 0.0) > 0.0:
             raise ConfigError(
                 "the render takes the surroundings' albedo from the scene itself (multiple "
-                "reflection, render.coupling: true); remove surface_albedo, or set "
+                "reflection, render.coupling: true); remove it, or set "
                 "render: {coupling: false} to use a fixed albedo instead",
-                key="environment.atmosphere.surface_albedo")
+                key="environment.atmosphere."
+                + getattr(atmosphere, "surface_albedo_key", "surface_albedo"))
         hf, objects = None, []
         if spec.terrain is not None:
             hf, terrain_obj = self.terrain()

@@ -111,7 +111,15 @@ import math
 
 import numpy as np
 
-from radscene.atmosphere.base import Atmosphere, PathNodes, PathSpectra, SkyGeometry, SunSpectra
+from radscene.atmosphere.base import (
+    Atmosphere,
+    CouplingSpectra,
+    PathNodes,
+    PathSpectra,
+    SkyGeometry,
+    SunSpectra,
+)
+from radscene.atmosphere.lowtran import coupling as _coupling
 from radscene.atmosphere.lowtran import datasets
 from radscene.atmosphere.lowtran.cards import (
     AEROSOLS,
@@ -594,6 +602,23 @@ class LowtranAtmosphere(Atmosphere):
                 scattered[idx] = self._interp(result, result.scattered_radiance, v_req)
         full = shape + wl.shape
         return thermal.reshape(full), scattered.reshape(full)
+
+    couples = True
+    #: The scene key of this engine's fixed ground albedo (refused in a render with coupling).
+    surface_albedo_key = "albedo"
+
+    @property
+    def surface_albedo(self) -> float:
+        """The ground albedo of the path and sky runs (SALB) [-]: ``albedo``."""
+        return self.albedo
+
+    def coupling(self, observer_altitude, target_altitude, view_zenith, wavelength
+                 ) -> CouplingSpectra:
+        """Diffuse transmittance, its molecular share, spherical albedo and irradiances over
+        black ground, from LOWTRAN runs at ground albedos 0, ½ and 1 (see
+        :mod:`radscene.atmosphere.lowtran.coupling`)."""
+        return _coupling.coupling(self, observer_altitude, target_altitude, view_zenith,
+                                  wavelength)
 
     def sky_zenith_nodes(self) -> np.ndarray:
         return self._sky_zenith.copy()

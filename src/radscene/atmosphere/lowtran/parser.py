@@ -6,6 +6,11 @@
 * ``out/TAPE6``, LOWTRAN's listing: the run's summary lines (integrated absorption, average
   transmittance, integrated radiance) and its warnings and error messages, which name what
   went wrong when a case fails.
+* ``out/TAPE7``, LOWTRAN's spectral listing: of a radiance run with solar scattering
+  (IEMSCT = 2) whose path ends on the ground, the only place where LOWTRAN reports the
+  radiance the ground reflects along the path (RFLS: the sun's direct beam and the diffuse
+  flux FDNSRT of its two-stream multiple scattering, times SALB / π and the path's
+  transmittance), with three significant digits.
 """
 
 from __future__ import annotations
@@ -14,7 +19,8 @@ import re
 
 import numpy as np
 
-__all__ = ["DRIVER_COLUMNS", "parse_driver_output", "parse_tape6_summary", "tape6_messages"]
+__all__ = ["DRIVER_COLUMNS", "parse_driver_output", "parse_tape6_summary", "tape6_messages",
+           "parse_tape7_ground"]
 
 #: Columns of ``radscene.out``, in order, with their LOWTRAN names.
 DRIVER_COLUMNS: tuple[str, ...] = (
@@ -115,3 +121,67 @@ def tape6_messages(text: str, limit: int = 12) -> list[str]:
             if len(out) >= limit:
                 break
     return out
+
+
+#: Fixed columns of a TAPE7 record of a radiance run with solar scattering (FORMAT 927:
+#: F7.0, F8.4, 6E9.2, 2F8.4): wavenumber [cm-1], TX(9), then in W cm-2 sr-1 (cm-1)-1 the
+#: thermal, scattered and singly scattered path radiance, the ground-reflected radiance
+#: RFLS and its direct-sun part RFLSS, the total.
+_TAPE7_FIELDS = {"wavenumber": (0, 7), "ground_radiance": (42, 51),
+                 "direct_ground_radiance": (51, 60)}
+_EXPONENT = re.compile(r"(\d)([-+]\d{3})$")
+
+
+def _fortran_float(text: str) -> float:
+    """A Fortran E field, also where a three-digit exponent dropped its ``E`` (1.23-100)."""
+    text = text.strip()
+    return float(_EXPONENT.sub(r"\1E\2", text))
+
+
+def parse_tape7_ground(text: str) -> dict[str, np.ndarray]:
+    """Ground-reflected radiance of a radiance run with solar scattering, from its TAPE7.
+
+    Parameters
+    ----------
+    text : str
+        TAPE7 of a run with IEMSCT = 2.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        ``wavenumber`` [cm-1] in LOWTRAN's order, ``ground_radiance`` (RFLS, the radiance
+        the ground reflects towards the observer, attenuated along the path) and
+        ``direct_ground_radiance`` (RFLSS, its direct-sun part), in LOWTRAN's
+        W cm-2 sr-1 (cm-1)-1; both zero unless the path ends on the ground.
+
+    Raises
+    ------
+    ValueError
+        No spectral record (not a radiance run with solar scattering, or LOWTRAN stopped).
+
+    Examples
+    --------
+    >>> rec = (" 18100.  0.6384 0.00E+00 4.16E-07 5.88E-08 9.13E-07 5.93E-07 1.33E-06"
+    ...        "  0.3803  0.5105           4.488E-01")
+    >>> out = parse_tape7_ground("  FREQ   TRANS     ATMOS   PATH\\n" + rec + "\\n -9999.")
+    >>> float(out["ground_radiance"][0]), float(out["direct_ground_radiance"][0])
+    (9.13e-07, 5.93e-07)
+    """
+    rows = []
+    started = False
+    for line in text.splitlines():
+        if not started:
+            started = line.lstrip().startswith("FREQ")
+            continue
+        if line.strip().startswith("-9999"):
+            break
+        if len(line) < 69:
+            continue
+        try:
+            rows.append([_fortran_float(line[a:b]) for a, b in _TAPE7_FIELDS.values()])
+        except ValueError:
+            continue
+    if not rows:
+        raise ValueError("no spectral record of a radiance run with solar scattering in TAPE7")
+    data = np.array(rows)
+    return {name: data[:, i].copy() for i, name in enumerate(_TAPE7_FIELDS)}

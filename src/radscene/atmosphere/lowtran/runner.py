@@ -37,6 +37,7 @@ from radscene.atmosphere.lowtran.cards import LowtranCase, write_tape5
 from radscene.atmosphere.lowtran.parser import (
     parse_driver_output,
     parse_tape6_summary,
+    parse_tape7_ground,
     tape6_messages,
 )
 from radscene.errors import ConfigError, EngineError
@@ -58,10 +59,13 @@ __all__ = [
 NOT_BUILT = "LOWTRAN not built: run `make lowtran` (needs gfortran)"
 
 #: Version of the cache entries; bump when the stored content changes meaning.
-CACHE_VERSION = "1"
+CACHE_VERSION = "2"
 
 #: LOWTRAN prints W cm-2; radscene uses W m-2.
 W_PER_CM2_TO_W_PER_M2 = 1.0e4
+#: The spectra a result may hold (and its cache entry stores).
+_SPECTRA = ("wavenumber", "transmittance", "thermal_radiance", "scattered_radiance",
+            "solar_irradiance", "toa_irradiance", "ground_radiance")
 
 
 @dataclass(frozen=True)
@@ -90,6 +94,11 @@ class LowtranResult:
         Direct solar irradiance transmitted to H1, normal to the beam (mode 3) [W m-2 um-1].
     toa_irradiance : numpy.ndarray or None
         LOWTRAN's extraterrestrial solar irradiance (mode 3) [W m-2 um-1].
+    ground_radiance : numpy.ndarray or None
+        Radiance the ground reflects towards H1, attenuated along the path (mode 2, RFLSOL:
+        SALB / π times the sun's direct beam and the diffuse flux of LOWTRAN's multiple
+        scattering, times the path's transmittance; zero unless the path ends on the
+        ground), read from TAPE7 with three significant digits [W m-2 sr-1 um-1].
     summary : dict
         TAPE6 summary figures (:func:`~radscene.atmosphere.lowtran.parser.parse_tape6_summary`).
     """
@@ -103,6 +112,7 @@ class LowtranResult:
     scattered_radiance: np.ndarray | None = None
     solar_irradiance: np.ndarray | None = None
     toa_irradiance: np.ndarray | None = None
+    ground_radiance: np.ndarray | None = None
     summary: dict = field(default_factory=dict)
 
     @property
@@ -128,6 +138,7 @@ class LowtranResult:
             ("scattered_radiance", "W m-2 sr-1 um-1", "scattered solar path radiance"),
             ("solar_irradiance", "W m-2 um-1", "transmitted direct solar irradiance"),
             ("toa_irradiance", "W m-2 um-1", "extraterrestrial solar irradiance (LOWTRAN)"),
+            ("ground_radiance", "W m-2 sr-1 um-1", "ground-reflected radiance at H1"),
         )
         for name, units, long_name in spec:
             values = getattr(self, name)
@@ -219,6 +230,8 @@ def _execute(deck: str, name: str, executable: Path, timeout: float,
                 from None
         tape6_path = workdir / "out" / "TAPE6"
         tape6 = tape6_path.read_text(errors="replace") if tape6_path.exists() else ""
+        tape7_path = workdir / "out" / "TAPE7"
+        tape7 = tape7_path.read_text(errors="replace") if tape7_path.exists() else ""
         out_path = workdir / "radscene.out"
         text = out_path.read_text(errors="replace") if out_path.exists() else ""
         try:
@@ -231,10 +244,29 @@ def _execute(deck: str, name: str, executable: Path, timeout: float,
                 f"LOWTRAN case {name!r} failed (exit status {proc.returncode}): {err}. "
                 f"LOWTRAN said: {detail}"
             ) from None
+        if _iemsct_of(deck) == 2:
+            ground = _ground_column(tape7, columns["wavenumber"], name)
+            if ground is not None:
+                columns["ground_radiance"] = ground
         return columns, parse_tape6_summary(tape6)
     finally:
         if not keep_workdir:
             shutil.rmtree(workdir, ignore_errors=True)
+
+
+def _ground_column(tape7: str, wavenumber: np.ndarray, name: str) -> np.ndarray | None:
+    """RFLS of TAPE7 on the driver's samples, as RFLSOL [W cm-2 sr-1 um-1]; None without a
+    spectral record (the coupling, which needs it, says so)."""
+    try:
+        ground = parse_tape7_ground(tape7)
+    except ValueError:
+        return None
+    if ground["wavenumber"].size != wavenumber.size or not np.allclose(
+            ground["wavenumber"], wavenumber, atol=0.51):
+        raise EngineError(f"LOWTRAN case {name!r}: TAPE7 and the driver's output hold "
+                          "different samples")
+    # RFLS is per cm-1: per um it is RFLS v^2 / 1e4
+    return ground["ground_radiance"] * wavenumber**2 / 1.0e4
 
 
 def _result_from_columns(name: str, deck: str, iemsct: int, cols: dict,
@@ -247,6 +279,7 @@ def _result_from_columns(name: str, deck: str, iemsct: int, cols: dict,
     scattered = cols["scattered_radiance"] * scale if iemsct == 2 else None
     solar = cols["solar_irradiance"] * scale if iemsct == 3 else None
     toa = cols["toa_irradiance"] * scale if iemsct == 3 else None
+    ground = cols["ground_radiance"] * scale if "ground_radiance" in cols else None
     for label, values in (("thermal radiance", thermal), ("scattered radiance", scattered),
                           ("solar irradiance", solar)):
         if values is not None and not np.all(np.isfinite(values)):
@@ -260,7 +293,7 @@ def _result_from_columns(name: str, deck: str, iemsct: int, cols: dict,
                          wavenumber=sort(cols["wavenumber"]), transmittance=sort(tau),
                          thermal_radiance=sort(thermal), scattered_radiance=sort(scattered),
                          solar_irradiance=sort(solar), toa_irradiance=sort(toa),
-                         summary=dict(summary))
+                         ground_radiance=sort(ground), summary=dict(summary))
 
 
 def _iemsct_of(deck: str) -> int:
@@ -339,8 +372,7 @@ class LowtranRunner:
             with np.load(path, allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
                 arrays = {k: (np.array(data[k]) if k in data.files else None)
-                          for k in ("wavenumber", "transmittance", "thermal_radiance",
-                                    "scattered_radiance", "solar_irradiance", "toa_irradiance")}
+                          for k in _SPECTRA}
         except (OSError, ValueError, KeyError):
             return None  # a damaged entry is recomputed and overwritten
         result = LowtranResult(name=name, deck=meta["deck"], iemsct=int(meta["iemsct"]),
@@ -362,9 +394,7 @@ class LowtranRunner:
         path = self._cache_path(key)
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
-            arrays = {k: getattr(result, k) for k in
-                      ("wavenumber", "transmittance", "thermal_radiance", "scattered_radiance",
-                       "solar_irradiance", "toa_irradiance") if getattr(result, k) is not None}
+            arrays = {k: getattr(result, k) for k in _SPECTRA if getattr(result, k) is not None}
             meta = json.dumps({"deck": result.deck, "iemsct": result.iemsct,
                                "summary": result.summary})
             fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
