@@ -131,3 +131,26 @@ def test_the_coupling_equation_gives_lowtrans_own_radiance_of_a_lambertian_groun
         own = (atm._interp(run, run.scattered_radiance, v)
                + atm._interp(run, run.ground_radiance, v))
         np.testing.assert_allclose(model, own, rtol=CLOSURE, err_msg=f"rho {rho}")
+
+
+@needs_lowtran
+def test_line_of_sight_apparent_radiance_is_lowtrans_own_radiance_of_the_surface():
+    """``radscene atmosphere los --engine lowtran``: the apparent radiance of a Lambertian
+    surface now holds the diffuse sky light it reflects and the surroundings' diffusely
+    transmitted light, as LOWTRAN's radiance mode does."""
+    from radscene.atmosphere.api import line_of_sight
+
+    rho = 0.3
+    ds = line_of_sight(1e5, 0.0, 0.0, engine="lowtran", visibility="23 km", sun_zenith=30.0,
+                       sun_azimuth=0.0, view_azimuth=90.0, surface_albedo=rho,
+                       wavelength=WAVELENGTH)
+    atm = _engine()
+    case, _ = atm._path_case(1e5, 0.0, 0.0, atm._window(WAVELENGTH)[1])
+    run = atm.runner.run([case.replace(h2=0.0, salb=rho)], ["ground albedo 0.3"])[0]
+    v = 1e4 / ds["wavelength"].values
+    own = atm._interp(run, run.scattered_radiance, v) + atm._interp(run, run.ground_radiance, v)
+    np.testing.assert_allclose(ds["apparent_radiance"].values, own, rtol=CLOSURE)
+    assert np.all(ds["diffuse_irradiance"].values > 0.0)
+    # the path over black ground, as with the other engines
+    black = atm.path(1e5, 0.0, 0.0, ds["wavelength"].values).scattered_radiance
+    np.testing.assert_allclose(ds["path_scattered_radiance"].values, black, rtol=1e-9)

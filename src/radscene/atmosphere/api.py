@@ -246,7 +246,7 @@ def line_of_sight(observer_altitude, target_altitude=0.0, view_zenith=0.0, *, en
         ``path_scattered_radiance``, ``path_radiance`` [W m-2 sr-1 um-1],
         ``sun_transmittance`` [1], ``direct_solar_irradiance`` (normal to the beam)
         [W m-2 um-1], ``apparent_radiance`` at the observer of the ground (see Notes)
-        [W m-2 sr-1 um-1]; for 6S and the database also (from the engine's ``coupling``)
+        [W m-2 sr-1 um-1]; for every engine that couples (6S, the database, LOWTRAN) also (from its ``coupling``)
         ``diffuse_irradiance`` (horizontal, over black ground), ``spherical_albedo`` and
         ``diffuse_transmittance``; and over ``band`` the band values of
         :mod:`radscene.atmosphere.bands`. Attributes record the engine, geometry,
@@ -261,7 +261,7 @@ def line_of_sight(observer_altitude, target_altitude=0.0, view_zenith=0.0, *, en
 
     Notes
     -----
-    With an engine that couples the ground to the atmosphere (6S, the database: its
+    With an engine that couples the ground to the atmosphere (6S, the database, LOWTRAN: its
     :meth:`~radscene.atmosphere.base.Atmosphere.coupling`), the ground of albedo ρ at
     temperature T gives (Vermote et al. 1997; ρ_e = ρ in
     :class:`~radscene.atmosphere.base.CouplingSpectra`)
@@ -270,7 +270,8 @@ def line_of_sight(observer_altitude, target_altitude=0.0, view_zenith=0.0, *, en
               (T_{dir} + t_d) + T_{dir} (1 - \\rho) B(\\lambda, T)
 
     with S the spherical albedo, T_dir and t_d the direct and diffuse transmittances ground to
-    observer. LOWTRAN does not couple: L = L_path + T_dir (ρ E_dir / π + (1 - ρ) B).
+    observer (LOWTRAN's from its runs at three ground albedos,
+    :mod:`radscene.atmosphere.lowtran.coupling`).
     """
     o = _one_number("observer_altitude", observer_altitude)
     t = _one_number("target_altitude", target_altitude)
@@ -282,6 +283,13 @@ def line_of_sight(observer_altitude, target_altitude=0.0, view_zenith=0.0, *, en
     rho = float(surface_albedo) if ground_albedo is None else float(ground_albedo)
     if not 0.0 <= rho <= 1.0:
         raise ConfigError(f"must lie in [0, 1]; got {ground_albedo!r}", key="ground_albedo")
+    if str(engine).lower() == "lowtran":
+        # LOWTRAN's path over black ground, as the other engines': its coupling adds the
+        # ground of ground_albedo
+        atm, settings = _make(engine, profile, aerosol, visibility, multiple_scattering,
+                              sun_zenith, sun_azimuth, view_azimuth, 0.0, surface_temperature,
+                              database, aot550, water, ozone, date, earth_sun_distance,
+                              solar_spectrum)
     min_target = getattr(atm, "bottom_altitude", 0.0) if atm.name == "lowtran" else (
         atm.axes["surface_altitude"][0] - 500.0 if atm.name == "database" else 0.0)
     model.check_path_geometry(o, t, z, min_target=min_target)
@@ -291,12 +299,30 @@ def line_of_sight(observer_altitude, target_altitude=0.0, view_zenith=0.0, *, en
     sun_up = sz < 90.0
     if atm.name == "lowtran":
         ds = atm.line_of_sight(o, t, z, wavelength=wl)
-        ds = ds.sortby("wavelength")
-        direct_h = ds["direct_solar_irradiance"].values * max(np.cos(np.radians(sz)), 0.0)
+        # (its boundary_radiance is that of a black ground: the emission is added below)
+        ds = ds.sortby("wavelength").drop_vars("boundary_radiance", errors="ignore")
+        cp = atm.coupling(o, t, z, ds["wavelength"].values)
+        for name, values, long_name in (
+                ("direct_irradiance", cp.direct_irradiance, "direct solar irradiance on a "
+                 "horizontal surface"),
+                ("diffuse_irradiance", cp.diffuse_irradiance, "diffuse sky irradiance on a "
+                 "horizontal surface over black ground (LOWTRAN's two-stream flux)"),
+                ("spherical_albedo", cp.spherical_albedo, "spherical albedo (of the line of "
+                 "sight, see radscene.atmosphere.lowtran.coupling)"),
+                ("diffuse_transmittance", cp.diffuse_transmittance, "diffuse transmittance "
+                 "target to observer, gases included (the adjacency effect)")):
+            ds[name] = ("wavelength", np.asarray(values, float),
+                        {"units": "W m-2 um-1" if name.endswith("irradiance") else "1",
+                         "long_name": long_name})
         attrs = {"parameters": ds.attrs.get("parameters", "")}
-        note = ("LOWTRAN: no coupling; apparent_radiance = L_path + T_dir (rho E_dir / pi + "
-                "(1 - rho) B(T)), without the diffuse sky irradiance")
-        reflected = rho / np.pi * direct_h * ds["transmittance"].values
+        note = ("LOWTRAN: apparent_radiance = L_path(black ground) + (tau + t_d) rho/pi "
+                "(E_dir + E_dif) / (1 - rho S) + tau (1 - rho) B(T), the coupling from LOWTRAN "
+                "runs at ground albedos 0, 1/2, 1: LOWTRAN's own radiance of the surface "
+                "within 0.3 %")
+        e_total = ds["direct_irradiance"].values + ds["diffuse_irradiance"].values
+        t_all = ds["transmittance"].values + ds["diffuse_transmittance"].values
+        reflected = (rho / (1.0 - ds["spherical_albedo"].values * rho) * e_total / np.pi
+                     * t_all)
     else:
         path = atm.path(o, t, z, wl)
         zero = np.zeros(wl.size)
