@@ -209,3 +209,33 @@ def test_phase_interp_holds_its_ends_and_is_log_linear():
     table = np.array([[4.0], [1.0]])
     assert m.phase_interp([5.0, 15.0, 30.0], nodes, table)[:, 0] == pytest.approx(
         [4.0, 2.0, 1.0], rel=REL)
+
+
+def test_aerosol_asymmetry_of_tabulated_phase_functions():
+    nodes = np.linspace(0.0, 180.0, 361)
+    c = np.cos(np.radians(nodes))
+    table = np.stack([(1 - g * g) / (1 + g * g - 2 * g * c) ** 1.5 for g in (0.0, 0.3, 0.7)],
+                     axis=1)
+    assert m.aerosol_asymmetry(nodes, table) == pytest.approx([0.0, 0.3, 0.7], abs=2e-3)
+    # the molecular phase function is symmetric
+    assert m.aerosol_asymmetry(nodes, 0.75 * (1 + c * c)[:, None])[0] == pytest.approx(
+        0.0, abs=1e-9)
+
+
+def test_multiple_scattering_shape():
+    tau, share, g = np.array([0.3, 1e-9]), np.array([0.7, 0.7]), np.array([0.65, 0.65])
+    zenith = np.array([0.0, 60.0, 85.0])
+    assert m.multiple_scattering_shape(zenith, 180.0, 30.0, tau, share, g).shape == (3, 2)
+    # without aerosol: brighter towards the horizon; a thin layer gives tau / (2 mu)
+    mu = np.cos(np.radians(zenith))
+    isotropic = m.multiple_scattering_shape(zenith, 0.0, 30.0, tau, np.zeros(2), g)
+    assert np.all(np.diff(isotropic[:, 0]) > 0.0)
+    np.testing.assert_allclose(isotropic[:, 1], 1e-9 / (2 * mu), rtol=1e-6)
+    # the aerosol's memory of the sun: Henyey-Greenstein of g^3 (0 and 60 deg from the sun)
+    toward, away = m.multiple_scattering_shape(np.array([30.0, 30.0]), np.array([0.0, 180.0]),
+                                               30.0, tau[:1], np.ones(1), g[:1])[:, 0]
+    g3 = 0.65**3
+    depth = 1 - np.cos(np.radians(30)) / 0.3 * (1 - np.exp(-0.3 / np.cos(np.radians(30))))
+    assert toward == pytest.approx(depth * (1 + g3) / (1 - g3) ** 2, rel=1e-9)
+    assert away == pytest.approx(depth * (1 - g3 * g3) / (1 + g3 * g3 - 2 * g3 * np.cos(
+        np.radians(60.0))) ** 1.5, rel=1e-9)

@@ -21,24 +21,44 @@ Sky radiance
 6S prints the diffuse irradiance at the ground but no radiance distribution over the sky. The
 sky is modelled as single scattering in a plane-parallel layer of molecular optical depth τ_R
 and aerosol optical depth τ_A (6S's phase functions P_R, P_A and aerosol single-scattering
-albedo ω_A, sampled from 6S at several scattering angles), plus an isotropic part carrying the
-rest of 6S's diffuse irradiance (multiple scattering), plus the isotropic light of the
-surroundings of albedo ρ_b re-scattered by the atmosphere:
+albedo ω_A, sampled from 6S at several scattering angles), plus the rest of 6S's diffuse
+irradiance (multiple scattering) spread with the angular shape M of multiply scattered light,
+plus the isotropic light of the surroundings of albedo ρ_b re-scattered by the atmosphere:
 
 .. math::
 
     L(\\mu, \\phi) = \\frac{E_0 T_g^{\\downarrow}}{4\\pi\\mu}
         \\left[\\tau_R P_R(\\Theta) + \\omega_A \\tau_A P_A(\\Theta)\\right] h(\\mu)
-        + \\frac{E_d - E_{ss}}{\\pi} + \\frac{(E_s + E_d)\\,\\rho_b S}{\\pi (1 - \\rho_b S)},
+        + (E_d - E_{ss}) \\frac{M(\\mu, \\Theta)}{\\int M \\mu\\,d\\Omega}
+        + \\frac{(E_s + E_d)\\,\\rho_b S}{\\pi (1 - \\rho_b S)},
 
     h(\\mu) = \\frac{e^{-\\tau/\\mu} - e^{-\\tau/\\mu_s}}{\\tau (1/\\mu_s - 1/\\mu)},
 
 where E_ss is the hemispherical integral of the single-scattering term, E_d = E_0 μ_s
 (T^↓ - e^{-τ/μ_s}) T_g^↓ the diffuse and E_s = E_0 μ_s e^{-τ/μ_s} T_g^↓ the direct irradiance
 on a horizontal surface. The model integrates exactly to 6S's downwelling diffuse irradiance
-(with the surroundings' contribution); its angular shape is that of single scattering (sun
-aureole, horizon brightening). Where single scattering alone would exceed E_d (not seen for
-τ < 3) it is scaled down to E_d.
+(with the surroundings' contribution). Where single scattering alone would exceed E_d (not
+seen for τ < 3) it is scaled down to E_d.
+
+The multiply scattered light (:func:`multiple_scattering_shape`) is that of a source that
+grows linearly with optical depth through the layer, seen from its bottom, and that keeps a
+memory of the sun's direction through the aerosol's forward scattering:
+
+.. math::
+
+    M(\\mu, \\Theta) = \\left[1 - \\frac{\\mu}{\\tau}\\left(1 - e^{-\\tau/\\mu}\\right)\\right]
+        \\left[(1 - w) + w\\,P_{HG}(\\Theta; g^3)\\right],\\qquad
+    w = \\frac{\\omega_A \\tau_A}{\\tau_R + \\omega_A \\tau_A},
+
+with g the asymmetry parameter of the aerosol phase function and P_HG the Henyey-Greenstein
+function. Light scattered n times by a Henyey-Greenstein aerosol keeps an asymmetry g^n; g^3
+stands for the orders beyond the first, chosen against a Monte Carlo of the same atmosphere
+(``tests/validation/scripts/sky_monte_carlo.py``): 6S's continental aerosol at 23 and 5 km
+visibility, 0.55 um, sun at 30 and 60 deg, where it brings the sky within 10 % (23 km) and
+12 % (5 km) of the Monte Carlo in every direction up to 75 deg from the zenith and 20 deg or
+more from the sun, the zenith within 11 % (an isotropic rest, the model's earlier form, was
+up to 37 % too bright at the zenith, up to 76 % in the anti-solar sky and 20 % too dark near
+the horizon under the sun; ``tests/validation/test_sky_reference.py``).
 
 References
 ----------
@@ -68,6 +88,8 @@ __all__ = [
     "single_scattering_sky",
     "sky_radiance",
     "hemisphere_quadrature",
+    "aerosol_asymmetry",
+    "multiple_scattering_shape",
     "axis_weights",
     "multilinear_nodes",
     "single_scattering_reflectance",
@@ -625,6 +647,79 @@ def _sky_kernel(theta, mu, weight, mu_s, nodes, log_pr, log_pa, e0g, tau_r, tau_
             out[j] = total
 
 
+def aerosol_asymmetry(angle_nodes, phase):
+    """Asymmetry parameter g = <cos Θ> of tabulated phase functions.
+
+    Parameters
+    ----------
+    angle_nodes : array_like
+        Increasing scattering angles [deg] from 0 to 180 (see :func:`phase_interp`).
+    phase : array_like
+        Phase functions at the nodes, shape (k, n).
+
+    Returns
+    -------
+    numpy.ndarray
+        g [-], shape (n,): the mean cosine weighted by P sin Θ over the phase function
+        interpolated log-linearly in angle (1 801 points).
+
+    Examples
+    --------
+    >>> nodes = np.linspace(0.0, 180.0, 721)
+    >>> c = np.cos(np.radians(nodes))
+    >>> hg = (1 - 0.7**2) / (1 + 0.7**2 - 2 * 0.7 * c) ** 1.5
+    >>> round(float(aerosol_asymmetry(nodes, hg[:, None])[0]), 3)
+    0.7
+    """
+    fine = np.linspace(0.0, 180.0, 1801)
+    p = phase_interp(fine, angle_nodes, phase)  # (1801, n)
+    theta = np.radians(fine)[:, None]
+    dens = p * np.sin(theta)
+    return (np.trapezoid(dens * np.cos(theta), theta, axis=0)
+            / np.trapezoid(dens, theta, axis=0))
+
+
+def multiple_scattering_shape(zenith, relative_azimuth, sun_zenith, tau, aerosol_share,
+                              asymmetry):
+    r"""Angular shape of the multiply scattered sky seen from the ground (unnormalised).
+
+    Parameters
+    ----------
+    zenith, relative_azimuth : array_like
+        Directions of view into the sky [deg], shape S; azimuth relative to the sun's.
+    sun_zenith : float
+        [deg].
+    tau : array_like
+        Optical depth of the layer above [-], shape (n,).
+    aerosol_share : array_like
+        w = ω_A τ_A / (τ_R + ω_A τ_A) [-], shape (n,).
+    asymmetry : array_like
+        Aerosol asymmetry parameter g [-], shape (n,).
+
+    Returns
+    -------
+    numpy.ndarray
+        M, shape S + (n,) [-] (module notes).
+
+    Notes
+    -----
+    .. math:: M = \left[1 - rac{\mu}{	au}(1 - e^{-	au/\mu})
+ight]
+              \left[(1 - w) + w\,rac{1 - g^6}{(1 + g^6 - 2 g^3 \cos\Theta)^{3/2}}
+ight]
+    """
+    z, p = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(relative_azimuth, float))
+    mu = np.cos(np.radians(np.minimum(z, 89.999)))[..., None]
+    x = np.asarray(tau, dtype=float) / mu
+    with np.errstate(divide="ignore", invalid="ignore"):
+        depth = np.where(x > 1e-6, 1.0 - (-np.expm1(-x)) / x, 0.5 * x)
+    c = np.cos(np.radians(scattering_angle_sky(sun_zenith, z, p)))[..., None]
+    g = np.asarray(asymmetry, dtype=float) ** 3
+    hg = (1.0 - g * g) / (1.0 + g * g - 2.0 * g * c) ** 1.5
+    w = np.asarray(aerosol_share, dtype=float)
+    return depth * ((1.0 - w) + w * hg)
+
+
 def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):
     """Directions and weights for ∫ f(μ, φ) μ dΩ over the upper hemisphere.
 
@@ -651,7 +746,8 @@ def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):
 def sky_radiance(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down, tau_rayleigh,
                  tau_aerosol, omega_aerosol, angle_nodes, phase_rayleigh, phase_aerosol,
                  total_down, spherical_albedo, background_albedo=0.0):
-    """Sky radiance seen from the ground: single scattering + isotropic rest (module notes).
+    """Sky radiance seen from the ground: single scattering + multiply scattered rest (module
+    notes).
 
     Parameters
     ----------
@@ -695,4 +791,18 @@ def sky_radiance(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down,
     rb = float(background_albedo) * np.asarray(spherical_albedo, dtype=float)
     env = (e_dir + e_dif) * rb / (1.0 - rb)
     ss = single_scattering_sky(np.minimum(z, 89.999), p, *args)
-    return ss * scale + (rest + env) / np.pi
+    # the multiply scattered rest, spread with its own angular shape
+    om = np.asarray(omega_aerosol, dtype=float)
+    scattering_a = om * np.asarray(tau_aerosol, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        share = np.where(tau_rayleigh + scattering_a > 0.0,
+                         scattering_a / (tau_rayleigh + scattering_a), 0.0)
+    g = aerosol_asymmetry(angle_nodes, np.asarray(phase_aerosol, dtype=float).reshape(
+        np.size(angle_nodes), -1)).reshape(e0.shape)
+    shape_args = (sun_zenith, np.broadcast_to(tau, e0.shape), np.broadcast_to(share, e0.shape),
+                  g)
+    norm = qw @ multiple_scattering_shape(qz, qp, *shape_args).reshape(qw.size, -1)
+    norm = norm.reshape(e0.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ms = np.where(norm > 0.0, rest / norm, 0.0)
+    return ss * scale + ms * multiple_scattering_shape(z, p, *shape_args) + env / np.pi
