@@ -24,7 +24,9 @@ name                        unit        default              meaning
 ``multiple_scattering``     -           true                 LOWTRAN's multiple scattering (IMULT)
 ``ground_temperature``      K           (none)               boundary temperature (TBOUND): only for the
                                                              ``boundary_radiance`` of :meth:`line_of_sight`
-``albedo``                  -           0                    surface albedo (SALB), used by multiple scattering
+``albedo``                  -           0                    surface albedo (SALB) of the path and sky runs
+                                                             (multiple scattering); a render with coupling
+                                                             refuses it (it takes the scene's albedo)
 ``ground_altitude``         m           0                    surface altitude (GNDALT, < 6000); no path may
                                                              go below it
 ``season``                  -           auto                 aerosol season: auto, spring_summer, fall_winter
@@ -86,6 +88,10 @@ How the queries map onto LOWTRAN (H1 is always the observer, as LOWTRAN wants it
 * ``sky``: ITYPE 3 from the surface towards (zenith, azimuth), IEMSCT 2 (1 at night),
   thermal plus scattered; relative azimuths are folded into [0, 180] deg (the sky is
   symmetric about the sun's vertical).
+* ``coupling``: each line of sight run down to the ground at SALB 0, ½ and 1, and for a
+  molecular atmosphere at 0 and 1, plus a nadir line of sight from 100 km and the sun's run:
+  the diffuse transmittance, its molecular share, the spherical albedo and the direct and
+  diffuse irradiance over black ground (:mod:`~radscene.atmosphere.lowtran.coupling`).
 * ``path_nodes``: up to ``max_path_nodes`` distinct geometries (altitudes rounded to 1 m,
   zenith to 0.01 deg) become one node each; beyond that a grid of ``path_zenith_nodes``
   view zeniths, uniform in air mass (1/|cos θ|, capped at 89 deg), times one or two observer
