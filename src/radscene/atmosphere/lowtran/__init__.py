@@ -4,7 +4,8 @@ LOWTRAN7 (Kneizys et al. 1988, AFGL-TR-88-0177) computes transmittance and radia
 thermal and solar, 0-50000 cm-1 at 20 cm-1 resolution. radscene drives it through TAPE5
 card decks (:mod:`.cards`), runs each case as its own process of an executable built by
 ``make lowtran`` (:mod:`.build`, :mod:`.runner`), reads the result (:mod:`.parser`) and
-answers the :class:`~radscene.atmosphere.base.Atmosphere` queries (:mod:`.engine`).
+answers the :class:`~radscene.atmosphere.base.Atmosphere` queries (:mod:`.engine`), the
+surface–atmosphere coupling among them (:mod:`.coupling`).
 
 Register with ``ENGINES["lowtran"] = LowtranAtmosphere``.
 """
