@@ -90,10 +90,10 @@ DEFAULT_CONFIG: dict = {
                  "subarctic_winter", "tropical", "none"],
     "aerosols": [
         {"model": "none"},
-        {"model": "rural", "aot550": [0.1, 0.25, 0.5, 1.0]},
-        {"model": "maritime", "aot550": [0.1, 0.25, 0.5, 1.0]},
-        {"model": "urban", "aot550": [0.1, 0.25, 0.5, 1.0]},
-        {"model": "desert", "aot550": [0.1, 0.25, 0.5, 1.0]},
+        {"model": "rural", "aot550": [0.1, 0.3, 1.0]},
+        {"model": "maritime", "aot550": [0.1, 0.3, 1.0]},
+        {"model": "urban", "aot550": [0.1, 0.3, 1.0]},
+        {"model": "desert", "aot550": [0.1, 0.3, 1.0]},
     ],
     "grid": {
         "surface_altitude": [0.0, 1500.0, 3000.0],
