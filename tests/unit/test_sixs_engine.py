@@ -123,8 +123,13 @@ def test_nodes_and_azimuths(no_runs):
                            np.array([5.0, 33.0, 61.0, 72.0]))
     assert nodes.index.shape == (4, 4)  # one observer altitude: no corners along it
     assert nodes.weight.sum(axis=1) == pytest.approx(np.ones(4), rel=1e-12)
-    mixed_zenith = (nodes.view_zenith[nodes.index] * nodes.weight).sum(axis=1)
-    assert mixed_zenith == pytest.approx([5.0, 33.0, 61.0, 72.0], rel=1e-12)
+    # the weights are linear in air mass (1 / cos of the view zenith)
+    mass = 1.0 / np.cos(np.radians(nodes.view_zenith))
+    mixed_mass = (mass[nodes.index] * nodes.weight).sum(axis=1)
+    assert mixed_mass == pytest.approx(1.0 / np.cos(np.radians([5.0, 33.0, 61.0, 72.0])),
+                                       rel=1e-12)
+    assert set(np.round(nodes.view_zenith, 9)) == {0.0, 10.0, 30.0, 40.0, 60.0, 65.0, 70.0,
+                                                   75.0}
 
 
 @needs_6s

@@ -20,6 +20,7 @@ from radscene.atmosphere.base import (
 )
 from radscene.atmosphere.database import DatabaseAtmosphere
 from radscene.atmosphere.lowtran import LowtranAtmosphere
+from radscene.atmosphere.nodes import air_mass, fold_relative_azimuth, relative_azimuth_axis
 from radscene.atmosphere.sixs import SixSAtmosphere
 from radscene.atmosphere.uniform import UniformAtmosphere, VacuumAtmosphere
 from radscene.errors import ConfigError
@@ -43,6 +44,9 @@ __all__ = [
     "zenith_hat_weights",
     "azimuth_hat_weights",
     "sky_node_weights",
+    "air_mass",
+    "fold_relative_azimuth",
+    "relative_azimuth_axis",
 ]
 
 #: Registered atmosphere engines by (lower-case) type name.

@@ -18,7 +18,10 @@ spectra over each band once per *node* and only interpolates between nodes per p
 therefore also tells the renderer its nodes:
 
 * ``path_nodes`` maps each pixel's line-of-sight geometry to a few node geometries and weights;
-  an engine whose path does not depend on geometry returns a single node;
+  an engine whose path does not depend on geometry returns a single node. An engine whose
+  scattered path radiance depends on the line of sight's azimuth relative to the sun (the
+  sun is up) adds a relative-azimuth axis (:mod:`radscene.atmosphere.nodes`) that only the
+  path radiance is mixed on: transmittances do not depend on it;
 * ``sky_zenith_nodes`` are the sky zenith angles [deg] at which the sky radiance is tabulated;
   between them the renderer interpolates linearly in zenith (a single node means an isotropic
   sky).
@@ -133,6 +136,16 @@ class PathNodes:
         Shape (n_pixels, k) int: the nodes each pixel mixes.
     weight : numpy.ndarray
         Shape (n_pixels, k): their weights, summing to 1 per pixel [-].
+    relative_azimuth : numpy.ndarray or None
+        The path radiance's second axis: azimuths of the line of sight (target → observer)
+        relative to the sun's, folded into [0, 180], shape (n_azimuth,) [deg]; the path
+        radiance of node ``j`` at azimuth node ``a`` is the engine's ``path`` at node ``j``'s
+        geometry with ``view_azimuth = sun_azimuth + relative_azimuth[a]``. None: the path
+        does not depend on the azimuth (or the engine's own ``view_azimuth`` stands).
+    azimuth_index, azimuth_weight : numpy.ndarray or None
+        Shape (n_pixels, 2) (or (n_pixels, 1)): the azimuth nodes each pixel mixes and their
+        weights, summing to 1 per pixel [-]; the pixel's path radiance is
+        Σ_a Σ_s azimuth_weight[a] · weight[s] · L[azimuth_index[a], index[s]].
     """
 
     observer_altitude: np.ndarray
@@ -140,11 +153,52 @@ class PathNodes:
     view_zenith: np.ndarray
     index: np.ndarray
     weight: np.ndarray
+    relative_azimuth: np.ndarray | None = None
+    azimuth_index: np.ndarray | None = None
+    azimuth_weight: np.ndarray | None = None
 
     @property
     def size(self) -> int:
-        """Number of nodes."""
+        """Number of nodes (of the geometry, without the azimuth axis)."""
         return int(np.size(self.view_zenith))
+
+    @property
+    def azimuth_size(self) -> int:
+        """Number of relative-azimuth nodes (1 without the axis)."""
+        return 1 if self.relative_azimuth is None else int(np.size(self.relative_azimuth))
+
+    def azimuth_mixing(self) -> tuple[np.ndarray, np.ndarray]:
+        """(index, weight) of each pixel on the azimuth nodes, shape (n_pixels, 1 or 2):
+        without the axis, every pixel on the one implicit node."""
+        if self.relative_azimuth is None:
+            n = len(self.index)
+            return np.zeros((n, 1), dtype=np.int64), np.ones((n, 1))
+        return self.azimuth_index, self.azimuth_weight
+
+    def subset(self, rows) -> PathNodes:
+        """The same nodes with the mixing rows of the pixels ``rows`` only."""
+        from dataclasses import replace
+
+        if self.relative_azimuth is None:
+            return replace(self, index=self.index[rows], weight=self.weight[rows])
+        return replace(self, index=self.index[rows], weight=self.weight[rows],
+                       azimuth_index=self.azimuth_index[rows],
+                       azimuth_weight=self.azimuth_weight[rows])
+
+    def with_azimuth(self, relative_azimuth, view_zenith) -> PathNodes:
+        """These nodes with a relative-azimuth axis covering the pixels' ``relative_azimuth``
+        [deg] (see :func:`radscene.atmosphere.nodes.relative_azimuth_axis`)."""
+        from dataclasses import replace
+
+        from radscene.atmosphere.nodes import relative_azimuth_axis
+
+        az = np.ravel(np.asarray(relative_azimuth, dtype=float))
+        if az.size != len(self.index):
+            raise ValueError(f"relative_azimuth: one per pixel ({len(self.index)}); got "
+                             f"{az.size}")
+        nodes, index, weight = relative_azimuth_axis(az, view_zenith)
+        return replace(self, relative_azimuth=nodes, azimuth_index=index,
+                       azimuth_weight=weight)
 
 
 @dataclass(frozen=True)
@@ -180,7 +234,8 @@ class Atmosphere(abc.ABC):
 
     # -- queries -------------------------------------------------------------------------
     @abc.abstractmethod
-    def path(self, observer_altitude, target_altitude, view_zenith, wavelength) -> PathSpectra:
+    def path(self, observer_altitude, target_altitude, view_zenith, wavelength,
+             view_azimuth=None) -> PathSpectra:
         """Line-of-sight spectra, broadcast over the geometry arrays.
 
         Parameters
@@ -191,6 +246,10 @@ class Atmosphere(abc.ABC):
             Zenith angle of the direction from target to observer [deg].
         wavelength : array_like
             Wavelengths, 1-D [um].
+        view_azimuth : float, optional
+            Azimuth of the direction from target to observer [deg, clockwise from north],
+            for this call; None: the engine's own (set with :meth:`with_sun`, or the
+            azimuthal mean). Engines whose path does not depend on it ignore it.
 
         Returns
         -------
@@ -266,20 +325,46 @@ class Atmosphere(abc.ABC):
         return self
 
     # -- nodes for the spectral-spatial separation ------------------------------------------
-    def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
+    @property
+    def azimuth_dependent(self) -> bool:
+        """Whether the path radiance depends on the line of sight's azimuth relative to the
+        sun (scattered sunlight: the engine scatters and its sun is up)."""
+        return False
+
+    def path_nodes(self, observer_altitude, target_altitude, view_zenith,
+                   relative_azimuth=None) -> PathNodes:
         """Nodes at which path spectra are evaluated, and each pixel's weights on them.
+
+        Parameters
+        ----------
+        observer_altitude, target_altitude : array_like
+            Altitudes of each pixel's observer and target [m], shape (N,).
+        view_zenith : array_like
+            Zenith of the direction from target to observer [deg], shape (N,).
+        relative_azimuth : array_like, optional
+            Azimuth of that direction minus the sun's [deg], shape (N,). Where given and
+            :attr:`azimuth_dependent`, the nodes get a relative-azimuth axis
+            (:meth:`PathNodes.with_azimuth`).
 
         The default, for engines whose path does not depend on geometry, is one node at the
         mean geometry.
         """
         n = np.size(view_zenith)
-        return PathNodes(
+        nodes = PathNodes(
             observer_altitude=np.atleast_1d(np.mean(observer_altitude) if n else 0.0),
             target_altitude=np.atleast_1d(np.mean(target_altitude) if n else 0.0),
             view_zenith=np.atleast_1d(np.mean(view_zenith) if n else 0.0),
             index=np.zeros((n, 1), dtype=np.int64),
             weight=np.ones((n, 1)),
         )
+        return self.azimuth_axis(nodes, view_zenith, relative_azimuth)
+
+    def azimuth_axis(self, nodes: PathNodes, view_zenith, relative_azimuth) -> PathNodes:
+        """``nodes`` with the relative-azimuth axis where it matters: the engine is
+        :attr:`azimuth_dependent` and the pixels' ``relative_azimuth`` [deg] is given."""
+        if relative_azimuth is None or not self.azimuth_dependent:
+            return nodes
+        return nodes.with_azimuth(relative_azimuth, view_zenith)
 
     def sky_zenith_nodes(self) -> np.ndarray:
         """Sky zenith angles [deg] at which the sky radiance is tabulated (one: isotropic)."""
@@ -320,6 +405,11 @@ class SunDependentAtmosphere(Atmosphere):
     sun_zenith: float | None = None
     sun_azimuth: float = 0.0
     view_azimuth: float | None = None
+
+    @property
+    def azimuth_dependent(self) -> bool:
+        """True while the sun is up: the scattered path radiance depends on the azimuth."""
+        return self.sun_zenith is not None and self.sun_zenith < 90.0
 
     def _set_geometry(self, surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
                       view_azimuth) -> None:

@@ -928,16 +928,21 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         return out
 
     # -- nodes ---------------------------------------------------------------------------------
-    def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
+    def path_nodes(self, observer_altitude, target_altitude, view_zenith,
+                   relative_azimuth=None) -> PathNodes:
         """A grid over the pixels' geometry that refines the table: view zenith every 5 deg
-        (2.5 beyond 70, the table's nodes included), surface altitude every 250 m, observer
+        (2.5 beyond 70, the table's nodes included; linear weights in air mass, 1/cos θ_v,
+        :mod:`radscene.atmosphere.nodes`), surface altitude every 250 m, observer
         altitude at its extremes; multilinear weights, up to 8 nodes per pixel (an axis the
-        pixels share one value of, such as one camera's altitude, adds none)."""
+        pixels share one value of, such as one camera's altitude, adds none); with the
+        pixels' ``relative_azimuth`` [deg] and the sun up, an axis of relative azimuth every
+        10 deg over their range for the path radiance (:mod:`radscene.atmosphere.nodes`)."""
         obs = np.asarray(observer_altitude, float).ravel()
         tgt = np.asarray(target_altitude, float).ravel()
         vz = np.asarray(view_zenith, float).ravel()
         if vz.size == 0:
-            return super().path_nodes(observer_altitude, target_altitude, view_zenith)
+            return super().path_nodes(observer_altitude, target_altitude, view_zenith,
+                                      relative_azimuth)
         upper, lower, zen = self._geometry(obs, tgt, vz)
         del upper, lower
         zen = np.minimum(zen, 89.0)
@@ -951,11 +956,15 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         o_axis = np.unique([obs.min(), obs.max()])
         # the view zenith of the downward form (observer below target: 180 - zenith)
         vz_down = np.where(obs >= tgt, vz, 180.0 - vz)
-        coords, index, weight = model.multilinear_nodes([obs, tgt, np.minimum(vz_down, 89.0)],
-                                                        [o_axis, t_axis, keep])
-        node_vz = np.where(coords[0] >= coords[1], coords[2], 180.0 - coords[2])
-        return PathNodes(observer_altitude=coords[0], target_altitude=coords[1],
-                         view_zenith=node_vz, index=index, weight=weight)
+        from radscene.atmosphere.nodes import air_mass, zenith_from_air_mass
+
+        coords, index, weight = model.multilinear_nodes(
+            [obs, tgt, air_mass(np.minimum(vz_down, 89.0))], [o_axis, t_axis, air_mass(keep)])
+        down = zenith_from_air_mass(coords[2])
+        node_vz = np.where(coords[0] >= coords[1], down, 180.0 - down)
+        nodes = PathNodes(observer_altitude=coords[0], target_altitude=coords[1],
+                          view_zenith=node_vz, index=index, weight=weight)
+        return self.azimuth_axis(nodes, vz, relative_azimuth)
 
     def sky_zenith_nodes(self) -> np.ndarray:
         return np.array([0.0, 15.0, 30.0, 45.0, 60.0, 70.0, 78.0, 84.0, 88.0])

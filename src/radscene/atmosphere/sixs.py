@@ -78,6 +78,7 @@ from radscene.atmosphere.base import (
     SunDependentAtmosphere,
     SunSpectra,
 )
+from radscene.atmosphere.nodes import air_mass, zenith_from_air_mass
 from radscene.atmosphere.sixs_runner import (
     AEROSOLS,
     DISCRETE_WAVELENGTHS,
@@ -576,21 +577,30 @@ class SixSAtmosphere(SunDependentAtmosphere):
             self.surface_albedo)
 
     # -- nodes -------------------------------------------------------------------------------
-    def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
-        """Nodes every 10 deg of view zenith (5 beyond 60), at the extreme altitudes."""
+    def path_nodes(self, observer_altitude, target_altitude, view_zenith,
+                   relative_azimuth=None) -> PathNodes:
+        """Nodes every 10 deg of view zenith (5 beyond 60; pixels mix them linearly in air
+        mass), at the extreme altitudes; with the pixels' ``relative_azimuth`` [deg] and the
+        sun up, every 10 deg of relative azimuth over their range
+        (:mod:`radscene.atmosphere.nodes`)."""
         obs = np.asarray(observer_altitude, float).ravel()
         tgt = np.asarray(target_altitude, float).ravel()
         vz = np.asarray(view_zenith, float).ravel()
         if vz.size == 0:
-            return super().path_nodes(observer_altitude, target_altitude, view_zenith)
+            return super().path_nodes(observer_altitude, target_altitude, view_zenith,
+                                      relative_azimuth)
         grid = np.unique(np.concatenate([np.arange(0.0, 60.0, 10.0), np.arange(60.0, 85.0, 5.0),
                                          [_MAX_VIEW_ZENITH]]))
         lo_v, hi_v = np.clip([vz.min(), vz.max()], 0.0, _MAX_VIEW_ZENITH)
         keep = grid[(grid >= grid[grid <= lo_v].max()) & (grid <= grid[grid >= hi_v].min())]
         axes = [np.unique([obs.min(), obs.max()]), np.unique([tgt.min(), tgt.max()]), keep]
-        coords, index, weight = model.multilinear_nodes([obs, tgt, vz], axes)
-        return PathNodes(observer_altitude=coords[0], target_altitude=coords[1],
-                         view_zenith=coords[2], index=index, weight=weight)
+        mass = air_mass(np.clip(vz, 0.0, _MAX_VIEW_ZENITH))
+        coords, index, weight = model.multilinear_nodes([obs, tgt, mass],
+                                                        axes[:2] + [air_mass(keep)])
+        nodes = PathNodes(observer_altitude=coords[0], target_altitude=coords[1],
+                          view_zenith=zenith_from_air_mass(coords[2]), index=index,
+                          weight=weight)
+        return self.azimuth_axis(nodes, vz, relative_azimuth)
 
     def sky_zenith_nodes(self) -> np.ndarray:
         return np.array([0.0, 20.0, 40.0, 55.0, 70.0, 80.0, 87.0])

@@ -109,7 +109,9 @@ class UniformAtmosphere(Atmosphere):
             self._sky_nodes = nodes
             self._sky_profile = profile
 
-    def path(self, observer_altitude, target_altitude, view_zenith, wavelength) -> PathSpectra:
+    def path(self, observer_altitude, target_altitude, view_zenith, wavelength,
+             view_azimuth=None) -> PathSpectra:
+        """The same spectra for every line of sight (``view_azimuth`` is not used)."""
         wl = self.check_wavelength(wavelength)
         shape = np.broadcast(
             np.asarray(observer_altitude), np.asarray(target_altitude), np.asarray(view_zenith)

@@ -103,7 +103,8 @@ are refused rather than silently moved; altitudes below the ground (``ground_alt
 the lowest level of a user profile) are refused too. LOWTRAN refracts slant paths with the
 refractivity at the run's mean wavenumber, so a slant path's spectra depend on the run's
 spectral window by up to ~5e-4 at 60 deg. The line of sight's azimuth is not part of
-``path``'s signature: give ``view_azimuth`` (or accept the azimuthal-mean default).
+``path``'s own argument or the engine's ``view_azimuth`` (or the azimuthal-mean default);
+the renderer gives each path node's (``path_nodes`` with ``relative_azimuth``).
 ``sun_zenith`` set to None means no sunlight in ``path``; ``sun`` and ``sky`` take the sun
 from their arguments.
 
@@ -409,7 +410,8 @@ class LowtranAtmosphere(Atmosphere):
             fields.update(im=1, levels=self.levels, title="radscene user profile")
         return fields
 
-    def _path_case(self, h_obs, h_tgt, view_zenith, window) -> tuple[LowtranCase, str]:
+    def _path_case(self, h_obs, h_tgt, view_zenith, window,
+                   view_azimuth=None) -> tuple[LowtranCase, str]:
         angle, central, _ = observer_geometry(h_obs, h_tgt, view_zenith,
                                               self._earth_radius_km() * 1e3)
         angle, central = float(angle), float(central)
@@ -421,8 +423,8 @@ class LowtranAtmosphere(Atmosphere):
         fields.update(itype=2, h1=round(h_obs / 1e3, 7), h2=round(h2, 7), angle=round(angle, 6))
         iemsct, sun_obs, rel = 1, None, None
         if self.sun_zenith is not None:
-            delta = 90.0 if self.view_azimuth is None else float(
-                _wrap180(self.sun_azimuth - self.view_azimuth))
+            va = self.view_azimuth if view_azimuth is None else view_azimuth
+            delta = 90.0 if va is None else float(_wrap180(self.sun_azimuth - va))
             sz, b, d = (math.radians(x) for x in (self.sun_zenith, central, delta))
             cos_sun = math.cos(sz) * math.cos(b) + math.sin(sz) * math.sin(b) * math.cos(d)
             sun_obs = math.degrees(math.acos(max(-1.0, min(1.0, cos_sun))))
@@ -496,8 +498,14 @@ class LowtranAtmosphere(Atmosphere):
         return np.interp(wavenumber, v, values)
 
     # -- Atmosphere interface ---------------------------------------------------------------
-    def path(self, observer_altitude, target_altitude, view_zenith, wavelength) -> PathSpectra:
+    def path(self, observer_altitude, target_altitude, view_zenith, wavelength,
+             view_azimuth=None) -> PathSpectra:
+        """Line-of-sight spectra (see :class:`~radscene.atmosphere.base.Atmosphere`);
+        ``view_azimuth`` [deg, target → observer] overrides the engine's for this call."""
         wl, window = self._window(wavelength)
+        if view_azimuth is not None:
+            view_azimuth = _number(view_azimuth, "view_azimuth", -360.0, 360.0,
+                                   unit="deg") % 360.0
         obs = self._check_altitude(observer_altitude, "observer_altitude")
         tgt = self._check_altitude(target_altitude, "target_altitude")
         vz = np.asarray(view_zenith, dtype=float)
@@ -527,7 +535,7 @@ class LowtranAtmosphere(Atmosphere):
                     f"no line of sight joins a target at {h_t:g} m to an observer {side} it at "
                     f"{h_o:g} m with view zenith {z:g} deg (observer above: zenith < 90; "
                     "below: > 90)", key="view_zenith")
-            case, name = self._path_case(h_o, h_t, z, window)
+            case, name = self._path_case(h_o, h_t, z, window, view_azimuth)
             cases.append(case)
             names.append(name)
             rows.append(idx)
@@ -632,9 +640,17 @@ class LowtranAtmosphere(Atmosphere):
     def sky_azimuth_nodes(self) -> np.ndarray:
         return self._sky_azimuth.copy()
 
-    def path_nodes(self, observer_altitude, target_altitude, view_zenith) -> PathNodes:
+    @property
+    def azimuth_dependent(self) -> bool:
+        """True while the sun is up: the scattered path radiance depends on the azimuth."""
+        return self.sun_zenith is not None and self.sun_zenith < 90.0
+
+    def path_nodes(self, observer_altitude, target_altitude, view_zenith,
+                   relative_azimuth=None) -> PathNodes:
         """Nodes of the pixels' lines of sight: :func:`~.geometry.path_node_grid` with
-        ``max_path_nodes`` and ``path_zenith_nodes`` (module docstring)."""
+        ``max_path_nodes`` and ``path_zenith_nodes`` (module docstring); with the pixels'
+        ``relative_azimuth`` [deg] and the sun up, a relative-azimuth axis for the path
+        radiance (:mod:`radscene.atmosphere.nodes`)."""
         obs, tgt, vz = np.broadcast_arrays(np.asarray(observer_altitude, dtype=float),
                                            np.asarray(target_altitude, dtype=float),
                                            np.asarray(view_zenith, dtype=float))
@@ -644,8 +660,9 @@ class LowtranAtmosphere(Atmosphere):
             if np.any(~np.isfinite(vz)) or vz.min() < 0 or vz.max() > 180:
                 raise ConfigError("view zenith angles must lie in [0, 180] deg",
                                   key="view_zenith")
-        return path_node_grid(obs, tgt, vz, zenith_nodes=self.path_zenith_nodes,
-                              max_distinct=self.max_path_nodes)
+        nodes = path_node_grid(obs, tgt, vz, zenith_nodes=self.path_zenith_nodes,
+                               max_distinct=self.max_path_nodes)
+        return self.azimuth_axis(nodes, vz.ravel(), relative_azimuth)
 
     # -- datasets ---------------------------------------------------------------------------
     def line_of_sight(self, observer_altitude, target_altitude, view_zenith, wavelength=None,

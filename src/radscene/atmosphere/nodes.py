@@ -1,0 +1,161 @@
+"""Axes of the path nodes: view zenith by air mass, and the relative azimuth.
+
+View zenith. Between path nodes the renderer interpolates linearly; a line of sight's
+transmittance and path radiance are nearly linear in its air mass m = 1/cos θ_v (exactly so
+for a thin layer), so the engines' view-zenith nodes are mixed linearly in m
+(:func:`air_mass`): between nodes 5 deg apart at 55–60 deg the path radiance's error is
+below 0.12 % where linear in θ_v it reaches 1.1 % (forward scattering, the shipped
+database, sun at 60 deg).
+
+Relative azimuth.
+
+Light scattered into a line of sight depends on the scattering angle Θ between the sun's beam
+and the line of sight, and for a horizontally uniform (plane-parallel) atmosphere on nothing
+else of the azimuths than their difference:
+
+.. math::
+
+    \\cos\\Theta = -\\cos\\theta_s \\cos\\theta_v - \\sin\\theta_s \\sin\\theta_v \\cos\\phi,
+    \\qquad \\phi = \\varphi_v - \\varphi_s,
+
+with θ_s, θ_v the sun and view zeniths and φ_v the azimuth of the direction from the target
+to the observer (φ = 0: the observer on the sun's side, the backscattering "hot" side). The
+path radiance is therefore even in φ; radscene folds every relative azimuth into [0, 180] deg
+(that is the wrap-around: 350 deg is 10 deg) and interpolates linearly between nodes
+:data:`AZIMUTH_STEP` apart that cover the pixels' range, :data:`GRAZING_AZIMUTH_STEP` apart
+where some line of sight is more than :data:`GRAZING_ZENITH` from the vertical: towards the
+horizon the scattering angle sweeps faster with φ and the path radiance's azimuthal
+structure sharpens. Measured against the shipped database (sun at 60 deg, rural aerosol,
+23 km; tests/system/test_per_ray_geometry.py), the rendered path radiance is within 0.3 % of
+the engine's at the pixel's exact geometry up to 60 deg view zenith with 10 deg nodes, and
+within 0.6 % up to 76 deg with 5 deg nodes (10 deg nodes: 1.9 % at 71 deg, where the profile
+in φ bends at a node of the tabulated phase function).
+
+Lines of sight within :data:`VERTICAL_ZENITH` of the vertical have no azimuth that matters
+(the dependence goes as sin θ_v); they take the nearest node of the others.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["AZIMUTH_STEP", "GRAZING_AZIMUTH_STEP", "GRAZING_ZENITH", "VERTICAL_ZENITH",
+           "air_mass", "zenith_from_air_mass",
+           "fold_relative_azimuth", "relative_azimuth_axis"]
+
+#: Spacing of the relative-azimuth nodes [deg].
+AZIMUTH_STEP = 10.0
+#: Their spacing where a line of sight is more than :data:`GRAZING_ZENITH` from the vertical
+#: [deg].
+GRAZING_AZIMUTH_STEP = 5.0
+#: View zenith (or nadir) angle beyond which the finer azimuth step applies [deg].
+GRAZING_ZENITH = 60.0
+#: Lines of sight closer than this to the vertical do not widen the azimuth axis [deg].
+VERTICAL_ZENITH = 0.5
+
+
+def air_mass(view_zenith) -> np.ndarray:
+    """Plane-parallel air mass 1/cos θ_v of view zeniths [deg] in [0, 90) [-].
+
+    Examples
+    --------
+    >>> air_mass([0.0, 60.0]).round(12).tolist()
+    [1.0, 2.0]
+    """
+    return 1.0 / np.cos(np.radians(np.asarray(view_zenith, dtype=float)))
+
+
+def zenith_from_air_mass(mass) -> np.ndarray:
+    """The view zenith [deg] of a plane-parallel air mass >= 1 (inverse of :func:`air_mass`)."""
+    return np.degrees(np.arccos(np.clip(1.0 / np.asarray(mass, dtype=float), -1.0, 1.0)))
+
+
+def fold_relative_azimuth(view_azimuth, sun_azimuth) -> np.ndarray:
+    """The line of sight's azimuth relative to the sun's, folded into [0, 180] deg.
+
+    Parameters
+    ----------
+    view_azimuth : array_like
+        Azimuth of the direction from the target to the observer [deg, clockwise from north].
+    sun_azimuth : array_like
+        Azimuth of the sun [deg], broadcast with ``view_azimuth``.
+
+    Returns
+    -------
+    numpy.ndarray
+        :math:`|\\varphi_v - \\varphi_s|` wrapped to [0, 180] [deg]; 0 puts the observer on
+        the sun's side.
+
+    Examples
+    --------
+    >>> fold_relative_azimuth([350.0, 10.0, 170.0, 200.0], 0.0).tolist()
+    [10.0, 10.0, 170.0, 160.0]
+    """
+    d = (np.asarray(view_azimuth, dtype=float) - np.asarray(sun_azimuth, dtype=float)) % 360.0
+    return np.minimum(d, 360.0 - d)
+
+
+def relative_azimuth_axis(relative_azimuth, view_zenith, step: float | None = None):
+    """Relative-azimuth nodes that cover the lines of sight, and each one's linear weights.
+
+    Parameters
+    ----------
+    relative_azimuth : array_like
+        Relative azimuth of each line of sight [deg], any value (folded here), shape (N,).
+    view_zenith : array_like
+        View zenith of each [deg], shape (N,): lines of sight within
+        :data:`VERTICAL_ZENITH` of the vertical (looking up or down) leave the range alone.
+    step : float, optional
+        Node spacing [deg], > 0; nodes sit at multiples of it (and at 180). Default
+        :data:`AZIMUTH_STEP`, or :data:`GRAZING_AZIMUTH_STEP` where a line of sight is more
+        than :data:`GRAZING_ZENITH` from the vertical (looking down or up).
+
+    Returns
+    -------
+    nodes : numpy.ndarray
+        The used nodes, increasing, in [0, 180] [deg], shape (n,).
+    index : numpy.ndarray
+        Shape (N, 2) int into ``nodes``: the two nodes each line of sight mixes (one column
+        where there is a single node).
+    weight : numpy.ndarray
+        Shape (N, 2) (or (N, 1)), rows summing to 1 [-].
+
+    Examples
+    --------
+    >>> nodes, index, weight = relative_azimuth_axis([22.0, 44.0, 338.0], [30.0, 30.0, 30.0])
+    >>> nodes.tolist(), index.tolist(), weight.round(3).tolist()
+    ([20.0, 30.0, 40.0, 50.0], [[0, 1], [2, 3], [0, 1]], [[0.8, 0.2], [0.6, 0.4], [0.8, 0.2]])
+    """
+    phi = fold_relative_azimuth(np.ravel(relative_azimuth), 0.0)
+    vz = np.ravel(np.asarray(view_zenith, dtype=float))
+    if vz.shape != phi.shape:
+        raise ValueError(f"view_zenith: one per line of sight ({phi.size}); got {vz.size}")
+    if step is None:
+        off_vertical = np.minimum(vz, 180.0 - vz)
+        grazing = off_vertical.size and np.nanmax(off_vertical) > GRAZING_ZENITH
+        step = GRAZING_AZIMUTH_STEP if grazing else AZIMUTH_STEP
+    if not step > 0:
+        raise ValueError(f"step must be > 0 deg; got {step!r}")
+    n = phi.size
+    if n == 0:
+        return np.zeros(1), np.zeros((0, 1), dtype=np.int64), np.ones((0, 1))
+    slanted = (vz > VERTICAL_ZENITH) & (vz < 180.0 - VERTICAL_ZENITH)
+    if np.any(slanted):
+        lo, hi = phi[slanted].min(), phi[slanted].max()
+        phi = np.clip(phi, lo, hi)  # the vertical ones take the nearest end of the range
+    else:
+        phi = np.full(n, phi.mean())
+    grid = np.unique(np.concatenate([np.arange(0.0, 180.0, step), [180.0]]))
+    if phi.min() == phi.max():  # one geometry: one node, exactly there
+        return np.array([phi[0]]), np.zeros((n, 1), dtype=np.int64), np.ones((n, 1))
+    i = np.clip(np.searchsorted(grid, phi, side="right") - 1, 0, grid.size - 2)
+    frac = (phi - grid[i]) / (grid[i + 1] - grid[i])
+    # a line of sight on a node uses that node only: no node of weight 0 everywhere
+    lower = np.where(frac < 1.0, i, i + 1)
+    upper = np.where(frac > 0.0, i + 1, lower)
+    used = np.unique(np.concatenate([lower, upper]))
+    lookup = np.full(grid.size, -1, dtype=np.int64)
+    lookup[used] = np.arange(used.size)
+    index = np.stack([lookup[lower], lookup[upper]], axis=1)
+    weight = np.stack([1.0 - frac, frac], axis=1)
+    return grid[used], index, weight
