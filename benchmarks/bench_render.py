@@ -701,7 +701,7 @@ def band_inputs(scene) -> dict:
     from types import SimpleNamespace
 
     from radscene.atmosphere import PathNodes
-    from radscene.render import integrator
+    from radscene.render import integrator, sun_geometry
     from radscene.render.spectral import emission_coefficients
 
     if getattr(scene.atmosphere, "geometry_dependent", True):
@@ -712,9 +712,12 @@ def band_inputs(scene) -> dict:
     z = float(np.mean(obj.mesh.vertices[:, 2]))
     nodes = PathNodes(np.array([alt + 8000.0]), np.array([alt + z]), np.array([0.0]),
                       np.zeros((1, 1), dtype=np.int64), np.ones((1, 1)))
-    tables = SimpleNamespace(sun=integrator.sun_geometry(scene))
+    tables = SimpleNamespace(sun=sun_geometry(scene))
     bands = [scene.band(b["name"]) for b in BANDS]
-    setup = integrator._BandSetup(scene, tables, bands, nodes, scene.atmosphere)
+    try:  # one sun node, its atmosphere (radscene after the per-ray sun)
+        setup = integrator._BandSetup(scene, bands, nodes, [(tables.sun, scene.atmosphere)])
+    except TypeError:
+        setup = integrator._BandSetup(scene, tables, bands, nodes, scene.atmosphere)
     c = setup.coefficients
     n_m = len(scene.materials)
     temperature = np.full(n_m, np.nan)
@@ -740,7 +743,9 @@ def band_inputs(scene) -> dict:
     else:  # a zenith profile only (radscene before the azimuth grid)
         zenith_nodes = np.asarray(setup.zenith_nodes, dtype=float)
     return {"sun": c.sun_diffuse[:, :, 0], "sky": sky,
-            "emission": emission, "path": c.path[:, 0], "zenith_nodes": zenith_nodes,
+            "emission": emission,
+            "path": c.path[0, :, 0] if c.path.ndim == 3 else c.path[:, 0],  # azimuth node 0
+            "zenith_nodes": zenith_nodes,
             "used": used, "sun_direction": tables.sun.direction}
 
 
@@ -1068,7 +1073,7 @@ def _mean(ds, name):
 
 def run(args) -> dict:
     import radscene
-    from radscene.render.integrator import sun_geometry
+    from radscene.render import sun_geometry
 
     terrain_size = args.terrain_size or (TERRAIN_SIZE * args.size / 1024 if args.quick
                                          else TERRAIN_SIZE)

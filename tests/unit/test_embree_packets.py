@@ -101,3 +101,30 @@ def test_render_shadows_from_packets_equal_the_checked_queries(tracer):
         if trace:  # the boxes cast shadows on the plate
             shaded = 1.0 - got[0].mean()
     assert 0.02 < shaded < 0.9 and shaded > 1.0 - got[0].mean()
+
+
+def test_render_shadows_with_a_sun_per_hit(tracer):
+    """A scanner's hits each see the sun of their own time: the packet pass and the checked
+    query agree hit by hit, and one sun given per hit equals that sun given once."""
+    from types import SimpleNamespace
+
+    from radscene.render.integrator import _shadows
+
+    rng = np.random.default_rng(5)
+    n = 3001
+    down = np.tile([0.0, 0.0, -1.0], (n, 1)) + rng.normal(scale=0.2, size=(n, 3))
+    down /= np.linalg.norm(down, axis=1, keepdims=True)
+    origins = np.column_stack([rng.uniform(-45, 45, (n, 2)), np.full(n, 60.0)])
+    hits = tracer.intersect(origins, down)
+    hits.position[:40] += [0.0, 0.0, 100.0]  # some to the checked query
+    n_hit = int(hits.hit.sum())
+    sun = np.array([0.5, -0.3, 0.81]) + rng.normal(scale=0.15, size=(n_hit, 3))
+    sun /= np.linalg.norm(sun, axis=1, keepdims=True)
+    single = RayTracer(tracer.meshes, packets=False)
+    tables = [SimpleNamespace(tracer=t, epsilon=1e-3) for t in (tracer, single)]
+    got = [_shadows(tb, hits, hits.hit, down, sun, True) for tb in tables]
+    np.testing.assert_array_equal(got[0], got[1])
+    assert 0.0 < got[0].mean() < 1.0
+    one = np.repeat(sun[:1], n_hit, axis=0)
+    np.testing.assert_array_equal(_shadows(tables[0], hits, hits.hit, down, one, True),
+                                  _shadows(tables[0], hits, hits.hit, down, sun[0], True))

@@ -138,3 +138,46 @@ def test_mix_terms_takes_presummed_sky_sums(mixing):
     with pytest.raises(ValueError, match="sky_sums must have shape"):
         mix_terms(got, tau, pixel, pixel_weight, rank, material, pair, index, weight,
                   sky_fractions=None, sky_sums=sums[:, :-1], **kw)
+
+
+def test_mix_terms_mixes_the_path_radiance_over_its_azimuth_nodes(mixing):
+    """The path radiance's table has a row per relative-azimuth node; each hit mixes two rows
+    with its azimuth weights, then the path nodes as every term does; the other terms and
+    the transmittance do not depend on the azimuth."""
+    from radscene.render.node_mixing import mix_terms
+
+    row, index, weight, fractions, rng, (n_rows, n_nodes, n_b, n_k) = mixing
+    n_hits, n_a = len(row), 5
+    rank = rng.permutation(n_hits)[:90]
+    n = len(rank)
+    t = {"sun_diffuse": rng.random((n_rows, n_nodes, n_b)),
+         "sun_specular": rng.random((n_rows, n_nodes, n_b)),
+         "emission": rng.random((3, n_nodes, n_b)),
+         "sky_diffuse": rng.random((n_rows, n_nodes, n_b, n_k)),
+         "sky_specular": rng.random((n_rows, n_nodes, n_b, n_k)),
+         "path": rng.random((n_a, n_nodes, n_b)), "transmittance": rng.random((1, n_nodes, n_b))}
+    path_index = rng.integers(0, n_a, (n_hits, 2))
+    path_weight = rng.random((n_hits, 2))
+    path_weight[rng.random(n_hits) < 0.2, 1] = 0.0  # on a node
+    path_weight /= path_weight.sum(axis=1, keepdims=True)
+    kw = dict(cos_incidence=rng.uniform(-0.5, 1.0, n), lit=np.ones(n),
+              reflectance=rng.uniform(0.5, 1.5, n), emissivity=np.ones(n), lobe=rng.random(n),
+              specular=rng.random(n) < 0.5, sky_fractions=fractions[row[rank]],
+              lobe_fractions=rng.random((n, n_k)))
+    pair = rng.integers(0, 3, n_hits)
+    pixel, pixel_weight = np.arange(n), rng.uniform(0.5, 1.0, n)
+    got, tau = np.zeros((5, n_b, n)), np.zeros((n_b, n))
+    mix_terms(got, tau, pixel, pixel_weight, rank, row[rank], pair, index, weight,
+              path_index=path_index, path_weight=path_weight, **kw, **t)
+    idx, wgt = index[rank], weight[rank]
+    expected = sum(path_weight[rank, a, None] * mix_rows(t["path"], path_index[rank, a], idx, wgt)
+                   for a in range(2))
+    assert got[4].T == pytest.approx(expected * pixel_weight[:, None], rel=1e-12)
+    # the rest as without an azimuth axis (row 0 of a one-row path table)
+    want = np.zeros_like(got)
+    mix_terms(want, np.zeros_like(tau), pixel, pixel_weight, rank, row[rank], pair, index,
+              weight, **kw, **{**t, "path": t["path"][:1]})
+    assert got[:4] == pytest.approx(want[:4], rel=1e-12)
+    with pytest.raises(ValueError, match="path_index and path_weight"):
+        mix_terms(got, tau, pixel, pixel_weight, rank, row[rank], pair, index, weight,
+                  path_index=path_index[:, :1], path_weight=path_weight, **kw, **t)

@@ -1,12 +1,7 @@
 """Rendering: signature terms, illumination queries and the image integrator."""
 
-from radscene.render.integrator import (
-    COUPLING_TERMS,
-    TERMS,
-    SunGeometry,
-    render,
-    render_all,
-    sun_geometry,
-)
+from radscene.render.integrator import COUPLING_TERMS, TERMS, render, render_all
+from radscene.render.sun_track import SunGeometry, SunTrack, sun_geometry, sun_track
 
-__all__ = ["TERMS", "COUPLING_TERMS", "SunGeometry", "render", "render_all", "sun_geometry"]
+__all__ = ["TERMS", "COUPLING_TERMS", "SunGeometry", "SunTrack", "render", "render_all",
+           "sun_geometry", "sun_track"]

@@ -62,20 +62,25 @@ def cast_shadow(tracer, origins, sun_direction) -> np.ndarray:
     ----------
     tracer : radscene.geometry.RayTracer
     origins : (N, 3) [m]
-    sun_direction : (3,) unit vector towards the sun
+    sun_direction : (3,) or (N, 3) unit vector towards the sun, one for all origins or one
+        each (a scanner's rays see the sun of their own times)
     """
     if len(origins) == 0:
         return np.zeros(0)
-    sun = np.asarray(sun_direction, dtype=float).reshape(1, 3)
+    sun = np.asarray(sun_direction, dtype=float).reshape(-1, 3)
+    if len(sun) not in (1, len(origins)):
+        raise ValueError(f"sun_direction: one vector or one per origin ({len(origins)}); "
+                         f"got {len(sun)}")
     length = np.linalg.norm(sun, axis=1)
     local = tracer.to_local(origins)
-    if local is None or not (np.all(np.isfinite(sun)) and length[0] > 0.0):
+    if local is None or not (np.all(np.isfinite(sun)) and np.all(length > 0.0)):
         # points outside the scene's box, or bad input: the checked, clipped query
         dirs = np.broadcast_to(sun, np.shape(origins))
         return 1.0 - tracer.occluded(origins, dirs).astype(float)
     # the fast path: the origins lie in the box, so the clipped query would trace them as
     # they are; the direction is normalised as the checked query does
-    dirs = np.repeat((sun / length[:, None]).astype(np.float32), len(local), axis=0)
+    unit = (sun / length[:, None]).astype(np.float32)
+    dirs = np.repeat(unit, len(local), axis=0) if len(unit) == 1 else unit
     return 1.0 - tracer.occluded_local(local, dirs).astype(float)
 
 

@@ -13,18 +13,19 @@ import datetime as _dt
 import time as _time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import fields
 from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
 
-from radscene.atmosphere import SkyGeometry, sky_node_weights
+from radscene.atmosphere import CouplingSpectra, SkyGeometry, sky_node_weights
+from radscene.atmosphere.nodes import fold_relative_azimuth
 from radscene.render import illumination, node_mixing, terms
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
+from radscene.render.sun_track import combine_nodes, sun_geometry, sun_track
 
-__all__ = ["render", "render_all", "SunGeometry", "sun_geometry", "TERMS", "COUPLING_TERMS",
-           "TILE_SAMPLES"]
+__all__ = ["render", "render_all", "TERMS", "COUPLING_TERMS", "TILE_SAMPLES"]
 
 #: Output layer names of the signature terms, in the order they are summed.
 TERMS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance")
@@ -52,33 +53,6 @@ TRUTH_SUMS = ("cos_incidence", "shadow", "sky_view", "temperature", "range", "hi
 TILE_SAMPLES = 1 << 17
 #: Bands whose response centre is at or beyond this wavelength get a brightness temperature [um].
 THERMAL_BAND_START = 2.5
-
-
-@dataclass(frozen=True)
-class SunGeometry:
-    """Where the sun is for a render: angles [deg], Earth–Sun distance [AU], unit vector to it."""
-
-    zenith: float
-    azimuth: float
-    distance: float
-
-    @property
-    def direction(self) -> np.ndarray:
-        from radscene.geometry.frames import direction_from_angles
-
-        return direction_from_angles(self.zenith, self.azimuth)
-
-
-def sun_geometry(scene) -> SunGeometry:
-    """The sun of a scene: the hand-placed one, or the ephemeris at its place and time."""
-    if scene.sun is not None:
-        return SunGeometry(scene.sun.zenith, scene.sun.azimuth, scene.sun.distance)
-    from radscene.sun import sun_position
-
-    pos = sun_position(
-        scene.time, scene.location.latitude, scene.location.longitude, scene.location.altitude
-    )
-    return SunGeometry(float(pos.zenith), float(pos.azimuth), float(pos.distance))
 
 
 class _SceneTables:
@@ -118,73 +92,104 @@ def _breakpoints(scene) -> np.ndarray:
 
 
 class _BandSetup:
-    """Quadrature and coefficient tables for the bands of one render."""
+    """Quadrature and coefficient tables for the bands of one render.
 
-    def __init__(self, scene, tables: _SceneTables, bands, path_nodes, atm):
+    ``suns`` pairs each sun node with the atmosphere set up for it (one pair for a frame);
+    the tables' node axis runs over sun node × path node, ``s · n_j + j``, and the path
+    radiance's also over the relative-azimuth nodes of ``path_nodes``. The sky table's grid
+    and the sky that rays leaving the scene see are those of the reference sun node.
+    """
+
+    def __init__(self, scene, bands, path_nodes, suns, reference=0):
         from radscene.sun import toa_solar_irradiance
 
-        sun = tables.sun
+        atm_ref = suns[reference][1]
         breakpoints = _breakpoints(scene)
-        zen_nodes = np.asarray(atm.sky_zenith_nodes(), dtype=float)
-        az_nodes = np.asarray(atm.sky_azimuth_nodes(), dtype=float)
+        zen_nodes = np.asarray(atm_ref.sky_zenith_nodes(), dtype=float)
+        az_nodes = np.asarray(atm_ref.sky_azimuth_nodes(), dtype=float)
         sky_zenith, sky_azimuth = (g.ravel() for g in np.meshgrid(zen_nodes, az_nodes,
                                                                   indexing="ij"))
-        sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
         target_alt = float(np.mean(path_nodes.target_altitude))
-        n_m, n_b, n_j, n_k = len(scene.materials), len(bands), path_nodes.size, sky_zenith.size
-        shape = (n_m, n_b, n_j)
+        n_j, n_a, n_s = path_nodes.size, path_nodes.azimuth_size, len(suns)
+        n_m, n_b, n_k = len(scene.materials), len(bands), sky_zenith.size
+        shape = (n_m, n_b, n_s * n_j)
         c = BandCoefficients(
             sun_diffuse=np.zeros(shape), sun_specular=np.zeros(shape),
             sky_diffuse=np.zeros(shape + (n_k,)), sky_specular=np.zeros(shape + (n_k,)),
-            path=np.zeros((n_b, n_j)), transmittance=np.zeros((n_b, n_j)),
+            path=np.zeros((n_a, n_b, n_s * n_j)), transmittance=np.zeros((n_b, n_s * n_j)),
             sky_view=np.zeros((n_b, n_k)),
         )
         self.quadrature = []
         self.emissivity_tau = []
-        taus = []  # the direct transmittance at the path nodes, per band
-        couplings = []  # the engine's coupling spectra at the path nodes, per band
-        self.sky_scale = []  # per band: the node table's factors (see _sky_scale)
-        hemisphere = _hemisphere_weights(zen_nodes, az_nodes) if atm.couples else None
+        taus = []  # the direct transmittance at the nodes, per band
+        couplings = []  # the engine's coupling spectra at the nodes, per band
+        self.sky_scale = []  # per band and sun node: the node table's factors (_sky_scale)
+        hemisphere = _hemisphere_weights(zen_nodes, az_nodes) if atm_ref.couples else None
         for b, band in enumerate(bands):
             nodes, weights = band_quadrature(band.response, breakpoints)
-            atm.check_wavelength(nodes, key=f"bands[{band.name}]")
+            atm_ref.check_wavelength(nodes, key=f"bands[{band.name}]")
             self.quadrature.append((nodes, weights))
-            if sun.zenith < 90.0:
-                toa = toa_solar_irradiance(nodes, sun.distance)
-                e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance  # (q,)
-            else:
-                e_sun = np.zeros_like(nodes)
-            path = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
-                            path_nodes.view_zenith, nodes)  # (j, q)
-            tau = path.transmittance
-            sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k·l, q)
-            if atm.couples:
-                cp = atm.coupling(path_nodes.observer_altitude, path_nodes.target_altitude,
-                                  path_nodes.view_zenith, nodes)
-                couplings.append(cp)
-                self.sky_scale.append(_sky_scale(atm, sky, hemisphere, cp))
-                sky = sky * self.sky_scale[-1]
             comps = [m.components(nodes) for m in scene.materials]
             rho_d = np.array([cc["diffuse_reflectance"] for cc in comps])  # (m, q)
             rho_s = np.array([cc["specular_reflectance"] for cc in comps])
             eps = np.array([cc["emissivity"] for cc in comps])
-            wt = weights * e_sun
-            c.sun_diffuse[:, b, :] = np.einsum("q,mq,jq->mj", wt, rho_d / np.pi, tau)
-            c.sun_specular[:, b, :] = np.einsum("q,mq,jq->mj", wt, rho_s, tau)
-            c.sky_diffuse[:, b, :, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_d, sky, tau)
-            c.sky_specular[:, b, :, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_s, sky, tau)
-            c.path[b] = path.radiance @ weights
-            c.transmittance[b] = tau @ weights / weights.sum()
-            c.sky_view[b] = sky @ weights
+            scales, parts = [], []
+            for s, (sun, atm) in enumerate(suns):
+                block = slice(s * n_j, (s + 1) * n_j)
+                if sun.zenith < 90.0:
+                    toa = toa_solar_irradiance(nodes, sun.distance)
+                    e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance  # (q,)
+                else:
+                    e_sun = np.zeros_like(nodes)
+                tau, radiance = _path_spectra(atm, path_nodes, sun, nodes)  # (j, q), (a, j, q)
+                sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
+                sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k·l, q)
+                if atm_ref.couples:
+                    cp = atm.coupling(path_nodes.observer_altitude,
+                                      path_nodes.target_altitude, path_nodes.view_zenith, nodes)
+                    parts.append(cp)
+                    scales.append(_sky_scale(atm, sky, hemisphere, cp))
+                    sky = sky * scales[-1]
+                wt = weights * e_sun
+                c.sun_diffuse[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_d / np.pi, tau)
+                c.sun_specular[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_s, tau)
+                c.sky_diffuse[:, b, block, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_d, sky,
+                                                          tau)
+                c.sky_specular[:, b, block, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_s,
+                                                           sky, tau)
+                c.path[:, b, block] = radiance @ weights
+                c.transmittance[b, block] = tau @ weights / weights.sum()
+                if s == reference:
+                    c.sky_view[b] = sky @ weights
+            tau = np.tile(tau, (n_s, 1))  # the same line of sight under every sun node
             self.emissivity_tau.append(eps[:, None, :] * tau[None, :, :])
             taus.append(tau)
+            self.sky_scale.append(scales)
+            if parts:
+                couplings.append(CouplingSpectra(*(np.concatenate(
+                    [getattr(p, f.name) for p in parts]) for f in fields(CouplingSpectra))))
         self.coefficients = c
-        self.coupling = (_CouplingTables(self.quadrature, taus, couplings, path_nodes)
-                         if atm.couples and scene.settings.coupling else None)
+        self.coupling = (_CouplingTables(self.quadrature, taus, couplings, n_s * n_j)
+                         if atm_ref.couples and scene.settings.coupling else None)
         self.sky_nodes = (zen_nodes, az_nodes)
-        self.brdf = _BrdfTables(scene, bands, self.quadrature, path_nodes, atm, sun, target_alt,
-                                sky_zenith, sky_azimuth, sky_geom, self.sky_scale
+        self.brdf = _BrdfTables(scene, bands, self.quadrature, path_nodes, suns, target_alt,
+                                sky_zenith, sky_azimuth, self.sky_scale
                                 ) if scene.brdfs else None
+
+
+def _path_spectra(atm, path_nodes, sun, wavelength):
+    """Direct transmittance (n_j, q) and path radiance (n_a, n_j, q) at the path nodes, the
+    latter at each relative-azimuth node, ``view_azimuth`` = the sun's + the node's."""
+    args = (path_nodes.observer_altitude, path_nodes.target_altitude, path_nodes.view_zenith,
+            wavelength)
+    if path_nodes.relative_azimuth is None:
+        path = atm.path(*args)
+        return path.transmittance, path.radiance[None]
+    radiance = []
+    for phi in path_nodes.relative_azimuth:
+        path = atm.path(*args, view_azimuth=(sun.azimuth + float(phi)) % 360.0)
+        radiance.append(path.radiance)
+    return path.transmittance, np.stack(radiance)
 
 
 def _hemisphere_weights(zen_nodes, az_nodes) -> np.ndarray:
@@ -225,8 +230,8 @@ class _CouplingTables:
     [W m-2].
     """
 
-    def __init__(self, quadrature, taus, couplings, path_nodes):
-        n_b, n_j = len(quadrature), path_nodes.size
+    def __init__(self, quadrature, taus, couplings, n_nodes):
+        n_b, n_j = len(quadrature), n_nodes
         self.tau, self.t_d = np.zeros((n_b, n_j)), np.zeros((n_b, n_j))
         self.s, self.share = np.zeros(n_b), np.zeros(n_b)
         self.e0, self.e_dif = np.zeros(n_b), np.zeros(n_b)
@@ -270,35 +275,44 @@ class _BrdfTables:
     angles, and interpolated linearly between them.
     """
 
-    def __init__(self, scene, bands, quadrature, path_nodes, atm, sun, target_alt, sky_zenith,
-                 sky_azimuth, sky_geom, sky_scale=()):
+    def __init__(self, scene, bands, quadrature, path_nodes, suns, target_alt, sky_zenith,
+                 sky_azimuth, sky_scale=()):
         from radscene.sun import toa_solar_irradiance
 
         mu = VIEW_COSINES
         wi = np.stack([np.sqrt(1.0 - mu**2), np.zeros_like(mu), mu], axis=-1)
-        n_b, n_j = len(bands), path_nodes.size
+        n_b, n_j, n_s = len(bands), path_nodes.size, len(suns)
         self.models = dict(scene.brdfs)
         self.centre = np.array([float(b.response.center) for b in bands])
-        self.sun = np.zeros((n_b, n_j))
+        self.sun = np.zeros((n_b, n_s * n_j))
         self.emissivity_tau = {m: [] for m in self.models}
-        self.sky = {m: np.zeros((mu.size, n_b, n_j, np.size(sky_zenith))) for m in self.models}
+        self.sky = {m: np.zeros((mu.size, n_b, n_s * n_j, np.size(sky_zenith)))
+                    for m in self.models}
         for b, (nodes, weights) in enumerate(quadrature):
-            tau = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
-                           path_nodes.view_zenith, nodes).transmittance  # (j, q)
-            if sun.zenith < 90.0:
-                e_sun = atm.sun(target_alt, sun.zenith, nodes,
-                                toa_solar_irradiance(nodes, sun.distance)).irradiance
-                self.sun[b] = tau @ (weights * e_sun)
-            sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q)
-            if sky_scale:
-                sky = sky * sky_scale[b]
             coarse = np.linspace(nodes.min(), nodes.max(), BRDF_WAVELENGTHS)
-            for m, model in self.models.items():
-                # the hemispherical integrals are costly: evaluate them on a coarse grid
-                eps = _interp_rows(coarse, model.emissivity(wi[:, None, :], coarse[None, :]), nodes)
-                rho = _interp_rows(coarse, model.albedo(wi[:, None, :], coarse[None, :]), nodes)
-                self.emissivity_tau[m].append(eps[:, None, :] * tau[None, :, :])
-                self.sky[m][:, b] = np.einsum("q,vq,kq,jq->vjk", weights, rho, sky, tau)
+            # the hemispherical integrals are costly: evaluate them on a coarse grid
+            eps = {m: _interp_rows(coarse, model.emissivity(wi[:, None, :], coarse[None, :]),
+                                   nodes) for m, model in self.models.items()}
+            rho = {m: _interp_rows(coarse, model.albedo(wi[:, None, :], coarse[None, :]), nodes)
+                   for m, model in self.models.items()}
+            for s, (sun, atm) in enumerate(suns):
+                block = slice(s * n_j, (s + 1) * n_j)
+                tau = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
+                               path_nodes.view_zenith, nodes).transmittance  # (j, q)
+                if sun.zenith < 90.0:
+                    e_sun = atm.sun(target_alt, sun.zenith, nodes,
+                                    toa_solar_irradiance(nodes, sun.distance)).irradiance
+                    self.sun[b, block] = tau @ (weights * e_sun)
+                sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
+                sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q)
+                if sky_scale and sky_scale[b]:
+                    sky = sky * sky_scale[b][s]
+                for m in self.models:
+                    self.sky[m][:, b, block] = np.einsum("q,vq,kq,jq->vjk", weights, rho[m],
+                                                         sky, tau)
+            tau = np.tile(tau, (n_s, 1))  # the same line of sight under every sun node
+            for m in self.models:
+                self.emissivity_tau[m].append(eps[m][:, None, :] * tau[None, :, :])
 
 
 def _interp_rows(x, rows, new_x):
@@ -322,7 +336,7 @@ def _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f, n
         sel = mat == m
         if not np.any(sel):
             continue
-        sub = _subset_nodes(nodes, np.flatnonzero(sel))
+        sub = nodes.subset(np.flatnonzero(sel))
         f = model.kernel(cos_i[sel, None], cos_v[sel, None], cos_g[sel, None],
                          tables.centre[None, :])  # (n, b)
         geometry = np.maximum(cos_i[sel], 0.0) * lit[sel] * tex["reflectance"][sel]
@@ -383,29 +397,36 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     tables = _tables or scene_tables(scene)
     bands = [scene.band(name) for name in setup.bands]
     sun = tables.sun
-    sun_dir = sun.direction
     settings = scene.settings
     rays = setup.camera.rays(supersample=setup.supersample)
     started = _time.perf_counter()
+    # the sun at each ray's time (scanners), or the scene's
+    track = sun_track(scene, rays.time, getattr(setup.camera, "epoch", None))
 
     # first pass: primary hits, for the path nodes of the whole image
     hits = tables.tracer.intersect(rays.origins, rays.directions)
     hit = hits.hit
+    hit_time = rays.time[hit] if track.moving else None
+    sun_dir = track.direction(hit_time)  # per hit, or one row for all
     # The shadow rays of every hit are traced on a worker thread while this one prepares the
     # tables; the shadow, sky and lobe rays of the later tiles go to the same thread.
     worker = ThreadPoolExecutor(max_workers=1)
     try:
         shadows = worker.submit(_shadows, tables, hits, hit, rays.directions, sun_dir,
-                                settings.shadows)
-        return _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits,
-                            hit, shadows, worker, started, progress)
+                                settings.shadows, track.up)
+        return _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
+                            settings, rays, hits, hit, shadows, worker, started, progress)
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
 
 
-def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits, hit, shadows,
-                 worker, started, progress) -> xr.Dataset:
-    """:func:`render` after the primary rays: the path nodes, the band tables and the tiles."""
+def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, settings, rays,
+                 hits, hit, shadows, worker, started, progress) -> xr.Dataset:
+    """:func:`render` after the primary rays: the path nodes, the band tables and the tiles.
+
+    ``sun`` is the scene's sun (the Dataset's attributes), ``track`` the sun at the rays'
+    times, ``sun_dir`` the unit vector towards the sun of each hit (one row: of every hit).
+    """
     from radscene.radiometry import band_brightness_temperature
 
     ny, nx = rays.shape
@@ -414,10 +435,19 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
     alt0 = scene.location.altitude
     obs_alt = rays.origins[hit, 2] + alt0
     tgt_alt = hits.position[hit, 2] + alt0
-    view_zenith = np.degrees(np.arccos(np.clip(-rays.directions[hit, 2], -1.0, 1.0)))
-    atm = _configured_atmosphere(scene, sun, rays.directions, hit)
-    path_nodes_all = atm.path_nodes(obs_alt, tgt_alt, view_zenith)
-    bset = _BandSetup(scene, tables, bands, path_nodes_all, atm)
+    to_observer = -rays.directions[hit]
+    view_zenith = np.degrees(np.arccos(np.clip(to_observer[:, 2], -1.0, 1.0)))
+    view_azimuth = np.degrees(np.arctan2(to_observer[:, 0], to_observer[:, 1])) % 360.0
+    relative_azimuth = fold_relative_azimuth(view_azimuth, track.angles(hit_time)[1])
+    mean_azimuth = _mean_view_azimuth(rays.directions, hit)
+    suns = [(s, _configured_atmosphere(scene, s, mean_azimuth)) for s in track.nodes]
+    atm = suns[track.reference][1]
+    path_nodes = atm.path_nodes(obs_alt, tgt_alt, view_zenith,
+                                relative_azimuth=relative_azimuth)
+    # each hit's mixing: path node × sun node (the sun nodes around the hit's time)
+    path_nodes_all = combine_nodes(path_nodes, *track.node_weights(hit_time))
+    path_index, path_weight = path_nodes_all.azimuth_mixing()
+    bset = _BandSetup(scene, bands, path_nodes, suns, track.reference)
     coef = bset.coefficients
     sky_nodes = bset.sky_nodes
 
@@ -461,7 +491,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
         shifts = (rng.random((len(state.mat), 2)),
                   rng.random((n_specular, 2)) if n_specular else None)
         return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
-                                    sun_dir, shifts, scratch, fused_sky, shadows)
+                                    shifts, scratch, fused_sky, shadows)
 
     sky_diffuse = np.ascontiguousarray(coef.sky_diffuse.transpose(0, 2, 1, 3), dtype=float)
     # one sample per pixel and no BRDF model: the terms go straight into the outputs
@@ -479,7 +509,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
         "sun_specular": coef.sun_specular.transpose(0, 2, 1),
         "emission": np.stack(emission_tables, axis=-1),
         "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
-        "path": coef.path.T[None], "transmittance": coef.transmittance.T[None]}
+        "path": coef.path.transpose(0, 2, 1), "transmittance": coef.transmittance.T[None]}
     mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
     mix_tables["sky_diffuse"] = sky_diffuse
     # with one sample per pixel a tile's pixels are final once its terms are written: their
@@ -507,7 +537,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
         if i + ahead < len(tiles):
             pending[i + ahead] = launch(tiles[i + ahead])
         if geolocation is None:  # while the first tiles' rays are traced
-            geolocation = _geolocation(scene, hits, rays, labelled, sun)
+            geolocation = _geolocation(scene, hits, rays, labelled, track)
             pixel_coords = _pixel_coordinates(setup, rays.shape)
         current = pending.pop(i)
         pix = rays.pixel[sl]
@@ -535,7 +565,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
         tex = _textures(scene, obj, pos)
         n_hits = len(hidx)
         if np.any(st.specular):
-            mirror_sun = 2.0 * cos_i[:, None] * nrm - sun_dir[None, :]
+            mirror_sun = 2.0 * cos_i[:, None] * nrm - st.sun
             cos_r = np.einsum("nc,nc->n", mirror_sun, wo)
             lobe = terms.phong_geometry(cos_r, tables.exponent[mat], cos_i, cos_v)
         else:  # every specular coefficient of these materials is zero
@@ -558,11 +588,12 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
             path_nodes_all.weight, cos_incidence=cos_i, lit=lit,
             reflectance=tex["reflectance"], emissivity=tex["emissivity"], lobe=lobe,
             specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f,
-            sky_sums=sky_sums, **mix_tables)
+            sky_sums=sky_sums, path_index=path_index, path_weight=path_weight, **mix_tables)
         if bset.brdf is not None:
             values = {name: out[t].T for t, name in enumerate(TERMS)}
-            _brdf_terms(bset, values, mat, temp, cos_i, cos_v, wo @ sun_dir, lit, tex,
-                        sky_f, _subset_nodes(path_nodes_all, rank))
+            cos_g = np.einsum("nc,nc->n", wo, np.broadcast_to(st.sun, wo.shape))
+            _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f,
+                        path_nodes_all.subset(rank))
         truth_rows = (cos_i, 1.0 - lit, sky_view, temp, hits.distance[hidx], None)
         if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
             at = _as_slice(p)  # a tile of whole rows: plain slices
@@ -604,7 +635,7 @@ def _render_rest(scene, setup, tables, bands, sun, sun_dir, settings, rays, hits
                   object_id, material_id, normal_map, sun, elapsed, pool=worker,
                   brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
-        geolocation = _geolocation(scene, hits, rays, labelled, sun)
+        geolocation = _geolocation(scene, hits, rays, labelled, track)
     return ds.assign(geolocation)
 
 
@@ -679,17 +710,21 @@ def _report(progress, done, total):
         progress(done, total)
 
 
-def _configured_atmosphere(scene, sun, directions, hit):
-    """The scene's atmosphere set up for the sun and the mean azimuth of the lines of sight
-    (from the hits, ``hit``, back along the rays' ``directions``)."""
+def _mean_view_azimuth(directions, hit):
+    """The mean azimuth [deg] of the lines of sight from the hits, ``hit``, back along the
+    rays' ``directions``; None without hits."""
+    if not np.any(hit):
+        return None
+    pick = slice(None) if hit.all() else hit
+    east = -directions[pick, 0].mean()
+    north = -directions[pick, 1].mean()
+    return float(np.degrees(np.arctan2(east, north)) % 360)
+
+
+def _configured_atmosphere(scene, sun, azimuth):
+    """The scene's atmosphere set up for a sun and a view azimuth [deg] (the lines of sight's
+    mean: the engine's default where a query takes none)."""
     day = scene.time.timetuple().tm_yday if scene.time is not None else None
-    if np.any(hit):
-        pick = slice(None) if hit.all() else hit
-        east = -directions[pick, 0].mean()
-        north = -directions[pick, 1].mean()
-        azimuth = np.degrees(np.arctan2(east, north)) % 360
-    else:
-        azimuth = None
     return scene.atmosphere.with_sun(sun.zenith, sun.azimuth, day_of_year=day,
                                      view_azimuth=azimuth, earth_sun_distance=sun.distance)
 
@@ -719,13 +754,6 @@ def _central_subsample(rays) -> np.ndarray:
     return rays.subsample == centre
 
 
-def _subset_nodes(nodes, rank):
-    from radscene.atmosphere import PathNodes
-
-    return PathNodes(nodes.observer_altitude, nodes.target_altitude, nodes.view_zenith,
-                     nodes.index[rank], nodes.weight[rank])
-
-
 def _emission_pairs(bset, material, temperature):
     """∫ S ε B(T) τ_a,j dλ once per (material, temperature) pair among the hits of a render.
 
@@ -742,7 +770,11 @@ def _emission_pairs(bset, material, temperature):
 
 
 def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_temperature):
-    """The state at the hits of one tile of samples, or None where the tile has none."""
+    """The state at the hits of one tile of samples, or None where the tile has none.
+
+    ``sun_dir`` is the unit vector towards the sun of every hit (in hit order), or one row
+    for all; the state's ``sun`` is that of the tile's hits (or the one row).
+    """
     from radscene.render import kernels
 
     h = hit[sl]
@@ -750,23 +782,27 @@ def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_t
         return None
     hidx = np.nonzero(h)[0] + sl.start
     rank = hit_rank[hidx]
+    sun = sun_dir if len(sun_dir) == 1 else sun_dir[rank]
     nrm, wo, cos_v, cos_i, origin = kernels.surface_state(
-        hits.normal, rays.directions, hits.position, hidx, tables.epsilon, sun_dir)
+        hits.normal, rays.directions, hits.position, hidx, tables.epsilon, sun)
     return SimpleNamespace(
         hidx=hidx, rank=rank, obj=hits.object[hidx], mat=hit_material[rank],
         temp=hit_temperature[rank], pos=hits.position[hidx], nrm=nrm, wo=wo, cos_v=cos_v,
-        cos_i=cos_i, origin=origin)
+        cos_i=cos_i, origin=origin, sun=sun)
 
 
-def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
+def _shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.ndarray:
     """1.0 for each hit (in hit order) where the sun is above its face (the normal turned to
-    face the viewer) and, with ``trace``, seen from it; else 0.0."""
+    face the viewer) and, with ``trace``, seen from it; else 0.0. ``sun_dir`` is the unit
+    vector towards the sun of each hit, or one row for all; ``sun_up`` False: it is below
+    the horizon for every hit."""
     from radscene.render import kernels
 
     sel = slice(None) if hit.all() else hit
     pos, nrm, view = hits.position[sel], hits.normal[sel], directions[sel]
+    sun_dir = np.reshape(sun_dir, (-1, 3))
     lit = np.zeros(len(pos))
-    if tables.sun.zenith >= 90.0 or len(pos) == 0:
+    if not sun_up or len(pos) == 0:
         return lit
     tracer = tables.tracer
     todo = slice(None)  # the hits left to the checked query below: all of them, or
@@ -780,19 +816,20 @@ def _shadows(tables, hits, hit, directions, sun_dir, trace) -> np.ndarray:
             return lit
         todo = np.flatnonzero(lit < 0.0)  # those whose origin lies outside the scene's box
     pos, nrm, view = pos[todo], nrm[todo], view[todo]
+    sun = np.broadcast_to(sun_dir if len(sun_dir) == 1 else sun_dir[todo], pos.shape)
     nrm = np.where((np.einsum("nc,nc->n", nrm, view) > 0.0)[:, None], -nrm, nrm)
-    facing = nrm @ sun_dir > 0.0
+    facing = np.einsum("nc,nc->n", nrm, sun) > 0.0
     out = np.zeros(len(pos))
     if trace:
         out[facing] = illumination.cast_shadow(tracer, pos[facing] + tables.epsilon
-                                               * nrm[facing], sun_dir)
+                                               * nrm[facing], sun[facing])
     else:
         out[facing] = 1.0
     lit[todo] = out
     return lit
 
 
-def _secondary_rays(tables, st, settings, sky_nodes, sun_dir, shifts, scratch, sky, shadows):
+def _secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadows):
     """Lit flags, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
 
     ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
@@ -960,9 +997,9 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     return ds
 
 
-def _geolocation(scene, hits, rays, labelled, sun) -> dict:
+def _geolocation(scene, hits, rays, labelled, track) -> dict:
     """Per-pixel geodetic position and view/sun angles of the surface each pixel sees, from
-    the ``labelled`` hits (one per pixel)."""
+    the ``labelled`` hits (one per pixel); the sun is ``track``'s at each one's time."""
     from radscene.platform.geolocation import LocalFrame
 
     ny, nx = rays.shape
@@ -972,6 +1009,11 @@ def _geolocation(scene, hits, rays, labelled, sun) -> dict:
     lat, lon, height, vz, va = frame.pixel_geolocation(
         hits.position[pick], rays.directions[pick], rays.pixel[pick], ny * nx).reshape(5, ny, nx)
     hit = np.isfinite(lat)
+    sun_zenith, sun_azimuth = np.full((2, ny * nx), np.nan)
+    zen, azi = track.angles(rays.time[pick] if track.moving else None)
+    sun_zenith[rays.pixel[pick]], sun_azimuth[rays.pixel[pick]] = zen, azi
+    sun_zenith = np.where(hit, sun_zenith.reshape(ny, nx), np.nan)
+    sun_azimuth = np.where(hit, sun_azimuth.reshape(ny, nx), np.nan)
     deg = {"units": "degree"}
     return {
         "latitude": (("y", "x"), lat, {"units": "degrees_north", "standard_name": "latitude",
@@ -983,11 +1025,12 @@ def _geolocation(scene, hits, rays, labelled, sun) -> dict:
                                          "the surface to the sensor (scene frame)"}),
         "view_azimuth": (("y", "x"), va, {**deg, "long_name": "azimuth of that direction, "
                                           "clockwise from north (scene frame)"}),
-        "sun_zenith": (("y", "x"), np.where(hit, sun.zenith, np.nan),
-                       {**deg, "long_name": "solar zenith angle (scene origin; the parallax "
-                        "across a scene is negligible)"}),
-        "sun_azimuth": (("y", "x"), np.where(hit, sun.azimuth, np.nan),
-                        {**deg, "long_name": "solar azimuth, clockwise from north"}),
+        "sun_zenith": (("y", "x"), sun_zenith,
+                       {**deg, "long_name": "solar zenith angle at the pixel's acquisition "
+                        "time (scene origin; the parallax across a scene is negligible)"}),
+        "sun_azimuth": (("y", "x"), sun_azimuth,
+                        {**deg, "long_name": "solar azimuth, clockwise from north, at the "
+                         "pixel's acquisition time"}),
     }
 
 

@@ -387,6 +387,7 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
                     trace, lit, counts):
     """:func:`packet_shadows`; ``counts[c]`` gets work item c's (rays traced, rays left)."""
     n = position.shape[0]
+    per_hit = 1 if sun.shape[0] > 1 else 0
     for c in numba.prange((n + _SHADOW_CHUNK - 1) // _SHADOW_CHUNK):
         traced = 0
         outside = 0
@@ -402,7 +403,9 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
                 if nx * view[i, 0] + ny * view[i, 1] + nz * view[i, 2] > 0.0:  # face the viewer
                     nx, ny, nz = -nx, -ny, -nz
                 lit[i] = 0.0
-                if nx * sun[0] + ny * sun[1] + nz * sun[2] <= 0.0:
+                r = i * per_hit  # each hit's sun, or one for all
+                sx, sy, sz = sun[r, 0], sun[r, 1], sun[r, 2]
+                if nx * sx + ny * sy + nz * sz <= 0.0:
                     continue
                 lit[i] = 1.0
                 if not trace:
@@ -416,7 +419,7 @@ def _packet_shadows(occluded8, scene, position, normal, view, center, half, epsi
                     continue
                 valid[lane] = -1
                 set_lane(ray, words, lane, np.float32(ox), np.float32(oy), np.float32(oz),
-                         np.float32(sun[0]), np.float32(sun[1]), np.float32(sun[2]))
+                         np.float32(sx), np.float32(sy), np.float32(sz))
                 lanes += 1
             if lanes == 0:
                 continue
@@ -433,12 +436,13 @@ def packet_shadows(packets, position, normal, view, center, half, epsilon, sun, 
     """Sunlit (1) or not (0) for each hit, into ``lit`` (N,): the normal is turned to face
     the viewer (``view``, the primary ray's direction, points away from it), a face turned
     from the sun is not lit, and with ``trace`` a shadow ray towards ``sun`` (unit, world
-    frame) leaves ``position + epsilon · normal``, as Embree packets of eight neighbouring
+    frame; (N, 3), one per hit, or (1, 3) or (3,), one for all) leaves
+    ``position + epsilon · normal``, as Embree packets of eight neighbouring
     hits. Where that origin lies outside the tracer's box (``center`` ± ``half``), ``lit`` is
     -1: such rays are left to the caller. Returns (rays traced, rays left)."""
     counts = np.zeros(((len(position) + _SHADOW_CHUNK - 1) // _SHADOW_CHUNK, 2), np.int64)
     _packet_shadows(packets.occluded8, packets.handle, position, normal, view, center, half,
-                    epsilon, np.asarray(sun, dtype=np.float64), bool(trace), lit, counts)
+                    epsilon, _sun_rows(sun, len(position)), bool(trace), lit, counts)
     traced, outside = counts.sum(axis=0)
     return int(traced), int(outside)
 
@@ -481,6 +485,7 @@ def empty_fan(n_rays: int, scratch: dict | None = None):
 @numba.njit(parallel=True, cache=True)
 def _surface_state(normal, direction, position, index, epsilon, sun, nrm, wo, cos_v, cos_i,
                    origin):
+    per_hit = 1 if sun.shape[0] > 1 else 0
     for n in numba.prange(index.shape[0]):
         i = index[n]
         nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
@@ -490,10 +495,19 @@ def _surface_state(normal, direction, position, index, epsilon, sun, nrm, wo, co
         nrm[n, 0], nrm[n, 1], nrm[n, 2] = nx, ny, nz
         wo[n, 0], wo[n, 1], wo[n, 2] = -dx, -dy, -dz
         cos_v[n] = nx * -dx + ny * -dy + nz * -dz
-        cos_i[n] = nx * sun[0] + ny * sun[1] + nz * sun[2]
+        r = n * per_hit  # each hit's sun, or one for all
+        cos_i[n] = nx * sun[r, 0] + ny * sun[r, 1] + nz * sun[r, 2]
         origin[n, 0] = position[i, 0] + epsilon * nx
         origin[n, 1] = position[i, 1] + epsilon * ny
         origin[n, 2] = position[i, 2] + epsilon * nz
+
+
+def _sun_rows(sun, n) -> np.ndarray:
+    """``sun`` as a contiguous (1, 3) or (n, 3) float64 array, or ValueError."""
+    rows = np.ascontiguousarray(np.reshape(sun, (-1, 3)), dtype=np.float64)
+    if len(rows) not in (1, n):
+        raise ValueError(f"sun: one vector or one per point ({n}); got {len(rows)}")
+    return rows
 
 
 def surface_state(normal, direction, position, index, epsilon, sun):
@@ -505,7 +519,8 @@ def surface_state(normal, direction, position, index, epsilon, sun):
         travel and hit point
     index : (n,) int — the rays whose hits are wanted
     epsilon : float — offset of secondary-ray origins along the normal [m]
-    sun : (3,) float64 — unit vector towards the sun
+    sun : (3,), (1, 3) or (n, 3) float64 — unit vector towards the sun, one for all hits or
+        one per hit of ``index`` (a scanner's rays see the sun of their own times)
 
     Returns
     -------
@@ -517,6 +532,5 @@ def surface_state(normal, direction, position, index, epsilon, sun):
     nrm, wo, origin = np.empty((n, 3)), np.empty((n, 3)), np.empty((n, 3))
     cos_v, cos_i = np.empty(n), np.empty(n)
     _surface_state(normal, direction, position, np.ascontiguousarray(index, dtype=np.int64),
-                   float(epsilon), np.ascontiguousarray(sun, dtype=np.float64), nrm, wo, cos_v,
-                   cos_i, origin)
+                   float(epsilon), _sun_rows(sun, n), nrm, wo, cos_v, cos_i, origin)
     return nrm, wo, cos_v, cos_i, origin

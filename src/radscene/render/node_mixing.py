@@ -76,7 +76,7 @@ _TERM_CHUNK = 256
 @numba.njit(parallel=True, cache=True)
 def _mix_terms(rank, material, pair, index, weight, cos_i, lit, tex_r, tex_e, lobe, specular,
                sky_f, lobe_f, sun_d, sun_s, emission, sky_d, sky_s, path, tau, pixel,
-               pixel_weight, presummed, sky_sums, out, tau_out):
+               pixel_weight, presummed, sky_sums, path_index, path_weight, out, tau_out):
     n = rank.shape[0]
     for c in numba.prange((n + _TERM_CHUNK - 1) // _TERM_CHUNK):
         lo, hi = c * _TERM_CHUNK, min(n, (c + 1) * _TERM_CHUNK)
@@ -104,7 +104,12 @@ def _mix_terms(rank, material, pair, index, weight, cos_i, lit, tex_r, tex_e, lo
                 out[2, b, p] = (_row_sample(emission, pair[h], index, weight, h, b) * tex_e[i]
                                 * pw)
                 out[3, b, p] = sky * tex_r[i] * pw
-                out[4, b, p] = _row_sample(path, 0, index, weight, h, b) * pw
+                radiance = 0.0  # the path radiance: its azimuth nodes' rows, mixed
+                for a in range(path_index.shape[1]):
+                    wa = path_weight[h, a]
+                    if wa != 0.0:
+                        radiance += wa * _row_sample(path, path_index[h, a], index, weight, h, b)
+                out[4, b, p] = radiance * pw
                 tau_out[b, p] = _row_sample(tau, 0, index, weight, h, b) * pw
 
 
@@ -166,7 +171,7 @@ def _i64(a):
 def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair, index, weight,
               *, cos_incidence, lit, reflectance, emissivity, lobe, specular, sky_fractions,
               lobe_fractions, sun_diffuse, sun_specular, emission, sky_diffuse, sky_specular, path,
-              transmittance, sky_sums=None) -> None:
+              transmittance, sky_sums=None, path_index=None, path_weight=None) -> None:
     """The signature terms of a tile of hits, written straight into ``out``.
 
     For hit ``i`` of the tile, ``out[t, b, pixel[i]] = term_t[b] * pixel_weight[i]``, ``t``
@@ -180,7 +185,8 @@ def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair,
     * thermal_emission: mix(emission[pair]) · Δε
     * sky_reflected: (mix_sky(sky_diffuse[m], F) + mix_sky(sky_specular[m], G) where
       ``specular``) · Δρ
-    * path_radiance: mix(path); the transmittance: mix(transmittance)
+    * path_radiance: Σ_a u_a mix(path[a]), over the hit's relative-azimuth nodes ``a`` of
+      weights ``u_a`` (``path_index``, ``path_weight``); the transmittance: mix(transmittance)
 
     Parameters
     ----------
@@ -199,9 +205,13 @@ def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair,
         ``specular``; F not at all where ``sky_sums`` is given)
     sun_diffuse, sun_specular : (n_m, n_j, n_b); emission : (n_pairs, n_j, n_b)
     sky_diffuse, sky_specular : (n_m, n_j, n_b, n_k)
-    path, transmittance : (1, n_j, n_b)
+    path : (n_a, n_j, n_b) — per relative-azimuth node (one: no azimuth axis)
+    transmittance : (1, n_j, n_b)
     sky_sums : (N, n_b) float, optional — mix_sky(sky_diffuse[m], F) already summed, as
         :func:`radscene.render.illumination.sky_sums` returns it
+    path_index, path_weight : (H, A), optional — each hit's azimuth nodes (rows of ``path``)
+        and their weights (:meth:`radscene.atmosphere.PathNodes.azimuth_mixing`); default:
+        row 0 with weight 1
     """
     for name, a, shape in (("out", out, (len(TERM_SLOTS),) + transmittance_out.shape),
                            ("transmittance_out", transmittance_out, out.shape[1:])):
@@ -219,9 +229,15 @@ def mix_terms(out, transmittance_out, pixel, pixel_weight, rank, material, pair,
         sky_fractions = np.zeros((0, np.shape(sky_diffuse)[-1]))
     else:
         sky_sums = np.zeros((0, transmittance_out.shape[0]))
+    if path_index is None:
+        path_index, path_weight = np.zeros((len(pair), 1)), np.ones((len(pair), 1))
+    if np.shape(path_index) != np.shape(path_weight) or len(path_index) != len(pair):
+        raise ValueError(f"path_index and path_weight must both have shape ({len(pair)}, A); "
+                         f"got {np.shape(path_index)} and {np.shape(path_weight)}")
     _mix_terms(_i64(rank), _i64(material), _i64(pair), _i64(index), _f64(weight),
                _f64(cos_incidence), _f64(lit), _f64(reflectance), _f64(emissivity), _f64(lobe),
                np.ascontiguousarray(specular, dtype=np.bool_), _f64(sky_fractions),
                _f64(lobe_fractions), _f64(sun_diffuse), _f64(sun_specular), _f64(emission),
                _f64(sky_diffuse), _f64(sky_specular), _f64(path), _f64(transmittance), _i64(pixel),
-               _f64(pixel_weight), presummed, sky_sums, out, transmittance_out)
+               _f64(pixel_weight), presummed, sky_sums, _i64(path_index), _f64(path_weight),
+               out, transmittance_out)
