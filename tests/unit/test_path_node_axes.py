@@ -12,8 +12,8 @@ from radscene.atmosphere import (
     relative_azimuth_axis,
 )
 from radscene.atmosphere.nodes import (
-    AZIMUTH_STEP,
-    GRAZING_AZIMUTH_STEP,
+    AZIMUTH_STEPS,
+    azimuth_step,
     zenith_from_air_mass,
 )
 
@@ -47,7 +47,7 @@ def test_azimuth_axis_weights_reproduce_the_folded_azimuth():
     assert np.all(weight >= 0.0)
     mixed = (nodes[index] * weight).sum(axis=1)
     assert mixed == pytest.approx(fold_relative_azimuth(phi, 0.0), abs=1e-9)
-    assert np.all(np.diff(nodes) == AZIMUTH_STEP)  # multiples of the step, none unused
+    assert np.all(np.diff(nodes) == 10.0)  # multiples of the step, none unused
     assert np.all(np.isin(np.arange(nodes.size), index[weight > 0.0]))
 
 
@@ -56,7 +56,10 @@ def test_azimuth_axis_wraps_around_north_and_refines_towards_the_horizon():
     nodes, index, weight = relative_azimuth_axis([355.0, 7.0], [40.0, 40.0])
     assert nodes.tolist() == [0.0, 10.0]
     np.testing.assert_allclose(weight, [[0.5, 0.5], [0.3, 0.7]], rtol=EXACT)
-    assert AZIMUTH_STEP == 10.0 and GRAZING_AZIMUTH_STEP == 5.0
+    assert AZIMUTH_STEPS == ((10.0, 30.0), (60.0, 10.0), (90.0, 5.0))
+    assert azimuth_step(np.array([])) == 30.0
+    nodes, _, _ = relative_azimuth_axis([22.0, 38.0], [5.0, 10.0])  # near the vertical
+    assert nodes.tolist() == [0.0, 30.0, 60.0]
     nodes, _, _ = relative_azimuth_axis([22.0, 38.0], [40.0, 60.0])
     assert nodes.tolist() == [20.0, 30.0, 40.0]
     nodes, _, _ = relative_azimuth_axis([22.0, 38.0], [40.0, 70.0])

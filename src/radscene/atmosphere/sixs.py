@@ -579,17 +579,18 @@ class SixSAtmosphere(SunDependentAtmosphere):
     # -- nodes -------------------------------------------------------------------------------
     def path_nodes(self, observer_altitude, target_altitude, view_zenith,
                    relative_azimuth=None) -> PathNodes:
-        """Nodes every 10 deg of view zenith (5 beyond 60; pixels mix them linearly in air
+        """Nodes every 5 deg of view zenith (2.5 beyond 70; pixels mix them linearly in air
         mass), at the extreme altitudes; with the pixels' ``relative_azimuth`` [deg] and the
-        sun up, every 10 deg of relative azimuth over their range
-        (:mod:`radscene.atmosphere.nodes`)."""
+        sun up, every 10 deg (5 beyond 60 deg view zenith) of relative azimuth over their
+        range (:mod:`radscene.atmosphere.nodes`). With 10 deg of view zenith between nodes
+        the path radiance at 44 deg, looking into forward scattering, was 1.2 % off."""
         obs = np.asarray(observer_altitude, float).ravel()
         tgt = np.asarray(target_altitude, float).ravel()
         vz = np.asarray(view_zenith, float).ravel()
         if vz.size == 0:
             return super().path_nodes(observer_altitude, target_altitude, view_zenith,
                                       relative_azimuth)
-        grid = np.unique(np.concatenate([np.arange(0.0, 60.0, 10.0), np.arange(60.0, 85.0, 5.0),
+        grid = np.unique(np.concatenate([np.arange(0.0, 70.0, 5.0), np.arange(70.0, 89.0, 2.5),
                                          [_MAX_VIEW_ZENITH]]))
         lo_v, hi_v = np.clip([vz.min(), vz.max()], 0.0, _MAX_VIEW_ZENITH)
         keep = grid[(grid >= grid[grid <= lo_v].max()) & (grid <= grid[grid >= hi_v].min())]
