@@ -91,3 +91,16 @@ def test_combine_nodes_multiplies_sun_and_path_weights():
                                                   [0.9, 0.0, 0.1, 0.0]]), rel=1e-12)
     one = combine_nodes(path, *SunTrack.fixed(SunGeometry(30.0, 0.0, 1.0)).node_weights())
     assert one is path
+
+
+def test_a_short_scan_has_one_sun_node_but_each_ray_its_sun():
+    times = np.linspace(0.0, 1.5, 300)  # a satellite's image: the sun moves 0.006 deg
+    track = sun_track(_scene(), times)
+    assert track.moving and len(track.nodes) == 1
+    assert track.node_time[0] == pytest.approx(0.75, rel=1e-12)
+    pos = _ephemeris(times[[0, -1]])
+    zenith, _ = track.angles(times[[0, -1]])
+    assert zenith == pytest.approx(pos.zenith, abs=1e-6)
+    assert abs(zenith[0] - zenith[1]) > 1e-3
+    index, weight = track.node_weights(times)
+    assert index.shape == (300, 1) and np.all(weight == 1.0)

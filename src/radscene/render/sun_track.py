@@ -12,7 +12,8 @@ line or orbital pass the sun moves — a quarter of a degree a minute — so the
 * **spectra, per sun node** — the sun's transmittance and irradiance, the sky radiance and the
   path radiance are evaluated at a few *sun nodes*, times spaced so that the sun moves at most
   :data:`SUN_NODE_STEP` between two, and each ray mixes the two nodes around its time with
-  linear weights in time. The renderer folds this axis into the path nodes' (the band tables
+  linear weights in time; a scan during which the sun moves less than 0.01 deg (a satellite's
+  image of a few seconds) has one, at its middle time. The renderer folds this axis into the path nodes' (the band tables
   are built once per sun node and path node: :func:`combine_nodes`).
 
 The sun's position is the one seen from the scene's origin (``environment.location``): across
@@ -35,8 +36,11 @@ SUN_NODE_STEP = 0.5
 EPHEMERIS_STEP = 10.0
 #: At most this many ephemeris samples (a pass of 11 hours at the step above) [-].
 _MAX_SAMPLES = 4096
-#: Below this travel over the rays' times the sun is one node [deg].
+#: Below this travel over the rays' times the sun stands still for every ray [deg].
 _STILL = 1e-4
+#: Below this travel one sun node, at the middle time, serves the spectra: its zenith is
+#: within 0.005 deg of every ray's [deg].
+_ONE_NODE = 0.01
 
 
 @dataclass(frozen=True)
@@ -184,7 +188,7 @@ def sun_track(scene, time=None, epoch=None) -> SunTrack:
     cosines = np.clip(np.einsum("ij,ij->i", sample_direction[1:], sample_direction[:-1]),
                       -1.0, 1.0)
     travel = float(np.degrees(np.arccos(cosines)).sum())
-    n_s = 1 if travel < _STILL else 1 + max(1, int(np.ceil(travel / SUN_NODE_STEP)))
+    n_s = 1 if travel < _ONE_NODE else 1 + max(1, int(np.ceil(travel / SUN_NODE_STEP)))
     node_time = np.array([0.5 * (lo + hi)]) if n_s == 1 else np.linspace(lo, hi, n_s)
     pos, _ = ephemeris(node_time)
     nodes = tuple(SunGeometry(float(z), float(a), float(d)) for z, a, d in
