@@ -5,6 +5,11 @@ one batch, its secondary rays (shadow, sky, lobe) in a few more, and its terms a
 from the per-material band coefficients. Pixel values are weighted sums of their sub-samples.
 The secondary rays of the next tiles are traced on a worker thread while the calling thread
 evaluates the terms of the current one; the results do not depend on that overlap.
+
+Geometry is per ray sample (docs/physics.md, "Per-ray geometry"): each sample mixes the band
+coefficients of the atmosphere's path nodes around its own view zenith, altitudes and — for the
+path radiance — its line of sight's azimuth relative to the sun; a scanner's samples see the
+sun of their own acquisition time (:mod:`radscene.render.sun_track`).
 """
 
 from __future__ import annotations

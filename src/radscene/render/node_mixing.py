@@ -2,7 +2,8 @@
 
 The renderer integrates every spectral factor over each band once per *path node* (a
 line-of-sight geometry of the atmosphere, :meth:`radscene.atmosphere.Atmosphere.path_nodes`);
-each ray sample then mixes a few nodes with its weights. Done with numpy fancy indexing this
+each ray sample then mixes a few nodes with its weights (and the path radiance also the
+relative-azimuth nodes around its line of sight). Done with numpy fancy indexing this
 builds (samples × bands × sky nodes) temporaries per node; these kernels write the mixed band
 values directly, skipping zero weights (the sky sum is a dense dot product over the sky nodes
 per band, which vectorises better than skipping zero fractions). :func:`mix_terms` does the

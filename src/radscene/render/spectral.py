@@ -71,7 +71,11 @@ def band_quadrature(response, breakpoints=(), max_panel: float = MAX_PANEL):
 
 @dataclass
 class BandCoefficients:
-    """Band-integrated spectral factors, per material m, band b, path node j, sky node k.
+    """Band-integrated spectral factors, per material m, band b, node j, sky node k.
+
+    A node ``j`` is a path node of the atmosphere under one sun node (a scanner's sun at a
+    few times: ``j = s · n_path + path node``); the path radiance has a relative-azimuth node
+    ``a`` too (:class:`radscene.atmosphere.PathNodes`).
 
     All radiances in W m-2 sr-1 (band-integrated with the response), per unit of the
     per-pixel geometry scalar that multiplies them.
@@ -86,8 +90,8 @@ class BandCoefficients:
         ∫ S ρ_d L_sky,k τ_a dλ — times the cosine-weighted visible-sky fraction F_k · Δρ.
     sky_specular : (n_m, n_b, n_j, n_k)
         ∫ S ρ_s L_sky,k τ_a dλ — times the lobe-weighted visible-sky fraction G_k · Δρ.
-    path : (n_b, n_j)
-        ∫ S L_path dλ.
+    path : (n_a, n_b, n_j)
+        ∫ S L_path dλ, per relative-azimuth node a (one without the azimuth axis).
     transmittance : (n_b, n_j)
         Response-weighted mean τ_a [-].
     sky_view : (n_b, n_k)
