@@ -64,7 +64,10 @@ def _scene(rho, aerosol, aot, sensor, view_zenith, atmosphere=None):
         "observers": [{"name": "cam", "type": "orthographic", "center": [0, 0], "gsd": "50 m",
                        "shape": [12, 12], "altitude": altitude, "zenith": view_zenith,
                        "azimuth": 270.0}],
-        "render": {"sky_samples": 16},
+        # the reflected sky is a Monte Carlo estimate: with 16 rays per pixel over these 144
+        # pixels its standard error under maritime AOT 0.5 (a bright aureole) was about 1 %
+        # (measured -0.9 % against the engine's own E_dif at 0.87 um; +0.27 % with 64)
+        "render": {"sky_samples": 64},
     }
 
 
@@ -120,18 +123,8 @@ CONDITIONS = [(aer, aot, sensor, vz) for aer in ("cont", "mari") for aot in ref.
               for sensor in ("toa", "air") for vz in (0.0, 40.0)]
 #: The one condition of the quick suite; the others run with ``make validate``.
 QUICK = ("cont", 0.1, "toa", 0.0)
-#: Known gap: with maritime aerosol of optical thickness 0.5 seen from the top of the
-#: atmosphere the 2.10-2.20 um band is 1.0-1.2 % low for rho = 0.2 and 0.5 (measured
-#: -1.01 % nadir, -1.10 and -1.18 % at 40 deg); every other band and condition is within 1 %.
-KNOWN_GAP = {("mari", 0.5, "toa", 0.0), ("mari", 0.5, "toa", 40.0)}
-
-
 def _marks(condition):
-    marks = [] if condition == QUICK else [pytest.mark.slow]
-    if condition in KNOWN_GAP:
-        marks.append(pytest.mark.xfail(reason="2.15 um band 1.0-1.2 % low with maritime "
-                                       "AOT 0.5 (see KNOWN_GAP)", strict=False))
-    return marks
+    return [] if condition == QUICK else [pytest.mark.slow]
 
 
 @pytest.mark.parametrize("condition", [

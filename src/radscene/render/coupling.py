@@ -333,12 +333,15 @@ def coupling_terms(reflected, emitted, sky_reflected, coverage, tau, t_d, spheri
         out = {k: np.zeros((n_b, n)) for k in ("multiple_reflection", "diffuse_transmitted",
                                                 "adjacency")}
         pixel = np.arange(n)
-    inv = np.empty((n_b, n))
-    l_refl = np.empty((n_b, n))
-    _leaving(_f64(reflected), _f64(coverage), _f64(tau), inv, l_refl)
-    env = l_refl if environment is None else environment(l_refl)
-    _layers(_f64(reflected), _f64(emitted), _f64(sky_reflected), _f64(coverage), _f64(t_d), inv,
-            _f64(env), environment is not None, _f64(spherical_albedo), _f64(e0), _f64(e_dif),
+    blurred = environment is not None
+    if blurred:  # the surface-leaving map the PSF blurs
+        l_refl = np.empty((n_b, n))
+        _leaving(_f64(reflected), _f64(coverage), _f64(tau), l_refl)
+        env = _f64(environment(l_refl))
+    else:  # each pixel's own: computed in the kernel
+        env = np.empty((n_b, 0))
+    _layers(_f64(reflected), _f64(emitted), _f64(sky_reflected), _f64(coverage), _f64(tau),
+            _f64(t_d), env, blurred, _f64(spherical_albedo), _f64(e0), _f64(e_dif),
             np.ascontiguousarray(pixel, dtype=np.int64), out["multiple_reflection"],
             out["diffuse_transmitted"], out["adjacency"])
     return out
@@ -350,40 +353,43 @@ def _f64(a):
 
 
 @numba.njit(parallel=True, cache=True)
-def _leaving(reflected, coverage, tau, inv, l_refl):  # pragma: no cover - compiled
-    """1 / (τ c) (at the sensor → leaving the surface) into ``inv`` and the surface-leaving
-    reflected radiance into ``l_refl``, both (n_b, N); zero where nothing is covered."""
+def _leaving(reflected, coverage, tau, l_refl):  # pragma: no cover - compiled
+    """The surface-leaving reflected radiance reflected / (τ c) into ``l_refl`` (n_b, N);
+    zero where nothing is covered."""
     n_b, n = reflected.shape
     for i in numba.prange(n):
         c = coverage[i]
         for b in range(n_b):
             t = tau[b, i]
-            inv[b, i] = 1.0 / (t * c) if (t > 0.0 and c > 0.0) else 0.0
-            l_refl[b, i] = reflected[b, i] * inv[b, i]
+            l_refl[b, i] = reflected[b, i] / (t * c) if (t > 0.0 and c > 0.0) else 0.0
 
 
 @numba.njit(parallel=True, cache=True)
-def _layers(reflected, emitted, sky, coverage, t_d, inv, env, blurred, s_alb, e0, e_dif,
+def _layers(reflected, emitted, sky, coverage, tau, t_d, env, blurred, s_alb, e0, e_dif,
             pixel, multiple, diffuse, adjacency):  # pragma: no cover - compiled
     """The three layers of :func:`coupling_terms` for every pixel and band, written at the
-    columns ``pixel`` of the outputs."""
+    columns ``pixel`` of the outputs; ``env`` the blurred surroundings where ``blurred``
+    (else each pixel's own leaving radiance, computed here)."""
     n_b, n = reflected.shape
     for i in numba.prange(n):
         p = pixel[i]
         c = coverage[i]
         for b in range(n_b):
+            t = tau[b, i]
+            inv = 1.0 / (t * c) if (t > 0.0 and c > 0.0) else 0.0
+            own = env[b, i] if blurred else reflected[b, i] * inv
             # the surroundings' albedo: π L / E_0, at most 1 (a glint's radiance is not albedo)
-            rho_e = min(np.pi * env[b, i] / e0[b], 1.0) if e0[b] > 0.0 else 0.0
+            rho_e = min(np.pi * own / e0[b], 1.0) if e0[b] > 0.0 else 0.0
             s_rho = s_alb[b] * rho_e
             # extra diffuse irradiance E_0 S ρ_e / (1 − S ρ_e), reflected as the sky's is
             gain = e0[b] / e_dif[b] if e_dif[b] > 0.0 else 0.0
             m = sky[b, i] * gain * s_rho / (1.0 - s_rho)
             multiple[b, p] = m
-            l_own = (reflected[b, i] + emitted[b, i] + m) * inv[b, i]
+            l_own = (reflected[b, i] + emitted[b, i] + m) * inv
             diffuse[b, p] = t_d[b, i] * c * l_own
             if blurred:
                 # the surroundings' own multiple reflection: 1 / (1 − S ρ_e) on their light
-                env_total = env[b, i] / (1.0 - s_rho) + emitted[b, i] * inv[b, i]
+                env_total = own / (1.0 - s_rho) + emitted[b, i] * inv
                 adjacency[b, p] = t_d[b, i] * c * (env_total - l_own)
             else:
                 adjacency[b, p] = 0.0
