@@ -47,8 +47,8 @@ algorithm over arrays of elements): the coefficients that depend only on the gri
 computed once per Δt, so that a step costs two sweeps over the nodes, and the surface node is
 left with one equation, C-free: q_s(T_0') = A T_0' − B, which
 :mod:`radscene.thermal.balance` solves with the nonlinear surface fluxes (Newton). Measured:
-100 000 elements × 30 nodes take 0.02 s per conduction step (both sweeps; numpy 2.4, float64,
-one core of a shared 2-core machine under load; docs/thermal.md gives the whole balance step).
+100 000 elements × 30 nodes take about 0.015 s per conduction step (both sweeps; numpy 2.4,
+float64, one core of a shared 2-core machine; ``benchmarks/bench_thermal.py``, docs/benchmarks.md).
 
 References
 ----------
@@ -72,6 +72,7 @@ __all__ = [
     "ImplicitConduction",
     "build_grid",
     "penetration_depth",
+    "reference_step",
     "stack_depth",
     "DAY",
 ]
@@ -108,7 +109,7 @@ def penetration_depth(conductivity, density, specific_heat, period=DAY):
     Examples
     --------
     >>> round(float(penetration_depth(2.0, 1950.0, 1045.0)), 3)
-    0.166
+    0.164
     """
     kappa = np.asarray(conductivity, float) / (np.asarray(density, float) * np.asarray(specific_heat, float))
     return np.sqrt(kappa * np.asarray(period, float) / math.pi)
@@ -192,7 +193,7 @@ def _one_grid(stack, n_nodes, growth, period, penetration_depths, key):
     counts = _cells_per_layer(s_faces, n_cells)
     z = [0.0]
     props = []
-    for k, (layer, n) in enumerate(zip(layers, counts)):
+    for k, (layer, n) in enumerate(zip(layers, counts, strict=True)):
         s = np.linspace(s_faces[k], s_faces[k + 1], n + 1)[1:]
         zk = z_of(s)
         zk[-1] = faces[k + 1]
