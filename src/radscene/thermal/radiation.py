@@ -17,7 +17,8 @@ Wiley, §1.6 (angle of incidence), §3.8 (sky radiation). doi:10.1002/9781118671
 from __future__ import annotations
 
 import numpy as np
-from scipy.constants import Stefan_Boltzmann as SIGMA  # σ = 2π⁵k⁴/(15h³c²) [W m-2 K-4]
+
+from radscene.radiometry.constants import SIGMA  # σ = 2π⁵k⁴/(15h³c²) [W m-2 K-4], CODATA
 
 __all__ = ["absorbed_shortwave", "absorbed_sky_longwave", "emitted_longwave", "emitted_longwave_derivative", "SIGMA"]
 
