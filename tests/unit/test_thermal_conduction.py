@@ -13,7 +13,14 @@ import pytest
 
 from radscene.errors import ConfigError
 from radscene.materials.thermal import Layer, get_thermal_properties
-from radscene.thermal import DAY, ImplicitConduction, build_grid, penetration_depth, reference_step, stack_depth
+from radscene.thermal import (
+    DAY,
+    ImplicitConduction,
+    build_grid,
+    penetration_depth,
+    reference_step,
+    stack_depth,
+)
 
 K, RHO, C = 1.0, 2000.0, 1000.0  # W m-1 K-1, kg m-3, J kg-1 K-1
 OMEGA = 2 * np.pi / DAY

@@ -1,0 +1,141 @@
+"""Unit tests of radscene.thermal.balance: radiative-convective equilibrium, spin-up, input.
+
+Measured: a whole balance step of 100 000 elements x 30 nodes (8 stacks) takes 0.018 s
+(benchmarks/bench_thermal.py; not a timed test).
+"""
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from radscene.errors import ConfigError, RadsceneError
+from radscene.materials.thermal import get_thermal_properties
+from radscene.thermal import DAY, SIGMA, HeatBalance, ThermalForcing, solve_surface_temperature
+
+ALPHA, EPS = 0.6, 0.9
+E_DIR, COS_I, E_DIF, E_SKY, T_AIR, WIND = 800.0, 0.8, 100.0, 300.0, 290.0, 3.0  # W m-2, -, K, m s-1
+
+
+def _equilibrium(h):
+    def g(t):
+        return ALPHA * (E_DIR * COS_I + E_DIF) + EPS * E_SKY + h * T_AIR - EPS * SIGMA * t**4 - h * t
+
+    return brentq(g, 150.0, 500.0, xtol=1e-12)
+
+
+def test_thin_insulated_plate_reaches_radiative_convective_equilibrium():
+    plate = get_thermal_properties("bare_aluminium")  # 1 mm sheet, insulated back
+    assert plate.bottom == "insulated"
+    hb = HeatBalance([plate], absorptance=ALPHA, emissivity=EPS)
+    time = np.arange(0.0, DAY / 4 + 1, 600.0)
+    forcing = ThermalForcing(time, E_DIR, COS_I, E_DIF, E_SKY, T_AIR, WIND)
+    result = hb.run(forcing, initial_temperature=T_AIR)
+    h = 5.7 + 3.8 * WIND  # McAdams
+    expected = _equilibrium(h)
+    assert result.surface_temperature[-1, 0] == pytest.approx(expected, abs=1e-6)
+    np.testing.assert_allclose(result.temperature[0], expected, atol=1e-6)  # isothermal sheet
+    # omitting convection, or radiation, gives other answers
+    assert abs(result.surface_temperature[-1, 0] - _equilibrium(1e-9)) > 5.0
+    assert abs(expected - T_AIR) > 5.0
+
+
+def test_newton_matches_brentq_everywhere():
+    rng = np.random.default_rng(3)
+    c = 500.0 + 20000.0 * rng.random(1000)
+    m = 1000.0 * rng.random(1000)
+    eps = rng.random(1000)
+    t = solve_surface_temperature(c, m, eps, start=np.full(1000, 200.0 + 200.0 * rng.random()))
+    for j in range(0, 1000, 97):
+        root = brentq(lambda x, j=j: c[j] - eps[j] * SIGMA * x**4 - m[j] * x, 1.0, 5000.0, xtol=1e-12)
+        assert t[j] == pytest.approx(root, abs=1e-8)
+
+
+def _daily_forcing(days):
+    time = np.arange(0.0, days * DAY + 1, 600.0)
+    phase = 2 * np.pi * time / DAY
+    sun = np.maximum(0.0, -np.cos(phase))  # noon at mid-day
+    air = 288.0 + 5.0 * np.sin(phase - 2 * np.pi / 3)
+    return ThermalForcing(time, (800.0 * sun)[:, None], sun[:, None], (100.0 * sun)[:, None], 300.0, air[:, None], 2.0)
+
+
+def test_spin_up_converges_to_a_periodic_state():
+    stacks = [get_thermal_properties("asphalt"), get_thermal_properties("asphalt_shingle")]
+    hb = HeatBalance(stacks)
+    forcing = _daily_forcing(1)
+    # from the default start (every node at the day's mean air temperature); measured: 10 days
+    # to 0.05 K, 21 to 0.01 K (the 0.9 m of ground under the road relaxes slowly)
+    result = hb.run(forcing, spin_up=True, spin_up_tolerance=0.05)
+    assert 2 <= result.spin_up_days < 30
+    assert result.spin_up_change < 0.05
+    # the day that follows the spin-up ends where it started
+    np.testing.assert_allclose(result.surface_temperature[-1], result.surface_temperature[0], atol=0.05)
+    # without spin-up the same start is far from periodic (measured: 4.2 and 7.6 K)
+    cold = hb.run(forcing)
+    assert np.max(np.abs(cold.surface_temperature[-1] - cold.surface_temperature[0])) > 1.0
+    # the reported days are the days simulated: repeating the day by hand lands on the same state
+    state, previous = None, None
+    for _ in range(result.spin_up_days):
+        day = hb.run(forcing, initial_temperature=state)
+        state, previous = day.temperature, (previous, day.surface_temperature[1:])
+    np.testing.assert_allclose(state[:, 0], result.surface_temperature[0], rtol=0, atol=1e-9)
+    change = np.max(np.abs(previous[1] - previous[0][1]))
+    assert change == pytest.approx(result.spin_up_change, rel=1e-9)
+    # the road heats by day and cools by night
+    road = result.surface_temperature[:, 0]
+    assert road.max() - road.min() > 15.0
+
+
+def test_spin_up_reports_failure():
+    hb = HeatBalance([get_thermal_properties("asphalt")])
+    with pytest.raises(RadsceneError, match="spin-up: surface temperatures still changed by .* raise max_spin_up_days"):
+        hb.run(_daily_forcing(1), initial_temperature=250.0, spin_up=True, max_spin_up_days=2)
+    short = ThermalForcing(np.arange(0.0, DAY / 2, 600.0), 0.0, 0.0, 0.0, 300.0, 280.0, 1.0)
+    with pytest.raises(ConfigError, match="forcing.time: spin-up needs a forcing sample exactly one day after"):
+        hb.run(short, spin_up=True)
+
+
+def test_per_element_forcing_and_defaults():
+    stacks = [get_thermal_properties("asphalt"), get_thermal_properties("white_paint")]
+    hb = HeatBalance(stacks, material_index=np.array([0, 1, 1]))
+    assert hb.absorptance[0] == stacks[0].solar_absorptance and hb.emissivity[2] == stacks[1].longwave_emissivity
+    time = np.arange(0.0, 7200.0 + 1, 300.0)
+    lit = np.broadcast_to(np.array([1.0, 1.0, 0.0]), (time.size, 3))
+    forcing = ThermalForcing(time, 900.0, 0.9, 100.0, 330.0, 295.0, 1.0, lit=lit)
+    result = hb.run(forcing)
+    assert result.surface_temperature.shape == (time.size, 3)
+    assert result.temperature.shape == (3, 30)
+    assert np.allclose(result.surface_temperature[0], 295.0)  # default start: mean air temperature
+    # the dark road warms most, the shaded paint least
+    final = result.surface_temperature[-1]
+    assert final[0] > final[1] > final[2]
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "match"),
+    [
+        ("time", np.array([0.0, 0.0]), "forcing.time: must be a 1-d array"),
+        ("air_temperature", -5.0, "forcing.air_temperature: must be > 0 K"),
+        ("wind_speed", -1.0, "forcing.wind_speed: must be >= 0"),
+        ("lit", 1.5, r"forcing.lit: must lie in \[0, 1\]"),
+        ("direct_irradiance", np.nan, "forcing.direct_irradiance: must be finite"),
+        ("sky_longwave", np.ones((2, 5)), r"forcing.sky_longwave: shape \(2, 5\) does not broadcast"),
+    ],
+)
+def test_forcing_rejects_bad_input(field, value, match):
+    fields = {"time": np.array([0.0, 600.0]), "direct_irradiance": 0.0, "cos_incidence": 0.0, "diffuse_irradiance": 0.0,
+              "sky_longwave": 300.0, "air_temperature": 280.0, "wind_speed": 1.0}
+    fields[field] = value
+    hb = HeatBalance([get_thermal_properties("asphalt"), get_thermal_properties("sand")])
+    with pytest.raises(ConfigError, match=match):
+        hb.run(ThermalForcing(**fields))
+
+
+def test_heat_balance_rejects_bad_options():
+    with pytest.raises(ConfigError, match="unknown convection model"):
+        HeatBalance([get_thermal_properties("asphalt")], convection="dittus")
+    with pytest.raises(ConfigError, match=r"emissivity: must lie in \[0, 1\]"):
+        HeatBalance([get_thermal_properties("asphalt")], emissivity=1.2)
+    hb = HeatBalance([get_thermal_properties("asphalt")])
+    forcing = ThermalForcing(np.array([0.0, 600.0]), 0.0, 0.0, 0.0, 300.0, 280.0, 1.0)
+    with pytest.raises(ConfigError, match="initial_temperature: must be finite and > 0 K"):
+        hb.run(forcing, initial_temperature=0.0)
