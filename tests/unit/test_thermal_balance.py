@@ -1,6 +1,6 @@
 """Unit tests of radscene.thermal.balance: radiative-convective equilibrium, spin-up, input.
 
-Measured: a whole balance step of 100 000 elements x 30 nodes (8 stacks) takes 0.018 s
+Measured: a whole balance step of 100 000 elements x 30 nodes (8 stacks) takes 0.015 s
 (benchmarks/bench_thermal.py; not a timed test).
 """
 

@@ -22,9 +22,9 @@ The new profile follows by back-substitution. Forcing is taken at the end of eac
 (backward Euler).
 
 Measured: a whole step (short-wave, sky, convection, elimination, Newton — typically 3 to 4
-iterations — and back-substitution) takes 0.018 s for 100 000 elements × 30 nodes (numpy 2.4,
-float64, one core of a shared 2-core machine; ``benchmarks/bench_thermal.py``,
-docs/benchmarks.md), i.e. a day at one-minute steps in 26 s.
+iterations — and back-substitution) takes 0.015 s for 100 000 elements × 30 nodes (best of 3;
+numpy 2.4, float64, one core of a shared 2-core machine under a load of 2.5; ``benchmarks/bench_thermal.py``,
+docs/benchmarks.md), i.e. a day at one-minute steps in 22 s.
 
 Spin-up repeats the forcing of the first day (the samples from ``time[0]`` to
 ``time[0] + 1 day``) until the surface temperatures at the same times of day change by less

@@ -47,8 +47,8 @@ algorithm over arrays of elements): the coefficients that depend only on the gri
 computed once per Δt, so that a step costs two sweeps over the nodes, and the surface node is
 left with one equation, C-free: q_s(T_0') = A T_0' − B, which
 :mod:`radscene.thermal.balance` solves with the nonlinear surface fluxes (Newton). Measured:
-100 000 elements × 30 nodes take about 0.015 s per conduction step (both sweeps; numpy 2.4,
-float64, one core of a shared 2-core machine; ``benchmarks/bench_thermal.py``, docs/benchmarks.md).
+100 000 elements × 30 nodes take 0.010 s per conduction step (both sweeps, best of 3; numpy
+2.4, float64, one core of a shared 2-core machine under a load of 2.5; ``benchmarks/bench_thermal.py``, docs/benchmarks.md).
 
 References
 ----------

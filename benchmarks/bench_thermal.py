@@ -1,0 +1,85 @@
+"""Heat-balance benchmark: seconds per time step of radscene.thermal for many elements.
+
+100 000 elements (``--elements``) drawn at random from eight built-in material stacks (roads,
+paint, painted metal sheet, snow on ground, soil, shingles, a leaf, concrete), 30 nodes each
+(``--nodes``), sunlit forcing at 10-minute steps. Timed apart: building the grid and the
+balance (``setup``), and, per step, the conduction sweeps alone (bottom-up elimination and
+back-substitution, :class:`radscene.thermal.ImplicitConduction`) and the whole balance step
+(flux terms, elimination, Newton on the surface node, back-substitution) through
+:meth:`radscene.thermal.HeatBalance.run`. Best of ``--repeat`` runs of ``--steps`` steps.
+
+Run ``python benchmarks/bench_thermal.py``; figures go to ``out/bench/bench_thermal.json`` and
+a Markdown table to stdout.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import json
+import platform
+import time
+from pathlib import Path
+
+import numpy as np
+
+from radscene.materials import get_thermal_properties
+from radscene.thermal import DAY, HeatBalance, ImplicitConduction, ThermalForcing
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "out" / "bench"
+MATERIALS = ["asphalt", "white_paint", "painted_metal", "snow", "bare_soil", "asphalt_shingle", "green_leaf", "concrete"]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--elements", type=int, default=100_000)
+    parser.add_argument("--nodes", type=int, default=30)
+    parser.add_argument("--steps", type=int, default=20)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args(argv)
+
+    stacks = [get_thermal_properties(name) for name in MATERIALS]
+    index = np.random.default_rng(0).integers(0, len(stacks), args.elements)
+    start = time.perf_counter()
+    balance = HeatBalance(stacks, index, n_nodes=args.nodes)
+    setup = time.perf_counter() - start
+
+    times = DAY / 2 + 600.0 * np.arange(args.steps + 1)
+    forcing = ThermalForcing(times, 800.0, 0.7, 100.0, 300.0, 290.0, 2.0)
+    balance.run(ThermalForcing(times[:2], 800.0, 0.7, 100.0, 300.0, 290.0, 2.0), initial_temperature=290.0)
+    whole = []
+    for _ in range(args.repeat):
+        start = time.perf_counter()
+        balance.run(forcing, initial_temperature=290.0)
+        whole.append((time.perf_counter() - start) / args.steps)
+
+    solver = ImplicitConduction(balance.grid, 600.0)
+    state = np.full((args.nodes, args.elements), 290.0)
+    sweeps = []
+    for _ in range(args.repeat):
+        start = time.perf_counter()
+        for _ in range(args.steps):
+            beta, b = solver.eliminate(state)
+            solver.substitute((b + 300.0) / (solver.surface_conductance + 20.0), beta, out=state)
+        sweeps.append((time.perf_counter() - start) / args.steps)
+
+    figures = {
+        "date": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "machine": platform.platform(),
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "elements": args.elements,
+        "nodes": args.nodes,
+        "setup_s": setup,
+        "conduction_step_s": min(sweeps),
+        "balance_step_s": min(whole),
+    }
+    OUT.mkdir(parents=True, exist_ok=True)
+    (OUT / "bench_thermal.json").write_text(json.dumps(figures, indent=2))
+    print(f"| elements x nodes | setup [s] | conduction step [s] | balance step [s] |\n|---|---|---|---|\n"
+          f"| {args.elements} x {args.nodes} | {setup:.3f} | {min(sweeps):.4f} | {min(whole):.4f} |")
+
+
+if __name__ == "__main__":
+    main()
