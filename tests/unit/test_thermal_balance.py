@@ -139,3 +139,32 @@ def test_heat_balance_rejects_bad_options():
     forcing = ThermalForcing(np.array([0.0, 600.0]), 0.0, 0.0, 0.0, 300.0, 280.0, 1.0)
     with pytest.raises(ConfigError, match="initial_temperature: must be finite and > 0 K"):
         hb.run(forcing, initial_temperature=0.0)
+
+
+def test_energy_closes_over_irregular_steps():
+    """Σ (Q_a + Q_sky + Q_t + Q_k) Δt at the step ends equals the change of heat content of
+    insulated stacks (backward Euler: fluxes at the end of each step), steps of 1 s to 1 h."""
+    stacks = [get_thermal_properties("asphalt_shingle"), get_thermal_properties("painted_metal"), get_thermal_properties("roof_tile")]
+    hb = HeatBalance(stacks, convection="watmuff")
+    rng = np.random.default_rng(7)
+    time = np.concatenate([[0.0], np.cumsum(rng.choice([1.0, 60.0, 600.0, 3600.0], size=60))])
+    n = time.size
+    forcing = ThermalForcing(
+        time, 900.0 * rng.random((n, 1)), rng.random((n, 3)), 150.0 * rng.random((n, 1)), 250.0 + 100.0 * rng.random((n, 1)),
+        280.0 + 20.0 * rng.random((n, 1)), 6.0 * rng.random((n, 3)),
+    )
+    start = np.full((3, hb.grid.n_nodes), 285.0)
+    result = hb.run(forcing, initial_temperature=start)
+    f = forcing.checked(3)
+    ts = result.surface_temperature[1:]
+    h = 2.8 + 3.0 * f["wind_speed"][1:]
+    net = (
+        hb.absorptance * (f["direct_irradiance"][1:] * np.maximum(f["cos_incidence"][1:], 0.0) + f["diffuse_irradiance"][1:])
+        + hb.emissivity * f["sky_longwave"][1:]
+        - hb.emissivity * SIGMA * ts**4
+        + h * (f["air_temperature"][1:] - ts)
+    )
+    supplied = np.sum(net * np.diff(time)[:, None], axis=0)
+    stored = hb.grid.heat_content(result.temperature) - hb.grid.heat_content(start)
+    np.testing.assert_allclose(stored, supplied, rtol=1e-7)  # measured 3e-8: Newton stops at 1e-9 K
+    assert np.all(np.abs(stored) > 1e4)  # J m-2: the check is not vacuous
