@@ -24,7 +24,7 @@ def test_sigma_from_planck_constants():
 
 def test_absorbed_shortwave_reference_values():
     # 0.9 (800 * 0.5 * 1 + 100 * 0.8) = 432
-    assert absorbed_shortwave(0.9, 800.0, 0.5, 100.0, lit=1.0, sky_view=0.8) == pytest.approx(432.0, rel=1e-12)
+    assert absorbed_shortwave(0.9, 800.0, 0.5, 100.0, lit=1.0, sky_view_fraction=0.8) == pytest.approx(432.0, rel=1e-12)
     # in shadow only the diffuse term; sun behind the surface likewise
     assert absorbed_shortwave(0.5, 800.0, 0.5, 100.0, lit=0.0) == pytest.approx(50.0, rel=1e-12)
     assert absorbed_shortwave(0.5, 800.0, -0.3, 100.0) == pytest.approx(50.0, rel=1e-12)

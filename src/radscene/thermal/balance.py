@@ -50,7 +50,7 @@ from radscene.thermal.radiation import SIGMA, absorbed_shortwave, absorbed_sky_l
 
 __all__ = ["ThermalForcing", "ThermalResult", "HeatBalance", "solve_surface_temperature"]
 
-_FIELDS = ("direct_irradiance", "cos_incidence", "diffuse_irradiance", "sky_longwave", "air_temperature", "wind_speed", "lit", "sky_view")
+_FIELDS = ("direct_irradiance", "cos_incidence", "diffuse_irradiance", "sky_longwave", "air_temperature", "wind_speed", "lit", "sky_view_fraction")
 
 
 @dataclass(frozen=True)
@@ -78,7 +78,7 @@ class ThermalForcing:
         [m s-1].
     lit : array_like, optional
         Sunlit fraction [-]; default 1.
-    sky_view : array_like, optional
+    sky_view_fraction : array_like, optional
         Sky view factor [-]; default 1.
     """
 
@@ -90,7 +90,7 @@ class ThermalForcing:
     air_temperature: np.ndarray
     wind_speed: np.ndarray
     lit: np.ndarray = 1.0
-    sky_view: np.ndarray = 1.0
+    sky_view_fraction: np.ndarray = 1.0
 
     def checked(self, n_elements):
         """Validated arrays broadcast to (n_times, n_elements), as a dict (views, no copies)."""
@@ -110,7 +110,7 @@ class ThermalForcing:
                 ) from None
             if not np.all(np.isfinite(value)):
                 raise ConfigError("must be finite", key=f"forcing.{name}")
-            if name in ("lit", "sky_view") and (value.min() < 0 or value.max() > 1):
+            if name in ("lit", "sky_view_fraction") and (value.min() < 0 or value.max() > 1):
                 raise ConfigError("must lie in [0, 1]", key=f"forcing.{name}")
             if name == "cos_incidence" and (value.min() < -1 or value.max() > 1):
                 raise ConfigError("must lie in [-1, 1]", key=f"forcing.{name}")
@@ -264,8 +264,8 @@ class HeatBalance:
         """Advance the node-major ``state`` in place to time index k."""
         solver = self._solver(dt)
         absorbed = absorbed_shortwave(
-            self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], f["lit"][k], f["sky_view"][k]
-        ) + absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], f["sky_view"][k])
+            self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], f["lit"][k], f["sky_view_fraction"][k]
+        ) + absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], f["sky_view_fraction"][k])
         h = convection_coefficient(f["wind_speed"][k], self.convection)
         beta, b = solver.eliminate(state)
         t0 = solve_surface_temperature(

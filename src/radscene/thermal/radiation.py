@@ -23,7 +23,7 @@ from radscene.radiometry.constants import SIGMA  # σ = 2π⁵k⁴/(15h³c²) [W
 __all__ = ["absorbed_shortwave", "absorbed_sky_longwave", "emitted_longwave", "emitted_longwave_derivative", "SIGMA"]
 
 
-def absorbed_shortwave(absorptance, direct_irradiance, cos_incidence, diffuse_irradiance, lit=1.0, sky_view=1.0):
+def absorbed_shortwave(absorptance, direct_irradiance, cos_incidence, diffuse_irradiance, lit=1.0, sky_view_fraction=1.0):
     """Short-wave flux absorbed by a surface element, Q_a ≥ 0 [W m-2].
 
     Parameters
@@ -39,7 +39,7 @@ def absorbed_shortwave(absorptance, direct_irradiance, cos_incidence, diffuse_ir
         Diffuse sky irradiance on a horizontal plane under a full sky, E_dif [W m-2].
     lit : array_like, optional
         Sunlit fraction of the element, 1 − shadow [-].
-    sky_view : array_like, optional
+    sky_view_fraction : array_like, optional
         Sky view factor of the element [-] (isotropic sky).
 
     Returns
@@ -53,17 +53,17 @@ def absorbed_shortwave(absorptance, direct_irradiance, cos_incidence, diffuse_ir
 
     Examples
     --------
-    >>> float(absorbed_shortwave(0.9, 800.0, 0.5, 100.0, lit=1.0, sky_view=0.8))
+    >>> float(absorbed_shortwave(0.9, 800.0, 0.5, 100.0, lit=1.0, sky_view_fraction=0.8))
     432.0
     """
     cos_i = np.maximum(np.asarray(cos_incidence, float), 0.0)
     return np.asarray(absorptance, float) * (
         np.asarray(direct_irradiance, float) * cos_i * np.asarray(lit, float)
-        + np.asarray(diffuse_irradiance, float) * np.asarray(sky_view, float)
+        + np.asarray(diffuse_irradiance, float) * np.asarray(sky_view_fraction, float)
     )
 
 
-def absorbed_sky_longwave(emissivity, sky_irradiance, sky_view=1.0):
+def absorbed_sky_longwave(emissivity, sky_irradiance, sky_view_fraction=1.0):
     """Long-wave flux from the sky absorbed by a surface element, Q_sky ≥ 0 [W m-2].
 
     Parameters
@@ -72,7 +72,7 @@ def absorbed_sky_longwave(emissivity, sky_irradiance, sky_view=1.0):
         Broadband long-wave emissivity ε [-], equal to the absorptance (Kirchhoff; grey).
     sky_irradiance : array_like
         Downwelling long-wave irradiance on a horizontal plane under a full sky [W m-2].
-    sky_view : array_like, optional
+    sky_view_fraction : array_like, optional
         Sky view factor [-].
 
     Returns
@@ -89,7 +89,7 @@ def absorbed_sky_longwave(emissivity, sky_irradiance, sky_view=1.0):
     >>> float(absorbed_sky_longwave(0.95, 300.0, 0.5))
     142.5
     """
-    return np.asarray(emissivity, float) * np.asarray(sky_irradiance, float) * np.asarray(sky_view, float)
+    return np.asarray(emissivity, float) * np.asarray(sky_irradiance, float) * np.asarray(sky_view_fraction, float)
 
 
 def emitted_longwave(emissivity, temperature):
