@@ -99,7 +99,7 @@ def test_per_element_forcing_and_defaults():
     hb = HeatBalance(stacks, material_index=np.array([0, 1, 1]))
     assert hb.absorptance[0] == stacks[0].solar_absorptance and hb.emissivity[2] == stacks[1].longwave_emissivity
     time = np.arange(0.0, 7200.0 + 1, 300.0)
-    lit = np.broadcast_to(np.array([1.0, 1.0, 0.0]), (time.size, 3))
+    lit = np.array([1.0, 1.0, 0.0])  # (n_elements,): constant per element
     forcing = ThermalForcing(time, 900.0, 0.9, 100.0, 330.0, 295.0, 1.0, lit=lit)
     result = hb.run(forcing)
     assert result.surface_temperature.shape == (time.size, 3)
@@ -119,13 +119,14 @@ def test_per_element_forcing_and_defaults():
         ("lit", 1.5, r"forcing.lit: must lie in \[0, 1\]"),
         ("direct_irradiance", np.nan, "forcing.direct_irradiance: must be finite"),
         ("sky_longwave", np.ones((2, 5)), r"forcing.sky_longwave: shape \(2, 5\) does not broadcast"),
+        ("wind_speed", np.ones(2), r"forcing.wind_speed: shape \(2,\) does not broadcast to \(n_times, n_elements\) = \(2, 3\)"),
     ],
 )
 def test_forcing_rejects_bad_input(field, value, match):
     fields = {"time": np.array([0.0, 600.0]), "direct_irradiance": 0.0, "cos_incidence": 0.0, "diffuse_irradiance": 0.0,
               "sky_longwave": 300.0, "air_temperature": 280.0, "wind_speed": 1.0}
     fields[field] = value
-    hb = HeatBalance([get_thermal_properties("asphalt"), get_thermal_properties("sand")])
+    hb = HeatBalance([get_thermal_properties(n) for n in ("asphalt", "sand", "snow")])
     with pytest.raises(ConfigError, match=match):
         hb.run(ThermalForcing(**fields))
 

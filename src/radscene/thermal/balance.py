@@ -57,8 +57,9 @@ _FIELDS = ("direct_irradiance", "cos_incidence", "diffuse_irradiance", "sky_long
 class ThermalForcing:
     """Forcing of every element at a sequence of times.
 
-    Each field is an array that broadcasts to (n_times, n_elements) (e.g. (n_times, 1) for
-    the same weather everywhere).
+    Each field broadcasts to (n_times, n_elements) by numpy's rules: a scalar is constant, an
+    (n_elements,) array a constant per element, an (n_times, 1) array a time series shared by
+    every element.
 
     Attributes
     ----------
@@ -101,7 +102,7 @@ class ThermalForcing:
         for name in _FIELDS:
             value = np.asarray(getattr(self, name), float)
             try:
-                value = np.broadcast_to(value if value.ndim != 1 else value[:, None], (time.size, n_elements))
+                value = np.broadcast_to(value, (time.size, n_elements))
             except ValueError:
                 raise ConfigError(
                     f"shape {np.shape(getattr(self, name))} does not broadcast to (n_times, n_elements) = "
