@@ -171,3 +171,8 @@ def test_bad_stack_and_step_rejected():
         build_grid([_stack([_solid(1.0)], "adiabatic")])
     with pytest.raises(ConfigError, match="dt"):
         ImplicitConduction(build_grid([get_thermal_properties("asphalt")]), 0.0)
+
+
+def test_overflowing_growth_rejected():
+    with pytest.raises(ConfigError, match="growth: growth 10.0 over 999 cells overflows"):
+        build_grid([get_thermal_properties("asphalt")], n_nodes=1000, growth=10.0)

@@ -27,7 +27,7 @@ Grid rule
 ---------
 A geometric template over the stack's depth D: z(s) = D (r^{s(N−1)} − 1)/(r^{N−1} − 1),
 s ∈ [0, 1], growth ratio r (default 1.2: with 30 nodes the first cell is D/981, 0.8 mm for a
-0.8 m ground stack). Each layer gets round((s_top − s_bottom)(N − 1)) cells, at least one,
+0.8 m ground stack). Each layer gets round((s_bottom − s_top)(N − 1)) cells, at least one,
 adjusted so that the total is N − 1, spaced uniformly in s between its faces (so its
 interfaces are nodes and the spacing still grows geometrically).
 
@@ -45,17 +45,17 @@ Vectorised solve
 The tridiagonal system of every element is eliminated from the bottom up (a Thomas
 algorithm over arrays of elements): the coefficients that depend only on the grid and Δt are
 computed once per Δt, so that a step costs two sweeps over the nodes, and the surface node is
-left with one equation, C-free: q_s(T_0') = A T_0' − B, which
-:mod:`radscene.thermal.balance` solves with the nonlinear surface fluxes (Newton). Measured:
-100 000 elements × 30 nodes take 0.010 s per conduction step (both sweeps, best of 3; numpy
-2.4, float64, one core of a shared 2-core machine under a load of 2.5; ``benchmarks/bench_thermal.py``, docs/benchmarks.md).
+left with one equation, q_s(T_0') = A T_0' − B, which :mod:`radscene.thermal.balance`
+solves with the nonlinear surface fluxes (Newton). Measured: 100 000 elements × 30 nodes take
+0.010 s per conduction step (both sweeps, best of 3; numpy 2.4, float64, one core of a shared
+2-core machine under a load of 2.5; ``benchmarks/bench_thermal.py``, docs/benchmarks.md).
 
 References
 ----------
 Carslaw, H. S. and Jaeger, J. C. (1959). *Conduction of Heat in Solids*, 2nd ed. Oxford:
 Clarendon Press.
 Patankar, S. V. (1980). *Numerical Heat Transfer and Fluid Flow*. Washington: Hemisphere,
-ch. 4 (control volumes, interface conductances). doi:10.1201/9781482234213
+ch. 4 (control volumes, interface conductances).
 """
 
 from __future__ import annotations
@@ -185,6 +185,8 @@ def _one_grid(stack, n_nodes, growth, period, penetration_depths, key):
             return s * depth
     else:
         span = growth**n_cells - 1.0
+        if not np.isfinite(span):
+            raise ConfigError(f"growth {growth} over {n_cells} cells overflows; use a smaller growth", key="growth")
         s_faces = np.log1p(faces * span / depth) / (n_cells * math.log(growth))
 
         def z_of(s):
