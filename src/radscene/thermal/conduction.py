@@ -184,9 +184,9 @@ def _one_grid(stack, n_nodes, growth, period, penetration_depths, key):
         def z_of(s):
             return s * depth
     else:
-        span = growth**n_cells - 1.0
-        if not np.isfinite(span):
+        if n_cells * math.log(growth) > 700.0:  # exp(700) ~ 1e304, near the float64 limit
             raise ConfigError(f"growth {growth} over {n_cells} cells overflows; use a smaller growth", key="growth")
+        span = growth**n_cells - 1.0
         s_faces = np.log1p(faces * span / depth) / (n_cells * math.log(growth))
 
         def z_of(s):
