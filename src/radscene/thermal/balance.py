@@ -250,16 +250,25 @@ class HeatBalance:
                 value = np.array([getattr(s, attribute) for s in stacks])[index]
             except AttributeError:
                 raise ConfigError(f"give {key} or stacks with a {attribute!r}", key=key) from None
-        value = np.broadcast_to(np.asarray(value, float), (n,)).copy()
+        try:
+            value = np.broadcast_to(np.asarray(value, float), (n,)).copy()
+        except ValueError:
+            raise ConfigError(f"shape {np.shape(value)} does not broadcast to (n_elements,) = ({n},)", key=key) from None
         if not np.all(np.isfinite(value) & (value >= 0) & (value <= 1)):
             raise ConfigError("must lie in [0, 1]", key=key)
         return value
 
     def _solver(self, dt):
+        """The eliminated system for a step Δt [s] (rounded to 1 µs); the last 4 are kept (each
+        holds two (n_nodes, n_elements) arrays)."""
         key = round(float(dt), 6)
-        if key not in self._solvers:
-            self._solvers[key] = ImplicitConduction(self.grid, key)
-        return self._solvers[key]
+        solver = self._solvers.pop(key, None)
+        if solver is None:
+            solver = ImplicitConduction(self.grid, key)
+            while len(self._solvers) >= 4:
+                self._solvers.pop(next(iter(self._solvers)))
+        self._solvers[key] = solver  # most recently used last
+        return solver
 
     def _step(self, state, f, k, dt):
         """Advance the node-major ``state`` in place to time index k."""
