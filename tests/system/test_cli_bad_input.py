@@ -68,6 +68,16 @@ BAD = {
     "a list": ("- a\n- b\n", "mapping"),
     "unknown atmosphere": (GOOD.replace("type: none", "type: modtran9"),
                            "environment.atmosphere.type"),
+    "database AOT beyond its nodes": (
+        GOOD.replace("type: none", "type: database, aerosol: maritime, aot550: 3"),
+        "atmosphere.aot550: AOT550 3 is outside the maritime aerosol's range in default.nc: "
+        "AOT550 0-1"),
+    "database aerosol it does not hold": (
+        GOOD.replace("type: none", "type: database, aerosol: volcanic"),
+        "it holds: desert, maritime, none, rural, urban"),
+    "database water column beyond its range": (
+        GOOD.replace("type: none", "type: database, profile: tropical, water: 20"),
+        "atmosphere.water: 20 g cm-2 is outside 0-12.4 g cm-2"),
     "naive time": (GOOD.replace("sun: {zenith: 30 deg, azimuth: 180 deg}",
                                 "time: '2026-01-01T12:00:00'"), "environment.time"),
 }

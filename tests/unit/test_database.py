@@ -22,20 +22,23 @@ def db():
 def test_the_default_database_ships_and_holds_the_common_conditions():
     assert "default" in shipped_databases()
     ds = open_database("default")
-    assert set(ds["profile"].values) >= {"us_standard", "midlatitude_summer",
-                                         "midlatitude_winter", "tropical"}
-    pairs = {(str(a), float(v)) for a, v in zip(ds["aerosol_model"].values,
-                                                ds["visibility"].values, strict=True)}
-    assert pairs >= {("rural", 23000.0), ("rural", 5000.0), ("maritime", 23000.0)}
+    assert set(ds["profile"].values) == {"us_standard", "midlatitude_summer",
+                                         "midlatitude_winter", "subarctic_summer",
+                                         "subarctic_winter", "tropical", "none"}
+    nodes = {(str(a), round(float(t), 6)) for a, t in zip(ds["aerosol_model"].values,
+                                                         ds["aot550"].values, strict=True)}
+    assert nodes == {("none", 0.0)} | {(m, t) for m in ("rural", "maritime", "urban", "desert")
+                                       for t in (0.1, 0.3, 0.6, 1.0)}
     assert ds.attrs["layout"] == "radscene-atmosphere-database/1"
     assert "config" in ds.attrs and "created" in ds.attrs
-    assert shipped_databases()["default"].stat().st_size < 5e6  # a few MB at most
+    assert shipped_databases()["default"].stat().st_size < 10e6  # 8.5 MB
 
 
 @pytest.mark.parametrize(("params", "match"), [
     ({"profile": "martian"}, "profile 'martian' is not in default.nc; it holds: "),
     ({"aerosol": "volcanic"}, "aerosol 'volcanic' is not in default.nc"),
-    ({"visibility": "10 km"}, r"rural aerosol at visibility .*23 km.*not 10 km"),
+    ({"visibility": "2 km"}, r"visibility 2 km \(AOT550 1.8\d\) is outside the rural aerosol's "
+                             r"range in default.nc: AOT550 0-1"),
     ({"visibility": 0}, "must be > 0"),
     ({"visibility": "-5 km"}, "must be > 0"),
     ({"file": "/no/such/atm.nc"}, "no database '/no/such/atm.nc'"),
@@ -47,8 +50,8 @@ def test_bad_parameters_name_the_key(params, match):
 
 
 @pytest.mark.parametrize(("call", "match"), [
-    (lambda a: a.path(1e5, 0.0, 0.0, [0.3]), "covers 0.4"),
-    (lambda a: a.path(1e5, 0.0, 0.0, [25.0]), "covers 0.4"),
+    (lambda a: a.path(1e5, 0.0, 0.0, [0.29]), "covers 0.3"),
+    (lambda a: a.path(1e5, 0.0, 0.0, [25.0]), "covers 0.3"),
     (lambda a: a.path(1e5, -800.0, 0.0, [0.55]), "below the ground"),
     (lambda a: a.path(2e5, 1.5e5, 0.0, [0.55]), "above the atmosphere"),
     (lambda a: a.path(1e5, 9000.0, 0.0, [0.55]), "surface altitudes up to"),
@@ -82,8 +85,10 @@ def test_table_nodes_are_reproduced_exactly(db):
     """At a node of every axis (top of the atmosphere, sea level, sun and view at table
     zeniths, relative azimuth 0, a 6S scattering wavelength) the path reflectance is the
     stored one, with the stored gases: the single-scattering normalisation cancels."""
+    db = DatabaseAtmosphere(profile="midlatitude_summer", aerosol="rural", aot550=0.3,
+                            sun_zenith=40.0, sun_azimuth=150.0)
     ds = db.source
-    assert len(db._nodes) == 1
+    assert len(db._nodes) == 1  # a node of the AOT550 axis
     ia, ip = db._nodes[0][0], db._ip
     lam = float(ds["scattering_wavelength"].values[7])
     i_sun = list(ds["sun_zenith"].values).index(40.0)

@@ -31,7 +31,7 @@ def test_each_aerosol_condition_has_its_own_name_and_progress_stage():
     names = [_condition_name(c) for c in load_config(None)["_conditions"]]
     # four conditions of one model: four tables, and four progress stages (two of a model
     # once shared one bar, which then showed the time of the first only)
-    assert names[:5] == ["none", "rural_aot0.1", "rural_aot0.3", "rural_aot1", "maritime_aot0.1"]
+    assert names[:5] == ["none", "rural_aot0.1", "rural_aot0.3", "rural_aot0.6", "rural_aot1"]
     assert len(set(names)) == len(names)
     assert _condition_name({"aerosol": "none", "visibility": None}) == "none"
     assert _condition_name({"aerosol": "rural", "visibility": 5.0, "aot550": None}) == "rural_5km"
@@ -46,7 +46,7 @@ def test_default_configuration_is_valid_and_complete():
     assert models == {"none", "rural", "maritime", "urban", "desert"}
     for m in models - {"none"}:
         aots = [c["aot550"] for c in cfg["_conditions"] if c["aerosol"] == m]
-        assert aots == [0.1, 0.3, 1.0]
+        assert aots == [0.1, 0.3, 0.6, 1.0]
     assert cfg["wavelength"]["min"] == 0.3
 
 

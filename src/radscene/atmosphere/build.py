@@ -90,10 +90,10 @@ DEFAULT_CONFIG: dict = {
                  "subarctic_winter", "tropical", "none"],
     "aerosols": [
         {"model": "none"},
-        {"model": "rural", "aot550": [0.1, 0.3, 1.0]},
-        {"model": "maritime", "aot550": [0.1, 0.3, 1.0]},
-        {"model": "urban", "aot550": [0.1, 0.3, 1.0]},
-        {"model": "desert", "aot550": [0.1, 0.3, 1.0]},
+        {"model": "rural", "aot550": [0.1, 0.3, 0.6, 1.0]},
+        {"model": "maritime", "aot550": [0.1, 0.3, 0.6, 1.0]},
+        {"model": "urban", "aot550": [0.1, 0.3, 0.6, 1.0]},
+        {"model": "desert", "aot550": [0.1, 0.3, 0.6, 1.0]},
     ],
     "grid": {
         "surface_altitude": [0.0, 1500.0, 3000.0],
@@ -105,7 +105,9 @@ DEFAULT_CONFIG: dict = {
         # path reflectance was 3 % off 6S at the table's own nodes (tests/validation/
         # test_database_accuracy.py)
         "coarse_zenith": [0.0, 40.0, 60.0, 85.0],
-        "ratio_wavelengths": [0.4425, 0.55, 0.67, 0.86, 1.65],
+        # 0.3 um: with 0.4425 the lowest, the aircraft levels' path reflectance in the
+        # ultraviolet came out negative (the aerosol's share changes sign there)
+        "ratio_wavelengths": [0.3, 0.4425, 0.55, 0.67, 0.86, 1.65],
         "phase_wavelengths": [0.35, 0.4, 0.55, 0.86, 1.24, 2.25, 3.75],
         "airmass_pairs": [[0.0, 48.19], [60.0, 70.53], [75.52, 81.79], [85.0, 88.0]],
         "partial_zenith": [0.0, 80.0],
@@ -451,6 +453,9 @@ class _Builder:
         vals = iter(self.run("aerosol optical thickness", cases))
         curve = {m: np.array([next(vals)["optical_depth_total.aerosol"] for _ in vis])
                  for m in models}
+        self.visibility_curve = (vis * 1000.0, np.array(
+            [curve[c["aerosol"]] if c["aerosol"] in curve else np.zeros(vis.size)
+             for c in conds]))
         out = []
         for c in conds:
             if c["aerosol"] == "none":
@@ -749,7 +754,8 @@ class _Builder:
             positive = ((component(d, "aer") > 0) & (component(ref, "aer") > 0)).astype(float)
             safe = onto_dense(positive, [(1, zs), (2, zv)]) > 1.0 - 1e-9
             t["ray"][:, ih, ix] = parts["ray"]
-            t["mix"][:, ih, ix] = np.where(safe, parts["ray"] + parts["aer"], parts["mix"])
+            summed = parts["ray"] + parts["aer"]
+            t["mix"][:, ih, ix] = np.where(safe & (summed > 0), summed, parts["mix"])
 
         # the lowest surface first, then the higher ones (their aircraft levels use them)
         for (ih, ix, _sensor) in sorted(levels, key=lambda lv: (lv[0], -lv[1])):
@@ -789,7 +795,8 @@ class _Builder:
                 safe = ((comp(0, ix, "aer") > 0) & (comp(0, top, "aer") > 0)
                         & (comp(ih, top, "aer") > 0))
                 t["ray"][:, ih, ix] = parts["ray"]
-                t["mix"][:, ih, ix] = np.where(safe, parts["ray"] + parts["aer"], parts["mix"])
+                summed = parts["ray"] + parts["aer"]
+                t["mix"][:, ih, ix] = np.where(safe & (summed > 0), summed, parts["mix"])
 
 
 def _shape(f, axis, ndim):
@@ -825,11 +832,11 @@ def _thermal(cfg, progress):
     hs, obs, zv = g["surface_altitude"], g["observer_height"], g["view_zenith"]
     sky_z = np.array([0.0, 30.0, 50.0, 65.0, 75.0, 85.0, 89.0])
     n_x = len(obs) + 2
-    shape = (len(cfg["profiles"]), len(cfg["aerosols"]), wl.size, len(hs), n_x, len(zv))
+    shape = (len(cfg["profiles"]), len(cfg["_conditions"]), wl.size, len(hs), n_x, len(zv))
     tau, rad = np.ones(shape), np.zeros(shape)
-    sky = np.zeros((len(cfg["profiles"]), len(cfg["aerosols"]), wl.size, len(hs), sky_z.size))
+    sky = np.zeros((len(cfg["profiles"]), len(cfg["_conditions"]), wl.size, len(hs), sky_z.size))
     params = dict(t.get("parameters") or {})
-    total = len(cfg["profiles"]) * len(cfg["aerosols"])
+    total = len(cfg["profiles"]) * len(cfg["_conditions"])
     done = 0
     for ip, prof in enumerate(cfg["profiles"]):
         for ia, cond in enumerate(cfg["_conditions"]):
@@ -941,6 +948,8 @@ def build_database(config=None, progress=None) -> xr.Dataset:
                        "0: no aerosol)", "m"),
         "aot550": (("aerosol",), np.array([a for a, _v in equiv]),
                    "aerosol optical thickness at 550 nm over sea-level ground", "1"),
+        "aot550_of_visibility": (("aerosol", "visibility_node"), b.visibility_curve[1],
+                                 "6S's AOT550 of its model at a visibility (sea level)", "1"),
     }
     coords = {
         "aerosol": ("aerosol", np.array(names, dtype=object)),
@@ -960,6 +969,7 @@ def build_database(config=None, progress=None) -> xr.Dataset:
         "scattering_angle": ("scattering_angle", np.asarray(PHASE_ANGLES), {"units": "deg"}),
         "phase_wavelength": ("phase_wavelength", lam_p, {"units": "um"}),
         "height": ("height", np.asarray(g["rayleigh_heights"]), {"units": "m"}),
+        "visibility_node": ("visibility_node", b.visibility_curve[0], {"units": "m"}),
     }
     thermal = _thermal(cfg, b.progress)
     if thermal is not None:
@@ -1007,7 +1017,10 @@ def build_database(config=None, progress=None) -> xr.Dataset:
         ds.attrs["thermal_provenance"] = json.dumps(thermal[-1])
     bad = [name for name, v in ds.data_vars.items()
            if v.dtype.kind == "f" and not np.all(np.isfinite(v.values))]
+    bad += [name for name in ("rho_mixture", "rho_rayleigh", "total_down", "total_up",
+                              "spherical_albedo") if float(ds[name].min()) < 0.0]
     if bad:
-        raise EngineError(f"the build produced non-finite values in {', '.join(bad)}; "
+        raise EngineError(f"the build produced non-finite or negative values in "
+                          f"{', '.join(bad)}; "
                           "the configuration's grids are too sparse for its interpolations")
     return ds

@@ -105,7 +105,9 @@ LAYOUT = "radscene-atmosphere-database/1"
 AEROSOL_SCALE_HEIGHT = 2000.0
 #: How far below the lowest surface-altitude node a target may lie [m].
 _BELOW_TABLE = 500.0
-_SMOOTH = os.environ.get("RADSCENE_DB_SMOOTH", "ratio")
+#: Aerosol optical depths between which the interpolated factor of the path reflectance goes
+#: from ρ/ρ_ss to ρ − ρ_ss (:meth:`DatabaseAtmosphere.components`).
+_BLEND = (0.25, 0.75)
 #: The largest scale factor of a profile's water-vapour or ozone column.
 _MAX_SCALE = 3.0
 
@@ -244,7 +246,16 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             return [(match[0], 1.0)]
         aots = np.asarray(ds["aot550"].values, dtype=float)
         order = sorted(candidates, key=lambda i: aots[i])
-        if aot550 is None:
+        if aot550 is None and "aot550_of_visibility" in ds:
+            # 6S's own relation, tabulated; linear in 1 / visibility (6S scales the extinction
+            # of its profile with it) between and beyond the tabulated visibilities
+            inv = 1.0 / np.asarray(ds["visibility_node"].values, dtype=float)[::-1]
+            tau = np.asarray(ds["aot550_of_visibility"].values[order[-1]], dtype=float)[::-1]
+            x = 1.0 / want_vis
+            k = int(np.clip(np.searchsorted(inv, x) - 1, 0, inv.size - 2))
+            want = float(tau[k] + (tau[k + 1] - tau[k]) / (inv[k + 1] - inv[k]) * (x - inv[k]))
+            key = "atmosphere.visibility"
+        elif aot550 is None:
             # 6S's AOT550 is linear in 1 / visibility (it scales its extinction profile)
             inv = np.array([1.0 / vis[i] for i in order])
             tau = np.array([aots[i] for i in order])
@@ -275,10 +286,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                               f"{self.file.name}: AOT550 {lo:g}-{hi:g}", key=key)
         self.aot550 = want
         self.visibility = float("nan") if want_vis is None else float(want_vis)
-        if want_vis is None and len(order) > 1:  # the visibility 6S would give it
-            inv = np.array([1.0 / vis[i] for i in order])
-            tau = np.array([aots[i] for i in order])
-            self.visibility = float(1.0 / np.interp(want, tau, inv))
+        if want_vis is None and "aot550_of_visibility" in ds:  # the visibility 6S gives it
+            inv = 1.0 / np.asarray(ds["visibility_node"].values, dtype=float)
+            tau = np.asarray(ds["aot550_of_visibility"].values[order[-1]], dtype=float)
+            if tau[-1] <= want <= tau[0]:
+                self.visibility = float(1.0 / np.interp(want, tau[::-1], inv[::-1]))
         for (t0, i0), (t1, i1) in zip(nodes[:-1], nodes[1:], strict=True):
             if t0 - 1e-9 <= want <= t1 + 1e-9:
                 w = float(np.clip((want - t0) / (t1 - t0), 0.0, 1.0))
@@ -366,7 +378,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             self._pa_s = model.loglog_interp(self._lam_s, a["phase_wavelength"],
                                              self.t["phase_aerosol"])
             self._ratio_tables()
-            snaps.append((self.t, self.ratio, self.share_down, self.share_up))
+            snaps.append((self.t, (self.ratio, self.excess), self.share_down, self.share_up))
         if len(snaps) == 2:
             # between two AOT550 nodes: the smooth factors linearly in AOT550, the optical
             # depth exactly (one model: it scales with AOT550), the aerosol's optical
@@ -383,7 +395,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                       "thermal_path_radiance", "thermal_sky_radiance"):
                 if k in t1:
                     self.t[k] = mix(t0[k], t1[k])
-            self.ratio = {k: mix(r0[k], r1[k]) for k in r1}
+            self.ratio = {k: mix(r0[0][k], r1[0][k]) for k in r1[0]}
+            self.excess = {k: mix(r0[1][k], r1[1][k]) for k in r1[1]}
             self.share_down, self.share_up = mix(d0, d1), mix(u0, u1)
 
     def _fractions(self, h_t, dh):
@@ -418,7 +431,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         """ρ / ρ_ss at every node, the smooth factor the database interpolates; and the
         diffuse shares (T - e^{-τ/μ}) / (1 - e^{-τ/μ}) of the total transmittances."""
         a = self.axes
-        self.ratio = {}
+        self.ratio, self.excess = {}, {}
         hs, obs = a["surface_altitude"], a["observer_height"]
         col = self.t["tau_rayleigh"] + self.t["tau_aerosol"]  # (λs, h)
         mu_s = np.cos(np.radians(np.minimum(a["sun_zenith"], 89.0)))
@@ -440,6 +453,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         for key, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
             rho = self.t[key]  # (λs, h, x, θs, θv, φ)
             out = np.zeros_like(rho)
+            excess = np.zeros_like(rho)
             for ih, h in enumerate(hs):
                 for ix in range(obs.size):
                     if ix == 0:
@@ -450,14 +464,13 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                         a["scattering_angle"], self._pr_s, self._pa_s, self.t["tau_rayleigh"][:, ih],
                         self.t["tau_aerosol"][:, ih], self.t["omega_aerosol"], float(fr[0]),
                         float(x[0]), ray)
-                    if _SMOOTH == "difference":
-                        r = rho[:, ih, ix] - ss
-                    else:
-                        with np.errstate(divide="ignore", invalid="ignore"):
-                            r = np.where(ss > 0, rho[:, ih, ix] / np.where(ss > 0, ss, 1.0), 1.0)
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        r = np.where(ss > 0, rho[:, ih, ix] / np.where(ss > 0, ss, 1.0), 1.0)
                     out[:, ih, ix] = r
+                    excess[:, ih, ix] = rho[:, ih, ix] - ss
                 out[:, ih, 0] = out[:, ih, 1]
             self.ratio[key] = out
+            self.excess[key] = excess
 
     def describe(self) -> dict:
         """The condition and the file's provenance."""
@@ -634,20 +647,33 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         tau_a_q = ta_s[:, ih] * (1 - fh) + ta_s[:, np.minimum(ih + 1, nh - 1)] * fh
         fr_q, x_q = self._fractions(h_t, np.where(space, model.TOP_OF_ATMOSPHERE, dh))
         rho = {}
-        for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
-            tab = self.ratio[name]  # (λs, h, x, θs, θv, φ)
-            i_s1 = min(i_s + 1, a["sun_zenith"].size - 1)
+        # the factor interpolated: ρ/ρ_ss where single scattering carries the angular
+        # structure (thin aerosol), ρ − ρ_ss where multiple scattering dominates (AOT550 ≳ 0.5;
+        # there ρ/ρ_ss swings with the phase function between the nodes): the two blended by
+        # the aerosol optical depth at each wavelength, linearly from 0.25 to 0.75
+        blend = np.clip((tau_a_q - _BLEND[0]) / (_BLEND[1] - _BLEND[0]), 0.0, 1.0)  # (λs, N)
+        i_s1 = min(i_s + 1, a["sun_zenith"].size - 1)
+
+        def at_geometry(tab):
             q = tab[:, :, :, i_s] * (1 - f_s) + tab[:, :, :, i_s1] * f_s  # (λs, h, x, θv, φ)
             acc = 0.0
             for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
                 for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
                     for vi_, vw in ((iv, 1 - fv), (np.minimum(iv + 1, nv - 1), fv)):
                         acc = acc + (hw * xw * vw)[None, :, None] * q[:, hi_, xi_, vi_]
+            return acc
+
+        for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
+            by_ratio = at_geometry(self.ratio[name])
+            by_excess = at_geometry(self.excess[name]) if np.any(blend > 0.0) else None
             total = 0.0
             for phi, w in zip(phis, simpson, strict=True):
-                r_phi = model.azimuth_fourier(phi, acc[..., 0], acc[..., 1], acc[..., 2])
                 ss = self._ss(sz_eff, np.minimum(vz, 89.0), phi, tau_r_q, tau_a_q, fr_q, x_q, ray)
-                total = total + w * (r_phi + ss if _SMOOTH == "difference" else r_phi * ss)
+                value = model.azimuth_fourier(phi, *np.moveaxis(by_ratio, -1, 0)) * ss
+                if by_excess is not None:
+                    extra = model.azimuth_fourier(phi, *np.moveaxis(by_excess, -1, 0)) + ss
+                    value = value * (1.0 - blend) + extra * blend
+                total = total + w * value
             rho[name] = self._spectral(total.T, wl)  # (N, n)
         # total transmittances (through their diffuse shares) and spherical albedo
         tdown = self.share_down  # (λs, h, θs)
