@@ -246,7 +246,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             return [(match[0], 1.0)]
         aots = np.asarray(ds["aot550"].values, dtype=float)
         order = sorted(candidates, key=lambda i: aots[i])
-        if aot550 is None and "aot550_of_visibility" in ds:
+        if aot550 is None:  # files with an AOT550 axis tabulate 6S's AOT550 of visibility
             # 6S's own relation, tabulated; linear in 1 / visibility (6S scales the extinction
             # of its profile with it) between and beyond the tabulated visibilities
             inv = 1.0 / np.asarray(ds["visibility_node"].values, dtype=float)[::-1]
@@ -254,21 +254,6 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             x = 1.0 / want_vis
             k = int(np.clip(np.searchsorted(inv, x) - 1, 0, inv.size - 2))
             want = float(tau[k] + (tau[k + 1] - tau[k]) / (inv[k + 1] - inv[k]) * (x - inv[k]))
-            key = "atmosphere.visibility"
-        elif aot550 is None:
-            # 6S's AOT550 is linear in 1 / visibility (it scales its extinction profile)
-            inv = np.array([1.0 / vis[i] for i in order])
-            tau = np.array([aots[i] for i in order])
-            if tau.size == 1:
-                if abs(vis[order[0]] / want_vis - 1.0) > 0.02:
-                    raise ConfigError(f"{self.file.name} holds the {aer} aerosol at visibility "
-                                      f"{vis[order[0]] / 1000:g} km only; not "
-                                      f"{want_vis / 1000:g} km", key="atmosphere.visibility")
-                want = float(tau[0])
-            else:
-                k = int(np.clip(np.searchsorted(inv, 1.0 / want_vis) - 1, 0, inv.size - 2))
-                slope = (tau[k + 1] - tau[k]) / (inv[k + 1] - inv[k])
-                want = float(tau[k] + slope * (1.0 / want_vis - inv[k]))
             key = "atmosphere.visibility"
         else:
             want = float(aot550)
@@ -286,7 +271,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                               f"{self.file.name}: AOT550 {lo:g}-{hi:g}", key=key)
         self.aot550 = want
         self.visibility = float("nan") if want_vis is None else float(want_vis)
-        if want_vis is None and "aot550_of_visibility" in ds:  # the visibility 6S gives it
+        if want_vis is None:  # the visibility 6S gives it
             inv = 1.0 / np.asarray(ds["visibility_node"].values, dtype=float)
             tau = np.asarray(ds["aot550_of_visibility"].values[order[-1]], dtype=float)
             if tau[-1] <= want <= tau[0]:

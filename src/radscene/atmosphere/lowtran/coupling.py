@@ -194,12 +194,7 @@ def coupling(atm, observer_altitude, target_altitude, view_zenith, wavelength
         Arrays of shape ``geometry_shape + (n_wavelength,)``.
     """
     wl, window = atm._window(wavelength)
-    obs = atm._check_altitude(observer_altitude, "observer_altitude")
-    tgt = atm._check_altitude(target_altitude, "target_altitude")
-    vz = np.asarray(view_zenith, dtype=float)
-    if vz.size and (np.any(~np.isfinite(vz)) or vz.min() < 0 or vz.max() > 180):
-        raise ConfigError("view zenith angles must lie in [0, 180] deg", key="view_zenith")
-    obs, tgt, vz = np.broadcast_arrays(obs, tgt, vz)
+    obs, tgt, vz = atm._check_geometry(observer_altitude, target_altitude, view_zenith)
     shape = obs.shape
     n = obs.size
     out = {k: np.zeros((n, wl.size)) for k in ("t_d", "share", "s", "dir", "dif")}

@@ -497,6 +497,15 @@ class LowtranAtmosphere(Atmosphere):
                               f"not {wavenumber.min():g}-{wavenumber.max():g} cm-1")
         return np.interp(wavenumber, v, values)
 
+    def _check_geometry(self, observer_altitude, target_altitude, view_zenith):
+        """(observer, target, view zenith) checked and broadcast to one shape."""
+        obs = self._check_altitude(observer_altitude, "observer_altitude")
+        tgt = self._check_altitude(target_altitude, "target_altitude")
+        vz = np.asarray(view_zenith, dtype=float)
+        if vz.size and (np.any(~np.isfinite(vz)) or vz.min() < 0 or vz.max() > 180):
+            raise ConfigError("view zenith angles must lie in [0, 180] deg", key="view_zenith")
+        return np.broadcast_arrays(obs, tgt, vz)
+
     # -- Atmosphere interface ---------------------------------------------------------------
     def path(self, observer_altitude, target_altitude, view_zenith, wavelength,
              view_azimuth=None) -> PathSpectra:
@@ -506,12 +515,7 @@ class LowtranAtmosphere(Atmosphere):
         if view_azimuth is not None:
             view_azimuth = _number(view_azimuth, "view_azimuth", -360.0, 360.0,
                                    unit="deg") % 360.0
-        obs = self._check_altitude(observer_altitude, "observer_altitude")
-        tgt = self._check_altitude(target_altitude, "target_altitude")
-        vz = np.asarray(view_zenith, dtype=float)
-        if vz.size and (np.any(~np.isfinite(vz)) or vz.min() < 0 or vz.max() > 180):
-            raise ConfigError("view zenith angles must lie in [0, 180] deg", key="view_zenith")
-        obs, tgt, vz = np.broadcast_arrays(obs, tgt, vz)
+        obs, tgt, vz = self._check_geometry(observer_altitude, target_altitude, view_zenith)
         shape = obs.shape
         flat = [a.ravel() for a in (obs, tgt, vz)]
         n = flat[0].size
