@@ -17,14 +17,10 @@ real sensor's noise-equivalent reflectance difference).
 from __future__ import annotations
 
 import importlib.util
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-import xarray as xr
-import yaml
 
 from radscene.sun import toa_solar_irradiance
 
@@ -71,18 +67,6 @@ def _scene(rho, aerosol, aot, sensor, view_zenith, atmosphere=None):
     }
 
 
-def _render(tmp_path, scene) -> xr.Dataset:
-    tmp_path.mkdir(parents=True, exist_ok=True)
-    path = tmp_path / "scene.yaml"
-    path.write_text(yaml.safe_dump(scene))
-    out = tmp_path / "out"
-    run = subprocess.run([sys.executable, "-m", "radscene", "render", str(path), "-o", str(out),
-                          "--no-quicklooks"], capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
-    with xr.open_dataset(out / "cam.nc", engine="h5netcdf") as ds:
-        return ds.load()
-
-
 def _apparent_reflectance(ds) -> dict:
     mu_s = np.cos(np.radians(ref.SUN_ZENITH))
     out = {}
@@ -101,13 +85,14 @@ def _case_id(aerosol, aot, sensor, view_zenith, band, rho, visibility=None):
             f"vz{int(view_zenith):02d}-b{0.5 * (lo + hi):.2f}-r{rho:.2f}")
 
 
-def _compare(tmp_path, condition, references, tolerance, atmosphere=None, visibility=None,
+def _compare(render, tmp_path, condition, references, tolerance, atmosphere=None,
+             visibility=None,
              rhos=ref.RHOS):
     """Render the plate at each of ``rhos`` and list the bands beyond tolerance."""
     aerosol, aot, sensor, view_zenith = condition
     failures = []
     for rho in rhos:
-        ds = _render(tmp_path / f"r{rho}", _scene(rho, aerosol, aot, sensor, view_zenith,
+        ds = render(tmp_path / f"r{rho}", _scene(rho, aerosol, aot, sensor, view_zenith,
                                                   atmosphere))
         for band, value in _apparent_reflectance(ds).items():
             case = _case_id(aerosol, aot, sensor, view_zenith, band, rho, visibility)
@@ -129,8 +114,8 @@ def _marks(condition):
 
 @pytest.mark.parametrize("condition", [
     pytest.param(c, marks=_marks(c), id="-".join(str(v) for v in c)) for c in CONDITIONS])
-def test_rendered_plate_equals_6s_apparent_reflectance(tmp_path, condition):
-    failures = _compare(tmp_path, condition, ref.HOMOGENEOUS, TOLERANCE)
+def test_rendered_plate_equals_6s_apparent_reflectance(render_scene, tmp_path, condition):
+    failures = _compare(render_scene, tmp_path, condition, ref.HOMOGENEOUS, TOLERANCE)
     assert not failures, "\n".join(failures)
 
 
@@ -150,12 +135,13 @@ def _database(aerosol, visibility):
 @pytest.mark.parametrize("condition", [
     pytest.param(c, marks=() if c == DATABASE_QUICK else pytest.mark.slow,
                  id=f"{c[0]}-vis{int(c[1])}-{c[2]}-{int(c[3])}") for c in DATABASE_CONDITIONS])
-def test_rendered_plate_with_the_database_equals_6s_within_3_percent(tmp_path, condition):
+def test_rendered_plate_with_the_database_equals_6s_within_3_percent(
+        render_scene, tmp_path, condition):
     """ρ = 0.2 and 0.5 within 3 % in all 12 conditions (the visibilities become AOT550 0.235
     and 0.78 on the database's continuous axis); the black plate (the path alone) is the next
     test."""
     aerosol, visibility, sensor, view_zenith = condition
-    failures = _compare(tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
+    failures = _compare(render_scene, tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
                         DATABASE_TOLERANCE, _database(aerosol, visibility), visibility,
                         rhos=(0.2, 0.5))
     assert not failures, "\n".join(failures)
@@ -169,9 +155,10 @@ def test_rendered_plate_with_the_database_equals_6s_within_3_percent(tmp_path, c
                    "%; measured by this test", strict=False)
 @pytest.mark.parametrize("condition", [
     pytest.param(c, id=f"{c[0]}-vis{int(c[1])}-{c[2]}-{int(c[3])}") for c in DATABASE_CONDITIONS])
-def test_black_plate_with_the_database_equals_6s_path_within_3_percent(tmp_path, condition):
+def test_black_plate_with_the_database_equals_6s_path_within_3_percent(
+        render_scene, tmp_path, condition):
     aerosol, visibility, sensor, view_zenith = condition
-    failures = _compare(tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
+    failures = _compare(render_scene, tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
                         DATABASE_TOLERANCE, _database(aerosol, visibility), visibility,
                         rhos=(0.0,))
     assert not failures, "\n".join(failures)
@@ -191,10 +178,11 @@ def _disc_scene(radius_km):
 
 
 @pytest.mark.parametrize("radius_km", ref.HET_RADII_KM)
-def test_dark_disc_in_bright_surroundings_equals_6s_heterogeneous_ground(tmp_path, radius_km):
+def test_dark_disc_in_bright_surroundings_equals_6s_heterogeneous_ground(
+        render_scene, tmp_path, radius_km):
     """6S's heterogeneous Lambertian ground: ρ* at the centre of a dark disc within 3 %; the
     adjacency layer brightens the disc towards its edge and is zero far from it."""
-    ds = _render(tmp_path, _disc_scene(radius_km))
+    ds = render_scene(tmp_path, _disc_scene(radius_km))
     mu_s = np.cos(np.radians(ref.SUN_ZENITH))
     failures = []
     for lo, hi in ref.HET_BANDS_UM:

@@ -30,14 +30,10 @@ Tolerance: 1 % of the band radiance.
 from __future__ import annotations
 
 import importlib.util
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-import xarray as xr
-import yaml
 
 from radscene.atmosphere.lowtran import NOT_BUILT, lowtran_available
 from radscene.sun import toa_solar_irradiance
@@ -87,18 +83,6 @@ def _scene(rho, visibility, sensor, view_zenith):
     }
 
 
-def _render(tmp_path, scene) -> xr.Dataset:
-    tmp_path.mkdir(parents=True, exist_ok=True)
-    path = tmp_path / "scene.yaml"
-    path.write_text(yaml.safe_dump(scene))
-    out = tmp_path / "out"
-    run = subprocess.run([sys.executable, "-m", "radscene", "render", str(path), "-o", str(out),
-                          "--no-quicklooks"], capture_output=True, text=True)
-    assert run.returncode == 0, run.stderr
-    with xr.open_dataset(out / "cam.nc", engine="h5netcdf") as ds:
-        return ds.load()
-
-
 def _expected(case) -> float:
     """LOWTRAN's band radiance, its direct sun relit with radscene's solar spectrum."""
     lo, hi = 1e4 / case["band_cm1"][1], 1e4 / case["band_cm1"][0]
@@ -122,11 +106,11 @@ QUICK = (23.0, "toa99km", 0.0)
 @pytest.mark.parametrize("condition", [
     pytest.param(c, marks=() if c == QUICK else pytest.mark.slow,
                  id=f"vis{c[0]:g}-{c[1]}-vz{c[2]:g}") for c in CONDITIONS])
-def test_rendered_plate_equals_lowtrans_own_radiance(tmp_path, condition):
+def test_rendered_plate_equals_lowtrans_own_radiance(render_scene, tmp_path, condition):
     visibility, sensor, view_zenith = condition
     failures, report = [], []
     for rho in ref.RHOS:
-        ds = _render(tmp_path / f"r{rho}", _scene(rho, visibility, sensor, view_zenith))
+        ds = render_scene(tmp_path / f"r{rho}", _scene(rho, visibility, sensor, view_zenith))
         for band in ref.BANDS_CM1:
             case_id = _case_id(visibility, sensor, view_zenith, band, rho)
             expected = _expected(ref.CASES[case_id])
