@@ -54,8 +54,16 @@ class UniformAtmosphere(Atmosphere):
     """The same user-set spectra for every line of sight; see the module table."""
 
     name = "uniform"
-    wavelength_range = (0.2, 100.0)
     geometry_dependent = False
+
+    @property
+    def wavelength_range(self) -> tuple[float, float]:
+        """Where every one of its spectra can be evaluated, within 0.2-100 um [um]."""
+        lo, hi = 0.2, 100.0
+        for spec in (self.transmittance, self.sun_transmittance, self.path_radiance, self.sky_radiance):
+            a, b = spec.defined_range
+            lo, hi = max(lo, a), min(hi, b)
+        return (lo, hi)
 
     def __init__(
         self,

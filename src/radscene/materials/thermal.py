@@ -317,14 +317,17 @@ def _material_grid(material, band, step):
     return grid[(grid >= lo) & (grid <= hi)]
 
 
-def solar_absorptance(material, band=SOLAR_BAND) -> float:
-    """Broadband solar absorptance 1 − ρ − τ weighted by the ASTM G173 global spectrum [-].
+def solar_absorptance(material, band=SOLAR_BAND, irradiance=None) -> float:
+    """Broadband solar absorptance 1 − ρ − τ weighted by a solar spectrum [-].
 
     Parameters
     ----------
     material : Material
     band : (float, float), optional
         Integration band [um]; default 0.4-4.0.
+    irradiance : (array_like, array_like), optional
+        (wavelength [um], spectral irradiance [W m-2 um-1]) to weight with, e.g. the ground
+        irradiance of a scene's atmosphere; default the ASTM G173 global tilt spectrum.
 
     Returns
     -------
@@ -334,7 +337,7 @@ def solar_absorptance(material, band=SOLAR_BAND) -> float:
     -----
     Trapezoidal integral on the union of the G173 samples and the material's knots.
     """
-    wl_s, e_s = _g173_global()
+    wl_s, e_s = _g173_global() if irradiance is None else (np.asarray(irradiance[0], float), np.asarray(irradiance[1], float))
     lo, hi = band
     grid = np.union1d(_material_grid(material, band, 0.001), wl_s[(wl_s >= lo) & (wl_s <= hi)])
     e = np.interp(grid, wl_s, e_s)

@@ -13,6 +13,9 @@ angle           deg            degree(s), °, rad, mrad, urad, arcmin, arcsec
 time            s              ms, min, h, hr, hour(s), d, day(s)
 irradiance      W m-2          W/m2, kW m-2, W cm-2, mW cm-2, uW cm-2
 radiance        W m-2 sr-1     W/m2/sr, W cm-2 sr-1, mW cm-2 sr-1, uW cm-2 sr-1
+speed           m/s            m s-1, km/h, kn, knots, mph
+pressure        Pa             hPa, mbar, kPa, bar, atm
+power           W              kW, MW
 dimensionless   1              %, percent, ppm
 ==============  =============  ==========================================================
 
@@ -152,6 +155,29 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
             "uW/cm2/sr": (1.0e-2, 0.0),
         }
     ),
+    "speed": {
+        "m/s": (1.0, 0.0),
+        "m s-1": (1.0, 0.0),
+        "km/h": (1.0 / 3.6, 0.0),
+        "km h-1": (1.0 / 3.6, 0.0),
+        "kn": (1852.0 / 3600.0, 0.0),
+        "knot": (1852.0 / 3600.0, 0.0),
+        "knots": (1852.0 / 3600.0, 0.0),
+        "mph": (0.44704, 0.0),
+    },
+    "pressure": {
+        "Pa": (1.0, 0.0),
+        "hPa": (100.0, 0.0),
+        "mbar": (100.0, 0.0),
+        "kPa": (1.0e3, 0.0),
+        "bar": (1.0e5, 0.0),
+        "atm": (101325.0, 0.0),
+    },
+    "power": {
+        "W": (1.0, 0.0),
+        "kW": (1.0e3, 0.0),
+        "MW": (1.0e6, 0.0),
+    },
     "dimensionless": {
         "1": (1.0, 0.0),
         "%": (0.01, 0.0),
@@ -169,6 +195,9 @@ CANONICAL_UNITS: dict[str, str] = {
     "time": "s",
     "irradiance": "W m-2",
     "radiance": "W m-2 sr-1",
+    "speed": "m/s",
+    "pressure": "Pa",
+    "power": "W",
     "dimensionless": "1",
 }
 

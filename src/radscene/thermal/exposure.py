@@ -1,0 +1,220 @@
+"""What each element sees, from the ray engine: the sun (shadows) and its hemisphere (sky view
+factor and view factors to the other elements).
+
+Both are asked of the same Embree scene the renderer traces, so a shadow in the heat balance is
+the shadow in the image.
+
+**Shadows.** For every sun position, occlusion rays towards the sun from points on each face
+(raised off the surface by ``epsilon`` along its normal: one at the centroid of a terrain face,
+about one per m² of an object face, :func:`shadow_points`); an element's sunlit fraction is
+the area-weighted share of those points that see the sun. Faces turned away from the sun are not
+traced (the absorbed beam is zero there whatever the shadow).
+
+**Hemisphere.** ``n_samples`` cosine-weighted directions over each face's outer hemisphere
+(a stratified pattern, shifted at random per face from ``seed``), each from a random point of
+the face (so large facets are averaged over their area): with cosine weighting the
+share of rays that escape is the face's sky view factor V_sky, and the share that hits face
+``g`` of element ``j`` is the view factor F_fj (Modest 2013, *Radiative Heat Transfer*, 3rd
+ed., §4.2: F = (1/π) ∫ cos θ dω over the directions that reach the other surface). Element
+view factors are the area-weighted means over their faces, F_ij = Σ_f (A_f / A_i) F_fj.
+Rays that hit a face without an element (an object of fixed temperature) go into ``fixed``:
+the view factor to each such face, so its fixed temperature can be counted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import sparse
+
+from radscene.errors import ConfigError
+
+__all__ = ["Hemisphere", "hemisphere_exposure", "shadow_points", "sunlit_fraction"]
+
+
+def _points(elements, faces, r1, r2, epsilon):
+    """Points uniform over the given faces for unit-square samples (r1, r2), raised by
+    ``epsilon`` along the face normal (Shirley & Chiu's warp: Pharr et al. 2023, *Physically
+    Based Rendering*, 4th ed., §6.5.1)."""
+    v = elements.face_vertices[faces]
+    s = np.sqrt(r1)[:, None]
+    p = (1.0 - s) * v[:, 0] + s * (1.0 - r2[:, None]) * v[:, 1] + s * r2[:, None] * v[:, 2]
+    return p + epsilon * elements.face_normal[faces]
+
+
+def shadow_points(elements, spacing=1.0):
+    """Where each solved face is tested for shadow: stratified points, about one per
+    ``spacing``² of its area (at least one, at most 64), terrain faces one at the centroid.
+
+    Returns
+    -------
+    face : ndarray of int, (n_points,)
+        The face of each point.
+    weight : ndarray, (n_points,)
+        Each point's share of its face [-].
+    r1, r2 : ndarray, (n_points,)
+        Unit-square coordinates of each point on its face.
+    """
+    solved = np.flatnonzero(elements.face_element >= 0)
+    terrain = elements.cell[elements.face_element[solved]] >= 0
+    count = np.where(terrain, 1, np.clip(np.ceil(elements.face_area[solved] / spacing**2), 1, 64)).astype(np.int64)
+    face = np.repeat(solved, count)
+    k = np.arange(face.size) - np.repeat(np.cumsum(count) - count, count)
+    n = np.repeat(count, count)
+    r1 = np.where(n == 1, 1.0 / 3.0, (k + 0.5) / n)
+    r2 = np.where(n == 1, 0.5, (k * 0.6180339887498949 + 0.5) % 1.0)
+    return face, 1.0 / n, r1, r2
+
+
+def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0):
+    """Sunlit share of every element for each sun direction.
+
+    Parameters
+    ----------
+    tracer : radscene.geometry.RayTracer
+        The scene's ray engine (its meshes in the order of ``elements``' faces).
+    elements : SurfaceElements
+    sun_direction : array_like, (n_times, 3) or (3,)
+        Unit vectors towards the sun (east, north, up) [-].
+    epsilon : float, optional
+        Distance the ray origins are raised off the faces [m].
+    spacing : float, optional
+        About one shadow ray per ``spacing``² of an object face's area [m]
+        (:func:`shadow_points`).
+
+    Returns
+    -------
+    ndarray, (n_times, n_elements)
+        Sunlit fraction [-]: area share of faces that face the sun and see it.
+    """
+    sun = np.atleast_2d(np.asarray(sun_direction, float))
+    if sun.shape[1] != 3 or not np.all(np.isfinite(sun)):
+        raise ConfigError(f"must be finite unit vectors of shape (n, 3); got shape {sun.shape}", key="sun_direction")
+    face, weight, r1, r2 = shadow_points(elements, spacing)
+    origin = _points(elements, face, r1, r2, epsilon)
+    normal = elements.face_normal[face]
+    local = tracer.to_local(origin)
+    out = np.zeros((len(sun), elements.size))
+    for k, s in enumerate(sun):
+        s = s / np.linalg.norm(s)
+        facing = normal @ s > 0.0
+        if s[2] <= 0.0 or not facing.any():
+            continue
+        if local is None:
+            seen = ~tracer.occluded(origin[facing], np.broadcast_to(s, (int(facing.sum()), 3)))
+        else:
+            o = np.ascontiguousarray(local[facing], np.float32)
+            d = np.ascontiguousarray(np.broadcast_to(s.astype(np.float32), (len(o), 3)))
+            seen = ~tracer.occluded_local(o, d)
+        lit = np.bincount(face[facing], weights=weight[facing] * seen, minlength=len(elements.face_element))
+        out[k] = elements.per_element(lit)
+    # the faces' area shares sum to one only to rounding
+    return np.minimum(out, 1.0, out=out)
+
+
+@dataclass(frozen=True)
+class Hemisphere:
+    """What each element's hemisphere holds.
+
+    Attributes
+    ----------
+    sky_view : ndarray, (n_elements,)
+        Sky view factor V_sky [-].
+    exchange : scipy.sparse.csr_array, (n_elements, n_elements)
+        View factor F_ij from element i to element j [-].
+    fixed : scipy.sparse.csr_array, (n_elements, n_faces)
+        View factor from element i to face f of a surface that is not solved [-].
+    samples : int
+        Rays per face.
+    """
+
+    sky_view: np.ndarray
+    exchange: sparse.csr_array
+    fixed: sparse.csr_array
+    samples: int
+
+
+def _cosine_directions(normal, n_samples, rng):
+    """(n_faces, n_samples, 3) cosine-weighted unit directions about each unit normal."""
+    side = int(np.ceil(np.sqrt(n_samples)))
+    i, j = np.divmod(np.arange(n_samples), side)
+    base = np.stack([(i + 0.5) / np.ceil(n_samples / side), (j + 0.5) / side], axis=1)
+    u = (base[None, :, :] + rng.random((len(normal), 1, 2))) % 1.0
+    r = np.sqrt(u[..., 0])
+    phi = 2.0 * np.pi * u[..., 1]
+    local = np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(0.0, 1.0 - u[..., 0]))], axis=-1)
+    # an orthonormal frame (t, b, n) per normal (Duff et al. 2017, JCGT 6(1))
+    n = normal
+    sign = np.where(n[:, 2] >= 0.0, 1.0, -1.0)
+    a = -1.0 / (sign + n[:, 2])
+    b = n[:, 0] * n[:, 1] * a
+    t = np.stack([1.0 + sign * n[:, 0] ** 2 * a, sign * b, -sign * n[:, 0]], axis=1)
+    bb = np.stack([b, sign + n[:, 1] ** 2 * a, -n[:, 1]], axis=1)
+    return local[..., :1] * t[:, None] + local[..., 1:2] * bb[:, None] + local[..., 2:] * n[:, None]
+
+
+def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, batch=65536):
+    """Sky view factor and view factors between elements, by cosine-weighted hemisphere rays.
+
+    Parameters
+    ----------
+    tracer : radscene.geometry.RayTracer
+    elements : SurfaceElements
+    n_samples : int, optional
+        Rays per face; the standard error of a view factor F is about sqrt(F (1 − F) / n)
+        per face, less per element of several faces.
+    seed : int, optional
+        Seeds the per-face shifts of the pattern (same seed, same answer).
+    epsilon : float, optional
+        Distance the ray origins are raised off the faces [m].
+    batch : int, optional
+        Faces traced per call.
+
+    Returns
+    -------
+    Hemisphere
+    """
+    n_samples = int(n_samples)
+    if n_samples < 1:
+        raise ConfigError(f"must be >= 1; got {n_samples}", key="thermal.hemisphere_samples")
+    rng = np.random.default_rng(seed)
+    n_faces = len(elements.face_element)
+    face_offset = np.concatenate([[0], np.cumsum([len(m.faces) for m in tracer.meshes])[:-1]]).astype(np.int64)
+    solved = np.flatnonzero(elements.face_element >= 0)
+    sky = np.zeros(n_faces)
+    rows, cols, vals, frows, fcols, fvals = [], [], [], [], [], []
+    per = max(1, batch // n_samples)
+    for start in range(0, solved.size, per):
+        faces = solved[start:start + per]
+        d = _cosine_directions(elements.face_normal[faces], n_samples, rng).reshape(-1, 3)
+        source = np.repeat(faces, n_samples)
+        r = rng.random((2, source.size))
+        hits = tracer.intersect(_points(elements, source, r[0], r[1], epsilon), d)
+        miss = ~hits.hit
+        sky[faces] = np.bincount(np.repeat(np.arange(faces.size), n_samples)[miss], minlength=faces.size) / n_samples
+        hit = hits.hit
+        target = face_offset[hits.object[hit]] + hits.primitive[hit]
+        weight = elements.face_weight[source[hit]] / n_samples
+        element_i = elements.face_element[source[hit]]
+        element_j = elements.face_element[target]
+        to_element = element_j >= 0
+        rows.append(element_i[to_element])
+        cols.append(element_j[to_element])
+        vals.append(weight[to_element])
+        frows.append(element_i[~to_element])
+        fcols.append(target[~to_element])
+        fvals.append(weight[~to_element])
+    n_el = elements.size
+
+    def matrix(r, c, v, shape):
+        if not r:
+            return sparse.csr_array(shape)
+        return sparse.coo_array((np.concatenate(v), (np.concatenate(r), np.concatenate(c))), shape=shape).tocsr()
+
+    return Hemisphere(
+        sky_view=np.minimum(elements.per_element(sky), 1.0),  # area shares sum to 1 to rounding
+        exchange=matrix(rows, cols, vals, (n_el, n_el)),
+        fixed=matrix(frows, fcols, fvals, (n_el, n_faces)),
+        samples=n_samples,
+    )

@@ -1,0 +1,303 @@
+"""The heat balance of a scene's surface elements over a span of time.
+
+:func:`solve_elements` joins the parts: the sun's position at every step
+(:mod:`radscene.sun`), the short- and long-wave irradiance at the ground from the scene's
+atmosphere engine (:mod:`radscene.thermal.irradiance`), the weather
+(:mod:`radscene.thermal.weather`), shadows and the hemisphere of every element from the ray
+engine (:mod:`radscene.thermal.exposure`), and the time stepper
+(:class:`radscene.thermal.balance.HeatBalance`). It returns an xarray Dataset with the surface
+temperature and every flux term of every element at every step.
+
+Shadows are traced every ``shadow_interval`` (default: every step) and the sunlit fraction is
+interpolated linearly in time between traces. The spin-up repeats the first day (which must be
+in the run) until the surface temperatures repeat from one day to the next.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from radscene.errors import ConfigError
+from radscene.thermal.balance import HeatBalance, ThermalForcing
+from radscene.thermal.conduction import DAY
+from radscene.thermal.exposure import hemisphere_exposure, sunlit_fraction
+from radscene.thermal.irradiance import shortwave_table, sky_longwave_irradiance
+
+__all__ = ["ThermalOptions", "solve_elements", "sun_vectors", "time_axis"]
+
+
+@dataclass(frozen=True)
+class ThermalOptions:
+    """How the heat balance of a scene is run.
+
+    Attributes
+    ----------
+    step : float
+        Time step [s].
+    shadow_interval : float or None
+        Time between shadow traces [s]; None: every step.
+    spin_up : bool
+        Repeat the first day until it repeats itself (needs a run of at least one day).
+    spin_up_tolerance : float
+        [K].
+    max_spin_up_days : int
+    hemisphere_samples : int
+        Hemisphere rays per face for the sky view and view factors.
+    nodes : int
+        Conduction nodes per element.
+    convection : str
+        Wind correlation (``thermal.convection.CONVECTION_MODELS``).
+    seed : int
+    """
+
+    step: float = 600.0
+    shadow_interval: float | None = None
+    spin_up: bool = True
+    spin_up_tolerance: float = 0.05
+    max_spin_up_days: int = 20
+    hemisphere_samples: int = 64
+    nodes: int = 20
+    convection: str = "mcadams"
+    seed: int = 0
+
+
+def time_axis(start, end, step):
+    """UTC times from ``start`` to ``end`` inclusive every ``step`` [s] (datetime64[ns]).
+
+    Raises
+    ------
+    ConfigError
+        A start after the end, a step ≤ 0 or longer than the span.
+    """
+    t0, t1 = np.datetime64(start, "ns"), np.datetime64(end, "ns")
+    span = (t1 - t0) / np.timedelta64(1, "s")
+    if span <= 0:
+        raise ConfigError(f"the start {start} is not before the end {end}", key="thermal.start")
+    if not (np.isfinite(step) and step > 0):
+        raise ConfigError(f"must be > 0 s; got {step!r}", key="thermal.step")
+    if step > span:
+        raise ConfigError(f"{step:g} s is longer than the span {span:g} s", key="thermal.step")
+    n = int(np.floor(span / step + 1e-9))
+    times = t0 + (np.arange(n + 1) * step * 1e9).astype("timedelta64[ns]")
+    if times[-1] < t1:
+        times = np.append(times, t1)
+    return times
+
+
+def sun_vectors(zenith, azimuth):
+    """Unit vectors towards the sun, east-north-up, from zenith and azimuth (clockwise from
+    north) [deg]; shape (..., 3)."""
+    z, a = np.radians(zenith), np.radians(azimuth)
+    return np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], axis=-1)
+
+
+def _seconds(times):
+    return (times - times[0]) / np.timedelta64(1, "s")
+
+
+def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
+    """Sunlit fraction (n_times, n_elements): traced every ``interval`` s, linear between."""
+    t = _seconds(times)
+    if interval is None:
+        traced = np.arange(times.size)
+    else:
+        marks = np.arange(0.0, t[-1] + interval, interval)
+        traced = np.unique(np.searchsorted(t, np.minimum(marks, t[-1])))
+    lit_at = np.empty((traced.size, elements.size))
+    for i, k in enumerate(traced):
+        lit_at[i] = sunlit_fraction(tracer, elements, sun_dir[k])[0]
+        if progress is not None:
+            progress("shadows", i + 1, traced.size)
+    if traced.size == times.size:
+        return lit_at
+    tk = t[traced]
+    hi = np.clip(np.searchsorted(tk, t, side="right"), 1, tk.size - 1)
+    w = np.clip((t - tk[hi - 1]) / (tk[hi] - tk[hi - 1]), 0.0, 1.0)[:, None]
+    return (1.0 - w) * lit_at[hi - 1] + w * lit_at[hi]
+
+
+def solve_elements(tracer, elements, stacks, stack_index, times, location, atmosphere, weather,
+                   *, absorptance=None, emissivity=None, fixed_face_temperature=None,
+                   options=ThermalOptions(), names=None, progress=None):
+    """Surface temperatures and flux terms of every element at every time.
+
+    Parameters
+    ----------
+    tracer : radscene.geometry.RayTracer
+        The scene's ray engine.
+    elements : SurfaceElements
+    stacks : sequence of ThermalProperties
+        The distinct stacks.
+    stack_index : ndarray of int, (n_elements,)
+        Stack of each element.
+    times : ndarray of datetime64, (n_times,)
+        UTC, strictly increasing.
+    location : (float, float, float)
+        Latitude, longitude [deg] and altitude of the ground [m].
+    atmosphere : radscene.atmosphere.Atmosphere
+        The scene's engine.
+    weather : object with ``at(times) -> dict``
+        Air temperature [K], relative humidity [-], wind speed [m s-1], cloud cover [-],
+        pressure [Pa], and optionally measured ``global_shortwave``, ``diffuse_shortwave``,
+        ``longwave_down`` [W m-2] (:class:`radscene.thermal.weather.WeatherSeries`).
+    absorptance, emissivity : ndarray, (n_elements,), optional
+        Broadband solar absorptance and long-wave emissivity [-]; default the stacks'.
+    fixed_face_temperature : ndarray, (n_faces,), optional
+        Temperatures of faces that are not solved [K] (their long-wave reaches the elements
+        that see them).
+    options : ThermalOptions
+    names : dict, optional
+        ``{"material": [...], "object": [...]}``: names for the output's coordinates.
+    progress : callable(stage, done, total), optional
+
+    Returns
+    -------
+    xarray.Dataset
+        ``surface_temperature(time, element)`` [K], ``q_<term>(time, element)`` [W m-2],
+        element coordinates, the sky view factor, the spin-up's figures in the attributes.
+    """
+    from radscene.sun import sun_position
+
+    times = np.asarray(times, dtype="datetime64[ns]")
+    if times.ndim != 1 or times.size < 2 or np.any(np.diff(times) <= np.timedelta64(0, "ns")):
+        raise ConfigError("must be at least two strictly increasing times", key="thermal.time")
+    if elements.size == 0:
+        raise ConfigError("no surface to solve: every object has a fixed temperature", key="thermal")
+    import pandas as pd
+
+    lat, lon, alt = location
+    index = pd.DatetimeIndex(times).tz_localize("UTC")
+    sun = sun_position(index, lat, lon, alt)
+    sun_dir = sun_vectors(sun.zenith, sun.azimuth)
+    day = int(index[0].dayofyear)
+    table = shortwave_table(atmosphere, alt, day, float(np.mean(sun.distance)))
+    w = weather.at(times)
+    direct, diffuse = table.at(sun.zenith)
+    cloud = np.asarray(w.get("cloud_cover", np.zeros(times.size)), float)
+    direct, diffuse = _cloudy_shortwave(direct, diffuse, cloud, sun.zenith)
+    if w.get("global_shortwave") is not None and w.get("diffuse_shortwave") is not None:
+        mu = np.cos(np.radians(np.minimum(sun.zenith, 90.0)))
+        diffuse = np.asarray(w["diffuse_shortwave"], float)
+        beam = np.asarray(w["global_shortwave"], float) - diffuse
+        direct = np.where(mu > 0.05, np.maximum(beam, 0.0) / np.maximum(mu, 0.05), 0.0)
+    air = np.asarray(w["air_temperature"], float)
+    if w.get("longwave_down") is not None:
+        longwave = np.asarray(w["longwave_down"], float)
+    else:
+        clear = sky_longwave_irradiance(atmosphere, alt, air)
+        longwave = _cloudy_longwave(clear, air, np.asarray(w["relative_humidity"], float), cloud)
+
+    hemisphere = hemisphere_exposure(tracer, elements, options.hemisphere_samples, options.seed)
+    if progress is not None:
+        progress("hemisphere", 1, 1)
+    lit = _shadow_history(tracer, elements, times, sun_dir, options.shadow_interval, progress)
+    cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
+
+    balance = HeatBalance(stacks, np.asarray(stack_index), absorptance=absorptance, emissivity=emissivity,
+                          n_nodes=options.nodes, convection=options.convection)
+    col = (slice(None), None)
+    forcing = ThermalForcing(
+        time=_seconds(times),
+        direct_irradiance=direct[col],
+        cos_incidence=cos_i,
+        diffuse_irradiance=diffuse[col],
+        sky_longwave=longwave[col],
+        air_temperature=air[col],
+        wind_speed=np.asarray(w["wind_speed"], float)[col],
+        lit=lit,
+        sky_view_fraction=hemisphere.sky_view,
+    )
+    spin = options.spin_up and _seconds(times)[-1] >= DAY - 1e-6
+    result = balance.run(forcing, spin_up=spin, spin_up_tolerance=options.spin_up_tolerance,
+                         max_spin_up_days=options.max_spin_up_days)
+    return _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i,
+                    balance, names, spin)
+
+
+def _cloudy_shortwave(direct, diffuse, cloud, zenith):
+    """Direct normal and diffuse irradiance under a cloud cover N: the global irradiance times
+    Kasten & Czeplak's 1 − 0.75 N^3.4, its diffuse fraction k = k_0 + (1 − k_0) N² (their
+    0.3 + 0.7 N² with the clear-sky 0.3 replaced by the engine's own clear-sky k_0)."""
+    from radscene.thermal.weather import cloud_shortwave_factor
+
+    if not np.any(cloud > 0):
+        return direct, diffuse
+    mu = np.cos(np.radians(np.minimum(zenith, 90.0)))
+    clear = direct * mu + diffuse
+    k0 = np.divide(diffuse, clear, out=np.ones_like(clear), where=clear > 0)
+    k = k0 + (1.0 - k0) * cloud**2
+    total = clear * cloud_shortwave_factor(cloud)
+    beam = (1.0 - k) * total
+    return np.divide(beam, mu, out=np.zeros_like(beam), where=mu > 1e-6), k * total
+
+
+def _cloudy_longwave(clear, air, humidity, cloud):
+    """Sky long-wave under cloud, Crawford & Duchon (1999): ε = N + (1 − N) ε_0, i.e.
+    E = (1 − N) E_0 + N σ T_a⁴ with E_0 the engine's clear sky; without the engine's sky, the
+    clear-sky emissivity of Brutsaert (1975) from the weather (:mod:`radscene.thermal.weather`)."""
+    from radscene.thermal.radiation import SIGMA
+    from radscene.thermal.weather import sky_longwave
+
+    if clear is None:
+        return sky_longwave(air, humidity, cloud)
+    return (1.0 - cloud) * clear + cloud * SIGMA * air**4
+
+
+def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i, balance,
+             names, spin):
+    from radscene.thermal.radiation import SIGMA
+
+    t_s = result.surface_temperature
+    eps, alpha = balance.emissivity, balance.absorptance
+    q_a = alpha * (direct[:, None] * np.maximum(cos_i, 0.0) * lit + diffuse[:, None] * hemisphere.sky_view)
+    q_sky = eps * longwave[:, None] * hemisphere.sky_view
+    q_t = -eps * SIGMA * t_s**4
+    terms = dict(getattr(result, "terms", None) or {})
+    terms.setdefault("q_a", q_a)
+    terms.setdefault("q_sky", q_sky)
+    terms.setdefault("q_t", q_t)
+    el = ("element",)
+    material = np.asarray(names["material"])[elements.material] if names else elements.material
+    obj = np.asarray(names["object"])[elements.object] if names else elements.object
+    data = {
+        "surface_temperature": (("time", "element"), t_s.astype(np.float32),
+                                {"units": "K", "standard_name": "surface_temperature",
+                                 "long_name": "surface temperature of the element"}),
+        "sky_view": (el, hemisphere.sky_view, {"units": "1", "long_name": "sky view factor"}),
+        "sunlit": (("time", "element"), lit.astype(np.float32), {"units": "1", "long_name": "sunlit fraction"}),
+        "sun_zenith": (("time",), np.asarray(sun.zenith, float), {"units": "degree", "long_name": "solar zenith angle"}),
+        "direct_irradiance": (("time",), direct, {"units": "W m-2", "long_name": "direct solar irradiance normal to the beam"}),
+        "diffuse_irradiance": (("time",), diffuse, {"units": "W m-2", "long_name": "diffuse short-wave irradiance, horizontal"}),
+        "sky_longwave": (("time",), longwave, {"units": "W m-2", "long_name": "downwelling long-wave irradiance, horizontal"}),
+        "air_temperature": (("time",), air, {"units": "K", "standard_name": "air_temperature"}),
+        "absorptance": (el, alpha, {"units": "1", "long_name": "broadband solar absorptance"}),
+        "emissivity": (el, eps, {"units": "1", "long_name": "broadband long-wave emissivity"}),
+    }
+    long_names = {"q_a": "absorbed short-wave", "q_sky": "absorbed sky long-wave", "q_env": "exchange with the scene",
+                  "q_t": "emitted long-wave", "q_k": "convection", "q_v": "evaporation", "q_i": "internal sources",
+                  "q_d": "conduction into the stack"}
+    for name, value in terms.items():
+        data[name] = (("time", "element"), np.asarray(value, np.float32),
+                      {"units": "W m-2", "long_name": long_names.get(name, name) + " (into the surface positive)"})
+    coords = {
+        "time": times,
+        "x": (el, elements.position[:, 0], {"units": "m", "long_name": "easting of the element's centroid"}),
+        "y": (el, elements.position[:, 1], {"units": "m", "long_name": "northing of the element's centroid"}),
+        "z": (el, elements.position[:, 2], {"units": "m", "long_name": "height of the element's centroid"}),
+        "normal_x": (el, elements.normal[:, 0], {"units": "1"}),
+        "normal_y": (el, elements.normal[:, 1], {"units": "1"}),
+        "normal_z": (el, elements.normal[:, 2], {"units": "1"}),
+        "area": (el, elements.area, {"units": "m2"}),
+        "material": (el, np.asarray(material).astype(str)),
+        "object": (el, np.asarray(obj).astype(str)),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs.update({
+        "spin_up_days": int(result.spin_up_days),
+        "spin_up_change_K": float(result.spin_up_change) if spin else float("nan"),
+        "hemisphere_samples": int(hemisphere.samples),
+    })
+    return ds
