@@ -200,11 +200,8 @@ class WeatherSeries:
             if not np.all(ok):
                 i = int(np.flatnonzero(~ok)[0])
                 bracket = "[" if low_inclusive else "("
-                raise ConfigError(
-                    f"{src}: {name} = {arr[i]!r} at sample {i} ({format_time(time[i])}) is not "
-                    f"finite in {bracket}{low:g}, {high:g}] {unit}",
-                    key=name,
-                )
+                what = f"outside {bracket}{low:g}, {high:g}] {unit}" if np.isfinite(arr[i]) else "not finite"
+                raise ConfigError(f"{src}: {name} = {float(arr[i])!r} at sample {i} ({format_time(time[i])}) is {what}", key=name)
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
         for name, limit in (("latitude", 90.0), ("longitude", 180.0)):
