@@ -17,7 +17,7 @@ with Y the day length, Z the time from sunset to the next minimum, T_sn the day 
 at sunset, all times in hours. Parton & Logan's night curve is T_n + (T_sn − T_n) e^(−bn/Z),
 which ends e^(−b) (11 % for b = 2.2) of the way above T_n; radscene rescales it as above so
 that the night ends at T_n and the day starts there without a jump. The coefficients fitted for
-air at 150 cm are a = 1.86 h, b = 2.20, c = −0.17 h (Parton & Logan 1981, Table 1): the
+air at 150 cm are a = 1.86 h, b = 2.20, c = −0.17 h (Parton & Logan 1981): the
 maximum comes 1.69 h after the midpoint of sunrise and sunset (about 13:40 local solar time)
 when the day is longer than 2(a + c) = 3.4 h, and the minimum 10 minutes before sunrise.
 Sunrise and sunset come from NREL's SPA (``pvlib.solarposition.sun_rise_set_transit_spa``),
@@ -73,7 +73,7 @@ class DiurnalCoefficients(NamedTuple):
     c: float
 
 
-#: Parton & Logan (1981), Table 1: air temperature at 150 cm.
+#: Parton & Logan (1981): the fit for air temperature at 150 cm.
 PARTON_LOGAN_AIR_150CM = DiurnalCoefficients(a=1.86, b=2.20, c=-0.17)
 
 

@@ -15,7 +15,7 @@ Alduchov, O. A. and Eskridge, R. E. (1996). Improved Magnus form approximation o
 vapor pressure. *J. Appl. Meteorol.* 35(4), 601–609.
 doi:10.1175/1520-0450(1996)035<0601:IMFAOS>2.0.CO;2
 Wallace, J. M. and Hobbs, P. V. (2006). *Atmospheric Science: An Introductory Survey*, 2nd ed.
-Academic Press, §3.1 (specific humidity). doi:10.1016/C2009-0-00034-8
+Academic Press, ch. 3 (specific humidity). ISBN 978-0-12-732951-2
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ _MAGNUS_B = 243.04  # [°C]
 _ZERO_CELSIUS = 273.15  # [K]
 
 #: Ratio of the gas constants of dry air and water vapour, R_d / R_v [-]
-#: (R_d = 287.05, R_v = 461.5 J kg-1 K-1; Wallace & Hobbs 2006, §3.1).
+#: (R_d = 287.05, R_v = 461.5 J kg-1 K-1; Wallace & Hobbs 2006, ch. 3).
 EPSILON = 0.622
 
 
@@ -212,7 +212,7 @@ def specific_humidity(temperature, relative_humidity, pressure):
 
     Notes
     -----
-    With e = RH · e_s(T) and ε = R_d/R_v = 0.622 (Wallace & Hobbs 2006, §3.1):
+    With e = RH · e_s(T) and ε = R_d/R_v = 0.622 (Wallace & Hobbs 2006, ch. 3):
 
     .. math:: q = \\frac{\\varepsilon\\,e}{p - (1 - \\varepsilon)\\,e}
 

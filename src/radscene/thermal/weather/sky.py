@@ -25,9 +25,7 @@ name                  ε                            source
 ``unsworth_monteith`` (1 − 0.84 N) ε_clr + 0.84 N  Unsworth & Monteith (1975)
 ===================== ============================ ==========================================
 
-Flerchinger et al. (2009) compare these and others against 21 sites: Prata and Brutsaert are
-among the best clear-sky forms; Crawford & Duchon and Unsworth & Monteith among the best
-cloudy-sky corrections.
+Flerchinger et al. (2009) compare these with other formulations against measurements.
 
 Short-wave: Kasten & Czeplak (1980), from ten years of hourly data at Hamburg, give the global
 irradiance under a cloud cover N relative to the clear-sky one and the diffuse fraction:
