@@ -570,3 +570,11 @@ def test_diurnal_bad_input(kwargs, key, message):
 def test_diurnal_refuses_polar_day():
     with pytest.raises(ConfigError, match="no sunrise or sunset at latitude 80 deg"):
         diurnal_weather(80.0, 15.0, "2024-06-21", t_min=T0, t_max=T0 + 8, relative_humidity=0.5, wind_speed=1.0)
+
+
+def test_series_is_immutable():
+    w = _series()
+    with pytest.raises(ValueError, match="read-only"):
+        w.air_temperature[0] = 300.0
+    with pytest.raises(AttributeError):
+        w.source = "elsewhere"

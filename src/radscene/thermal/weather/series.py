@@ -118,7 +118,7 @@ def _parse_index(values, key):
     return pd.DatetimeIndex(out, tz="UTC") if out else pd.DatetimeIndex([], tz="UTC")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class WeatherSeries:
     """Weather at one place over a span of time, linearly interpolated between its samples.
 

@@ -57,7 +57,8 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover, max_gap=None):
     cloud_cover : float
         Cloud cover over the whole file [0-1].
     max_gap : float, optional
-        Unused by the fixed-step format; accepted for symmetry with the other readers [s].
+        Longest step between entries accepted [s], for the row checks shared with the other
+        readers; the header's fixed step already forbids gaps.
 
     Returns
     -------
