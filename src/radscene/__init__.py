@@ -12,13 +12,13 @@ from pathlib import Path
 
 __version__ = "0.1.0"
 
+# render and render_all apply the scene's heat balance first (the function shadows the package name)
 from radscene.io import write_netcdf  # noqa: E402
-from radscene.pipeline import simulate  # noqa: E402
-from radscene.render import render, render_all  # noqa: E402  (the function shadows the package name)
+from radscene.pipeline import render, render_all, simulate, solve_thermal  # noqa: E402
 from radscene.scene import load_scene  # noqa: E402
 
-__all__ = ["__version__", "load_scene", "render", "render_all", "simulate", "example_path",
-           "write_netcdf"]
+__all__ = ["__version__", "load_scene", "render", "render_all", "simulate", "solve_thermal",
+           "example_path", "write_netcdf"]
 
 
 def example_path(name: str) -> Path:

@@ -1,17 +1,277 @@
-"""The whole pipeline for one observer: render the at-aperture radiance, then the sensor."""
+"""The whole run: the heat balance of a scene, the render of an observer, then the sensor."""
 
 from __future__ import annotations
 
+import datetime as _dt
+
+import numpy as np
 import xarray as xr
 
-from radscene.render import render
+from radscene.errors import ConfigError
+from radscene.render import render as _render_observer
+from radscene.render import render_all as _render_all
 
-__all__ = ["simulate"]
+__all__ = ["render", "render_all", "simulate", "solve_thermal", "thermal_active", "apply_thermal"]
+
+#: Bands whose response reaches beyond this wavelength make the heat balance run by default [um].
+THERMAL_FROM = 2.5
+
+
+def thermal_active(scene) -> bool:
+    """Whether the scene's surface temperatures come from the heat balance: ``thermal.enabled``
+    true, or ``auto`` with a band reaching beyond 2.5 µm and a surface without a fixed
+    temperature."""
+    enabled = scene.spec.thermal.enabled
+    if enabled is not True and enabled != "auto":
+        return False
+    free = any(obj.face_fixed is not None and not np.all(obj.face_fixed) for obj in scene.objects)
+    if enabled is True:
+        return free
+    return free and any(b.response.support[1] > THERMAL_FROM for b in scene.bands)
+
+
+def _span(scene, start=None, end=None):
+    spec = scene.spec.thermal
+    start = start or spec.start
+    end = end or spec.end
+    if end is None:
+        end = scene.time
+    if start is None and end is not None:
+        start = end - _dt.timedelta(days=1)
+    if start is None or end is None:
+        raise ConfigError("the heat balance needs a time: give environment.time, or thermal.start and "
+                          "thermal.end", key="thermal.start")
+    for value, key in ((start, "thermal.start"), (end, "thermal.end")):
+        if value.tzinfo is None:
+            raise ConfigError("a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00'", key=key)
+    return start, end
+
+
+def _weather(scene, start, end):
+    from radscene.thermal import weather as wx
+
+    spec = scene.spec.thermal.weather
+    loc = scene.location
+    if spec.file is not None:
+        from pathlib import Path
+
+        path = Path(spec.file)
+        if not path.is_absolute() and scene.source is not None:
+            path = Path(scene.source).parent / path
+        if path.suffix.lower() == ".wth":
+            if spec.start is None:
+                raise ConfigError("a THERM .wth file has no date: give thermal.weather.start, the instant of its "
+                                  "hour 0 with its UTC offset", key="thermal.weather.start")
+            weather = wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=spec.start,
+                                      cloud_cover=spec.cloud_cover)
+            if not weather.covers(start, end):
+                raise ConfigError(f"{path} covers {weather.span_text()}, not the heat balance's {start} – {end}",
+                                  key="thermal.weather.file")
+            return weather
+        return wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=start, end=end)
+    pressure = spec.pressure
+    if pressure is None:
+        import pvlib
+
+        pressure = float(pvlib.atmosphere.alt2pres(loc.altitude))
+    # local mean-solar dates, from the day before the start to the day after the end
+    solar = _dt.timedelta(hours=loc.longitude / 15.0)
+    first = (start.astimezone(_dt.UTC) + solar).date() - _dt.timedelta(days=1)
+    last = (end.astimezone(_dt.UTC) + solar).date() + _dt.timedelta(days=1)
+    return wx.diurnal_weather(loc.latitude, loc.longitude, first, t_min=spec.t_min, t_max=spec.t_max,
+                              relative_humidity=spec.relative_humidity, wind_speed=spec.wind_speed,
+                              cloud_cover=spec.cloud_cover, pressure=pressure, days=(last - first).days + 1)
+
+
+def _stacks(scene, used):
+    """The thermal stack and optical figures of each material in ``used`` (material indices)."""
+    from dataclasses import replace
+
+    from radscene.materials import get_thermal_properties
+    from radscene.materials.thermal import make_layers
+
+    spec = scene.spec.thermal
+    for name in spec.materials:
+        if name not in scene.material_names:
+            raise ConfigError(f"unknown material {name!r}; the scene's: {', '.join(scene.material_names)}",
+                              key=f"thermal.materials.{name}")
+    stacks = []
+    for m in used:
+        name = scene.material_names[m]
+        override = spec.materials.get(name)
+        key = f"thermal.materials.{name}"
+        try:
+            stack = get_thermal_properties(name)
+        except ConfigError:
+            if override is None or override.layers is None:
+                raise ConfigError(
+                    f"material {name!r} has no thermal description: give its layers under {key}.layers "
+                    "(thickness, conductivity, density, specific_heat), or fixed temperatures to the "
+                    "surfaces made of it", key=key) from None
+            from radscene.materials.thermal import ThermalProperties
+
+            stack = ThermalProperties(material=name, layers=(), bottom="semi-infinite",
+                                      solar_absorptance=float("nan"), longwave_emissivity=float("nan"))
+        if override is not None:
+            changes = {}
+            if override.layers is not None:
+                changes["layers"] = make_layers(override.layers, key=f"{key}.layers")
+            if override.bottom is not None:
+                changes["bottom"] = override.bottom
+            stack = replace(stack, **changes) if changes else stack
+        stacks.append(stack)
+    return stacks
+
+
+def _optics(scene, used, stacks, table):
+    """Solar absorptance (against the engine's ground spectrum over the run) and long-wave
+    emissivity of each used material, unless the scene file gives them."""
+    from radscene.materials.thermal import longwave_emissivity, solar_absorptance
+
+    spec = scene.spec.thermal
+    alpha, eps = [], []
+    for m, stack in zip(used, stacks, strict=True):
+        name = scene.material_names[m]
+        override = spec.materials.get(name)
+        material = scene.materials[m]
+        a = override.solar_absorptance if override is not None else None
+        e = override.longwave_emissivity if override is not None else None
+        alpha.append(a if a is not None else solar_absorptance(material, irradiance=table))
+        eps.append(e if e is not None else (stack.longwave_emissivity if np.isfinite(stack.longwave_emissivity)
+                                            else longwave_emissivity(material)))
+    return np.array(alpha), np.array(eps)
+
+
+def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> xr.Dataset:
+    """The heat balance of every surface of a scene without a fixed temperature.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene
+    start, end : datetime, optional
+        Timezone-aware; default ``thermal.start``/``thermal.end`` of the scene file, else one
+        day up to the scene's time.
+    step : float, optional
+        [s]; default ``thermal.step``.
+    progress : callable(stage, done, total), optional
+
+    Returns
+    -------
+    xarray.Dataset
+        ``surface_temperature(time, element)`` [K], the flux terms ``q_*(time, element)``
+        [W m-2], element coordinates (position, normal, area, material, object), the forcing
+        per time; see :func:`radscene.thermal.solve.solve_elements`.
+    """
+    from radscene.geometry import RayTracer
+    from radscene.thermal.elements import build_elements
+    from radscene.thermal.irradiance import shortwave_table
+    from radscene.thermal.solve import ThermalOptions, solve_elements, time_axis
+
+    spec = scene.spec.thermal
+    start, end = _span(scene, start, end)
+    step = spec.step if step is None else float(step)
+    names = [o.name for o in scene.objects]
+    for name in spec.objects:
+        if name not in names:
+            raise ConfigError(f"unknown object {name!r}; the scene's: {', '.join(names)}", key=f"thermal.objects.{name}")
+    times = time_axis(np.datetime64(start.astimezone(_dt.UTC).replace(tzinfo=None), "ns"),
+                      np.datetime64(end.astimezone(_dt.UTC).replace(tzinfo=None), "ns"), step)
+    meshes = [o.mesh for o in scene.objects]
+    solved = [~o.face_fixed if o.face_fixed is not None else np.zeros(len(o.face_material), bool)
+              for o in scene.objects]
+    terrain = next((k for k, o in enumerate(scene.objects) if o.is_terrain), None)
+    elements = build_elements(meshes, [o.face_material for o in scene.objects], solved, terrain=terrain,
+                              heightfield=scene.heightfield, resolution=spec.resolution)
+    used, stack_index = np.unique(elements.material, return_inverse=True)
+    stacks = _stacks(scene, used)
+    loc = scene.location
+    weather = _weather(scene, start, end)
+    first = times[0].astype("datetime64[D]")
+    day = int((first - first.astype("datetime64[Y]")).astype(int)) + 1
+    from radscene.sun import earth_sun_distance
+
+    distance = float(earth_sun_distance(start)) if scene.sun is None else scene.sun.distance
+    override = None if scene.sun is None else (scene.sun.zenith, scene.sun.azimuth, scene.sun.distance)
+    table = shortwave_table(scene.atmosphere, loc.altitude, day, distance)
+    alpha, eps = _optics(scene, used, stacks, (table.wavelength, table.spectrum.mean(axis=0)))
+    options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval, spin_up=spec.spin_up,
+                             spin_up_tolerance=spec.spin_up_tolerance, hemisphere_samples=spec.hemisphere_samples,
+                             nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed)
+    tracer = RayTracer(meshes)
+    fixed = np.concatenate([o.face_temperature for o in scene.objects])
+    ds = solve_elements(tracer, elements, stacks, stack_index.ravel(), times,
+                        (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,
+                        absorptance=alpha[stack_index.ravel()], emissivity=eps[stack_index.ravel()],
+                        fixed_face_temperature=fixed, options=options,
+                        names={"material": scene.material_names, "object": names}, sun_override=override,
+                        progress=progress)
+    ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
+    scene.render_cache["thermal_elements"] = elements
+    return ds
+
+
+def apply_thermal(scene, solution=None, time=None):
+    """Set the scene's free surface temperatures from the heat balance at an instant.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene
+        Changed in place: ``face_temperature`` of every face without a fixed temperature.
+    solution : xarray.Dataset, optional
+        From :func:`solve_thermal`; solved (and kept with the scene) when not given.
+    time : datetime, optional
+        Default the scene's time; linear between the solution's steps.
+
+    Returns
+    -------
+    xarray.Dataset
+        The solution used.
+    """
+    if solution is None:
+        solution = scene.render_cache.get("thermal")
+        if solution is None:
+            solution = scene.render_cache["thermal"] = solve_thermal(scene)
+    elements = scene.render_cache.get("thermal_elements")
+    if elements is None:
+        raise ConfigError("the solution's elements are not known: solve it with solve_thermal(scene)", key="thermal")
+    when = scene.time if time is None else time
+    t = np.datetime64(when.astimezone(_dt.UTC).replace(tzinfo=None), "ns") if when is not None else solution.time.values[-1]
+    times = solution.time.values
+    if t < times[0] or t > times[-1]:
+        raise ConfigError(f"{when} lies outside the heat balance's span {times[0]} – {times[-1]} (UTC)", key="thermal.end")
+    surface = solution.surface_temperature.interp(time=t).values.astype(float)
+    fixed = np.concatenate([o.face_temperature for o in scene.objects])
+    faces = elements.face_values(surface, fixed)
+    offset = 0
+    for obj in scene.objects:
+        n = len(obj.face_temperature)
+        obj.face_temperature = faces[offset:offset + n].copy()
+        offset += n
+    scene.render_cache.pop("tables", None)
+    return solution
+
+
+def render(scene, observer=None, **kwargs):
+    """:func:`radscene.render.render` with the scene's heat balance applied first (when it runs;
+    :func:`thermal_active`)."""
+    if thermal_active(scene):
+        apply_thermal(scene)
+    return _render_observer(scene, observer, **kwargs)
+
+
+def render_all(scene, **kwargs):
+    """:func:`radscene.render.render_all` with the scene's heat balance applied first."""
+    if thermal_active(scene):
+        apply_thermal(scene)
+    return _render_all(scene, **kwargs)
 
 
 def simulate(scene, observer: str | None = None, *, progress=None
              ) -> tuple[xr.Dataset, xr.Dataset | None]:
     """Render an observer and, when it has a sensor, record the signal.
+
+    Surfaces without a fixed temperature take the heat balance's at the scene's time
+    (:func:`thermal_active`, :func:`apply_thermal`).
 
     Parameters
     ----------

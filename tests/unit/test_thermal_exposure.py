@@ -143,11 +143,14 @@ def test_ground_irradiance_from_the_uniform_engine():
     assert table.diffuse == pytest.approx(np.full(table.zenith.size, np.pi * 10.0 * 3.7), rel=1e-3)
     direct, diffuse = table.at([0.0, 90.0, 120.0])
     assert direct[1:] == pytest.approx([0.0, 0.0]) and diffuse[1:] == pytest.approx([0.0, 0.0])
-    # a sky of constant radiance L from 4 to 20 um: pi L 16 um, plus the blackbody beyond 20 um
-    lw = sky_longwave_irradiance(atm, 0.0, 288.0)
+    # a user's sky of constant radiance L over the long-wave: pi L (100 - 4) um
+    assert sky_longwave_irradiance(atm, 0.0, 288.0) == pytest.approx(np.pi * 10.0 * 96.0, rel=1e-3)
+    # tabulated to 20 um only: pi L 16 um, plus the blackbody at the air temperature beyond
     from radscene.radiometry.planck import band_radiance
 
-    assert lw == pytest.approx(np.pi * 10.0 * 16.0 + np.pi * band_radiance(20.0, 1e5, 288.0), rel=1e-3)
+    short = UniformAtmosphere(transmittance=0.8, sky_radiance={"wavelength": [0.3, 20.0], "values": [10.0, 10.0]})
+    assert sky_longwave_irradiance(short, 0.0, 288.0) == pytest.approx(
+        np.pi * 10.0 * 16.0 + np.pi * band_radiance(20.0, 1e5, 288.0), rel=1e-3)
 
 
 def test_ground_irradiance_from_the_database_falls_with_the_sun():

@@ -1,4 +1,5 @@
-"""The ``radscene`` command line: ``render``, ``check``, ``examples`` here, and the sub-apps
+"""The ``radscene`` command line: ``render``, ``check``, ``examples`` here, ``thermal``
+(:mod:`radscene.cli.thermal`), and the sub-apps
 ``atmosphere``, ``materials`` and ``sensor`` (:mod:`radscene.cli.atmosphere`,
 :mod:`radscene.cli.materials`, :mod:`radscene.cli.sensor`), registered with
 :func:`add_subcommands`. The domain packages hold no command-line code."""
@@ -215,6 +216,9 @@ def _register_subcommands() -> None:
     from radscene.cli.atmosphere import app as atmosphere_app
     from radscene.cli.materials import app as materials_app
     from radscene.cli.sensor import app as sensor_app
+    from radscene.cli.thermal import thermal
+
+    app.command(name="thermal")(_guarded(thermal))
 
     add_subcommands(atmosphere_app, "atmosphere",
                     "Atmospheric databases, lines of sight and skies.")

@@ -19,6 +19,9 @@ from radscene.atmosphere import Atmosphere, make_atmosphere
 from radscene.errors import ConfigError
 from radscene.scene import schema
 
+#: Surface temperature of faces without a given one when the heat balance does not run [K].
+DEFAULT_TEMPERATURE = 293.15
+
 __all__ = ["Scene", "SceneObject", "Band", "ObserverSetup", "load_scene", "read_scene_file"]
 
 
@@ -37,6 +40,9 @@ class SceneObject:
     textures : dict
         ``{"reflectance"|"emissivity"|"transmittance": Texture}`` multipliers.
     is_terrain : bool
+    face_fixed : numpy.ndarray or None
+        Whether each face's temperature was given in the scene file (True) or is left to the
+        heat balance (False), shape (n_faces,); None: every face given.
     """
 
     name: str
@@ -45,6 +51,7 @@ class SceneObject:
     face_temperature: np.ndarray
     textures: dict = field(default_factory=dict)
     is_terrain: bool = False
+    face_fixed: np.ndarray | None = None
 
 
 @dataclass
@@ -357,16 +364,20 @@ class _Resolver:
             widx = self.material_index(tspec.water_material, "terrain.water_material")
             classes = np.where(water, widx, classes)
         face_material = self._face_values(mesh, hf, classes)
-        face_temperature = np.full(len(face_material), tspec.temperature)
+        face_temperature = np.full(len(face_material), DEFAULT_TEMPERATURE if tspec.temperature is None
+                                   else tspec.temperature)
+        face_fixed = np.full(len(face_material), tspec.temperature is not None)
         for mname, temp in tspec.temperatures.items():
             idx = self.material_index(mname, f"terrain.temperatures.{mname}")
             face_temperature[face_material == idx] = temp
+            face_fixed[face_material == idx] = True
         if tspec.temperature_map is not None:
             key = "terrain.temperature_map"
             image = _read_image(self.file(tspec.temperature_map, key), key).astype(float)
             if not np.all(np.isfinite(image)) or np.any(image <= 0):
                 raise ConfigError("temperatures must be finite and > 0 K everywhere", key=key)
             face_temperature = self._face_values(mesh, hf, _resample_nearest(image, (ny, nx)))
+            face_fixed[:] = True
         return hf, SceneObject(
             name="terrain",
             mesh=mesh,
@@ -374,6 +385,7 @@ class _Resolver:
             face_temperature=face_temperature,
             textures=self.textures(tspec.textures, "terrain"),
             is_terrain=True,
+            face_fixed=face_fixed,
         )
 
     def _terrain_classes(self, tspec, hf) -> np.ndarray:
@@ -460,8 +472,10 @@ class _Resolver:
                     name=ospec.name,
                     mesh=mesh,
                     face_material=np.full(n, midx, dtype=np.int64),
-                    face_temperature=np.full(n, ospec.temperature),
+                    face_temperature=np.full(n, DEFAULT_TEMPERATURE if ospec.temperature is None
+                                             else ospec.temperature),
                     textures=self.textures(ospec.textures, key),
+                    face_fixed=np.full(n, ospec.temperature is not None),
                 )
             )
         return out

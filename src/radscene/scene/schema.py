@@ -37,6 +37,12 @@ Length = Annotated[float, _quantity("length")]
 PositiveLength = Annotated[float, _quantity("length", 0.0, exclusive=True)]
 Angle = Annotated[float, _quantity("angle")]
 Wavelength = Annotated[float, _quantity("wavelength", 0.0, exclusive=True)]
+Duration = Annotated[float, _quantity("time", 0.0, exclusive=True)]
+Speed = Annotated[float, _quantity("speed", 0.0)]
+Pressure = Annotated[float, _quantity("pressure", 0.0, exclusive=True)]
+Fraction = Annotated[float, _quantity("dimensionless"), Field(ge=0.0, le=1.0)]
+Irradiance = Annotated[float, _quantity("irradiance")]
+Power = Annotated[float, _quantity("power")]
 
 
 class _Model(BaseModel):
@@ -206,7 +212,9 @@ class _TerrainCommon(_Model):
     material: str = "dry_grass"
     material_map: Annotated[MaterialMapFile | MaterialMapNoise, Field(discriminator="type")] | None = None
     water_material: str = "water"
-    temperature: Temperature = 293.15
+    temperature: Temperature | None = Field(
+        None, description="a fixed surface temperature [K]; default: solved by the heat balance "
+        "(293.15 K with thermal off)")
     temperatures: dict[str, Temperature] = Field(default_factory=dict)
     temperature_map: str | None = Field(
         None, description="image of surface temperature [K] over the terrain extent"
@@ -287,7 +295,9 @@ class ObjectSpec(_Model):
     )
     rotation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
     material: str
-    temperature: Temperature = 293.15
+    temperature: Temperature | None = Field(
+        None, description="a fixed surface temperature [K]; default: solved by the heat balance "
+        "(293.15 K with thermal off)")
     textures: TextureSet = TextureSet()
 
 
@@ -398,6 +408,75 @@ class RenderSettings(_Model):
         "radiance; auto: for observers more than 2 km above the ground")
 
 
+# ---------------------------------------------------------------------------------------------
+# heat balance
+
+
+class WeatherSpec(_Model):
+    """The weather of the heat balance: a file, or a diurnal cycle from these figures."""
+
+    file: str | None = Field(None, description="CSV, NetCDF or THERM .wth weather file")
+    start: _dt.datetime | None = Field(None, description="when a .wth file's first row is (it has no date)")
+    t_min: Temperature = 285.15
+    t_max: Temperature = 298.15
+    relative_humidity: Fraction = 0.5
+    wind_speed: Speed = 2.0
+    cloud_cover: Fraction = 0.0
+    pressure: Pressure | None = Field(None, description="default: the standard atmosphere's at the scene's altitude")
+
+    @model_validator(mode="after")
+    def _order(self):
+        if self.t_min > self.t_max:
+            raise ValueError(f"t_min {self.t_min:g} K is above t_max {self.t_max:g} K")
+        return self
+
+
+class ThermalMaterialSpec(_Model):
+    """Overrides of a material's thermal description."""
+
+    layers: list[dict[str, Any]] | None = Field(None, description="top first: thickness, conductivity, density, specific_heat")
+    bottom: str | dict[str, Any] | None = None
+    solar_absorptance: Fraction | None = None
+    longwave_emissivity: Fraction | None = None
+    moisture_availability: Fraction | None = None
+    internal_flux: Irradiance = 0.0
+
+
+class ThermalObjectSpec(_Model):
+    """Heat sources of an object."""
+
+    internal_flux: Irradiance = Field(0.0, description="W m-2 over the object's surface")
+    internal_power: Power = Field(0.0, description="W spread over the object's surface")
+    air_speed: Speed = Field(0.0, description="speed through the air, for aerodynamic heating")
+
+
+class ThermalSpec(_Model):
+    """The heat balance that sets the temperatures of surfaces without a fixed one."""
+
+    enabled: Literal["auto"] | bool = Field(
+        "auto", description="auto: when a band lies beyond 2.5 um and a surface has no fixed temperature")
+    start: _dt.datetime | None = Field(None, description="default: one day before the scene's time")
+    end: _dt.datetime | None = Field(None, description="default: the scene's time")
+    step: Duration = 600.0
+    shadow_interval: Duration | None = None
+    spin_up: bool = True
+    spin_up_tolerance: Annotated[float, _quantity("temperature", 0.0, exclusive=True)] = 0.05
+    resolution: PositiveLength | None = Field(None, description="terrain thermal grid; default the terrain's spacing")
+    hemisphere_samples: Annotated[int, Field(ge=1, le=4096)] = 64
+    nodes: Annotated[int, Field(ge=3, le=200)] = 20
+    convection: str = "mcadams"
+    weather: WeatherSpec = WeatherSpec()
+    materials: dict[str, ThermalMaterialSpec] = Field(default_factory=dict)
+    objects: dict[str, ThermalObjectSpec] = Field(default_factory=dict)
+
+    @field_validator("start", "end")
+    @classmethod
+    def _aware(cls, value):
+        if value is not None and value.tzinfo is None:
+            raise ValueError("a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z'")
+        return value
+
+
 class SceneSpec(_Model):
     """The whole scene file."""
 
@@ -417,6 +496,7 @@ class SceneSpec(_Model):
                     "{file: path} or {example: name}")
     observers: list[Observer] = Field(min_length=1)
     render: RenderSettings = RenderSettings()
+    thermal: ThermalSpec = ThermalSpec()
 
     @model_validator(mode="after")
     def _unique_names(self):

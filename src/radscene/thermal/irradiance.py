@@ -17,7 +17,9 @@ cosine-weighted integral of its sky radiance for engines that do not couple). Be
 lower atmosphere is opaque (water vapour's rotation band) and radiates as a blackbody at the air
 temperature near the ground (Liou 2002, *An Introduction to Atmospheric Radiation*, 2nd ed.,
 §4.2). Engines that cannot give the thermal sky (``sixs``; a database without thermal tables)
-leave the long-wave to the weather's clear-sky formulation.
+leave the long-wave to the weather's clear-sky formulation. Engines whose spectra the user
+sets over the whole long-wave (``uniform``, ``none``: 0.2-100 µm) give all of it, from 4 to
+100 µm, with no blackbody added.
 
 Where the engine's range stops short of 0.3-4 µm (the ``uniform`` engine's tables often start at
 0.4 µm), the ratio of its irradiance to the top-of-atmosphere spectrum at the end of its range
@@ -194,16 +196,17 @@ def sky_longwave_irradiance(atmosphere, altitude, air_temperature):
     from radscene.atmosphere.base import SkyGeometry
     from radscene.radiometry.planck import band_radiance
 
-    try:
-        atmosphere.check_wavelength(LONGWAVE)
-        zen = np.degrees(np.arccos(_MU))
-        sky = np.asarray(atmosphere.sky(zen, 0.0, LONGWAVE, SkyGeometry(altitude, 0.0, 0.0)), float)
-    except ConfigError:
+    lo, hi = atmosphere.wavelength_range
+    if lo > LONGWAVE[0] or hi < LONGWAVE[-1]:
         return None
+    # an engine set by the user over the whole long-wave (uniform, none) gives it all
+    grid = np.concatenate([LONGWAVE, np.arange(21.0, 100.0001, 1.0)]) if hi >= 100.0 else LONGWAVE
+    zen = np.degrees(np.arccos(_MU))
+    sky = np.asarray(atmosphere.sky(zen, 0.0, grid, SkyGeometry(altitude, 0.0, 0.0)), float)
     if not np.all(np.isfinite(sky)):
         return None
-    engine_part = 2.0 * np.pi * np.trapezoid((_MU * _MU_W) @ sky, LONGWAVE)
-    if engine_part <= 0.0:
-        return None
+    engine_part = 2.0 * np.pi * np.trapezoid((_MU * _MU_W) @ sky, grid)
     t = np.asarray(air_temperature, float)
+    if hi >= 100.0:
+        return np.full(t.shape, engine_part)
     return engine_part + np.pi * band_radiance(20.0, 1.0e5, t)

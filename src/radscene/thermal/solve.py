@@ -121,7 +121,7 @@ def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
 
 def solve_elements(tracer, elements, stacks, stack_index, times, location, atmosphere, weather,
                    *, absorptance=None, emissivity=None, fixed_face_temperature=None,
-                   options=ThermalOptions(), names=None, progress=None):
+                   options=ThermalOptions(), names=None, sun_override=None, progress=None):
     """Surface temperatures and flux terms of every element at every time.
 
     Parameters
@@ -151,6 +151,8 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     options : ThermalOptions
     names : dict, optional
         ``{"material": [...], "object": [...]}``: names for the output's coordinates.
+    sun_override : (float, float, float), optional
+        A sun fixed at (zenith [deg], azimuth [deg], distance [AU]) instead of the ephemeris.
     progress : callable(stage, done, total), optional
 
     Returns
@@ -171,8 +173,14 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     lat, lon, alt = location
     index = pd.DatetimeIndex(times).tz_localize("UTC")
     sun = sun_position(index, lat, lon, alt)
+    if sun_override is not None:
+        from types import SimpleNamespace
+
+        ones = np.ones(times.size)
+        sun = SimpleNamespace(zenith=sun_override[0] * ones, azimuth=sun_override[1] * ones,
+                              distance=sun_override[2] * ones)
     sun_dir = sun_vectors(sun.zenith, sun.azimuth)
-    day = int(index[0].dayofyear)
+    day = int(index[0].day_of_year)
     table = shortwave_table(atmosphere, alt, day, float(np.mean(sun.distance)))
     w = weather.at(times)
     direct, diffuse = table.at(sun.zenith)

@@ -1,0 +1,62 @@
+"""``radscene thermal``: the heat balance of a scene file to CF NetCDF and PNGs; bad input exits 2
+and writes nothing."""
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+from typer.testing import CliRunner
+
+from radscene.cli import app
+
+runner = CliRunner()
+
+_SCENE = {
+    "name": "yard",
+    "environment": {"location": {"latitude": 35.0, "longitude": 0.0}, "time": "2026-06-21T12:00:00Z"},
+    "terrain": {"type": "dem", "elevation": np.zeros((11, 11)).tolist(), "spacing": [2.0, 2.0],
+                "origin": [-10.0, -10.0], "material": "asphalt"},
+    "objects": [{"name": "van", "shape": {"type": "box", "size": [2.0, 4.0, 2.0]}, "position": [0.0, 0.0, 0.3],
+                 "material": "painted_metal"}],
+    "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+    "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "gsd": 1.0, "shape": [16, 16]}],
+    "thermal": {"step": "30 min", "hemisphere_samples": 16},
+}
+
+
+@pytest.fixture()
+def scene_file(tmp_path):
+    path = tmp_path / "yard.yaml"
+    path.write_text(yaml.safe_dump(_SCENE))
+    return path
+
+
+def test_thermal_writes_cf_netcdf_and_figures(scene_file, tmp_path):
+    out = tmp_path / "out" / "yard_thermal.nc"
+    result = runner.invoke(app, ["thermal", str(scene_file), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert ds.surface_temperature.dims == ("time", "element")
+    assert ds.surface_temperature.attrs["units"] == "K"
+    assert {"q_a", "q_sky", "q_t"} <= set(ds.data_vars)
+    assert ds.sizes["time"] == 49  # a day at 30 min, both ends
+    assert set(np.unique(ds.object.values)) == {"terrain", "van"}
+    assert (tmp_path / "out" / "yard_thermal_diurnal.png").is_file()
+    assert len(list((tmp_path / "out" / "yard_thermal_maps").glob("*.png"))) == 4
+    # the van's roof in the noon sun is hotter than the air
+    roof = (ds.object == "van") & (ds.normal_z > 0.9)
+    assert float(ds.surface_temperature.isel(time=-1).where(roof).max()) > float(ds.air_temperature[-1]) + 5.0
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--step", "0 s"], "--step"),
+    (["--start", "2026-06-21T13:00:00Z"], "not before the end"),
+    (["--step", "2 d"], "longer than the span"),
+    (["--start", "2026-06-21T10:00"], "UTC offset"),
+])
+def test_thermal_bad_input_exits_2_and_writes_nothing(scene_file, tmp_path, args, message):
+    out = tmp_path / "bad.nc"
+    result = runner.invoke(app, ["thermal", str(scene_file), "-o", str(out), *args])
+    assert result.exit_code == 2
+    assert message in result.output
+    assert not out.exists()

@@ -1,0 +1,68 @@
+"""The heat balance of whole scenes, through the public API: a building's shadow on asphalt
+leaves a cool patch that trails the moving shadow, in the solved temperatures and in the
+rendered thermal image."""
+
+import numpy as np
+import pytest
+
+import radscene
+from radscene.scene import load_scene
+
+_SCENE = {
+    "name": "shadow_trail",
+    "environment": {
+        "location": {"latitude": 35.0, "longitude": 0.0, "altitude": 0.0},
+        "time": "2026-06-21T15:00:00Z",
+        "atmosphere": {"type": "database", "profile": "midlatitude_summer", "aerosol": "rural",
+                       "visibility": "23 km"},
+    },
+    "terrain": {"type": "dem", "elevation": np.zeros((61, 61)).tolist(), "spacing": [1.0, 1.0],
+                "origin": [-30.0, -30.0], "material": "asphalt"},
+    "objects": [{"name": "block", "shape": {"type": "box", "size": [6.0, 6.0, 12.0]},
+                 "position": [0.0, 0.0, 0.0], "material": "concrete", "temperature": "300 K"}],
+    "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+    "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "altitude": 500.0,
+                   "gsd": 1.0, "shape": [56, 56]}],
+    "thermal": {"step": "10 min", "weather": {"t_min": "18 degC", "t_max": "30 degC",
+                                              "relative_humidity": 0.4, "wind_speed": 1.5}},
+    "render": {"sky_samples": 4, "specular_samples": 1},
+}
+
+
+@pytest.fixture(scope="module")
+def solved():
+    scene = load_scene(_SCENE, base_dir=".")
+    ds = radscene.solve_thermal(scene)
+    return scene, ds
+
+
+def test_cool_patch_trails_the_shadow(solved):
+    scene, ds = solved
+    cells = ds.where(ds.object == "terrain", drop=True)
+    lit_now = cells.sunlit.isel(time=-1).values
+    lit_before = cells.sunlit.isel(time=-7).values  # an hour earlier
+    temp = cells.surface_temperature.isel(time=-1).values
+    shade = lit_now < 0.01
+    emerged = (lit_now > 0.99) & (lit_before < 0.01)  # in the sun again for less than an hour
+    sunny = (lit_now > 0.99) & (cells.sunlit.isel(time=slice(-25, None)).min("time").values > 0.99)
+    assert shade.sum() > 10 and emerged.sum() > 3 and sunny.sum() > 100
+    t_shade, t_emerged, t_sunny = temp[shade].mean(), temp[emerged].mean(), temp[sunny].mean()
+    # the patch that left the shadow is warming but still well below the cells lit all along
+    assert t_shade + 1.0 < t_emerged < t_sunny - 2.0
+    assert ds.attrs["spin_up_days"] >= 2
+
+
+def test_rendered_thermal_image_shows_the_trailing_patch(solved):
+    scene, ds = solved
+    images = radscene.render(scene, "map")
+    bt = images.brightness_temperature.sel(band="lwir")
+    truth = images.surface_temperature
+    # the map's truth is the solution at the scene's time, face by face
+    cells = ds.where(ds.object == "terrain", drop=True)
+    assert float(truth.max()) == pytest.approx(float(cells.surface_temperature.isel(time=-1).max()), abs=0.5)
+    # brightness temperature follows the surface temperature: coolest in the shade, warmest in
+    # the open (asphalt's emissivity ~0.93-0.95 keeps it a few K below the surface)
+    seen = np.isfinite(truth.values) & np.isfinite(bt.values)
+    t, b = truth.values[seen], bt.values[seen]
+    hot, cold = t >= np.percentile(t, 80), t <= np.percentile(t, 5)
+    assert b[hot].mean() - b[cold].mean() > 0.7 * (t[hot].mean() - t[cold].mean())
