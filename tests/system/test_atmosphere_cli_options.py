@@ -20,6 +20,7 @@ from scipy.optimize import brentq
 from typer.testing import CliRunner
 
 from radscene.cli import app
+from radscene.sun import toa_solar_irradiance
 
 runner = CliRunner()
 
@@ -238,6 +239,20 @@ def test_solar_spectrum_6s_with_the_sixs_engine(tmp_path):
                                                            rel=1e-12)
 
 
+def test_solar_spectrum_tsis1_with_the_database_engine(tmp_path):
+    args = ("--wavelength-min", "0.45", "--wavelength-max", "0.65", "--step", "0.05")
+    ours = _los(tmp_path, *args, name="ours.nc")
+    hsrs = _los(tmp_path, *args, "--solar-spectrum", "tsis1", name="hsrs.nc")
+    assert hsrs.attrs["solar_spectrum"] == "tsis1"
+    assert "Coddington" in hsrs.attrs["solar_spectrum_source"]
+    wl = hsrs["wavelength"].values
+    ratio = toa_solar_irradiance(wl, spectrum="tsis1") / toa_solar_irradiance(wl)
+    for name in ("direct_solar_irradiance", "path_radiance", "apparent_radiance"):
+        assert hsrs[name].values / ours[name].values == pytest.approx(ratio, rel=1e-9), name
+    res = _invoke("los", *args, "--solar-spectrum", "tsis1")
+    assert res.exit_code == 0 and "solar spectrum tsis1" in res.output
+
+
 def test_ground_albedo_defaults_to_the_surface_albedo(tmp_path):
     args = ("--wavelength-min", "0.6", "--wavelength-max", "0.7", "--surface-albedo", "0.1")
     default = _los(tmp_path, *args, name="default.nc")
@@ -281,10 +296,10 @@ BAD = [
                                                         "take aot550"),
     (["los", "--engine", "lowtran", "--solar-spectrum", "radscene"],
      "--solar-spectrum: the lowtran engine uses lowtran, not radscene"),
-    (["los", "--solar-spectrum", "6s"], "--solar-spectrum: the database engine uses radscene, "
-                                        "not 6s"),
-    (["sky", "--solar-spectrum", "tsis"], "--solar-spectrum: unknown solar spectrum 'tsis'; "
-                                          "known: radscene, 6s, lowtran"),
+    (["los", "--solar-spectrum", "6s"], "--solar-spectrum: the database engine uses radscene or "
+                                        "tsis1, not 6s"),
+    (["sky", "--solar-spectrum", "kurucz"], "--solar-spectrum: unknown solar spectrum 'kurucz'; "
+                                            "known: radscene, tsis1, 6s, lowtran"),
     (["los", "--ground-albedo", "1.5"], r"--ground-albedo: must lie in \[0, 1\]"),
     (["los", "--engine", "sixs", "--sensor", "landsat8_tirs", "--band", "B10"],
      "--sensor landsat8_tirs --band B10: the 'sixs' atmosphere covers 0.25–4 um; asked for "

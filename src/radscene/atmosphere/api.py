@@ -28,8 +28,9 @@ name                      unit        default          meaning
                                                        Earth–Sun distance (NREL SPA, 12:00 UTC), or
                                                        LOWTRAN's day of year
 ``earth_sun_distance``    AU          1                instead of ``date`` (not LOWTRAN)
-``solar_spectrum``        -           engine's         E_0: ``radscene``, ``6s``, ``lowtran``
-                                                       (:data:`SOLAR_SPECTRA`, :data:`ENGINE_SPECTRA`)
+``solar_spectrum``        -           engine's         E_0: ``radscene``, ``tsis1``, ``6s``,
+                                                       ``lowtran`` (:data:`SOLAR_SPECTRA`,
+                                                       :data:`ENGINE_SPECTRA`)
 ``surface_albedo``        -           0                albedo of the surroundings the engine's sky
                                                        sees (LOWTRAN: SALB)
 ``ground_albedo``         -           surface_albedo   (``line_of_sight``) albedo of the uniform
@@ -46,7 +47,8 @@ name                      unit        default          meaning
 ========================  ==========  ===============  ==============================================
 
 Solar spectra and where they come from: :mod:`radscene.atmosphere.options`
-(:data:`SOLAR_SPECTRA`; newer reference spectra such as TSIS-1 HSRS are not shipped).
+(:data:`SOLAR_SPECTRA`): ASTM G173-03/Gueymard (``radscene``), TSIS-1 HSRS v2 (``tsis1``),
+6S's and LOWTRAN7's own.
 
 Example
 -------

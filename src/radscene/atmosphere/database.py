@@ -68,7 +68,9 @@ name                    unit   default           meaning
 ``sun_zenith``,         deg    (none), 0         sun for path radiance (renderer: :meth:`set_sun`)
 ``sun_azimuth``
 ``view_azimuth``        deg    (none)            line of sight's azimuth; none: azimuthal mean
-``earth_sun_distance``  AU     1                 scales E_0 (radscene's TOA spectrum)
+``earth_sun_distance``  AU     1                 scales E_0
+``solar_spectrum``      -      ``radscene``      E_0: radscene's TOA spectrum ``radscene`` or
+                                                 ``tsis1`` (:mod:`radscene.sun.spectrum`)
 ======================  =====  ================  =================================================
 
 Example::
@@ -179,7 +181,16 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
 
     def __init__(self, file=None, profile="us_standard", aerosol="rural", visibility=None,
                  surface_albedo=0.0, sun_zenith=None, sun_azimuth=0.0, view_azimuth=None,
-                 earth_sun_distance=1.0, aot550=None, water=None, ozone=None):
+                 earth_sun_distance=1.0, aot550=None, water=None, ozone=None,
+                 solar_spectrum="radscene"):
+        from radscene.sun import SOLAR_SPECTRUM_NAMES
+
+        spectrum = str(solar_spectrum).strip().lower()
+        if spectrum not in SOLAR_SPECTRUM_NAMES:
+            raise ConfigError(f"unknown value {solar_spectrum!r}; known: "
+                              f"{', '.join(SOLAR_SPECTRUM_NAMES)}",
+                              key="atmosphere.solar_spectrum")
+        self.solar_spectrum = spectrum
         self.file = database_path(file)
         ds = open_database(self.file)
         self.source = ds
@@ -494,7 +505,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
     def _e0(self, wavelength):
         from radscene.sun import toa_solar_irradiance
 
-        return toa_solar_irradiance(wavelength, self.earth_sun_distance)
+        return toa_solar_irradiance(wavelength, self.earth_sun_distance, self.solar_spectrum)
 
     def _spectral(self, table, wavelength):
         """log-log from the scattering wavelengths onto ``wavelength`` (last axis)."""

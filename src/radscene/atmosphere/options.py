@@ -7,20 +7,26 @@ spectrum           source
 =================  =======================================================================
 ``radscene``       the extraterrestrial column of ASTM G173-03, i.e. Gueymard (2004), 0.28-4
                    um, with a 5772 K blackbody scaled to it beyond
-                   (:func:`radscene.sun.toa_solar_irradiance`); the renderer's sun
+                   (:func:`radscene.sun.toa_solar_irradiance`); engines ``sixs`` and
+                   ``database``
+``tsis1``          the TSIS-1 Hybrid Solar Reference Spectrum, version 2 (Coddington et al.
+                   2021, 2023), 1 nm bins over 0.2025-2.7295 um, the ``radscene`` spectrum
+                   beyond (``radscene/data/solar``); engines ``sixs`` and ``database``
 ``6s``             the spectrum built into 6S, as 6S prints it (Vermote et al. 1997); engine
                    ``sixs`` only
 ``lowtran``        LOWTRAN7's built-in extraterrestrial spectrum (Kneizys et al. 1988), with
                    which LOWTRAN computes its scattered radiances; engine ``lowtran`` only
 =================  =======================================================================
 
-Newer reference spectra (TSIS-1 HSRS, Coddington et al. 2021, Geophys. Res. Lett. 48,
-e2020GL091709; Thuillier et al. 2003, Solar Phys. 214, 1-22) are not offered: their tables are
-shipped neither with radscene nor with any package it depends on.
+The renderer's direct sun uses the atmosphere's spectrum where radscene evaluates it
+(``radscene``, ``tsis1``), else ``radscene``'s.
 
 References
 ----------
 C. A. Gueymard, Solar Energy 76, 423-453 (2004), https://doi.org/10.1016/j.solener.2003.08.039
+O. M. Coddington et al., Geophys. Res. Lett. 48, e2020GL091709 (2021),
+https://doi.org/10.1029/2020GL091709; version 2: Earth Space Sci. 10, e2022EA002637 (2023),
+https://doi.org/10.1029/2022EA002637 (TSIS-1 HSRS).
 E. F. Vermote et al., IEEE Trans. Geosci. Remote Sens. 35, 675-686 (1997) (6S),
 https://doi.org/10.1109/36.581987
 F. X. Kneizys et al., Users guide to LOWTRAN 7, AFGL-TR-88-0177 (1988).
@@ -45,11 +51,14 @@ __all__ = ["SOLAR_SPECTRA", "ENGINE_SPECTRA", "sun_date", "check_options", "data
 SOLAR_SPECTRA = {
     "radscene": "ASTM G173-03 extraterrestrial spectrum (Gueymard 2004) 0.28-4 um, a scaled "
                 "5772 K blackbody beyond: radscene.sun.toa_solar_irradiance",
+    "tsis1": "TSIS-1 HSRS v2 (Coddington et al. 2021, GRL 48, e2020GL091709; v2 2022-11-30) "
+             "in 1 nm bins 0.2025-2.7295 um, the radscene spectrum beyond: "
+             "radscene.sun.toa_solar_irradiance(spectrum='tsis1')",
     "6s": "the solar spectrum built into 6S (Vermote et al. 1997), as 6S prints it",
     "lowtran": "LOWTRAN7's built-in extraterrestrial solar spectrum (Kneizys et al. 1988)",
 }
 #: The spectra each engine can use; the first is its default.
-ENGINE_SPECTRA = {"sixs": ("radscene", "6s"), "database": ("radscene",),
+ENGINE_SPECTRA = {"sixs": ("radscene", "6s", "tsis1"), "database": ("radscene", "tsis1"),
                   "lowtran": ("lowtran",)}
 #: Largest column amounts accepted [g cm-2], [cm-atm]: far above any measured column, they
 #: catch amounts given in other units (ozone in Dobson units: 300 DU = 0.3 cm-atm).

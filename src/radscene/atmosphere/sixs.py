@@ -16,7 +16,8 @@ turns them into its :class:`~radscene.atmosphere.base.Atmosphere` spectra with t
 6S emits nothing: the thermal path radiance is zero (use ``lowtran`` or the ``database`` with
 thermal tables for emission). E_0 is radscene's top-of-atmosphere spectrum
 (:func:`radscene.sun.toa_solar_irradiance`) by default, so that the path and sky agree with the
-renderer's sun; ``solar_spectrum: 6s`` uses 6S's own.
+renderer's sun; ``solar_spectrum: tsis1`` uses the TSIS-1 HSRS (radscene's too,
+:mod:`radscene.sun.spectrum`), ``solar_spectrum: 6s`` 6S's own.
 
 Spectral sampling. 6S computes its scattering quantities at 20 fixed wavelengths
 (:data:`~radscene.atmosphere.sixs_runner.DISCRETE_WAVELENGTHS`) and interpolates them in
@@ -47,7 +48,7 @@ name                     unit         default           meaning
 ``view_azimuth``         deg          (none)            azimuth of the line of sight (target →
                                                         observer); none: azimuthal mean
 ``earth_sun_distance``   AU           1                 scales E_0
-``solar_spectrum``       -            ``radscene``      E_0: ``radscene`` or ``6s``
+``solar_spectrum``       -            ``radscene``      E_0: ``radscene``, ``tsis1`` or ``6s``
 ``spectral``             -            ``interpolated``  ``interpolated`` or ``direct`` (see above)
 ``multiple_scattering``  -            true              6S always scatters multiply; false is refused
 ``workers``              -            CPUs              parallel 6S processes
@@ -222,7 +223,7 @@ class SixSAtmosphere(SunDependentAtmosphere):
         if multiple_scattering is not True:
             raise ConfigError("6S always computes multiple scattering; only true is accepted",
                               key="atmosphere.multiple_scattering")
-        self.solar_spectrum = _choice(solar_spectrum, ("radscene", "6s"),
+        self.solar_spectrum = _choice(solar_spectrum, ("radscene", "6s", "tsis1"),
                                       "atmosphere.solar_spectrum")
         self.spectral = _choice(spectral, ("interpolated", "direct"), "atmosphere.spectral")
         self._set_geometry(surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
@@ -240,7 +241,7 @@ class SixSAtmosphere(SunDependentAtmosphere):
             return e0_6s / model.earth_sun_factor_6s(_MONTH, _DAY) / self.earth_sun_distance**2
         from radscene.sun import toa_solar_irradiance
 
-        return toa_solar_irradiance(wavelength, self.earth_sun_distance)
+        return toa_solar_irradiance(wavelength, self.earth_sun_distance, self.solar_spectrum)
 
     # -- 6S runs ----------------------------------------------------------------------------
     @staticmethod

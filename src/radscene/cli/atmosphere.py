@@ -9,8 +9,8 @@ exit code 2, before anything is written. Quantities take units: ``10km``, ``"550
 ``los`` and ``sky`` say what 6S and LOWTRAN users say: the aerosol as ``--visibility`` or
 ``--aot550``, the gas columns ``--water`` [g cm-2] and ``--ozone`` [cm-atm], the ``--date``
 (Earth–Sun distance), the ``--solar-spectrum`` (``radscene``: ASTM G173-03 / Gueymard 2004;
-``6s``: 6S's own; ``lowtran``: LOWTRAN7's own; see :mod:`radscene.atmosphere.options` — no
-newer reference spectrum such as TSIS-1 HSRS is shipped), and bands as rectangles
+``tsis1``: TSIS-1 HSRS v2, Coddington et al. 2021; ``6s``: 6S's own; ``lowtran``: LOWTRAN7's
+own; see :mod:`radscene.atmosphere.options`), and bands as rectangles
 (``--band 0.63,0.69``), a library sensor's responses (``--sensor landsat8_oli --band B4``) or
 a response file (``--srf my_band.csv``: two numeric columns, wavelength and response). Band
 values are response-weighted (:mod:`radscene.atmosphere.bands`), with brightness temperatures
@@ -52,9 +52,9 @@ _DATE = typer.Option(None, "--date", help="Date YYYY-MM-DD: the Earth-Sun distan
                      "12:00 UTC; LOWTRAN: its day of year); default 1 AU.")
 _SPECTRUM = typer.Option(None, "--solar-spectrum", help="Top-of-atmosphere solar spectrum: "
                          "radscene (ASTM G173-03 extraterrestrial, Gueymard 2004; engines "
-                         "sixs, database), 6s (6S's own; sixs), lowtran (LOWTRAN7's own; "
-                         "lowtran). Default: the engine's first. TSIS-1 HSRS and Thuillier "
-                         "2003 are not shipped, so not offered.")
+                         "sixs, database), tsis1 (TSIS-1 HSRS v2, Coddington et al. 2021, "
+                         "to 2.73 um, radscene's beyond; sixs, database), 6s (6S's own; sixs), "
+                         "lowtran (LOWTRAN7's own; lowtran). Default: the engine's first.")
 _MS = typer.Option(True, "--multiple-scattering/--single-scattering",
                    help="Multiple scattering (LOWTRAN only may switch it off).")
 _SUN_Z = typer.Option("30", help="Sun zenith [deg]; >= 90: night.")

@@ -78,13 +78,24 @@ class _SceneTables:
         self.exponent = np.array([m.specular_exponent for m in scene.materials], dtype=float)
 
 
+def _solar_spectrum(atmosphere) -> str:
+    """The solar spectrum of the renderer's sun: the atmosphere's where radscene evaluates it
+    (``radscene``, ``tsis1``), else ``radscene``'s (6S's own spectrum exists only inside 6S)."""
+    from radscene.sun import SOLAR_SPECTRUM_NAMES
+
+    name = str(getattr(atmosphere, "solar_spectrum", "radscene") or "radscene").lower()
+    return name if name in SOLAR_SPECTRUM_NAMES else "radscene"
+
+
 def _breakpoints(scene) -> np.ndarray:
     """Every table wavelength that enters a band integral: materials, atmosphere, sun."""
     from radscene.sun import spectrum as sun_spectrum
 
-    solar_wl, _ = sun_spectrum.toa_solar_spectrum()
-    # the measured part has kinks at its samples; the blackbody head and tail are smooth
-    points = [solar_wl[(solar_wl >= 0.28) & (solar_wl <= 4.0)]]
+    name = _solar_spectrum(scene.atmosphere)
+    solar_wl, _ = sun_spectrum.toa_solar_spectrum(name)
+    # the measured parts have kinks at their samples; the blackbody head and tail are smooth
+    start = 0.28 if name == "radscene" else 0.25
+    points = [solar_wl[(solar_wl >= start) & (solar_wl <= 4.0)]]
     for m in scene.materials:
         for spec in (m.diffuse_reflectance, m.specular_reflectance, m.transmittance):
             if spec.wavelength is not None:
@@ -142,7 +153,7 @@ class _BandSetup:
             for s, (sun, atm) in enumerate(suns):
                 block = slice(s * n_j, (s + 1) * n_j)
                 if sun.zenith < 90.0:
-                    toa = toa_solar_irradiance(nodes, sun.distance)
+                    toa = toa_solar_irradiance(nodes, sun.distance, _solar_spectrum(atm))
                     e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance  # (q,)
                 else:
                     e_sun = np.zeros_like(nodes)
@@ -305,8 +316,8 @@ class _BrdfTables:
                 tau = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
                                path_nodes.view_zenith, nodes).transmittance  # (j, q)
                 if sun.zenith < 90.0:
-                    e_sun = atm.sun(target_alt, sun.zenith, nodes,
-                                    toa_solar_irradiance(nodes, sun.distance)).irradiance
+                    toa = toa_solar_irradiance(nodes, sun.distance, _solar_spectrum(atm))
+                    e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance
                     self.sun[b, block] = tau @ (weights * e_sun)
                 sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
                 sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q)
@@ -990,6 +1001,7 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         "sun_zenith_deg": sun.zenith,
         "sun_azimuth_deg": sun.azimuth,
         "earth_sun_distance_au": sun.distance,
+        "solar_spectrum": _solar_spectrum(scene.atmosphere),
         "atmosphere": scene.atmosphere.name,
         "latitude_deg": scene.location.latitude,
         "longitude_deg": scene.location.longitude,

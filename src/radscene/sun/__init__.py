@@ -1,9 +1,10 @@
 """The Sun: position (NREL SPA via pvlib), Earth-Sun distance, and the top-of-atmosphere
-solar spectrum 0.25-20 µm."""
+solar spectrum 0.25-20 µm (ASTM G173-03/Gueymard 2004 or TSIS-1 HSRS)."""
 
 from radscene.sun.position import SunPosition, earth_sun_distance, sun_position
 from radscene.sun.spectrum import (
     ASTRONOMICAL_UNIT,
+    SOLAR_SPECTRUM_NAMES,
     SOLAR_WAVELENGTH_RANGE,
     SUN_RADIUS,
     SUN_SOLID_ANGLE,
@@ -27,4 +28,5 @@ __all__ = [
     "SUN_TEMPERATURE",
     "ASTRONOMICAL_UNIT",
     "SOLAR_WAVELENGTH_RANGE",
+    "SOLAR_SPECTRUM_NAMES",
 ]
