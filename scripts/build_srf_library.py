@@ -15,10 +15,20 @@ and extraction route of each sensor). Each entry's ``kind`` says what its respon
   tables (Landsat 8/9 TIRS and Landsat 9 OLI-2, Landsat 7 ETM+, Landsat 5 TM, Terra ASTER),
   each with a ``reference`` file naming the agency spreadsheet it was taken from.
 
-* ``band model``: thermal infrared imagers whose measured responses are not on this machine
-  (GOES-16 ABI bands 7-16, Meteosat-11 SEVIRI IR3.9-IR13.4, NOAA-20 VIIRS M12-M16 and I4-I5,
-  AVHRR/3 channels 3B, 4 and 5): a trapezoid built from the band limits the instrument's
-  published specification gives (:data:`BAND_MODELS`, each with its document). The trapezoid
+* ``measured`` too, the thermal imagers of :data:`NETCDF_SENSORS` (Meteosat-11 SEVIRI
+  IR3.9-IR13.4, NOAA-20 VIIRS M12-M16, I4, I5, MetOp-B AVHRR/3 3B, 4, 5): the agencies' tables
+  as the public repository ``eradiate/eradiate-data`` stores them, one netCDF file per band
+  (``spectra/srf/<platform>-<instrument>-<band>-raw.nc``: wavelength ``w`` [nm], ``srf``; the
+  file's ``comment`` names the agency file). Those files are not in a package: give the folder
+  holding them with ``--netcdf DIR`` (taken from that repository's history, at the commits in
+  :data:`NETCDF_SENSORS`); without it their entries of ``library.yaml`` are kept as they are.
+  Edit: samples before the first and after the last within 1e-3 of the peak are dropped
+  (the tables run far into the out-of-band floor), keeping one sample below on each side;
+  equivalent widths change by < 0.1 %.
+* ``band model``: imagers whose measured responses are not on this machine (GOES-16 ABI bands
+  7-16, Himawari-8/9 AHI bands 1-16, the AVHRR/3 series' channels 3B, 4 and 5): a trapezoid
+  built from the band limits the instrument's published specification gives
+  (:data:`BAND_MODELS`, each with its document). The trapezoid
   reaches 50 % at the published limits, with linear edges each ``RAMP`` (10 %) of the band's
   width wide, centred on the limits: its full width at half maximum and its equivalent width
   are the published width, its centroid the middle of the limits. The edge width is
@@ -33,7 +43,9 @@ equivalent widths by less than 0.05 % and keeps the renderer's quadrature small.
 
 Run from the repository root: ``python scripts/build_srf_library.py``. Py6S and pyrsr are needed
 only here, never at run time; ``python scripts/build_srf_library.py --band-models`` rewrites
-only the band models (no package needed) and keeps the measured entries of ``library.yaml``.
+only the band models (no package needed) and keeps the measured entries of ``library.yaml``;
+``--netcdf DIR`` (with either) rewrites the sensors of :data:`NETCDF_SENSORS` from the files in
+DIR (needs h5py).
 The script loads every written band with :func:`radscene.sensor.srf_library.get_sensor_bands`
 and fails if one does not.
 """
@@ -146,6 +158,58 @@ SENSORS = {
     },
 }
 
+#: Thermal imagers from the netCDF tables of github.com/eradiate/eradiate-data: title, the
+#: agency source, the repository commit the files were taken from, and the bands as (name,
+#: file stem, common name).
+ERADIATE_DATA = "github.com/eradiate/eradiate-data"
+#: What may be done with these numbers: the agencies publish them for public use; the
+#: repository states no licence of its own for its files.
+NETCDF_LICENCE = ("agency data published for public use, cited above; carried as numbers (facts) "
+                  "with their source; eradiate-data states no licence of its own for them")
+NETCDF_SENSORS = {
+    "meteosat11_seviri": {
+        "title": "Meteosat-11 (MSG-4) SEVIRI, infrared channels IR3.9-IR13.4",
+        "source": "EUMETSAT, MSG SEVIRI spectral response characterisation, "
+                  "https://www.eumetsat.int/media/8871 (MSG-4's table, 0.011-0.04 um steps)",
+        "commit": "cc6539bfbbf2487854b059c3c256cf8fa8429a67^ (the raw IR tables, removed there)",
+        "bands": [("IR3.9", "msg4-seviri-ir39", "shortwave window"),
+                  ("WV6.2", "msg4-seviri-ir62", "upper-level water vapour"),
+                  ("WV7.3", "msg4-seviri-ir73", "mid-level water vapour"),
+                  ("IR8.7", "msg4-seviri-ir87", "window, cloud phase"),
+                  ("IR9.7", "msg4-seviri-ir97", "ozone"),
+                  ("IR10.8", "msg4-seviri-ir108", "longwave window"),
+                  ("IR12.0", "msg4-seviri-ir120", "split window"),
+                  ("IR13.4", "msg4-seviri-ir134", "CO2")],
+    },
+    "noaa20_viirs": {
+        "title": "NOAA-20 (JPSS-1) VIIRS, thermal bands M12-M16, I4, I5, at-launch RSR",
+        "source": "NOAA/NESDIS, J1 (NOAA-20) VIIRS relative spectral response, DAWG at-launch "
+                  "public release V2.1 (Nov 2016; Northrop Grumman measurements, 2011-10), "
+                  "https://ncc.nesdis.noaa.gov/NOAA-20/docs/"
+                  "J1_VIIRS_RSR_DAWG_At-Launch_Public_Release_V2.1_Nov2016.zip",
+        "commit": "b27de31f81904b78c0786c0d33734ecf2d4b087c^ (that commit moved the files out)",
+        "bands": [("M12", "jpss1-viirs-m12", "MWIR window (3.70 um)"),
+                  ("M13", "jpss1-viirs-m13", "MWIR window, fires (4.05 um)"),
+                  ("M14", "jpss1-viirs-m14", "cloud-top phase (8.55 um)"),
+                  ("M15", "jpss1-viirs-m15", "LWIR window (10.763 um)"),
+                  ("M16", "jpss1-viirs-m16", "split window (12.013 um)"),
+                  ("I4", "jpss1-viirs-i4", "imagery MWIR (3.74 um)"),
+                  ("I5", "jpss1-viirs-i5", "imagery LWIR (11.45 um)")],
+    },
+    "metopb_avhrr3": {
+        "title": "MetOp-B AVHRR/3, thermal channels 3B, 4, 5",
+        "source": "EUMETSAT NWP SAF, RTTOV v13 spectral response functions of MetOp-B AVHRR/3, "
+                  "https://nwp-saf.eumetsat.int/downloads/rtcoef_rttov13/ir_srf/"
+                  "rtcoef_metop_1_avhrr_srf/rtcoef_metop_1_avhrr_srf.tar.gz",
+        "commit": "b27de31f81904b78c0786c0d33734ecf2d4b087c^ (that commit moved the files out)",
+        "bands": [("3B", "metop_b-avhrr-3b", "MWIR window (3.7 um)"),
+                  ("4", "metop_b-avhrr-4", "LWIR window (10.8 um)"),
+                  ("5", "metop_b-avhrr-5", "split window (12.0 um)")],
+    },
+}
+#: Relative response below which the ends of a netCDF table are dropped.
+TRIM = 1e-3
+
 #: Width of each linear edge of a band model's trapezoid, as a fraction of the band's width.
 RAMP = 0.10
 
@@ -174,40 +238,34 @@ BAND_MODELS = {
         "centres": {"B7": 3.90, "B8": 6.185, "B9": 6.95, "B10": 7.34, "B11": 8.50,
                     "B12": 9.61, "B13": 10.35, "B14": 11.20, "B15": 12.30, "B16": 13.30},
     },
-    "meteosat11_seviri": {
-        "title": "Meteosat-11 SEVIRI, infrared channels IR3.9-IR13.4, band model (the nominal "
-                 "channels of every MSG SEVIRI)",
-        "source": "SEVIRI channel limits (lambda_min, lambda_max): J. Schmetz et al., An "
-                  "introduction to Meteosat Second Generation (MSG), Bull. Amer. Meteor. Soc. "
-                  "83, 977-992 (2002), Table 1",
-        "bands": [("IR3.9", 3.48, 4.36, "shortwave window"),
-                  ("WV6.2", 5.35, 7.15, "upper-level water vapour"),
-                  ("WV7.3", 6.85, 7.85, "mid-level water vapour"),
-                  ("IR8.7", 8.30, 9.10, "window, cloud phase"),
-                  ("IR9.7", 9.38, 9.94, "ozone"),
-                  ("IR10.8", 9.80, 11.80, "longwave window"),
-                  ("IR12.0", 11.00, 13.00, "split window"),
-                  ("IR13.4", 12.40, 14.40, "CO2")],
-    },
-    "noaa20_viirs": {
-        "title": "NOAA-20 VIIRS, thermal bands M12-M16, I4, I5, band model (the VIIRS design "
-                 "bands, shared with S-NPP)",
-        "source": "VIIRS design band centres and bandwidths: C. Cao et al., Early on-orbit "
-                  "performance of the Visible Infrared Imaging Radiometer Suite onboard the "
-                  "Suomi National Polar-Orbiting Partnership (S-NPP) satellite, IEEE Trans. "
-                  "Geosci. Remote Sens. 52, 1142-1156 (2014), Table I",
-        "centres": {"M12": 3.70, "M13": 4.05, "M14": 8.55, "M15": 10.763, "M16": 12.013,
-                    "I4": 3.74, "I5": 11.45},
-        "bands": [("M12", 3.61, 3.79, "MWIR window (3.70 um, 0.180 um wide)"),
-                  ("M13", 3.9725, 4.1275, "MWIR window, fires (4.05 um, 0.155 um wide)"),
-                  ("M14", 8.40, 8.70, "cloud-top phase (8.55 um, 0.3 um wide)"),
-                  ("M15", 10.263, 11.263, "LWIR window (10.763 um, 1.0 um wide)"),
-                  ("M16", 11.538, 12.488, "split window (12.013 um, 0.95 um wide)"),
-                  ("I4", 3.55, 3.93, "imagery MWIR (3.74 um, 0.38 um wide)"),
-                  ("I5", 10.50, 12.40, "imagery LWIR (11.45 um, 1.9 um wide)")],
+    "himawari_ahi": {
+        "title": "Himawari-8/9 Advanced Himawari Imager (AHI), bands 1-16, band model",
+        "source": "AHI band limits: JMA and JAXA (K. Okamoto, M. Kachi, K. Bessho), "
+                  "Himawari-8,9/AHI channel set; the instrument: K. Bessho et al., An "
+                  "introduction to Himawari-8/9 - Japan's new-generation geostationary "
+                  "meteorological satellites, J. Meteor. Soc. Japan 94, 151-183 (2016), "
+                  "doi:10.2151/jmsj.2016-009; nominal central wavelengths: JMA, Himawari-8/9 "
+                  "Himawari Standard Data User's Guide, version 1.3 (2017), Table 1",
+        "bands": [("B01", 0.43, 0.48, "blue (0.47 um nominal)"),
+                  ("B02", 0.50, 0.52, "green (0.51 um nominal)"),
+                  ("B03", 0.63, 0.66, "red (0.64 um nominal)"),
+                  ("B04", 0.85, 0.87, "NIR (0.86 um nominal)"),
+                  ("B05", 1.60, 1.62, "SWIR snow/ice (1.6 um nominal)"),
+                  ("B06", 2.25, 2.27, "SWIR particle size (2.3 um nominal)"),
+                  ("B07", 3.74, 3.96, "shortwave window (3.9 um nominal)"),
+                  ("B08", 6.06, 6.43, "upper-level water vapour (6.2 um nominal)"),
+                  ("B09", 6.89, 7.01, "mid-level water vapour (6.9 um nominal)"),
+                  ("B10", 7.26, 7.43, "lower-level water vapour (7.3 um nominal)"),
+                  ("B11", 8.44, 8.76, "cloud phase, SO2 (8.6 um nominal)"),
+                  ("B12", 9.54, 9.72, "ozone (9.6 um nominal)"),
+                  ("B13", 10.30, 10.60, "clean longwave window (10.4 um nominal)"),
+                  ("B14", 11.10, 11.30, "longwave window (11.2 um nominal)"),
+                  ("B15", 12.20, 12.50, "dirty longwave window (12.4 um nominal)"),
+                  ("B16", 13.20, 13.40, "CO2 longwave (13.3 um nominal)")],
     },
     "avhrr3": {
-        "title": "AVHRR/3 (NOAA-15 to -19, MetOp-A to -C), thermal channels 3B, 4, 5, band model",
+        "title": "AVHRR/3 (NOAA-15 to -19, MetOp-A to -C), thermal channels 3B, 4, 5, band model "
+                 "(the series' nominal channels; MetOp-B measured: metopb_avhrr3)",
         "source": "AVHRR/3 channel limits: NOAA KLM User's Guide (NOAA NESDIS), section 3.1, "
                   "AVHRR/3 spectral channel characteristics",
         "bands": [("3B", 3.55, 3.93, "MWIR window"),
@@ -307,6 +365,66 @@ def build() -> dict:
     return library
 
 
+def _netcdf_band(path):
+    """(wavelength [um], response, comment) of one eradiate-data SRF file."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        wl = f["w"][:].astype(float)
+        unit = f["w"].attrs.get("units", b"nm")
+        resp = f["srf"][:].astype(float)
+        comment = f.attrs.get("comment", b"")
+    unit = unit.decode() if isinstance(unit, bytes) else str(unit)
+    comment = comment.decode() if isinstance(comment, bytes) else str(comment)
+    if unit != "nm":
+        raise SystemExit(f"{path}: wavelength unit {unit!r}, expected nm")
+    return wl / 1000.0, resp, comment
+
+
+def build_netcdf(folder) -> dict:
+    """Write the sensors of NETCDF_SENSORS from the eradiate-data files in ``folder``."""
+    from pathlib import Path
+
+    folder = Path(folder)
+    library = {}
+    for sensor, spec in NETCDF_SENSORS.items():
+        rows, band_meta, changes, comments = [], {}, [], set()
+        for name, stem, common in spec["bands"]:
+            wl, resp, comment = _netcdf_band(folder / f"{stem}-raw.nc")
+            comments.add(comment)
+            if np.any(resp < 0):
+                raise SystemExit(f"{sensor} {name}: negative responses")
+            resp = resp / resp.max()
+            keep = np.flatnonzero(resp >= TRIM)
+            lo, hi = max(keep[0] - 1, 0), min(keep[-1] + 1, wl.size - 1)
+            before = np.trapezoid(resp, wl)
+            wl, resp = wl[lo:hi + 1], resp[lo:hi + 1]
+            change = abs(np.trapezoid(resp, wl) / before - 1.0)
+            if change > 1e-3:
+                raise SystemExit(f"{sensor} {name}: trimming changed the width by {change:.1e}")
+            changes.append(change)
+            rows.extend((name, w, r) for w, r in zip(wl, resp, strict=True))
+            band_meta[name] = {"common_name": common}
+        via = (f"{ERADIATE_DATA} at commit {spec['commit']}: spectra/srf/"
+               f"{{{', '.join(stem for _, stem, _ in spec['bands'])}}}-raw.nc; their comment: "
+               + "; ".join(sorted(comments)))
+        edits = [f"samples beyond the first and last within {TRIM:g} of the peak dropped (one "
+                 f"kept on each side); equivalent widths change < {max(changes):.1e}"]
+        path = OUT / f"{sensor}.csv"
+        with path.open("w", encoding="utf-8", newline="\n") as fh:
+            fh.write(f"# {spec['title']}\n# source: {spec['source']}\n# via: {via}\n")
+            fh.write(f"# licence: {NETCDF_LICENCE}\n# edits: {edits[0]}\n")
+            fh.write("# generated by scripts/build_srf_library.py; relative response, "
+                     "dimensionless\n")
+            fh.write("band,wavelength_um,response\n")
+            for name, w, r in rows:
+                fh.write(f"{name},{w:.6f},{r:.6g}\n")
+        library[sensor] = {"title": spec["title"], "file": path.name, "kind": "measured",
+                           "source": spec["source"], "via": via, "licence": NETCDF_LICENCE,
+                           "edits": edits, "bands": band_meta}
+    return library
+
+
 def band_model(lower: float, upper: float):
     """(wavelength [um], response) of the trapezoid of a band model: 0.5 at the limits,
     linear edges RAMP of the width wide centred on them, 1 between."""
@@ -347,7 +465,8 @@ def build_band_models() -> dict:
 
 
 def _measured_entries() -> dict:
-    """The measured entries of the present library.yaml (kind set), for --band-models."""
+    """The measured entries of the present library.yaml (kind set), for --band-models and the
+    netCDF sensors without --netcdf."""
     import yaml
 
     old = yaml.safe_load((OUT / "library.yaml").read_text(encoding="utf-8"))
@@ -376,8 +495,18 @@ def _write_yaml(library: dict) -> None:
 
 
 def main() -> int:
-    measured = _measured_entries() if "--band-models" in sys.argv[1:] else build()
-    library = {**measured, **build_band_models()}
+    args = sys.argv[1:]
+    old = _measured_entries()
+    measured = old if "--band-models" in args else build()
+    if "--netcdf" in args:
+        netcdf = build_netcdf(args[args.index("--netcdf") + 1])
+    else:
+        missing = [name for name in NETCDF_SENSORS if name not in old]
+        if missing:
+            raise SystemExit(f"{', '.join(missing)} not in library.yaml yet: give --netcdf DIR")
+        netcdf = {name: old[name] for name in NETCDF_SENSORS}
+    measured = {k: v for k, v in measured.items() if k not in NETCDF_SENSORS}
+    library = {**measured, **netcdf, **build_band_models()}
     _write_yaml(library)
     sys.path.insert(0, str(ROOT / "src"))
     from radscene.sensor.srf_library import get_sensor_bands

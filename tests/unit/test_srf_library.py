@@ -1,5 +1,7 @@
 """Tests of radscene.sensor.srf_library: bundled real SRFs, their sources, user files."""
 
+from importlib import resources
+
 import numpy as np
 import pytest
 
@@ -29,7 +31,7 @@ def test_required_sensors_are_bundled_with_their_sources():
         assert info["source"] and info["via"] and info["title"]
         assert info["kind"] in ("measured", "band model"), name
         if info["kind"] == "measured":
-            assert ("Py6S" in info["via"]) or ("pyrsr" in info["via"])
+            assert any(route in info["via"] for route in ("Py6S", "pyrsr", "eradiate-data"))
         else:
             assert "not a measured response" in info["shape"]
 
@@ -45,7 +47,7 @@ def test_every_bundled_band_is_a_valid_response(sensor):
         assert 0.5 <= response.response.max() <= 1.01  # relative responses peak near 1
         assert response.equivalent_width() > 0.0
         lo, hi = response.support
-        assert 0.3 < lo < response.center < hi < 15.0
+        assert 0.3 < lo < response.center < hi < 16.0  # SEVIRI IR13.4 reaches 15.0 um
 
 
 # Published centre wavelengths [um]. OLI: Barsi et al. (2014), Remote Sens. 6, 10232, Table 3
@@ -103,19 +105,102 @@ def test_bundled_tables_are_the_py6s_numbers():
                                                                   abs=1e-6)
 
 
-# Published centre wavelengths [um] of the thermal imagers bundled as band models. ABI: Schmit
-# et al. (2017), BAMS 98, 681-698; SEVIRI: Schmetz et al. (2002), BAMS 83, 977-992, Table 1
-# (lambda_cen); VIIRS: Cao et al. (2014), IEEE TGRS 52, 1142-1156, Table I; AVHRR/3: the middle
-# of the channel limits of the NOAA KLM User's Guide, section 3.1 (it gives no centres).
+# Published centre wavelengths [um] of the imagers bundled as band models. ABI: Schmit et al.
+# (2017), BAMS 98, 681-698; AVHRR/3: the middle of the channel limits of the NOAA KLM User's
+# Guide, section 3.1 (it gives no centres); AHI: the middle of JMA's band limits (module
+# docstring of scripts/build_srf_library.py; the nominal wavelengths are checked below).
 BAND_MODEL_CENTRES = {
     "goes16_abi": {"B7": 3.90, "B8": 6.185, "B9": 6.95, "B10": 7.34, "B11": 8.50, "B12": 9.61,
                    "B13": 10.35, "B14": 11.20, "B15": 12.30, "B16": 13.30},
-    "meteosat11_seviri": {"IR3.9": 3.92, "WV6.2": 6.25, "WV7.3": 7.35, "IR8.7": 8.70,
-                          "IR9.7": 9.66, "IR10.8": 10.80, "IR12.0": 12.00, "IR13.4": 13.40},
-    "noaa20_viirs": {"M12": 3.70, "M13": 4.05, "M14": 8.55, "M15": 10.763, "M16": 12.013,
-                     "I4": 3.74, "I5": 11.45},
+    "himawari_ahi": {"B01": 0.455, "B02": 0.51, "B03": 0.645, "B04": 0.86, "B05": 1.61,
+                     "B06": 2.26, "B07": 3.85, "B08": 6.245, "B09": 6.95, "B10": 7.345,
+                     "B11": 8.60, "B12": 9.63, "B13": 10.45, "B14": 11.20, "B15": 12.35,
+                     "B16": 13.30},
     "avhrr3": {"3B": 3.74, "4": 10.80, "5": 12.00},
 }
+# Nominal central wavelengths of AHI [um]: JMA, Himawari Standard Data User's Guide v1.3,
+# Table 1.
+AHI_NOMINAL = {"B01": 0.47, "B02": 0.51, "B03": 0.64, "B04": 0.86, "B05": 1.6, "B06": 2.3,
+               "B07": 3.9, "B08": 6.2, "B09": 6.9, "B10": 7.3, "B11": 8.6, "B12": 9.6,
+               "B13": 10.4, "B14": 11.2, "B15": 12.4, "B16": 13.3}
+# Published centre wavelengths [um] of the thermal imagers bundled as measured responses, and
+# how far the measured centroids lie from them. SEVIRI: Schmetz et al. (2002), BAMS 83, 977-992,
+# Table 1 (lambda_cen; measured within 0.06 um); VIIRS: the design centres of Cao et al. (2014),
+# IEEE TGRS 52, 1142-1156, Table I (NOAA-20's measured centroids within 0.05 um, M16 0.14 um
+# short of its design centre); AVHRR/3: the middle of the KLM channel limits (within 0.06 um).
+MEASURED_THERMAL = {
+    "meteosat11_seviri": ({"IR3.9": 3.92, "WV6.2": 6.25, "WV7.3": 7.35, "IR8.7": 8.70,
+                           "IR9.7": 9.66, "IR10.8": 10.80, "IR12.0": 12.00, "IR13.4": 13.40},
+                          0.06),
+    "noaa20_viirs": ({"M12": 3.70, "M13": 4.05, "M14": 8.55, "M15": 10.763, "M16": 12.013,
+                      "I4": 3.74, "I5": 11.45}, 0.15),
+    "metopb_avhrr3": ({"3B": 3.74, "4": 10.80, "5": 12.00}, 0.06),
+}
+
+
+@pytest.mark.parametrize("sensor", sorted(MEASURED_THERMAL))
+def test_measured_thermal_imagers_carry_their_source_and_published_centres(sensor):
+    """The measured thermal responses name the agency table and the route; each band's
+    centroid lies near the published centre, and its equivalent width near the band model's
+    it replaced (the published width): within 35 %."""
+    centres, tol = MEASURED_THERMAL[sensor]
+    info = sensor_info(sensor)
+    assert info["kind"] == "measured" and "band model" not in info["title"]
+    assert "eradiate-data" in info["via"] and "raw data url" in info["via"]
+    assert info["edits"] and "within 0.001 of the peak" in info["edits"][0]
+    bands = dict(get_sensor_bands(sensor))
+    assert list(bands) == list(centres)
+    for name, centre in centres.items():
+        response = bands[name]
+        assert response.center == pytest.approx(centre, abs=tol), name
+        assert response.response.max() == pytest.approx(1.0, abs=1e-6)
+        # the ends were trimmed near the out-of-band floor (1e-3 of the peak, or the table's
+        # own end)
+        assert max(response.response[0], response.response[-1]) < 5e-3, name
+    text = (resources.files("radscene") / "data" / "srf" / f"{sensor}.csv").read_text(
+        encoding="utf-8")
+    assert "# source: " in text and "# via: " in text and "BAND MODEL" not in text
+
+
+@pytest.mark.parametrize(("sensor", "band", "lo", "hi"), [
+    ("noaa20_viirs", "M15", 10.263, 11.263), ("noaa20_viirs", "I5", 10.50, 12.40),
+    ("metopb_avhrr3", "4", 10.30, 11.30), ("metopb_avhrr3", "5", 11.50, 12.50)])
+def test_measured_widths_agree_with_the_published_band_limits(sensor, band, lo, hi):
+    response = get_band(sensor, band)
+    assert response.equivalent_width() == pytest.approx(hi - lo, rel=0.35)
+    # a 300 K scene: the band-mean radiance of the measured response and of a box over the
+    # published limits agree to a few per cent in these windows
+    wl = np.linspace(*response.support, 4001)
+    measured = np.trapezoid(response(wl) * spectral_radiance(wl, 300.0), wl) / np.trapezoid(
+        response(wl), wl)
+    box = np.linspace(lo, hi, 4001)
+    nominal = np.trapezoid(spectral_radiance(box, 300.0), box) / (hi - lo)
+    assert measured == pytest.approx(nominal, rel=0.05)
+
+
+# SEVIRI's lambda_min, lambda_max (Schmetz et al. 2002, Table 1) bound each channel's extent;
+# the measured responses are about half as wide (IR10.8: equivalent width 1.05 um in 9.8-11.8)
+# and lie within those bounds: at least 95 % of each response's integral falls inside.
+@pytest.mark.parametrize(("band", "lo", "hi"), [
+    ("IR3.9", 3.48, 4.36), ("WV6.2", 5.35, 7.15), ("WV7.3", 6.85, 7.85), ("IR8.7", 8.30, 9.10),
+    ("IR9.7", 9.38, 9.94), ("IR10.8", 9.80, 11.80), ("IR12.0", 11.00, 13.00),
+    ("IR13.4", 12.40, 14.40)])
+def test_seviri_responses_lie_within_the_published_channel_bounds(band, lo, hi):
+    response = get_band("meteosat11_seviri", band)
+    wl = np.linspace(*response.support, 20_001)
+    inside = (wl >= lo) & (wl <= hi)
+    share = np.trapezoid(response(wl) * inside, wl) / np.trapezoid(response(wl), wl)
+    assert share > 0.95, band
+    assert 0.3 * (hi - lo) < response.equivalent_width() < 0.9 * (hi - lo)
+
+
+def test_ahi_band_model_cites_jma_and_bessho_and_its_nominal_wavelengths():
+    info = sensor_info("himawari_ahi")
+    assert "doi:10.2151/jmsj.2016-009" in info["source"] and "JMA" in info["source"]
+    for name, nominal in AHI_NOMINAL.items():
+        assert f"({nominal:g} um nominal)" in info["bands"][name]["common_name"], name
+        centre = get_band("himawari_ahi", name).center  # the middle of the limits
+        assert centre == pytest.approx(nominal, abs=0.05 + 1e-9), name
 BAND_MODEL_CENTRE = 5e-3  # [um]: the stated tolerance of a band model's centroid
 
 

@@ -3,43 +3,50 @@
 The library (``radscene/data/srf``) holds the published relative spectral responses
 (``kind: measured`` in library.yaml) of:
 
-================  =============================================  =================================
-name              bands                                          from (details in library.yaml)
-================  =============================================  =================================
-landsat8_oli      B1-B9                                          NASA/Ball, via Py6S
-landsat8_tirs     B10, B11                                       NASA/Ball, via pyrsr
-landsat9_oli      B1-B9 (OLI-2)                                  NASA/Ball, via pyrsr
-landsat9_tirs     B10, B11 (TIRS-2)                              NASA/Ball, via pyrsr
-sentinel2a_msi    B1-B12, B8A                                    ESA S2-SRF, via Py6S
-sentinel2b_msi    B1-B12, B8A                                    ESA S2-SRF, via Py6S
-terra_modis       B1-B16 (reflective solar)                      NASA OBPG, via Py6S
-aqua_modis        B1-B16 (reflective solar)                      NASA OBPG, via Py6S
-sentinel3a_olci   Oa01-Oa21                                      ESA, via Py6S
-sentinel3b_olci   Oa01-Oa21                                      ESA, via Py6S
-sentinel3a_slstr  S1-S6                                          ESA pre-flight, via Py6S
-sentinel3b_slstr  S1-S6                                          ESA pre-flight, via Py6S
-landsat7_etm      B1-B8 (B6 thermal)                             NASA, via pyrsr
-landsat5_tm       B1-B7 (B6 thermal)                             NASA, via pyrsr
-terra_aster       B1, B2, B3N, B3B, B4-B14 (B10-B14 thermal)     NASA, via pyrsr
-================  =============================================  =================================
+=================  =============================================  =================================
+name               bands                                          from (details in library.yaml)
+=================  =============================================  =================================
+landsat8_oli       B1-B9                                          NASA/Ball, via Py6S
+landsat8_tirs      B10, B11                                       NASA/Ball, via pyrsr
+landsat9_oli       B1-B9 (OLI-2)                                  NASA/Ball, via pyrsr
+landsat9_tirs      B10, B11 (TIRS-2)                              NASA/Ball, via pyrsr
+sentinel2a_msi     B1-B12, B8A                                    ESA S2-SRF, via Py6S
+sentinel2b_msi     B1-B12, B8A                                    ESA S2-SRF, via Py6S
+terra_modis        B1-B16 (reflective solar)                      NASA OBPG, via Py6S
+aqua_modis         B1-B16 (reflective solar)                      NASA OBPG, via Py6S
+sentinel3a_olci    Oa01-Oa21                                      ESA, via Py6S
+sentinel3b_olci    Oa01-Oa21                                      ESA, via Py6S
+sentinel3a_slstr   S1-S6                                          ESA pre-flight, via Py6S
+sentinel3b_slstr   S1-S6                                          ESA pre-flight, via Py6S
+landsat7_etm       B1-B8 (B6 thermal)                             NASA, via pyrsr
+landsat5_tm        B1-B7 (B6 thermal)                             NASA, via pyrsr
+terra_aster        B1, B2, B3N, B3B, B4-B14 (B10-B14 thermal)     NASA, via pyrsr
+meteosat11_seviri  IR3.9, WV6.2, WV7.3, IR8.7, IR9.7, IR10.8,     EUMETSAT (MSG-4), via
+                   IR12.0, IR13.4                                 eradiate-data
+noaa20_viirs       M12-M16, I4, I5                                NOAA/NESDIS J1 at-launch RSR
+                                                                  V2.1, via eradiate-data
+metopb_avhrr3      3B, 4, 5                                       EUMETSAT NWP SAF (RTTOV v13),
+                                                                  via eradiate-data
+=================  =============================================  =================================
 
 and, as band models (``kind: band model``: a trapezoid reaching 50 % at the band limits of the
 instrument's published specification, with edges 10 % of the width wide — not a measured
-response; the measured ones are not shipped), the thermal infrared imagers:
+response; the measured ones are not shipped):
 
 =================  ==================================  ======================================
 name               bands                               band limits from
 =================  ==================================  ======================================
 goes16_abi         B7-B16 (3.9-13.3 um)                Schmit et al. 2005, BAMS 86, Table 1
-meteosat11_seviri  IR3.9, WV6.2, WV7.3, IR8.7, IR9.7,  Schmetz et al. 2002, BAMS 83,
-                   IR10.8, IR12.0, IR13.4              Table 1
-noaa20_viirs       M12-M16, I4, I5                     Cao et al. 2014, IEEE TGRS 52, Table I
-avhrr3             3B, 4, 5                            NOAA KLM User's Guide, section 3.1
+himawari_ahi       B01-B16 (0.47-13.3 um)              JMA/JAXA AHI channel set (Okamoto,
+                                                       Kachi, Bessho); Bessho et al. 2016,
+                                                       JMSJ 94, doi:10.2151/jmsj.2016-009
+avhrr3             3B, 4, 5 (the AVHRR/3 series)       NOAA KLM User's Guide, section 3.1
 =================  ==================================  ======================================
 
 Each sensor's entry in ``library.yaml`` names the original publication or agency file
-(``source``), the package and table the numbers were read from (``via``) and what the build
-script (``scripts/build_srf_library.py``) changed (``edits``). Responses are linear between
+(``source``), the package, repository and table the numbers were read from (``via``), what the
+build script (``scripts/build_srf_library.py``) changed (``edits``) and, for the tables read from
+a repository, a ``licence`` note. Responses are linear between
 samples and zero outside, as :class:`~radscene.radiometry.srf.TabulatedResponse`.
 
 User files (:func:`read_srf_table`) hold several bands in one CSV/text table, either *wide*
