@@ -64,8 +64,8 @@ def test_same_seed_same_answer_and_fixed_faces_go_to_fixed():
     mats = [np.zeros(2, np.int64), np.ones(12, np.int64)]
     el = build_elements([ground, body], mats, [True, False])
     assert el.size == 1 and np.all(el.face_element[2:] == -1)
-    a = hemisphere_exposure(tracer, el, 64, seed=5)
-    b = hemisphere_exposure(tracer, el, 64, seed=5)
+    a = hemisphere_exposure(tracer, el, 1024, seed=5)
+    b = hemisphere_exposure(tracer, el, 1024, seed=5)
     assert np.array_equal(a.sky_view, b.sky_view)
     assert a.fixed.shape == (1, 14)
     assert a.fixed.sum() == pytest.approx(1.0 - a.sky_view[0], abs=1e-12)

@@ -84,10 +84,10 @@ class SurfaceElements:
         """
         values = np.asarray(face_values, float)
         solved = self.face_element >= 0
-        out = np.zeros((self.size,) + values.shape[1:])
-        weight = self.face_weight[solved].reshape((-1,) + (1,) * (values.ndim - 1))
-        np.add.at(out, self.face_element[solved], weight * values[solved])
-        return out
+        flat = values[solved].reshape(int(solved.sum()), -1) * self.face_weight[solved, None]
+        out = np.stack([np.bincount(self.face_element[solved], weights=flat[:, j], minlength=self.size)
+                        for j in range(flat.shape[1])], axis=1)
+        return out.reshape((self.size,) + values.shape[1:])
 
     def face_values(self, element_values, fixed):
         """Per-face values from per-element ones; faces without an element take ``fixed``.

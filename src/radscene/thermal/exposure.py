@@ -10,9 +10,9 @@ about one per m² of an object face, :func:`shadow_points`); an element's sunlit
 the area-weighted share of those points that see the sun. Faces turned away from the sun are not
 traced (the absorbed beam is zero there whatever the shadow).
 
-**Hemisphere.** ``n_samples`` cosine-weighted directions over each face's outer hemisphere
-(a stratified pattern, shifted at random per face from ``seed``), each from a random point of
-the face (so large facets are averaged over their area): with cosine weighting the
+**Hemisphere.** ``n_samples`` cosine-weighted directions per element, each from a random point
+of one of its faces (chosen in proportion to the faces' areas, stratified), over that face's
+outer hemisphere (so elements are averaged over their area): with cosine weighting the
 share of rays that escape is the face's sky view factor V_sky, and the share that hits face
 ``g`` of element ``j`` is the view factor F_fj (Modest 2013, *Radiative Heat Transfer*, 3rd
 ed., §4.2: F = (1/π) ∫ cos θ dω over the directions that reach the other surface). Element
@@ -67,7 +67,7 @@ def shadow_points(elements, spacing=1.0):
     return face, 1.0 / n, r1, r2
 
 
-def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0):
+def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0, progress=None):
     """Sunlit share of every element for each sun direction.
 
     Parameters
@@ -82,6 +82,8 @@ def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0):
     spacing : float, optional
         About one shadow ray per ``spacing``² of an object face's area [m]
         (:func:`shadow_points`).
+    progress : callable(done, total), optional
+        Called after each sun direction.
 
     Returns
     -------
@@ -95,20 +97,23 @@ def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0):
     origin = _points(elements, face, r1, r2, epsilon)
     normal = elements.face_normal[face]
     local = tracer.to_local(origin)
+    if local is not None:
+        local = np.ascontiguousarray(local, np.float32)
+    element = elements.face_element[face]
+    share = weight * elements.face_weight[face]  # each point's share of its element's area
     out = np.zeros((len(sun), elements.size))
     for k, s in enumerate(sun):
         s = s / np.linalg.norm(s)
-        facing = normal @ s > 0.0
-        if s[2] <= 0.0 or not facing.any():
-            continue
-        if local is None:
-            seen = ~tracer.occluded(origin[facing], np.broadcast_to(s, (int(facing.sum()), 3)))
-        else:
-            o = np.ascontiguousarray(local[facing], np.float32)
-            d = np.ascontiguousarray(np.broadcast_to(s.astype(np.float32), (len(o), 3)))
-            seen = ~tracer.occluded_local(o, d)
-        lit = np.bincount(face[facing], weights=weight[facing] * seen, minlength=len(elements.face_element))
-        out[k] = elements.per_element(lit)
+        facing = np.flatnonzero(normal @ s > 0.0)
+        if s[2] > 0.0 and facing.size:
+            if local is None:
+                seen = ~tracer.occluded(origin[facing], np.broadcast_to(s, (facing.size, 3)))
+            else:
+                d = np.ascontiguousarray(np.broadcast_to(s.astype(np.float32), (facing.size, 3)))
+                seen = ~tracer.occluded_local(local[facing], d)
+            out[k] = np.bincount(element[facing], weights=share[facing] * seen, minlength=elements.size)
+        if progress is not None:
+            progress(k + 1, len(sun))
     # the faces' area shares sum to one only to rounding
     return np.minimum(out, 1.0, out=out)
 
@@ -135,15 +140,21 @@ class Hemisphere:
     samples: int
 
 
-def _cosine_directions(normal, n_samples, rng):
-    """(n_faces, n_samples, 3) cosine-weighted unit directions about each unit normal."""
+def _stratified(n_elements, n_samples, rng):
+    """(n_elements, n_samples, 2) points of a stratified unit-square pattern, shifted at random
+    (modulo 1) per element."""
     side = int(np.ceil(np.sqrt(n_samples)))
+    rows = int(np.ceil(n_samples / side))
     i, j = np.divmod(np.arange(n_samples), side)
-    base = np.stack([(i + 0.5) / np.ceil(n_samples / side), (j + 0.5) / side], axis=1)
-    u = (base[None, :, :] + rng.random((len(normal), 1, 2))) % 1.0
-    r = np.sqrt(u[..., 0])
-    phi = 2.0 * np.pi * u[..., 1]
-    local = np.stack([r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(0.0, 1.0 - u[..., 0]))], axis=-1)
+    base = np.stack([(i + 0.5) / rows, (j + 0.5) / side], axis=1)
+    return (base[None, :, :] + rng.random((n_elements, 1, 2))) % 1.0
+
+
+def _cosine_directions(normal, u):
+    """Cosine-weighted unit directions about unit normals (N, 3) for unit-square points (N, 2)."""
+    r = np.sqrt(u[:, 0])
+    phi = 2.0 * np.pi * u[:, 1]
+    x, y, z = r * np.cos(phi), r * np.sin(phi), np.sqrt(np.maximum(0.0, 1.0 - u[:, 0]))
     # an orthonormal frame (t, b, n) per normal (Duff et al. 2017, JCGT 6(1))
     n = normal
     sign = np.where(n[:, 2] >= 0.0, 1.0, -1.0)
@@ -151,7 +162,7 @@ def _cosine_directions(normal, n_samples, rng):
     b = n[:, 0] * n[:, 1] * a
     t = np.stack([1.0 + sign * n[:, 0] ** 2 * a, sign * b, -sign * n[:, 0]], axis=1)
     bb = np.stack([b, sign + n[:, 1] ** 2 * a, -n[:, 1]], axis=1)
-    return local[..., :1] * t[:, None] + local[..., 1:2] * bb[:, None] + local[..., 2:] * n[:, None]
+    return x[:, None] * t + y[:, None] * bb + z[:, None] * n
 
 
 def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, batch=65536):
@@ -162,14 +173,14 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
     tracer : radscene.geometry.RayTracer
     elements : SurfaceElements
     n_samples : int, optional
-        Rays per face; the standard error of a view factor F is about sqrt(F (1 − F) / n)
-        per face, less per element of several faces.
+        Rays per element, each from a point of one of its faces chosen in proportion to the
+        faces' areas; the standard error of a view factor F is about sqrt(F (1 − F) / n).
     seed : int, optional
-        Seeds the per-face shifts of the pattern (same seed, same answer).
+        Seeds the shifts of the pattern and the points (same seed, same answer).
     epsilon : float, optional
         Distance the ray origins are raised off the faces [m].
     batch : int, optional
-        Faces traced per call.
+        Rays traced per call.
 
     Returns
     -------
@@ -180,32 +191,41 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
         raise ConfigError(f"must be >= 1; got {n_samples}", key="thermal.hemisphere_samples")
     rng = np.random.default_rng(seed)
     n_faces = len(elements.face_element)
+    n_el = elements.size
     face_offset = np.concatenate([[0], np.cumsum([len(m.faces) for m in tracer.meshes])[:-1]]).astype(np.int64)
+    # the solved faces in element order; their area shares run from e to e + 1 in element e
     solved = np.flatnonzero(elements.face_element >= 0)
-    sky = np.zeros(n_faces)
+    by_element = solved[np.argsort(elements.face_element[solved], kind="stable")]
+    cumulative = np.cumsum(elements.face_weight[by_element])
+    first = np.searchsorted(elements.face_element[by_element], np.arange(n_el))
+    last = np.append(first[1:], by_element.size) - 1
+    sky = np.zeros(n_el)
     rows, cols, vals, frows, fcols, fvals = [], [], [], [], [], []
     per = max(1, batch // n_samples)
-    for start in range(0, solved.size, per):
-        faces = solved[start:start + per]
-        d = _cosine_directions(elements.face_normal[faces], n_samples, rng).reshape(-1, 3)
-        source = np.repeat(faces, n_samples)
+    for start in range(0, n_el, per):
+        els = np.arange(start, min(start + per, n_el))
+        # stratified area sampling of each element's faces
+        u = (np.arange(n_samples)[None, :] + rng.random((els.size, n_samples))) / n_samples
+        pick = np.searchsorted(cumulative, els[:, None] + u, side="right")
+        pick = np.clip(pick, first[els, None], last[els, None])
+        source = by_element[pick.ravel()]
+        d = _cosine_directions(elements.face_normal[source], _stratified(els.size, n_samples, rng).reshape(-1, 2))
         r = rng.random((2, source.size))
         hits = tracer.intersect(_points(elements, source, r[0], r[1], epsilon), d)
-        miss = ~hits.hit
-        sky[faces] = np.bincount(np.repeat(np.arange(faces.size), n_samples)[miss], minlength=faces.size) / n_samples
+        element_i = np.repeat(els, n_samples)
+        sky[els] = np.bincount(element_i[~hits.hit] - start, minlength=els.size) / n_samples
         hit = hits.hit
         target = face_offset[hits.object[hit]] + hits.primitive[hit]
-        weight = elements.face_weight[source[hit]] / n_samples
-        element_i = elements.face_element[source[hit]]
+        element_i = element_i[hit]
         element_j = elements.face_element[target]
         to_element = element_j >= 0
+        weight = np.full(element_i.size, 1.0 / n_samples)
         rows.append(element_i[to_element])
         cols.append(element_j[to_element])
         vals.append(weight[to_element])
         frows.append(element_i[~to_element])
         fcols.append(target[~to_element])
         fvals.append(weight[~to_element])
-    n_el = elements.size
 
     def matrix(r, c, v, shape):
         if not r:
@@ -213,7 +233,7 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
         return sparse.coo_array((np.concatenate(v), (np.concatenate(r), np.concatenate(c))), shape=shape).tocsr()
 
     return Hemisphere(
-        sky_view=np.minimum(elements.per_element(sky), 1.0),  # area shares sum to 1 to rounding
+        sky_view=sky,
         exchange=matrix(rows, cols, vals, (n_el, n_el)),
         fixed=matrix(frows, fcols, fvals, (n_el, n_faces)),
         samples=n_samples,

@@ -106,11 +106,8 @@ def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
     else:
         marks = np.arange(0.0, t[-1] + interval, interval)
         traced = np.unique(np.searchsorted(t, np.minimum(marks, t[-1])))
-    lit_at = np.empty((traced.size, elements.size))
-    for i, k in enumerate(traced):
-        lit_at[i] = sunlit_fraction(tracer, elements, sun_dir[k])[0]
-        if progress is not None:
-            progress("shadows", i + 1, traced.size)
+    report = None if progress is None else (lambda done, total: progress("shadows", done, total))
+    lit_at = sunlit_fraction(tracer, elements, sun_dir[traced], progress=report)
     if traced.size == times.size:
         return lit_at
     tk = t[traced]
