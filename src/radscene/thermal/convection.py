@@ -31,7 +31,7 @@ import numpy as np
 
 from radscene.errors import ConfigError
 
-__all__ = ["CONVECTION_MODELS", "convection_coefficient", "convective_flux", "mcadams", "watmuff"]
+__all__ = ["CONVECTION_MODELS", "convection_coefficient", "convective_flux", "mcadams", "no_convection", "watmuff"]
 
 
 def _wind(wind_speed):
@@ -63,8 +63,19 @@ def watmuff(wind_speed):
     return 2.8 + 3.0 * _wind(wind_speed)
 
 
+def no_convection(wind_speed):
+    """h = 0: no air (a surface in vacuum, or a test of the radiative balance alone).
+
+    Examples
+    --------
+    >>> float(no_convection(2.0))
+    0.0
+    """
+    return np.zeros_like(_wind(wind_speed))
+
+
 #: Registered wind-speed correlations, by lower-case name.
-CONVECTION_MODELS = {"mcadams": mcadams, "watmuff": watmuff}
+CONVECTION_MODELS = {"mcadams": mcadams, "watmuff": watmuff, "none": no_convection}
 
 
 def convection_coefficient(wind_speed, model="mcadams"):
