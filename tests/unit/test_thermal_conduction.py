@@ -201,3 +201,62 @@ def test_semi_infinite_sinusoidal_flux_thermal_inertia():
     assert np.arctan2(b, a) == pytest.approx(np.pi / 4, abs=0.006)
     # the amplitude without the √2 (q0 d / k) is rejected
     assert abs(np.hypot(a, b) / (q0 * d / K) - 1) > 0.2
+
+
+def _interior_slab(t_in=293.15, h_in=7.7, thickness=0.2):
+    return _stack([_solid(thickness)], {"interior_air": t_in, "h": h_in})
+
+
+def test_interior_air_bottom_steady_state():
+    """Steady flux q through a slab into room air: T_N = T_in + q/h_in, T_0 = T_N + q L/k."""
+    q, t_in, h_in, thickness = 50.0, 293.15, 7.7, 0.2  # W m-2, K, W m-2 K-1, m
+    grid = build_grid([_interior_slab(t_in, h_in, thickness)])
+    assert grid.bottom_conductance[0] == h_in and grid.interior_temperature[0] == t_in
+    solver = ImplicitConduction(grid, 1e15)  # Δt → ∞: the steady state
+    temperature = solver.step(np.full((1, grid.n_nodes), 280.0), q)[0]
+    back = t_in + q / h_in
+    np.testing.assert_allclose(temperature, back + q * (thickness - grid.depth[0]) / K, rtol=0, atol=1e-6)
+    assert grid.bottom_flux(temperature[None])[0] == pytest.approx(q, rel=1e-9)
+    # an insulated slab under the same flux has no steady state: it would keep warming
+    assert abs(temperature[-1] - t_in) > 1.0
+
+
+def test_interior_air_bottom_matches_reference_and_closes_energy():
+    stacks = [_interior_slab(), get_thermal_properties("asphalt"), _interior_slab(300.0, 2.5, 0.05),
+              get_thermal_properties("roof_tile")]
+    grid = build_grid(stacks, material_index=np.array([0, 1, 2, 3, 2]), deep_temperature=285.0)
+    assert np.isfinite(grid.interior_temperature).tolist() == [True, False, True, False, True]
+    assert np.isfinite(grid.deep_temperature).tolist() == [False, True, False, False, False]
+    rng = np.random.default_rng(5)
+    temperature = 280.0 + 20.0 * rng.random((grid.n_elements, grid.n_nodes))
+    temperature[1, -1] = 285.0  # the held deep node
+    constant, slope = 300.0 * rng.random(grid.n_elements), -20.0 * rng.random(grid.n_elements)
+    for dt in (1.0, 600.0, 86400.0):
+        fast = ImplicitConduction(grid, dt).step(temperature, constant, slope)
+        slow = reference_step(grid, temperature, dt, constant, slope)
+        np.testing.assert_allclose(fast, slow, rtol=0, atol=1e-7)
+        # ΔΣ C T = (q_s − bottom flux) Δt for every kind of bottom
+        surface_flux = constant + slope * fast[:, 0]
+        stored = grid.heat_content(fast) - grid.heat_content(temperature)
+        np.testing.assert_allclose(stored, (surface_flux - grid.bottom_flux(fast)) * dt, rtol=1e-9, atol=1e-6)
+        assert np.all(np.abs(grid.bottom_flux(fast)[[0, 2, 4]]) > 1.0)  # the room takes heat: not vacuous
+        assert grid.bottom_flux(fast)[3] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("bottom", "match"),
+    [
+        ({"interior_air": 293.0}, "exactly the keys 'interior_air'"),
+        ({"interior_air": 293.0, "h": 0.0}, r"bottom.h: must be a finite number > 0"),
+        ({"interior_air": -1.0, "h": 5.0}, r"bottom.interior_air: must be a finite number > 0"),
+        ("room", "bottom must be 'semi-infinite', 'insulated' or"),
+    ],
+)
+def test_interior_air_bottom_rejects_bad_input(bottom, match):
+    with pytest.raises(ConfigError, match=match):
+        build_grid([_stack([_solid(0.1)], bottom)])
+
+
+def test_interior_air_bottom_needs_a_thickness():
+    with pytest.raises(ConfigError, match="interior-air stack needs a thickness"):
+        build_grid([_stack([_solid()], {"interior_air": 293.0, "h": 7.7})])

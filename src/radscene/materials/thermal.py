@@ -48,6 +48,7 @@ __all__ = [
     "ThermalProperties",
     "BOTTOM_CONDITIONS",
     "make_layers",
+    "parse_bottom",
     "get_thermal_properties",
     "thermal_properties_info",
     "solar_absorptance",
@@ -56,7 +57,9 @@ __all__ = [
     "LONGWAVE_BAND",
 ]
 
-#: What lies below the last layer.
+#: What lies below the last layer, by name; a mapping ``{interior_air: T [K], h: [W m-2 K-1]}``
+#: (convection to air at a fixed temperature, e.g. a heated room) is the third kind
+#: (:func:`parse_bottom`).
 BOTTOM_CONDITIONS = ("semi-infinite", "insulated")
 #: Band of :func:`solar_absorptance` [um].
 SOLAR_BAND = (0.4, 4.0)
@@ -164,6 +167,48 @@ def make_layers(spec, key: str = "layers") -> tuple[Layer, ...]:
     return tuple(layers)
 
 
+def parse_bottom(value, key: str = "bottom"):
+    """Validate what lies below a stack's last layer.
+
+    Parameters
+    ----------
+    value : str or mapping
+        ``"semi-infinite"``, ``"insulated"``, or ``{"interior_air": T, "h": h}``: the back face
+        exchanges h (T_N − T) with air held at T [K], h [W m-2 K-1] > 0 (a wall or roof over a
+        room at a set temperature).
+    key : str
+        Config key path for messages.
+
+    Returns
+    -------
+    str or dict
+        The name, or ``{"interior_air": float, "h": float}``.
+
+    Raises
+    ------
+    ConfigError
+        Anything else, naming what is accepted.
+
+    Examples
+    --------
+    >>> parse_bottom({"interior_air": 293.15, "h": 7.7})
+    {'interior_air': 293.15, 'h': 7.7}
+    """
+    if isinstance(value, str) and value in BOTTOM_CONDITIONS:
+        return value
+    if isinstance(value, dict):
+        unknown = set(value) - {"interior_air", "h"}
+        if unknown or not {"interior_air", "h"} <= set(value):
+            raise ConfigError(
+                f"an interior-air bottom has exactly the keys 'interior_air' [K] and 'h' [W m-2 K-1]; got {sorted(value)}",
+                key=key,
+            )
+        return {"interior_air": _positive(value["interior_air"], f"{key}.interior_air"), "h": _positive(value["h"], f"{key}.h")}
+    raise ConfigError(
+        f"bottom must be 'semi-infinite', 'insulated' or {{interior_air: T [K], h: W m-2 K-1}}; got {value!r}", key=key
+    )
+
+
 @dataclass(frozen=True)
 class ThermalProperties:
     """Thermal description of a built-in material.
@@ -173,8 +218,8 @@ class ThermalProperties:
     material : str
     layers : tuple of Layer
         Top (the surface) first.
-    bottom : {"semi-infinite", "insulated"}
-        Below the last layer.
+    bottom : {"semi-infinite", "insulated"} or dict
+        Below the last layer; or ``{"interior_air": T [K], "h": [W m-2 K-1]}`` (:func:`parse_bottom`).
     solar_absorptance : float
         α_s over 0.4-4 um, ASTM G173 global [-].
     longwave_emissivity : float
@@ -183,15 +228,20 @@ class ThermalProperties:
         For vegetation canopies: ``lai`` [m2 m-2], ``areal_heat_capacity`` [J m-2 K-1] of the
         leaves, ``source``.
     notes : str
+    moisture_availability : float
+        β ∈ [0, 1] of the evaporation term Q_v (``thermal.evaporation``): the fraction of the
+        evaporation of a saturated surface that the element achieves; 0 (dry) unless the data
+        file says otherwise.
     """
 
     material: str
     layers: tuple
-    bottom: str
+    bottom: str | dict
     solar_absorptance: float
     longwave_emissivity: float
     canopy: dict | None = None
     notes: str = ""
+    moisture_availability: float = 0.0
 
     @property
     def surface(self) -> Layer:
@@ -263,16 +313,22 @@ def get_thermal_properties(name: str) -> ThermalProperties:
         )
     entry = materials[lowered]
     key = f"thermal_properties.materials.{lowered}"
-    allowed = {"layers", "bottom", "canopy", "notes"}
+    allowed = {"layers", "bottom", "canopy", "notes", "moisture_availability"}
     unknown = set(entry) - allowed
     if unknown:
         raise ConfigError(f"unknown keys {sorted(unknown)}; accepted: {sorted(allowed)}", key=key)
-    bottom = entry.get("bottom", "semi-infinite")
-    if bottom not in BOTTOM_CONDITIONS:
-        raise ConfigError(f"bottom must be one of {BOTTOM_CONDITIONS}; got {bottom!r}", key=f"{key}.bottom")
+    bottom = parse_bottom(entry.get("bottom", "semi-infinite"), key=f"{key}.bottom")
     layers = make_layers(entry.get("layers"), key=f"{key}.layers")
-    if bottom == "insulated" and layers[-1].thickness is None:
-        raise ConfigError("an insulated stack needs a thickness for its last layer", key=f"{key}.layers")
+    if bottom != "semi-infinite" and layers[-1].thickness is None:
+        raise ConfigError("an insulated or interior-air stack needs a thickness for its last layer", key=f"{key}.layers")
+    beta = 0.0
+    if "moisture_availability" in entry:
+        moisture = entry["moisture_availability"]
+        if not isinstance(moisture, dict) or set(moisture) != {"value", "source"}:
+            raise ConfigError("expected {value: beta in [0, 1], source: text}", key=f"{key}.moisture_availability")
+        beta = moisture["value"]
+        if isinstance(beta, bool) or not isinstance(beta, numbers.Real) or not 0.0 <= beta <= 1.0:
+            raise ConfigError(f"must lie in [0, 1]; got {beta!r}", key=f"{key}.moisture_availability.value")
     optics = _optics()
     if lowered not in optics:
         raise ConfigError(
@@ -288,6 +344,7 @@ def get_thermal_properties(name: str) -> ThermalProperties:
         longwave_emissivity=eps,
         canopy=entry.get("canopy"),
         notes=str(entry.get("notes", "")),
+        moisture_availability=float(beta),
     )
 
 

@@ -33,7 +33,11 @@ interfaces are nodes and the spacing still grows geometrically).
 
 Bottom condition
 ----------------
-``insulated``: zero flux through the last layer's back face. ``semi-infinite``: the last
+``insulated``: zero flux through the last layer's back face. ``{interior_air: T_in, h: h_in}``:
+the back face of the last layer exchanges h_in (T_N − T_in) with air held at T_in (a wall or
+roof over a heated or cooled room; h_in the inside surface coefficient, e.g. 1/R_si =
+7.7 W m-2 K-1 for a wall, with R_si = 0.13 m2 K W-1 for horizontal heat flow in EN ISO 6946
+Table 7, which lumps convection and radiation to the room), backward Euler like the rest. ``semi-infinite``: the last
 layer is extended to ``penetration_depths`` (default 5) diurnal penetration depths
 d = √(2κ/ω) of that layer below the layers above it (or to its own thickness if larger);
 at that depth the default is **zero flux** (the wave's amplitude there is e⁻⁵ = 0.7 % of the
@@ -66,6 +70,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from radscene.errors import ConfigError
+from radscene.materials.thermal import parse_bottom
 
 __all__ = [
     "ConductionGrid",
@@ -120,8 +125,7 @@ def _layers_and_bottom(stack, key):
     bottom = getattr(stack, "bottom", None)
     if layers is None or bottom is None:
         raise ConfigError("a stack needs 'layers' and 'bottom' (e.g. a ThermalProperties)", key=key)
-    if bottom not in ("semi-infinite", "insulated"):
-        raise ConfigError(f"bottom must be 'semi-infinite' or 'insulated'; got {bottom!r}", key=f"{key}.bottom")
+    bottom = parse_bottom(bottom, key=f"{key}.bottom")
     if not layers:
         raise ConfigError("a stack needs at least one layer", key=f"{key}.layers")
     for i, layer in enumerate(layers[:-1]):
@@ -129,6 +133,8 @@ def _layers_and_bottom(stack, key):
             raise ConfigError("only the last layer may lack a thickness", key=f"{key}.layers[{i}]")
     if bottom == "insulated" and layers[-1].thickness is None:
         raise ConfigError("an insulated stack needs a thickness for its last layer", key=f"{key}.layers")
+    if isinstance(bottom, dict) and layers[-1].thickness is None:
+        raise ConfigError("an interior-air stack needs a thickness for its last layer", key=f"{key}.layers")
     return tuple(layers), bottom
 
 
@@ -226,12 +232,25 @@ class ConductionGrid:
         k/Δz between successive nodes [W m-2 K-1].
     deep_temperature : ndarray, (n_elements,)
         Temperature held at the deepest node [K]; NaN where the bottom is a zero-flux face.
+    bottom_conductance : ndarray, (n_elements,), optional
+        h_in of an interior-air bottom [W m-2 K-1]; 0 (the default) elsewhere.
+    interior_temperature : ndarray, (n_elements,), optional
+        T_in of an interior-air bottom [K]; NaN (the default) elsewhere.
     """
 
     depth: np.ndarray
     capacity: np.ndarray
     conductance: np.ndarray
     deep_temperature: np.ndarray
+    bottom_conductance: np.ndarray | None = None
+    interior_temperature: np.ndarray | None = None
+
+    def __post_init__(self):
+        n = self.depth.shape[0]
+        if self.bottom_conductance is None:
+            object.__setattr__(self, "bottom_conductance", np.zeros(n))
+        if self.interior_temperature is None:
+            object.__setattr__(self, "interior_temperature", np.full(n, np.nan))
 
     @property
     def n_elements(self) -> int:
@@ -244,6 +263,21 @@ class ConductionGrid:
     def heat_content(self, temperature):
         """Σ C_i T_i per element [J m-2] for ``temperature`` (n_elements, n_nodes) [K]."""
         return np.sum(self.capacity * temperature, axis=-1)
+
+    def bottom_flux(self, temperature):
+        """Heat leaving the stack through its bottom [W m-2] for ``temperature``
+        (n_elements, n_nodes) [K], the profile at the end of a backward-Euler step.
+
+        G (T_{N−2} − T_deep) into a held deep temperature, h_in (T_{N−1} − T_in) into interior
+        air, 0 through an insulated or zero-flux face. With it the heat content closes:
+        ΔΣ C_i T_i = (q_s − bottom flux) Δt.
+        """
+        temperature = np.asarray(temperature, float)
+        fixed = np.isfinite(self.deep_temperature)
+        deep = self.conductance[:, -1] * (temperature[:, -2] - np.where(fixed, self.deep_temperature, 0.0))
+        air = np.isfinite(self.interior_temperature)
+        inside = self.bottom_conductance * (temperature[:, -1] - np.where(air, self.interior_temperature, 0.0))
+        return np.where(fixed, deep, np.where(air, inside, 0.0))
 
 
 def build_grid(
@@ -273,7 +307,7 @@ def build_grid(
         Depth of semi-infinite stacks in diurnal penetration depths of their last layer.
     deep_temperature : array_like, optional
         [K], per stack or scalar: hold the deepest node of the *semi-infinite* stacks at this
-        temperature (default: zero flux there). Insulated stacks ignore it.
+        temperature (default: zero flux there). Insulated and interior-air stacks ignore it.
 
     Returns
     -------
@@ -294,8 +328,11 @@ def build_grid(
         given = np.broadcast_to(np.asarray(deep_temperature, float), (len(stacks),))
         if not np.all(np.isfinite(given) & (given > 0)):
             raise ConfigError(f"must be finite temperatures > 0 K; got {deep_temperature!r}", key="deep_temperature")
-        semi = np.array([s.bottom == "semi-infinite" for s in stacks])
+        semi = np.array([isinstance(s.bottom, str) and s.bottom == "semi-infinite" for s in stacks])
         deep = np.where(semi, given, np.nan)
+    bottoms = [parse_bottom(s.bottom, key=f"stacks[{i}].bottom") for i, s in enumerate(stacks)]
+    h_in = np.array([b["h"] if isinstance(b, dict) else 0.0 for b in bottoms])
+    t_in = np.array([b["interior_air"] if isinstance(b, dict) else np.nan for b in bottoms])
     if material_index is None:
         index = np.arange(len(stacks))
     else:
@@ -305,7 +342,14 @@ def build_grid(
         if index.size and (index.min() < 0 or index.max() >= len(stacks)):
             raise ConfigError(f"indices must lie in [0, {len(stacks) - 1}]", key="material_index")
     z, cap, cond = (np.stack([g[j] for g in grids]) for j in range(3))
-    return ConductionGrid(depth=z[index], capacity=cap[index], conductance=cond[index], deep_temperature=deep[index])
+    return ConductionGrid(
+        depth=z[index],
+        capacity=cap[index],
+        conductance=cond[index],
+        deep_temperature=deep[index],
+        bottom_conductance=h_in[index],
+        interior_temperature=t_in[index],
+    )
 
 
 class ImplicitConduction:
@@ -330,9 +374,12 @@ class ImplicitConduction:
         self._g = np.ascontiguousarray(grid.conductance.T)
         self._fixed = np.isfinite(grid.deep_temperature)
         self._deep = np.where(self._fixed, grid.deep_temperature, 0.0)
+        self._h_in = np.asarray(grid.bottom_conductance, float)
+        self._inside = self._h_in * np.where(np.isfinite(grid.interior_temperature), grid.interior_temperature, 0.0)
         diag = self._a.copy()
         diag[:-1] += self._g
         diag[1:] += self._g
+        diag[n - 1] += self._h_in
         alpha = np.zeros_like(diag)  # T_i = alpha_i T_{i-1} + beta_i
         e = np.empty_like(diag)
         e[n - 1] = diag[n - 1]
@@ -357,7 +404,7 @@ class ImplicitConduction:
         a, g, e = self._a, self._g, self._e
         n = a.shape[0]
         beta = np.empty_like(temperature_nm)
-        beta[n - 1] = np.where(self._fixed, self._deep, a[n - 1] * temperature_nm[n - 1] / e[n - 1])
+        beta[n - 1] = np.where(self._fixed, self._deep, (a[n - 1] * temperature_nm[n - 1] + self._inside) / e[n - 1])
         for i in range(n - 2, 0, -1):
             beta[i] = (a[i] * temperature_nm[i] + g[i] * beta[i + 1]) / e[i]
         b = a[0] * temperature_nm[0] + g[0] * beta[1]
@@ -419,6 +466,9 @@ def reference_step(grid: ConductionGrid, temperature, dt, flux_constant, flux_sl
         rhs = a * temperature[j]
         ab[1, 0] -= qs[j]
         rhs[0] += qc[j]
+        if np.isfinite(grid.interior_temperature[j]):
+            ab[1, -1] += grid.bottom_conductance[j]
+            rhs[-1] += grid.bottom_conductance[j] * grid.interior_temperature[j]
         if np.isfinite(grid.deep_temperature[j]):
             ab[1, -1], ab[2, -2], rhs[-1] = 1.0, 0.0, grid.deep_temperature[j]
         out[j] = solve_banded((1, 1), ab, rhs)
