@@ -10,6 +10,7 @@ from radscene.thermal.aerodynamic import (
     speed_of_sound,
 )
 from radscene.thermal.balance import (
+    TERMS,
     HeatBalance,
     ThermalForcing,
     ThermalResult,
@@ -36,6 +37,7 @@ from radscene.thermal.exchange import (
     environment_longwave,
     environment_shortwave,
 )
+from radscene.thermal.forcing import STANDARD_PRESSURE
 from radscene.thermal.lateral import (
     check_conductance,
     coupled_surface_temperature,
@@ -75,6 +77,8 @@ from radscene.thermal.weather import (
 __all__ = [
     "DAY",
     "SIGMA",
+    "STANDARD_PRESSURE",
+    "TERMS",
     "CONVECTION_MODELS",
     "CLEAR_SKY_EMISSIVITY_MODELS",
     "CLOUD_EMISSIVITY_MODELS",

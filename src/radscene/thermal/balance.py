@@ -1,30 +1,43 @@
 """Time stepper of the surface heat balance of many elements, with an optional spin-up.
 
-For every element the surface node balances (seed 001, eq. 3 without Q_env; sign: into the
-surface positive)
+For every element the surface node balances every term of seed 001's balance (eq. 5, with
+Q_env of eq. 3; sign: into the surface positive)
 
 .. math::
-    Q_a + Q_{sky} + Q_t + Q_k = Q_d, \\qquad
-    Q_t = -\\varepsilon\\sigma T_0^4, \\quad Q_k = h(u)\\,(T_{air} - T_0),
+    Q_a + Q_{sky} + Q_{env} + Q_t + Q_k + Q_v + Q_i\\,(+\\,Q_{lat}) = Q_d
 
-where Q_d, the heat that goes into storage in the surface node and conduction into the
-stack, comes from :mod:`radscene.thermal.conduction`: after the backward-Euler system is
-eliminated from the bottom up, Q_d = A T_0' − B with A, B known per element and step. The
-surface equation
+where Q_d, the heat that goes into storage in the surface node and conduction into the stack,
+comes from :mod:`radscene.thermal.conduction`: after the backward-Euler system is eliminated
+from the bottom up, Q_d = A T_0' − B with A, B known per element and step. The terms
+(docs/thermal.md has the table, with their modules and sources):
+
+* Q_a, Q_sky absorbed short-wave and sky long-wave, Q_t = −εσT⁴ (``radiation``);
+* Q_env long-wave from and short-wave reflected by the neighbouring elements, from caller-given
+  view factors, explicit in the neighbours' temperatures (``exchange``);
+* Q_k = h (T_air − T), h from the wind (``convection``) or, for airborne elements, the
+  turbulent flat-plate coefficient of the airspeed (``aerodynamic``);
+* Q_v = −β ρ_a L_v C_E u (q_sat(T) − q_a), linear in T about the temperature at the start of the
+  step (``evaporation``);
+* Q_i internal sources given as a flux, plus the aerodynamic heating h (T_r − T_air) of airborne
+  elements (``aerodynamic``);
+* Q_lat lateral conduction from neighbouring elements (``lateral``; optional).
+
+Everything but Q_t is linear in the new surface temperature within a step, so the surface
+equation of each element keeps the form
 
 .. math::
-    g(T) = Q_a + Q_{sky} + h T_{air} + B - \\varepsilon\\sigma T^4 - (h + A)\\,T = 0
+    g(T) = c + B - \\varepsilon\\sigma T^4 - (m + A)\\,T = 0
 
-is then solved by Newton's method on the surface node, fully implicit in the nonlinear
-emission: g decreases and is concave for T > 0, so the first Newton step lands at or above
-the root and the later ones descend to it monotonically (convergence from any positive start).
-The new profile follows by back-substitution. Forcing is taken at the end of each step
-(backward Euler).
+and is solved by Newton's method, fully implicit in the nonlinear emission: g decreases and is
+concave for T > 0, so the first Newton step lands at or above the root and the later ones
+descend to it monotonically (convergence from any positive start). The new profile follows by
+back-substitution. Forcing is taken at the end of each step (backward Euler). With lateral
+conduction the surface equations of all elements are solved together
+(:func:`radscene.thermal.lateral.coupled_surface_temperature`).
 
-Measured: a whole step (short-wave, sky, convection, elimination, Newton — typically 3 to 4
-iterations — and back-substitution) takes 0.015 s for 100 000 elements × 30 nodes (best of 3;
-numpy 2.4, float64, one core of a shared 2-core machine under a load of 2.5; ``benchmarks/bench_thermal.py``,
-docs/benchmarks.md), i.e. a day at one-minute steps in 22 s.
+The default step is compiled (:mod:`radscene.thermal._compiled`, numba): elimination, Newton and
+back-substitution fused per element. ``HeatBalance(..., compiled=False)`` runs the numpy path
+(the same arithmetic over arrays of elements), the reference.
 
 Spin-up repeats the forcing of the first day (the samples from ``time[0]`` to
 ``time[0] + 1 day``) until the surface temperatures at the same times of day change by less
@@ -39,120 +52,32 @@ and 5. doi:10.1117/12.903352
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from radscene.errors import ConfigError, RadsceneError
+from radscene.thermal import _compiled
+from radscene.thermal.aerodynamic import flat_plate_coefficient, recovery_temperature
 from radscene.thermal.conduction import DAY, ImplicitConduction, build_grid
 from radscene.thermal.convection import convection_coefficient
+from radscene.thermal.evaporation import linearised_evaporative_flux
+from radscene.thermal.exchange import (
+    check_view_factors,
+    environment_longwave,
+    environment_shortwave,
+)
+from radscene.thermal.forcing import ThermalForcing, ThermalResult
+from radscene.thermal.lateral import check_conductance, coupled_surface_temperature, laplacian
 from radscene.thermal.radiation import SIGMA, absorbed_shortwave, absorbed_sky_longwave
 
-__all__ = ["ThermalForcing", "ThermalResult", "HeatBalance", "solve_surface_temperature"]
+__all__ = ["ThermalForcing", "ThermalResult", "HeatBalance", "solve_surface_temperature", "TERMS"]
 
-_FIELDS = ("direct_irradiance", "cos_incidence", "diffuse_irradiance", "sky_longwave", "air_temperature", "wind_speed", "lit", "sky_view_fraction")
+#: Names of the recorded terms (``ThermalResult.terms``), ``q_lat`` only with lateral conduction.
+TERMS = ("q_a", "q_sky", "q_env", "q_t", "q_k", "q_v", "q_i", "q_lat", "q_d")
 
-
-@dataclass(frozen=True)
-class ThermalForcing:
-    """Forcing of every element at a sequence of times.
-
-    Each field broadcasts to (n_times, n_elements) by numpy's rules: a scalar is constant, an
-    (n_elements,) array a constant per element, an (n_times, 1) array a time series shared by
-    every element.
-
-    Attributes
-    ----------
-    time : ndarray, (n_times,)
-        Seconds from an origin, strictly increasing [s].
-    direct_irradiance : array_like
-        Beam irradiance normal to the sun's direction [W m-2].
-    cos_incidence : array_like
-        Cosine of the sun's incidence angle on the element [-] (≤ 0: sun behind it).
-    diffuse_irradiance : array_like
-        Diffuse short-wave irradiance on a horizontal plane, full sky [W m-2].
-    sky_longwave : array_like
-        Downwelling long-wave irradiance on a horizontal plane, full sky [W m-2].
-    air_temperature : array_like
-        [K].
-    wind_speed : array_like
-        [m s-1].
-    lit : array_like, optional
-        Sunlit fraction [-]; default 1.
-    sky_view_fraction : array_like, optional
-        Sky view factor [-]; default 1.
-    """
-
-    time: np.ndarray
-    direct_irradiance: np.ndarray
-    cos_incidence: np.ndarray
-    diffuse_irradiance: np.ndarray
-    sky_longwave: np.ndarray
-    air_temperature: np.ndarray
-    wind_speed: np.ndarray
-    lit: np.ndarray = 1.0
-    sky_view_fraction: np.ndarray = 1.0
-
-    def checked(self, n_elements):
-        """Validated arrays broadcast to (n_times, n_elements), as a dict (views, no copies)."""
-        time = np.asarray(self.time, float)
-        if time.ndim != 1 or time.size < 2 or not np.all(np.isfinite(time)) or np.any(np.diff(time) <= 0):
-            raise ConfigError("must be a 1-d array of >= 2 finite, strictly increasing times [s]", key="forcing.time")
-        out = {"time": time}
-        for name in _FIELDS:
-            value = np.asarray(getattr(self, name), float)
-            try:
-                value = np.broadcast_to(value, (time.size, n_elements))
-            except ValueError:
-                raise ConfigError(
-                    f"shape {np.shape(getattr(self, name))} does not broadcast to (n_times, n_elements) = "
-                    f"{(time.size, n_elements)}",
-                    key=f"forcing.{name}",
-                ) from None
-            if not np.all(np.isfinite(value)):
-                raise ConfigError("must be finite", key=f"forcing.{name}")
-            if name in ("lit", "sky_view_fraction") and (value.min() < 0 or value.max() > 1):
-                raise ConfigError("must lie in [0, 1]", key=f"forcing.{name}")
-            if name == "cos_incidence" and (value.min() < -1 or value.max() > 1):
-                raise ConfigError("must lie in [-1, 1]", key=f"forcing.{name}")
-            if name == "air_temperature" and value.min() <= 0:
-                raise ConfigError("must be > 0 K", key=f"forcing.{name}")
-            if name not in ("cos_incidence", "air_temperature") and value.min() < 0:
-                raise ConfigError("must be >= 0", key=f"forcing.{name}")
-            out[name] = value
-        return out
+_TOLERANCE, _MAX_ITERATIONS = 1e-9, 50  # K, - : Newton on the surface node
 
 
-@dataclass(frozen=True)
-class ThermalResult:
-    """What :meth:`HeatBalance.run` returns.
-
-    Attributes
-    ----------
-    time : ndarray, (n_times,)
-        [s], as in the forcing.
-    surface_temperature : ndarray, (n_times, n_elements)
-        [K]; row 0 is the initial (or spun-up) state.
-    temperature : ndarray, (n_elements, n_nodes)
-        The profile at the last time [K].
-    depth : ndarray, (n_elements, n_nodes)
-        Node depths [m].
-    spin_up_days : int
-        Days of spin-up simulated (0: none).
-    spin_up_change : float
-        Largest change of a surface temperature at the same time of day between the last two
-        spin-up days [K] (NaN: none).
-    """
-
-    time: np.ndarray
-    surface_temperature: np.ndarray
-    temperature: np.ndarray
-    depth: np.ndarray
-    spin_up_days: int = 0
-    spin_up_change: float = float("nan")
-
-
-def solve_surface_temperature(constant, slope, emissivity, start, tolerance=1e-9, max_iterations=50):
+def solve_surface_temperature(constant, slope, emissivity, start, tolerance=_TOLERANCE, max_iterations=_MAX_ITERATIONS):
     """Root T > 0 of c − εσT⁴ − m T = 0 by Newton's method, elementwise.
 
     Parameters
@@ -191,6 +116,24 @@ def solve_surface_temperature(constant, slope, emissivity, start, tolerance=1e-9
     raise RadsceneError(f"surface temperature: Newton did not converge in {max_iterations} iterations")
 
 
+class _Coefficients:
+    """The eliminated systems of one Δt: per stack (compiled path) and, on demand, per element
+    (numpy path)."""
+
+    def __init__(self, balance, dt):
+        self.stack = ImplicitConduction(balance._stack_grid, dt)
+        self.surface_conductance = self.stack.surface_conductance[balance._index]
+        self._balance, self._dt, self._element = balance, dt, None
+        s = self.stack
+        self.tables = (s._a, s._g, s._e, 1.0 / s._e, s._alpha, s._fixed, s._deep, np.ascontiguousarray(s._inside, dtype=float))
+
+    @property
+    def element(self):
+        if self._element is None:
+            self._element = ImplicitConduction(self._balance.grid, self._dt)
+        return self._element
+
+
 class HeatBalance:
     """Heat balance of many surface elements over time.
 
@@ -207,6 +150,26 @@ class HeatBalance:
         Grid options, see :func:`radscene.thermal.conduction.build_grid`.
     convection : str, optional
         Wind correlation for h (``thermal.convection.CONVECTION_MODELS``); default McAdams.
+    exchange : scipy.sparse matrix, (n_elements, n_elements), optional
+        View factors F_ij from element i to element j [-] (row sums ≤ 1 − sky view), which
+        switch on Q_env (``thermal.exchange``); default none.
+    exchange_reflections : int, optional
+        Reflections followed in Q_env (1: long-wave emitted or reflected once by the
+        neighbours, short-wave reflected once).
+    moisture_availability : array_like or "stacks", optional
+        β ∈ [0, 1] per element or scalar for Q_v (``thermal.evaporation``), or ``"stacks"``
+        for each stack's ``moisture_availability`` (1 for water); default 0: no evaporation.
+        β > 0 needs ``forcing.relative_humidity``.
+    characteristic_length : array_like, optional
+        Length of each element along the relative airflow [m] for the airspeed convection
+        coefficient; default 1.
+    lateral : scipy.sparse matrix, (n_elements, n_elements), optional
+        Symmetric lateral conductances G_ij [W K-1] (``thermal.lateral.grid_conductance``,
+        ``mesh_conductance``); default none. Needs ``area``.
+    area : array_like, optional
+        Element areas [m2] (with ``lateral``).
+    compiled : bool, optional
+        Run the compiled step (default) or the numpy reference path.
 
     Examples
     --------
@@ -232,15 +195,43 @@ class HeatBalance:
         penetration_depths=5.0,
         deep_temperature=None,
         convection="mcadams",
+        exchange=None,
+        exchange_reflections=1,
+        moisture_availability=None,
+        characteristic_length=1.0,
+        lateral=None,
+        area=None,
+        compiled=True,
     ):
         stacks = list(stacks)
         self.grid = build_grid(stacks, material_index, n_nodes, growth, period, penetration_depths, deep_temperature)
+        self._stack_grid = build_grid(stacks, None, n_nodes, growth, period, penetration_depths, deep_temperature)
         index = np.arange(len(stacks)) if material_index is None else np.asarray(material_index)
+        self._index = np.ascontiguousarray(index, dtype=np.int64)
         n = self.grid.n_elements
         self.absorptance = self._optical(absorptance, stacks, index, "solar_absorptance", "absorptance", n)
         self.emissivity = self._optical(emissivity, stacks, index, "longwave_emissivity", "emissivity", n)
         convection_coefficient(0.0, convection)  # fail early on an unknown name
         self.convection = convection
+        self.exchange = None if exchange is None else check_view_factors(exchange, n)
+        if isinstance(exchange_reflections, bool) or not isinstance(exchange_reflections, (int, np.integer)) or exchange_reflections < 0:
+            raise ConfigError(f"must be an integer >= 0; got {exchange_reflections!r}", key="exchange_reflections")
+        self.exchange_reflections = int(exchange_reflections)
+        if isinstance(moisture_availability, str):
+            if moisture_availability != "stacks":
+                raise ConfigError(f"expected 'stacks', a number or an array; got {moisture_availability!r}", key="moisture_availability")
+            moisture_availability = np.array([float(getattr(s, "moisture_availability", 0.0)) for s in stacks])[index]
+        self.moisture_availability = self._optical(0.0 if moisture_availability is None else moisture_availability, stacks, index, None, "moisture_availability", n)
+        self.characteristic_length = self._per_element(characteristic_length, "characteristic_length", n)
+        self.lateral = None
+        if lateral is not None:
+            if area is None:
+                raise ConfigError("lateral conduction needs the element areas [m2]", key="area")
+            self.lateral = laplacian(check_conductance(lateral, n))
+        self.area = None if area is None else self._per_element(area, "area", n)
+        self.compiled = bool(compiled)
+        self._es = np.ascontiguousarray(self.emissivity * SIGMA)
+        self._wet = np.flatnonzero(self.moisture_availability > 0)
         self._solvers = {}
 
     @staticmethod
@@ -258,30 +249,126 @@ class HeatBalance:
             raise ConfigError("must lie in [0, 1]", key=key)
         return value
 
+    @staticmethod
+    def _per_element(value, key, n):
+        try:
+            value = np.broadcast_to(np.asarray(value, float), (n,)).copy()
+        except ValueError:
+            raise ConfigError(f"shape {np.shape(value)} does not broadcast to (n_elements,) = ({n},)", key=key) from None
+        if not np.all(np.isfinite(value) & (value > 0)):
+            raise ConfigError("must be finite and > 0", key=key)
+        return value
+
     def _solver(self, dt):
-        """The eliminated system for a step Δt [s] (rounded to 1 µs); the last 4 are kept (each
-        holds two (n_nodes, n_elements) arrays)."""
+        """The eliminated systems for a step Δt [s] (rounded to 1 µs); the last 4 are kept."""
         key = round(float(dt), 6)
         solver = self._solvers.pop(key, None)
         if solver is None:
-            solver = ImplicitConduction(self.grid, key)
+            solver = _Coefficients(self, key)
             while len(self._solvers) >= 4:
                 self._solvers.pop(next(iter(self._solvers)))
         self._solvers[key] = solver  # most recently used last
         return solver
 
-    def _step(self, state, f, k, dt):
-        """Advance the node-major ``state`` in place to time index k."""
-        solver = self._solver(dt)
-        absorbed = absorbed_shortwave(
-            self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], f["lit"][k], f["sky_view_fraction"][k]
-        ) + absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], f["sky_view_fraction"][k])
+    def _fluxes(self, f, k, previous):
+        """The terms known at the start of step k, and the linear coefficients of the rest.
+
+        Returns a dict: q_a, q_sky, q_env, q_i [W m-2] (or None when absent), h
+        [W m-2 K-1], the evaporation's linear coefficients v_c [W m-2] and v_s [W m-2 K-1]
+        (None when no element is wet).
+        """
+        lit, view = f["lit"][k], f["sky_view_fraction"][k]
+        air = f["air_temperature"][k]
+        q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
+        q_sky = absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], view)
         h = convection_coefficient(f["wind_speed"][k], self.convection)
-        beta, b = solver.eliminate(state)
-        t0 = solve_surface_temperature(
-            absorbed + h * f["air_temperature"][k] + b, h + solver.surface_conductance, self.emissivity, state[0]
-        )
-        solver.substitute(t0, beta, out=state)
+        out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None}
+        if self.exchange is not None:
+            irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
+            sky = np.broadcast_to(f["sky_longwave"][k] * view, previous.shape)
+            out["q_env"] = environment_longwave(self.exchange, self.emissivity, self._es * previous**4, sky, self.exchange_reflections) + environment_shortwave(
+                self.exchange, self.absorptance, irradiance, self.exchange_reflections
+            )
+        internal = f["internal_flux"][k] if f["has_internal"] else None
+        if f["air_speed"] is not None:
+            speed = f["air_speed"][k]
+            airborne = np.flatnonzero(np.isfinite(speed))
+            if airborne.size:
+                h = out["h"] = np.array(np.broadcast_to(h, previous.shape))
+                t_air, u = np.broadcast_to(air, previous.shape)[airborne], speed[airborne]
+                h[airborne] = flat_plate_coefficient(u, self.characteristic_length[airborne], t_air, f["pressure"][k][airborne])
+                aero = np.zeros(previous.shape)
+                aero[airborne] = h[airborne] * (recovery_temperature(t_air, u) - t_air)
+                internal = aero if internal is None else internal + aero
+        out["q_i"] = internal
+        if self._wet.size:
+            wet = self._wet
+            c, s = linearised_evaporative_flux(
+                self.moisture_availability[wet], np.broadcast_to(h, previous.shape)[wet], previous[wet],
+                np.broadcast_to(air, previous.shape)[wet], f["relative_humidity"][k][wet], f["pressure"][k][wet],
+            )
+            out["v_c"], out["v_s"] = np.zeros(previous.shape), np.zeros(previous.shape)
+            out["v_c"][wet], out["v_s"][wet] = c, s
+        return out
+
+    def _step(self, state, f, k, dt, record=None):
+        """Advance the node-major ``state`` in place to time index k; fill row k of ``record``."""
+        solver = self._solver(dt)
+        previous = state[0].copy()
+        old = state.copy() if record is not None else None
+        p = self._fluxes(f, k, previous)
+        h, air = p["h"], f["air_temperature"][k]
+        constant = p["q_a"] + p["q_sky"] + h * air
+        for name in ("q_env", "q_i", "v_c"):
+            if p[name] is not None:
+                constant = constant + p[name]
+        slope = h if p["v_s"] is None else h + p["v_s"]
+        n = previous.size
+        if self.compiled:
+            constant = np.ascontiguousarray(np.broadcast_to(constant, (n,)), dtype=float)
+            slope = np.ascontiguousarray(np.broadcast_to(slope, (n,)), dtype=float)
+            surface, b = np.empty(n), np.empty(n)
+            failures = _compiled.balance_step(state, self._index, *solver.tables, constant, slope, self._es, _TOLERANCE, _MAX_ITERATIONS,
+                                              self.lateral is None, surface, b)
+            if failures:
+                raise RadsceneError(f"surface temperature: Newton did not converge in {_MAX_ITERATIONS} iterations for {failures} elements")
+            if self.lateral is not None:
+                surface = self._coupled(constant + b, slope + solver.surface_conductance, previous)
+                _compiled.substitute(state, self._index, solver.stack._alpha, surface)
+        else:
+            beta, b = solver.element.eliminate(state)
+            if self.lateral is None:
+                surface = solve_surface_temperature(constant + b, slope + solver.surface_conductance, self.emissivity, previous)
+            else:
+                surface = self._coupled(constant + b, slope + solver.surface_conductance, previous)
+            solver.element.substitute(surface, beta, out=state)
+        if record is not None:
+            self._record(record, k, dt, p, air, surface, solver.surface_conductance * surface - b, old, state)
+
+    def _coupled(self, constant, slope, start):
+        start = solve_surface_temperature(constant, slope, self.emissivity, start)
+        return coupled_surface_temperature(constant, slope, self.emissivity, self.lateral, self.area, start, _TOLERANCE, _MAX_ITERATIONS)
+
+    def _record(self, record, k, dt, p, air, surface, into_stack, old, new):
+        terms = record["terms"]
+        zero = np.zeros(surface.shape)
+        terms["q_a"][k] = p["q_a"]
+        terms["q_sky"][k] = p["q_sky"]
+        terms["q_env"][k] = zero if p["q_env"] is None else p["q_env"]
+        terms["q_t"][k] = -self._es * surface**4
+        terms["q_k"][k] = p["h"] * (air - surface)
+        terms["q_v"][k] = zero if p["v_c"] is None else p["v_c"] - p["v_s"] * surface
+        terms["q_i"][k] = zero if p["q_i"] is None else p["q_i"]
+        if "q_lat" in terms:
+            terms["q_lat"][k] = -(self.lateral @ surface) / self.area
+        terms["q_d"][k] = into_stack
+        supplied = sum(terms[name][k] for name in terms if name != "q_d")
+        magnitude = sum(np.abs(terms[name][k]) for name in terms)
+        stored = np.einsum("ij,ij->j", self.grid.capacity.T, new - old) + self.grid.bottom_flux(new.T) * dt
+        weight = 1.0 if self.area is None else self.area
+        error = float(np.sum(weight * np.abs(supplied * dt - stored)))
+        scale = float(np.sum(weight * magnitude * dt))
+        record["closure"][k] = error / scale if scale > 0 else error
 
     def _initial(self, initial_temperature, f):
         n_el, n_nodes = self.grid.n_elements, self.grid.n_nodes
@@ -305,7 +392,27 @@ class HeatBalance:
         state[-1, fixed] = self.grid.deep_temperature[fixed]
         return state
 
-    def run(self, forcing, initial_temperature=None, spin_up=False, spin_up_tolerance=0.01, max_spin_up_days=30):
+    def _checked(self, forcing):
+        n_el = self.grid.n_elements
+        f = forcing.checked(n_el)
+        f["has_internal"] = bool(np.any(np.asarray(forcing.internal_flux, float) != 0.0))
+        if self._wet.size and f["relative_humidity"] is None:
+            raise ConfigError(
+                f"{self._wet.size} elements have moisture_availability > 0 (e.g. element {self._wet[0]}): the evaporation "
+                "term needs the air's relative humidity [0-1]; give it, or moisture_availability=0",
+                key="forcing.relative_humidity",
+            )
+        if self.exchange is not None:
+            rows = np.asarray(self.exchange.sum(axis=1)).ravel() + f["sky_view_fraction"].max(axis=0)
+            if rows.max() > 1.0 + 1e-9:
+                i = int(np.argmax(rows))
+                raise ConfigError(
+                    f"element {i}: view factors to other elements plus the sky view fraction sum to {rows[i]:.6g} > 1",
+                    key="exchange",
+                )
+        return f
+
+    def run(self, forcing, initial_temperature=None, spin_up=False, spin_up_tolerance=0.01, max_spin_up_days=30, record_terms=False):
         """Advance every element through the forcing.
 
         Parameters
@@ -320,6 +427,9 @@ class HeatBalance:
         spin_up_tolerance : float, optional
             [K] largest day-to-day change of a surface temperature to stop at.
         max_spin_up_days : int, optional
+        record_terms : bool, optional
+            Fill ``ThermalResult.terms`` and ``closure`` (memory: 9 arrays of
+            (n_times, n_elements)).
 
         Returns
         -------
@@ -333,7 +443,7 @@ class HeatBalance:
             The spin-up did not converge within ``max_spin_up_days``.
         """
         n_el = self.grid.n_elements
-        f = forcing.checked(n_el)
+        f = self._checked(forcing)
         time = f["time"]
         state = self._initial(initial_temperature, f)
         days, change = 0, float("nan")
@@ -361,10 +471,14 @@ class HeatBalance:
                         f"{days} (tolerance {spin_up_tolerance} K); raise max_spin_up_days"
                     )
                 previous = record
+        recorder = None
+        if record_terms:
+            names = [t for t in TERMS if t != "q_lat" or self.lateral is not None]
+            recorder = {"terms": {t: np.full((time.size, n_el), np.nan) for t in names}, "closure": np.full(time.size, np.nan)}
         surface = np.empty((time.size, n_el))
         surface[0] = state[0]
         for k in range(1, time.size):
-            self._step(state, f, k, time[k] - time[k - 1])
+            self._step(state, f, k, time[k] - time[k - 1], recorder)
             surface[k] = state[0]
         return ThermalResult(
             time=time,
@@ -373,4 +487,6 @@ class HeatBalance:
             depth=self.grid.depth,
             spin_up_days=days,
             spin_up_change=change,
+            terms=None if recorder is None else recorder["terms"],
+            closure=None if recorder is None else recorder["closure"],
         )
