@@ -1,64 +1,86 @@
 """Compiled (numba) step of the heat balance: elimination of every stack, Newton on its surface
-node and back-substitution, fused in one pass per element.
+node and back-substitution, fused in one pass per block of elements.
 
 The numpy path of :class:`radscene.thermal.HeatBalance` (``compiled=False``:
 :meth:`ImplicitConduction.eliminate`, :func:`solve_surface_temperature`,
-:meth:`ImplicitConduction.substitute`) does the same arithmetic in the same order over arrays of
-elements and is the oracle of the tests; the two differ only in when Newton stops (here per
-element, there when the largest update of all is below the tolerance), by less than the
-tolerance.
+:meth:`ImplicitConduction.substitute`) does the same arithmetic over arrays of elements and is
+the oracle of the tests; the two differ by rounding (here 1/e is multiplied, there e divides)
+and by when Newton stops (here when the largest update in a block, there in all elements, is
+below the tolerance), together by far less than the tolerance.
 
 The coefficients of the eliminated tridiagonal systems depend only on an element's stack and
-Δt, so they are passed per stack (node-major tables, (n_nodes, n_stacks)) with each element's
-stack index, and the back-substitution offsets overwrite the old temperatures in place: a step
-streams the node-major state once, and the tables stay in cache. Compiled on first use and
-cached on disk (``cache=True``) next to this file.
+Δt. The compiled path therefore keeps the elements sorted by stack (``HeatBalance`` permutes
+them in and out) and cuts them into blocks of at most ``BLOCK`` elements of one stack: within a
+block the coefficients of a node are scalars, and each sweep runs over the block's contiguous
+elements (independent of each other, so the processor overlaps them and can vectorise) rather
+than down one element's nodes (a chain of dependent operations). The back-substitution offsets
+overwrite the old temperatures in place. Blocks may run in parallel from
+``PARALLEL_THRESHOLD`` elements on (:class:`Stepper`). Compiled on first use and cached on
+disk (``cache=True``) next to this file.
 """
 
 from __future__ import annotations
 
+import time
+
 import numba
 import numpy as np
 
-__all__ = ["balance_step", "substitute"]
+__all__ = ["BLOCK", "PARALLEL_THRESHOLD", "Stepper", "blocks_of"]
 
-
-#: Elements per block: each sweep runs over a block's elements (independent, so the processor
-#: overlaps them) rather than down one element's nodes (a chain of dependent divisions).
+#: Most elements in a block.
 BLOCK = 256
+#: Below this many elements the serial kernels run: a parallel launch costs more than it saves,
+#: and much more on a machine whose cores are busy.
+PARALLEL_THRESHOLD = 20_000
 
 
-def _balance_step(state, stack, a, g, e, inverse_e, alpha, fixed, deep, inside, constant, slope, es, tolerance, max_iterations, solve, surface, offset):
-    """Advance the node-major ``state`` (n_nodes, n_elements) [K] by one backward-Euler step.
+def blocks_of(sorted_stack):
+    """Blocks (first, stop, stack) [int64, (n_blocks, 3)] of at most ``BLOCK`` consecutive
+    elements of one stack, for elements sorted by stack index ``sorted_stack``."""
+    sorted_stack = np.asarray(sorted_stack)
+    n = sorted_stack.size
+    bounds = np.flatnonzero(np.diff(sorted_stack)) + 1
+    rows = []
+    for first, stop in zip(np.concatenate([[0], bounds]), np.concatenate([bounds, [n]]), strict=True):
+        for j in range(int(first), int(stop), BLOCK):
+            rows.append((j, min(int(stop), j + BLOCK), int(sorted_stack[first])))
+    return np.array(rows, dtype=np.int64).reshape(-1, 3)
 
-    Per element j of stack s: eliminate from the bottom up (offsets stored in state[1:]), B in
-    ``offset[j]``; with ``solve``, find T of c + B − es T⁴ − (m + A) T = 0 (c = constant[j],
-    m = slope[j], A = e[0, s]) by Newton from the old surface temperature, store it in
-    ``surface[j]`` and back-substitute. ``inverse_e`` is 1/e (a product instead of a
-    division in the sweeps). Blocks of ``BLOCK`` elements run in parallel; Newton
-    stops when the largest update in a block is below ``tolerance``. Returns the number of
-    blocks where it did not within ``max_iterations``.
+
+@numba.njit(cache=True)
+def _step_blocks(first, stop, state, blocks, a, g, e, inverse_e, alpha, fixed, deep, inside, constant, slope, es, tolerance, max_iterations, solve, surface, offset):
+    """Advance blocks ``first`` to ``stop`` (excluded) of the node-major ``state``
+    (n_nodes, n_elements) [K] by one backward-Euler step.
+
+    ``blocks`` from :func:`blocks_of`; the tables (n_nodes, n_stacks) from
+    :class:`radscene.thermal.ImplicitConduction` of the stacks, ``inverse_e`` = 1/e. Per element
+    j: eliminate from the bottom up (offsets stored in state[1:]), B in ``offset[j]``; with
+    ``solve``, find T of c + B − es T⁴ − (m + A) T = 0 (c = constant[j], m = slope[j],
+    A = e[0, s]) by Newton from the old surface temperature, store it in ``surface[j]`` and
+    back-substitute. Newton stops when the largest update in a block is below ``tolerance``.
+    Returns the number of blocks where it did not within ``max_iterations``.
     """
-    n_nodes, n_el = state.shape
+    n_nodes = state.shape[0]
     last = n_nodes - 1
-    n_blocks = (n_el + BLOCK - 1) // BLOCK
     failures = 0
-    for block in numba.prange(n_blocks):
-        j0 = block * BLOCK
-        j1 = min(n_el, j0 + BLOCK)
-        for j in range(j0, j1):
-            s = stack[j]
-            if fixed[s]:
-                state[last, j] = deep[s]
-            else:
-                state[last, j] = (a[last, s] * state[last, j] + inside[s]) * inverse_e[last, s]
-        for i in range(last - 1, 0, -1):
+    for block in range(first, stop):
+        j0, j1, s = blocks[block, 0], blocks[block, 1], blocks[block, 2]
+        if fixed[s]:
+            held = deep[s]
             for j in range(j0, j1):
-                s = stack[j]
-                state[i, j] = (a[i, s] * state[i, j] + g[i, s] * state[i + 1, j]) * inverse_e[i, s]
+                state[last, j] = held
+        else:
+            own, room = a[last, s] * inverse_e[last, s], inside[s] * inverse_e[last, s]
+            for j in range(j0, j1):
+                state[last, j] = own * state[last, j] + room
+        for i in range(last - 1, 0, -1):
+            own, below = a[i, s] * inverse_e[i, s], g[i, s] * inverse_e[i, s]
+            for j in range(j0, j1):
+                state[i, j] = own * state[i, j] + below * state[i + 1, j]
+        a0, g0, e0 = a[0, s], g[0, s], e[0, s]
         for j in range(j0, j1):
-            s = stack[j]
-            offset[j] = a[0, s] * state[0, j] + g[0, s] * state[1, j]
+            offset[j] = a0 * state[0, j] + g0 * state[1, j]
             surface[j] = state[0, j]
         if solve:
             converged = False
@@ -67,7 +89,7 @@ def _balance_step(state, stack, a, g, e, inverse_e, alpha, fixed, deep, inside, 
                 for j in range(j0, j1):
                     t = surface[j]
                     k = es[j]
-                    m = slope[j] + e[0, stack[j]]
+                    m = slope[j] + e0
                     t3 = t * t * t
                     step = (constant[j] + offset[j] - k * t3 * t - m * t) / (4.0 * k * t3 + m)
                     surface[j] = t + step
@@ -80,53 +102,87 @@ def _balance_step(state, stack, a, g, e, inverse_e, alpha, fixed, deep, inside, 
             for j in range(j0, j1):
                 state[0, j] = surface[j]
             for i in range(1, n_nodes):
+                down = alpha[i, s]
                 for j in range(j0, j1):
-                    state[i, j] = alpha[i, stack[j]] * state[i - 1, j] + state[i, j]
+                    state[i, j] = down * state[i - 1, j] + state[i, j]
     return failures
 
 
-def _substitute(state, stack, alpha, surface):
-    """Back-substitution after :func:`balance_step` with ``solve=False``: the new surface
-    temperatures ``surface`` [K] into state[0], the profile below from the stored offsets."""
-    n_nodes, n_el = state.shape
-    n_blocks = (n_el + BLOCK - 1) // BLOCK
-    for block in numba.prange(n_blocks):
-        j0 = block * BLOCK
-        j1 = min(n_el, j0 + BLOCK)
+@numba.njit(cache=True)
+def _substitute_blocks(first, stop, state, blocks, alpha, surface):
+    """Blocks ``first`` to ``stop`` of :func:`substitute`."""
+    n_nodes = state.shape[0]
+    for block in range(first, stop):
+        j0, j1, s = blocks[block, 0], blocks[block, 1], blocks[block, 2]
         for j in range(j0, j1):
             state[0, j] = surface[j]
         for i in range(1, n_nodes):
+            down = alpha[i, s]
             for j in range(j0, j1):
-                state[i, j] = alpha[i, stack[j]] * state[i - 1, j] + state[i, j]
+                state[i, j] = down * state[i - 1, j] + state[i, j]
 
 
-#: Below this many elements the serial kernels run: a parallel launch costs more than it saves,
-#: and much more on a machine whose cores are busy.
-PARALLEL_THRESHOLD = 20_000
-
-_parallel_step = numba.njit(parallel=True, cache=True)(_balance_step)
-_serial_step = numba.njit(cache=True)(_balance_step)
-_parallel_substitute = numba.njit(parallel=True, cache=True)(_substitute)
-_serial_substitute = numba.njit(cache=True)(_substitute)
-
-
-def balance_step(state, *args):
-    """:func:`_balance_step`, in parallel from ``PARALLEL_THRESHOLD`` elements on."""
-    kernel = _parallel_step if state.shape[1] >= PARALLEL_THRESHOLD else _serial_step
-    return kernel(state, *args)
+# The parallel kernels hand each thread a contiguous range of blocks. (They are functions of
+# their own: numba's disk cache would mix up two dispatchers of one function.)
+@numba.njit(parallel=True, cache=True)
+def _parallel_step(n_threads, state, blocks, *args):
+    per_thread = (blocks.shape[0] + n_threads - 1) // n_threads
+    failures = 0
+    for thread in numba.prange(n_threads):
+        first = min(thread * per_thread, blocks.shape[0])
+        failures += _step_blocks(first, min(first + per_thread, blocks.shape[0]), state, blocks, *args)
+    return failures
 
 
-def substitute(state, *args):
-    """:func:`_substitute`, in parallel from ``PARALLEL_THRESHOLD`` elements on."""
-    kernel = _parallel_substitute if state.shape[1] >= PARALLEL_THRESHOLD else _serial_substitute
-    return kernel(state, *args)
+@numba.njit(parallel=True, cache=True)
+def _parallel_substitute(n_threads, state, blocks, alpha, surface):
+    per_thread = (blocks.shape[0] + n_threads - 1) // n_threads
+    for thread in numba.prange(n_threads):
+        first = min(thread * per_thread, blocks.shape[0])
+        _substitute_blocks(first, min(first + per_thread, blocks.shape[0]), state, blocks, alpha, surface)
 
 
-def warm_up():
-    """Compile (or load from the disk cache) both kernels on a one-element problem."""
-    state = np.full((2, 1), 300.0)
-    stack = np.zeros(1, np.int64)
-    ones = np.ones((2, 1))
-    balance_step(state, stack, ones, ones[:1], ones, ones, ones, np.zeros(1, np.bool_), np.zeros(1), np.zeros(1), np.ones(1),
-                 np.ones(1), np.zeros(1), 1e-9, 50, True, np.zeros(1), np.zeros(1))
-    substitute(state, stack, ones, np.full(1, 300.0))
+class Stepper:
+    """Runs :func:`_step_blocks` and :func:`_substitute_blocks` over all blocks, serially or
+    in parallel.
+
+    Below ``PARALLEL_THRESHOLD`` elements always serially. Above, the first four steps alternate
+    between the two and the faster one runs the rest: on a machine whose cores are busy with
+    other work the parallel kernels can be several times slower than the serial ones. The
+    results are the same either way (the blocks do not interact).
+    """
+
+    def __init__(self):
+        self._times = {True: [], False: []}
+        self.parallel = None
+
+    def _choose(self, n_elements):
+        if n_elements < PARALLEL_THRESHOLD or numba.get_num_threads() < 2:
+            return False
+        if self.parallel is not None:
+            return self.parallel
+        if min(len(t) for t in self._times.values()) >= 2:
+            self.parallel = min(self._times[True]) < min(self._times[False])
+            return self.parallel
+        return len(self._times[True]) <= len(self._times[False])
+
+    def step(self, state, blocks, *args):
+        """Advance ``state``; arguments and return value of :func:`_step_blocks` after
+        ``first, stop``."""
+        parallel = self._choose(state.shape[1])
+        start = time.perf_counter()
+        if parallel:
+            failures = _parallel_step(numba.get_num_threads(), state, blocks, *args)
+        else:
+            failures = _step_blocks(0, blocks.shape[0], state, blocks, *args)
+        if self.parallel is None and state.shape[1] >= PARALLEL_THRESHOLD:
+            self._times[parallel].append(time.perf_counter() - start)
+        return failures
+
+    def substitute(self, state, blocks, alpha, surface):
+        """Back-substitution after :meth:`step` with ``solve=False``: the new surface
+        temperatures ``surface`` [K] into state[0], the profile below from the stored offsets."""
+        if self._choose(state.shape[1]):
+            _parallel_substitute(numba.get_num_threads(), state, blocks, alpha, surface)
+        else:
+            _substitute_blocks(0, blocks.shape[0], state, blocks, alpha, surface)

@@ -231,6 +231,13 @@ class HeatBalance:
         self.area = None if area is None else self._per_element(area, "area", n)
         self.compiled = bool(compiled)
         self._es = np.ascontiguousarray(self.emissivity * SIGMA)
+        # the compiled path keeps the elements sorted by stack (module _compiled); None: as given
+        order = np.argsort(self._index, kind="stable")
+        self._order = None if not self.compiled or np.all(order == np.arange(n)) else order
+        self._inverse = None if self._order is None else np.argsort(self._order)
+        self._blocks = _compiled.blocks_of(self._internal(self._index))
+        self._es_internal = np.ascontiguousarray(self._internal(self._es))
+        self._stepper = _compiled.Stepper()
         self._wet = np.flatnonzero(self.moisture_availability > 0)
         self._solvers = {}
 
@@ -259,6 +266,14 @@ class HeatBalance:
             raise ConfigError("must be finite and > 0", key=key)
         return value
 
+    def _internal(self, values):
+        """Element values (last axis) in the order the state is kept in."""
+        return values if self._order is None else values[..., self._order]
+
+    def _external(self, values):
+        """Element values (last axis) of the state back in the caller's order."""
+        return values if self._inverse is None else values[..., self._inverse]
+
     def _solver(self, dt):
         """The eliminated systems for a step Δt [s] (rounded to 1 µs); the last 4 are kept."""
         key = round(float(dt), 6)
@@ -271,12 +286,15 @@ class HeatBalance:
         return solver
 
     def _fluxes(self, f, k, previous):
-        """The terms known at the start of step k, and the linear coefficients of the rest.
+        """The terms known at the start of step k, and the linear coefficients of the rest;
+        ``previous`` the surface temperatures at the start of the step (caller's order; only
+        read with Q_env or Q_v).
 
         Returns a dict: q_a, q_sky, q_env, q_i [W m-2] (or None when absent), h
         [W m-2 K-1], the evaporation's linear coefficients v_c [W m-2] and v_s [W m-2 K-1]
         (None when no element is wet).
         """
+        shape = (self.grid.n_elements,)
         lit, view = f["lit"][k], f["sky_view_fraction"][k]
         air = f["air_temperature"][k]
         q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
@@ -285,7 +303,7 @@ class HeatBalance:
         out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None}
         if self.exchange is not None:
             irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
-            sky = np.broadcast_to(f["sky_longwave"][k] * view, previous.shape)
+            sky = np.broadcast_to(f["sky_longwave"][k] * view, shape)
             out["q_env"] = environment_longwave(self.exchange, self.emissivity, self._es * previous**4, sky, self.exchange_reflections) + environment_shortwave(
                 self.exchange, self.absorptance, irradiance, self.exchange_reflections
             )
@@ -294,28 +312,30 @@ class HeatBalance:
             speed = f["air_speed"][k]
             airborne = np.flatnonzero(np.isfinite(speed))
             if airborne.size:
-                h = out["h"] = np.array(np.broadcast_to(h, previous.shape))
-                t_air, u = np.broadcast_to(air, previous.shape)[airborne], speed[airborne]
+                h = out["h"] = np.array(np.broadcast_to(h, shape))
+                t_air, u = np.broadcast_to(air, shape)[airborne], speed[airborne]
                 h[airborne] = flat_plate_coefficient(u, self.characteristic_length[airborne], t_air, f["pressure"][k][airborne])
-                aero = np.zeros(previous.shape)
+                aero = np.zeros(shape)
                 aero[airborne] = h[airborne] * (recovery_temperature(t_air, u) - t_air)
                 internal = aero if internal is None else internal + aero
         out["q_i"] = internal
         if self._wet.size:
             wet = self._wet
             c, s = linearised_evaporative_flux(
-                self.moisture_availability[wet], np.broadcast_to(h, previous.shape)[wet], previous[wet],
-                np.broadcast_to(air, previous.shape)[wet], f["relative_humidity"][k][wet], f["pressure"][k][wet],
+                self.moisture_availability[wet], np.broadcast_to(h, shape)[wet], previous[wet],
+                np.broadcast_to(air, shape)[wet], f["relative_humidity"][k][wet], f["pressure"][k][wet],
             )
-            out["v_c"], out["v_s"] = np.zeros(previous.shape), np.zeros(previous.shape)
+            out["v_c"], out["v_s"] = np.zeros(shape), np.zeros(shape)
             out["v_c"][wet], out["v_s"][wet] = c, s
         return out
 
     def _step(self, state, f, k, dt, record=None):
-        """Advance the node-major ``state`` in place to time index k; fill row k of ``record``."""
+        """Advance the node-major ``state`` (internal order) in place to time index k; fill row
+        k of ``record``; return the new surface temperatures in the caller's order."""
         solver = self._solver(dt)
-        previous = state[0].copy()
-        old = state.copy() if record is not None else None
+        needs_previous = not self.compiled or self.exchange is not None or self._wet.size or self.lateral is not None
+        previous = np.array(self._external(state[0])) if needs_previous else None
+        old = np.array(self._external(state)) if record is not None else None
         p = self._fluxes(f, k, previous)
         h, air = p["h"], f["air_temperature"][k]
         constant = p["q_a"] + p["q_sky"] + h * air
@@ -323,18 +343,24 @@ class HeatBalance:
             if p[name] is not None:
                 constant = constant + p[name]
         slope = h if p["v_s"] is None else h + p["v_s"]
-        n = previous.size
+        n = self.grid.n_elements
         if self.compiled:
-            constant = np.ascontiguousarray(np.broadcast_to(constant, (n,)), dtype=float)
-            slope = np.ascontiguousarray(np.broadcast_to(slope, (n,)), dtype=float)
+            constant = np.broadcast_to(constant, (n,))
+            slope = np.broadcast_to(slope, (n,))
             surface, b = np.empty(n), np.empty(n)
-            failures = _compiled.balance_step(state, self._index, *solver.tables, constant, slope, self._es, _TOLERANCE, _MAX_ITERATIONS,
-                                              self.lateral is None, surface, b)
+            failures = self._stepper.step(
+                state, self._blocks, *solver.tables, np.ascontiguousarray(self._internal(constant), dtype=float),
+                np.ascontiguousarray(self._internal(slope), dtype=float), self._es_internal, _TOLERANCE, _MAX_ITERATIONS,
+                self.lateral is None, surface, b,
+            )
             if failures:
-                raise RadsceneError(f"surface temperature: Newton did not converge in {_MAX_ITERATIONS} iterations for {failures} elements")
+                raise RadsceneError(f"surface temperature: Newton did not converge in {_MAX_ITERATIONS} iterations in {failures} blocks of elements")
+            surface = self._external(surface)
+            if record is not None or self.lateral is not None:
+                b = self._external(b)
             if self.lateral is not None:
                 surface = self._coupled(constant + b, slope + solver.surface_conductance, previous)
-                _compiled.substitute(state, self._index, solver.stack._alpha, surface)
+                self._stepper.substitute(state, self._blocks, solver.stack._alpha, np.ascontiguousarray(self._internal(surface)))
         else:
             beta, b = solver.element.eliminate(state)
             if self.lateral is None:
@@ -343,7 +369,8 @@ class HeatBalance:
                 surface = self._coupled(constant + b, slope + solver.surface_conductance, previous)
             solver.element.substitute(surface, beta, out=state)
         if record is not None:
-            self._record(record, k, dt, p, air, surface, solver.surface_conductance * surface - b, old, state)
+            self._record(record, k, dt, p, air, surface, solver.surface_conductance * surface - b, old, self._external(state))
+        return surface
 
     def _coupled(self, constant, slope, start):
         start = solve_surface_temperature(constant, slope, self.emissivity, start)
@@ -387,7 +414,7 @@ class HeatBalance:
             ) from None
         if not np.all(np.isfinite(value) & (value > 0)):
             raise ConfigError("must be finite and > 0 K", key="initial_temperature")
-        state = np.ascontiguousarray(value.T, dtype=float)
+        state = np.array(value.T, dtype=float, order="C")
         fixed = np.isfinite(self.grid.deep_temperature)
         state[-1, fixed] = self.grid.deep_temperature[fixed]
         return state
@@ -445,7 +472,8 @@ class HeatBalance:
         n_el = self.grid.n_elements
         f = self._checked(forcing)
         time = f["time"]
-        state = self._initial(initial_temperature, f)
+        state = np.ascontiguousarray(self._internal(self._initial(initial_temperature, f)))
+        self._stepper = _compiled.Stepper()  # serial or parallel: decided anew in every run
         days, change = 0, float("nan")
         if spin_up:
             if not (np.isfinite(spin_up_tolerance) and spin_up_tolerance > 0):
@@ -458,8 +486,7 @@ class HeatBalance:
             while True:
                 record = np.empty((end, n_el))
                 for k in range(1, end + 1):
-                    self._step(state, f, k, time[k] - time[k - 1])
-                    record[k - 1] = state[0]
+                    record[k - 1] = self._step(state, f, k, time[k] - time[k - 1])
                 days += 1
                 if previous is not None:
                     change = float(np.max(np.abs(record - previous)))
@@ -476,14 +503,13 @@ class HeatBalance:
             names = [t for t in TERMS if t != "q_lat" or self.lateral is not None]
             recorder = {"terms": {t: np.full((time.size, n_el), np.nan) for t in names}, "closure": np.full(time.size, np.nan)}
         surface = np.empty((time.size, n_el))
-        surface[0] = state[0]
+        surface[0] = self._external(state[0])
         for k in range(1, time.size):
-            self._step(state, f, k, time[k] - time[k - 1], recorder)
-            surface[k] = state[0]
+            surface[k] = self._step(state, f, k, time[k] - time[k - 1], recorder)
         return ThermalResult(
             time=time,
             surface_temperature=surface,
-            temperature=state.T.copy(),
+            temperature=self._external(state).T.copy(),
             depth=self.grid.depth,
             spin_up_days=days,
             spin_up_change=change,
