@@ -90,3 +90,8 @@ def test_read_lists_a_library_file_and_refuses_unknown_formats(tmp_path):
 def test_earthlib_search():
     out = invoke("earthlib", "--cls", "bark", "--limit", "2").output
     assert "33 spectra match" in out and "kellbark" in out
+
+
+def test_show_prints_the_moisture_availability():
+    assert "moisture availability (evaporation, beta): 0.57" in invoke("show", "grass_canopy").output
+    assert "moisture availability" not in invoke("show", "asphalt").output

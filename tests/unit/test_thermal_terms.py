@@ -321,3 +321,32 @@ def test_lateral_rejects_bad_input():
         HeatBalance(stacks, [0, 0], absorptance=0.5, emissivity=0.5, lateral=sp.csr_array([[0.0, 1.0], [2.0, 0.0]]), area=1.0)
     with pytest.raises(ConfigError, match="area: must be finite and > 0"):
         HeatBalance(stacks, [0, 0], absorptance=0.5, emissivity=0.5, lateral=g, area=[1.0, 0.0])
+
+
+def test_compiled_step_with_shuffled_stacks_serial_parallel_and_lateral():
+    """The compiled path sorts the elements by stack internally and may run in parallel above
+    PARALLEL_THRESHOLD elements: results are the numpy reference's, in the caller's order."""
+    from radscene.thermal import _compiled
+
+    stacks = [get_thermal_properties(n) for n in ("asphalt", "painted_metal", "snow", "roof_tile")]
+    n = _compiled.PARALLEL_THRESHOLD + 1000
+    index = np.random.default_rng(3).integers(0, len(stacks), n)
+    time = np.arange(0.0, 7 * 1800.0 + 1, 1800.0)
+    sun = np.linspace(0.2, 0.9, time.size)[:, None]
+    forcing = ThermalForcing(time, 800.0 * sun, sun, 100.0 * sun, 300.0, 290.0, 2.0)
+    start = 280.0 + 10.0 * np.random.default_rng(4).random(n)
+    fast = HeatBalance(stacks, index, n_nodes=6)
+    a = fast.run(forcing, initial_temperature=start, record_terms=True)
+    assert fast._order is not None and fast._stepper.parallel is not None  # both kernels were tried
+    b = HeatBalance(stacks, index, n_nodes=6, compiled=False).run(forcing, initial_temperature=start)
+    np.testing.assert_allclose(a.surface_temperature, b.surface_temperature, rtol=0, atol=1e-8)
+    np.testing.assert_allclose(a.temperature, b.temperature, rtol=0, atol=1e-8)
+    assert np.max(a.closure[1:]) <= CLOSURE
+    # lateral conduction over a 10 x 10 grid of shuffled stacks
+    g = grid_conductance((10, 10), 0.5, 1.0, 0.1)
+    small = index[:100]
+    kwargs = dict(n_nodes=6, lateral=g, area=0.25)
+    a = HeatBalance(stacks, small, **kwargs).run(forcing, initial_temperature=start[:100], record_terms=True)
+    b = HeatBalance(stacks, small, **kwargs, compiled=False).run(forcing, initial_temperature=start[:100])
+    np.testing.assert_allclose(a.surface_temperature, b.surface_temperature, rtol=0, atol=1e-8)
+    assert np.max(a.closure[1:]) <= CLOSURE

@@ -124,6 +124,8 @@ def show(
     if tp.canopy:
         console.print(f"canopy: LAI {tp.canopy['lai']:g}, leaf heat capacity "
                       f"{tp.canopy['areal_heat_capacity']:g} J m-2 K-1 ({tp.canopy['source']})")
+    if tp.moisture_availability:
+        console.print(f"moisture availability (evaporation, beta): {tp.moisture_availability:g}")
     if tp.notes:
         console.print(f"notes: {tp.notes}")
 

@@ -146,43 +146,51 @@ class Stepper:
     """Runs :func:`_step_blocks` and :func:`_substitute_blocks` over all blocks, serially or
     in parallel.
 
-    Below ``PARALLEL_THRESHOLD`` elements always serially. Above, the first four steps alternate
-    between the two and the faster one runs the rest: on a machine whose cores are busy with
-    other work the parallel kernels can be several times slower than the serial ones. The
-    results are the same either way (the blocks do not interact).
+    Below ``PARALLEL_THRESHOLD`` elements always serially. Above, the first four of every
+    ``TRIAL_PERIOD`` steps alternate between the two and the faster one runs the rest of the
+    period: on a machine whose cores are busy with other work the parallel kernels can be
+    several times slower than the serial ones, and the load changes. The results are the same
+    either way (the blocks do not interact).
     """
 
+    #: Steps between two trials of both kernels.
+    TRIAL_PERIOD = 100
+
     def __init__(self):
+        self._count = 0
         self._times = {True: [], False: []}
         self.parallel = None
 
     def _choose(self, n_elements):
         if n_elements < PARALLEL_THRESHOLD or numba.get_num_threads() < 2:
             return False
-        if self.parallel is not None:
-            return self.parallel
-        if min(len(t) for t in self._times.values()) >= 2:
+        phase = self._count % self.TRIAL_PERIOD
+        if phase < 4:
+            return phase % 2 == 0  # parallel, serial, parallel, serial
+        if phase == 4 and all(self._times.values()):
             self.parallel = min(self._times[True]) < min(self._times[False])
-            return self.parallel
-        return len(self._times[True]) <= len(self._times[False])
+            self._times = {True: [], False: []}
+        return bool(self.parallel)
 
     def step(self, state, blocks, *args):
         """Advance ``state``; arguments and return value of :func:`_step_blocks` after
         ``first, stop``."""
         parallel = self._choose(state.shape[1])
+        trial = state.shape[1] >= PARALLEL_THRESHOLD and self._count % self.TRIAL_PERIOD < 4
+        self._count += 1
         start = time.perf_counter()
         if parallel:
             failures = _parallel_step(numba.get_num_threads(), state, blocks, *args)
         else:
             failures = _step_blocks(0, blocks.shape[0], state, blocks, *args)
-        if self.parallel is None and state.shape[1] >= PARALLEL_THRESHOLD:
+        if trial:
             self._times[parallel].append(time.perf_counter() - start)
         return failures
 
     def substitute(self, state, blocks, alpha, surface):
         """Back-substitution after :meth:`step` with ``solve=False``: the new surface
         temperatures ``surface`` [K] into state[0], the profile below from the stored offsets."""
-        if self._choose(state.shape[1]):
+        if state.shape[1] >= PARALLEL_THRESHOLD and self.parallel:
             _parallel_substitute(numba.get_num_threads(), state, blocks, alpha, surface)
         else:
             _substitute_blocks(0, blocks.shape[0], state, blocks, alpha, surface)

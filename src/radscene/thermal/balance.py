@@ -237,7 +237,7 @@ class HeatBalance:
         self._inverse = None if self._order is None else np.argsort(self._order)
         self._blocks = _compiled.blocks_of(self._internal(self._index))
         self._es_internal = np.ascontiguousarray(self._internal(self._es))
-        self._stepper = _compiled.Stepper()
+        self._stepper = _compiled.Stepper()  # serial or parallel, whichever runs faster
         self._wet = np.flatnonzero(self.moisture_availability > 0)
         self._solvers = {}
 
@@ -473,7 +473,6 @@ class HeatBalance:
         f = self._checked(forcing)
         time = f["time"]
         state = np.ascontiguousarray(self._internal(self._initial(initial_temperature, f)))
-        self._stepper = _compiled.Stepper()  # serial or parallel: decided anew in every run
         days, change = 0, float("nan")
         if spin_up:
             if not (np.isfinite(spin_up_tolerance) and spin_up_tolerance > 0):
