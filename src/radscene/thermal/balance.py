@@ -329,9 +329,10 @@ class HeatBalance:
             out["v_c"][wet], out["v_s"][wet] = c, s
         return out
 
-    def _step(self, state, f, k, dt, record=None):
+    def _step(self, state, f, k, dt, record=None, out=None):
         """Advance the node-major ``state`` (internal order) in place to time index k; fill row
-        k of ``record``; return the new surface temperatures in the caller's order."""
+        k of ``record``; return the new surface temperatures in the caller's order (in ``out``
+        if given)."""
         solver = self._solver(dt)
         needs_previous = not self.compiled or self.exchange is not None or self._wet.size or self.lateral is not None
         previous = np.array(self._external(state[0])) if needs_previous else None
@@ -355,7 +356,7 @@ class HeatBalance:
             )
             if failures:
                 raise RadsceneError(f"surface temperature: Newton did not converge in {_MAX_ITERATIONS} iterations in {failures} blocks of elements")
-            surface = self._external(surface)
+            surface = self._external(surface) if out is None or self._inverse is None else np.take(surface, self._inverse, out=out)
             if record is not None or self.lateral is not None:
                 b = self._external(b)
             if self.lateral is not None:
@@ -370,6 +371,8 @@ class HeatBalance:
             solver.element.substitute(surface, beta, out=state)
         if record is not None:
             self._record(record, k, dt, p, air, surface, solver.surface_conductance * surface - b, old, self._external(state))
+        if out is not None and surface is not out:
+            out[...] = surface
         return surface
 
     def _coupled(self, constant, slope, start):
@@ -400,8 +403,8 @@ class HeatBalance:
     def _initial(self, initial_temperature, f):
         n_el, n_nodes = self.grid.n_elements, self.grid.n_nodes
         if initial_temperature is None:
-            first_day = f["time"] <= f["time"][0] + DAY
-            value = f["air_temperature"][first_day].mean(axis=0)[:, None]
+            first_day = int(np.count_nonzero(f["time"] <= f["time"][0] + DAY))  # a prefix: times increase
+            value = f["air_temperature"][:first_day].mean(axis=0)[:, None]
         else:
             value = np.asarray(initial_temperature, float)
             if value.ndim == 1:
@@ -485,7 +488,7 @@ class HeatBalance:
             while True:
                 record = np.empty((end, n_el))
                 for k in range(1, end + 1):
-                    record[k - 1] = self._step(state, f, k, time[k] - time[k - 1])
+                    self._step(state, f, k, time[k] - time[k - 1], out=record[k - 1])
                 days += 1
                 if previous is not None:
                     change = float(np.max(np.abs(record - previous)))
@@ -504,7 +507,7 @@ class HeatBalance:
         surface = np.empty((time.size, n_el))
         surface[0] = self._external(state[0])
         for k in range(1, time.size):
-            surface[k] = self._step(state, f, k, time[k] - time[k - 1], recorder)
+            self._step(state, f, k, time[k] - time[k - 1], recorder, out=surface[k])
         return ThermalResult(
             time=time,
             surface_temperature=surface,

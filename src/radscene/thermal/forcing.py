@@ -24,9 +24,11 @@ _FIELDS = ("direct_irradiance", "cos_incidence", "diffuse_irradiance", "sky_long
 
 
 def _broadcast(value, name, shape):
+    """(given values, broadcast view): the checks run on the former, which holds the same values
+    in (often far) fewer elements."""
     value = np.asarray(value, float)
     try:
-        return np.broadcast_to(value, shape)
+        return value, np.broadcast_to(value, shape)
     except ValueError:
         raise ConfigError(
             f"shape {value.shape} does not broadcast to (n_times, n_elements) = {shape}", key=f"forcing.{name}"
@@ -101,7 +103,7 @@ class ThermalForcing:
         shape = (time.size, n_elements)
         out = {"time": time}
         for name in _FIELDS:
-            value = _broadcast(getattr(self, name), name, shape)
+            value, out[name] = _broadcast(getattr(self, name), name, shape)
             if not np.all(np.isfinite(value)):
                 raise ConfigError("must be finite", key=f"forcing.{name}")
             if name in ("lit", "sky_view_fraction") and (value.min() < 0 or value.max() > 1):
@@ -112,28 +114,23 @@ class ThermalForcing:
                 raise ConfigError("must be > 0 K", key=f"forcing.{name}")
             if name not in ("cos_incidence", "air_temperature") and value.min() < 0:
                 raise ConfigError("must be >= 0", key=f"forcing.{name}")
-            out[name] = value
         out["relative_humidity"] = None
         if self.relative_humidity is not None:
-            value = _broadcast(self.relative_humidity, "relative_humidity", shape)
+            value, out["relative_humidity"] = _broadcast(self.relative_humidity, "relative_humidity", shape)
             if not np.all(np.isfinite(value) & (value >= 0) & (value <= 1)):
                 raise ConfigError("must lie in [0, 1] (a fraction, not per cent)", key="forcing.relative_humidity")
-            out["relative_humidity"] = value
         pressure = STANDARD_PRESSURE if self.pressure is None else self.pressure
-        value = _broadcast(pressure, "pressure", shape)
+        value, out["pressure"] = _broadcast(pressure, "pressure", shape)
         if not np.all(np.isfinite(value) & (value > 0)):
             raise ConfigError("must be finite and > 0 Pa", key="forcing.pressure")
-        out["pressure"] = value
-        value = _broadcast(self.internal_flux, "internal_flux", shape)
+        value, out["internal_flux"] = _broadcast(self.internal_flux, "internal_flux", shape)
         if not np.all(np.isfinite(value)):
             raise ConfigError("must be finite", key="forcing.internal_flux")
-        out["internal_flux"] = value
         out["air_speed"] = None
         if self.air_speed is not None:
-            value = _broadcast(self.air_speed, "air_speed", shape)
+            value, out["air_speed"] = _broadcast(self.air_speed, "air_speed", shape)
             if np.any(np.isinf(value)) or np.any(value < 0):
                 raise ConfigError("must be >= 0 m s-1, or NaN where an element is not airborne", key="forcing.air_speed")
-            out["air_speed"] = value
         return out
 
 
