@@ -20,7 +20,6 @@ from radscene.thermal import (
     linearised_evaporative_flux,
     mesh_conductance,
     saturation_vapour_pressure,
-    specific_humidity,
     speed_of_sound,
     vapour_transfer_coefficient,
 )
@@ -32,7 +31,7 @@ def test_saturation_vapour_pressure_against_tables():
     t = np.array(list(table))
     np.testing.assert_allclose(saturation_vapour_pressure(t), list(table.values()), rtol=0.004)  # Alduchov & Eskridge: < 0.4 %
     step = 1e-4
-    from radscene.thermal.evaporation import saturation_vapour_pressure_derivative
+    from radscene.thermal.weather.humidity import saturation_vapour_pressure_derivative
 
     numeric = (saturation_vapour_pressure(t + step) - saturation_vapour_pressure(t - step)) / (2 * step)
     np.testing.assert_allclose(saturation_vapour_pressure_derivative(t), numeric, rtol=1e-7)
@@ -41,8 +40,11 @@ def test_saturation_vapour_pressure_against_tables():
 
 def test_humidity_and_latent_heat():
     # q = ε e/(p − (1 − ε) e): at e = p the air is all vapour, q = 1
-    assert specific_humidity(1000.0, 1000.0) == pytest.approx(1.0, rel=1e-12)
-    assert specific_humidity(1500.0, 100000.0) == pytest.approx(0.62198 * 1500 / (100000 - 0.37802 * 1500), rel=1e-5)
+    from radscene.thermal.weather.humidity import specific_humidity_of_vapour_pressure
+
+    assert specific_humidity_of_vapour_pressure(1000.0, 1000.0) == pytest.approx(1.0, rel=1e-12)
+    assert specific_humidity_of_vapour_pressure(1500.0, 100000.0) == pytest.approx(
+        0.622 * 1500 / (100000 - 0.378 * 1500), rel=1e-12)
     # latent heat: 2.501 MJ kg-1 at 0 degC and 2.454 at 20 degC (Rogers & Yau 1989, Table 2.1)
     np.testing.assert_allclose(latent_heat_of_vaporisation([273.15, 293.15]), [2.501e6, 2.454e6], rtol=1e-3)
     # the Lewis analogy: h / (c_p Le^{2/3})

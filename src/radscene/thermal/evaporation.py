@@ -54,80 +54,27 @@ from __future__ import annotations
 
 import numpy as np
 
+from radscene.thermal.weather.humidity import (
+    EPSILON,
+    saturation_vapour_pressure,
+    saturation_vapour_pressure_derivative,
+)
+from radscene.thermal.weather.humidity import specific_humidity_of_vapour_pressure as _q
+
 __all__ = [
-    "MOLAR_MASS_RATIO",
-    "AIR_SPECIFIC_HEAT",
+        "AIR_SPECIFIC_HEAT",
     "LEWIS_NUMBER",
-    "saturation_vapour_pressure",
-    "saturation_vapour_pressure_derivative",
-    "specific_humidity",
     "latent_heat_of_vaporisation",
     "vapour_transfer_coefficient",
     "evaporative_flux",
     "linearised_evaporative_flux",
 ]
 
-#: ε = M_w / M_d = 18.01528 / 28.9645 [-].
-MOLAR_MASS_RATIO = 18.01528 / 28.9645
 #: c_p of air at 300 K [J kg-1 K-1] (Incropera et al. 2007, Table A.4).
 AIR_SPECIFIC_HEAT = 1007.0
 #: Le = α / D_AB = 22.5e-6 / 0.26e-4 for water vapour in air near 300 K [-].
 LEWIS_NUMBER = 22.5e-6 / 0.26e-4
 
-_A, _B, _E0 = 17.625, 243.04, 610.94  # Alduchov & Eskridge (1996) AERK: -, degC, Pa
-_T0 = 273.15  # K
-
-
-def saturation_vapour_pressure(temperature):
-    """Saturation vapour pressure over liquid water, e_sat [Pa] (Alduchov & Eskridge 1996).
-
-    Parameters
-    ----------
-    temperature : array_like
-        T [K].
-
-    Returns
-    -------
-    ndarray
-        e_sat [Pa].
-
-    Examples
-    --------
-    >>> round(float(saturation_vapour_pressure(293.15)), 1)
-    2333.4
-    """
-    tc = np.asarray(temperature, float) - _T0
-    return _E0 * np.exp(_A * tc / (tc + _B))
-
-
-def saturation_vapour_pressure_derivative(temperature):
-    """d e_sat / dT = e_sat · A B / (T_c + B)² [Pa K-1]."""
-    tc = np.asarray(temperature, float) - _T0
-    return saturation_vapour_pressure(temperature) * _A * _B / (tc + _B) ** 2
-
-
-def specific_humidity(vapour_pressure, pressure):
-    """Specific humidity q = ε e / (p − (1 − ε) e) [kg kg-1].
-
-    Parameters
-    ----------
-    vapour_pressure : array_like
-        e [Pa].
-    pressure : array_like
-        p [Pa].
-
-    Returns
-    -------
-    ndarray
-        q [kg kg-1].
-
-    Examples
-    --------
-    >>> round(float(specific_humidity(2333.4, 101325.0)), 5)
-    0.01445
-    """
-    e = np.asarray(vapour_pressure, float)
-    return MOLAR_MASS_RATIO * e / (np.asarray(pressure, float) - (1.0 - MOLAR_MASS_RATIO) * e)
 
 
 def latent_heat_of_vaporisation(temperature):
@@ -154,7 +101,7 @@ def vapour_transfer_coefficient(convection_coefficient):
 
 
 def _air_humidity(air_temperature, relative_humidity, pressure):
-    return specific_humidity(np.asarray(relative_humidity, float) * saturation_vapour_pressure(air_temperature), pressure)
+    return _q(np.asarray(relative_humidity, float) * saturation_vapour_pressure(air_temperature), pressure)
 
 
 def evaporative_flux(moisture_availability, convection_coefficient, surface_temperature, air_temperature, relative_humidity, pressure):
@@ -184,7 +131,7 @@ def evaporative_flux(moisture_availability, convection_coefficient, surface_temp
     -258.9
     """
     ts = np.asarray(surface_temperature, float)
-    q_surface = specific_humidity(saturation_vapour_pressure(ts), pressure)
+    q_surface = _q(saturation_vapour_pressure(ts), pressure)
     q_air = _air_humidity(air_temperature, relative_humidity, pressure)
     k = np.asarray(moisture_availability, float) * latent_heat_of_vaporisation(ts) * vapour_transfer_coefficient(convection_coefficient)
     return -k * (q_surface - q_air)
@@ -214,8 +161,8 @@ def linearised_evaporative_flux(moisture_availability, convection_coefficient, p
     tp = np.asarray(previous_temperature, float)
     p = np.asarray(pressure, float)
     e_sat = saturation_vapour_pressure(tp)
-    q_sat = specific_humidity(e_sat, p)
-    dq = MOLAR_MASS_RATIO * p / (p - (1.0 - MOLAR_MASS_RATIO) * e_sat) ** 2 * saturation_vapour_pressure_derivative(tp)
+    q_sat = _q(e_sat, p)
+    dq = EPSILON * p / (p - (1.0 - EPSILON) * e_sat) ** 2 * saturation_vapour_pressure_derivative(tp)
     k = np.asarray(moisture_availability, float) * latent_heat_of_vaporisation(tp) * vapour_transfer_coefficient(convection_coefficient)
     slope = k * dq
     constant = slope * tp - k * (q_sat - _air_humidity(air_temperature, relative_humidity, pressure))

@@ -26,6 +26,8 @@ from radscene.errors import ConfigError
 
 __all__ = [
     "EPSILON",
+    "saturation_vapour_pressure_derivative",
+    "specific_humidity_of_vapour_pressure",
     "dew_point_to_relative_humidity",
     "relative_humidity_to_dew_point",
     "saturation_vapour_pressure",
@@ -91,6 +93,31 @@ def saturation_vapour_pressure(temperature):
     """
     t = _temperature(temperature, "temperature") - _ZERO_CELSIUS
     return _MAGNUS_E0 * np.exp(_MAGNUS_A * t / (t + _MAGNUS_B))
+
+
+def saturation_vapour_pressure_derivative(temperature):
+    """d e_s / dT = e_s · A B / (t + B)² [Pa K-1] of :func:`saturation_vapour_pressure`.
+
+    Examples
+    --------
+    >>> round(float(saturation_vapour_pressure_derivative(293.15)), 2)
+    144.46
+    """
+    t = _temperature(temperature, "temperature") - _ZERO_CELSIUS
+    return saturation_vapour_pressure(temperature) * _MAGNUS_A * _MAGNUS_B / (t + _MAGNUS_B) ** 2
+
+
+def specific_humidity_of_vapour_pressure(vapour_pressure, pressure):
+    """Specific humidity q = ε e / (p − (1 − ε) e) [kg kg-1] of a vapour pressure e [Pa] at a
+    pressure p [Pa] (Wallace & Hobbs 2006, ch. 3), unchecked (for inner loops).
+
+    Examples
+    --------
+    >>> round(float(specific_humidity_of_vapour_pressure(2333.4, 101325.0)), 5)
+    0.01445
+    """
+    e = np.asarray(vapour_pressure, float)
+    return EPSILON * e / (np.asarray(pressure, float) - (1.0 - EPSILON) * e)
 
 
 def vapour_pressure(temperature, relative_humidity):
@@ -225,4 +252,4 @@ def specific_humidity(temperature, relative_humidity, pressure):
     p = np.asarray(pressure, float)
     if np.any(p <= e):
         raise ConfigError("must be > 0 Pa and above the water vapour pressure", key="pressure")
-    return EPSILON * e / (p - (1.0 - EPSILON) * e)
+    return specific_humidity_of_vapour_pressure(e, p)
