@@ -41,7 +41,12 @@ back-substitution fused per element. ``HeatBalance(..., compiled=False)`` runs t
 
 Spin-up repeats the forcing of the first day (the samples from ``time[0]`` to
 ``time[0] + 1 day``) until the surface temperatures at the same times of day change by less
-than a tolerance from one day to the next, then runs the whole forcing from that state.
+than a tolerance from one day to the next, then runs the whole forcing from that state. After
+the first day every node of an element is set to that day's mean surface temperature: in the
+periodic state the daily mean temperature is the same at every depth when no heat leaves
+through the bottom (zero mean flux at every depth), so this removes the slow transient of the
+deep nodes (a road and a roof from the air's mean: 4 days to 0.05 K instead of 10, 10 to
+0.01 K instead of 21; tests/unit/test_thermal_balance.py).
 
 References
 ----------
@@ -307,6 +312,9 @@ class HeatBalance:
             out["q_env"] = environment_longwave(self.exchange, self.emissivity, self._es * previous**4, sky, self.exchange_reflections) + environment_shortwave(
                 self.exchange, self.absorptance, irradiance, self.exchange_reflections
             )
+        if f["has_environment"]:
+            fixed = self.emissivity * f["environment_irradiance"][k]
+            out["q_env"] = fixed if out["q_env"] is None else out["q_env"] + fixed
         internal = f["internal_flux"][k] if f["has_internal"] else None
         if f["air_speed"] is not None:
             speed = f["air_speed"][k]
@@ -490,6 +498,11 @@ class HeatBalance:
                 for k in range(1, end + 1):
                     self._step(state, f, k, time[k] - time[k - 1], out=record[k - 1])
                 days += 1
+                if days == 1:
+                    # the periodic state's daily mean is the same at every depth when no heat
+                    # leaves through the bottom: start every node from the first day's mean
+                    # surface temperature, which removes the slow transient of the deep nodes
+                    state[...] = self._internal(self._initial(record.mean(axis=0), f))
                 if previous is not None:
                     change = float(np.max(np.abs(record - previous)))
                     if change < spin_up_tolerance:

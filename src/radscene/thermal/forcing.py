@@ -75,6 +75,10 @@ class ThermalForcing:
         airborne, the wind correlation applies); default none airborne. It replaces the wind
         correlation by the turbulent flat-plate coefficient and convection to the recovery
         temperature (``thermal.aerodynamic``).
+    environment_irradiance : array_like, optional
+        Long-wave irradiance on the element from surfaces that are not in the balance (objects
+        of fixed temperature: Σ_f F_if ε_f σ T_f⁴) [W m-2], absorbed with the element's
+        emissivity and counted in Q_env; default 0.
     """
 
     time: np.ndarray
@@ -90,6 +94,7 @@ class ThermalForcing:
     pressure: np.ndarray | None = None
     internal_flux: np.ndarray = 0.0
     air_speed: np.ndarray | None = None
+    environment_irradiance: np.ndarray = 0.0
 
     def checked(self, n_elements):
         """Validated arrays broadcast to (n_times, n_elements), as a dict (views, no copies).
@@ -126,6 +131,10 @@ class ThermalForcing:
         value, out["internal_flux"] = _broadcast(self.internal_flux, "internal_flux", shape)
         if not np.all(np.isfinite(value)):
             raise ConfigError("must be finite", key="forcing.internal_flux")
+        value, out["environment_irradiance"] = _broadcast(self.environment_irradiance, "environment_irradiance", shape)
+        if not np.all(np.isfinite(value) & (value >= 0)):
+            raise ConfigError("must be finite and >= 0 W m-2", key="forcing.environment_irradiance")
+        out["has_environment"] = bool(np.any(value != 0.0))
         out["air_speed"] = None
         if self.air_speed is not None:
             value, out["air_speed"] = _broadcast(self.air_speed, "air_speed", shape)
