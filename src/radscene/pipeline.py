@@ -142,6 +142,48 @@ def _optics(scene, used, stacks, table):
     return np.array(alpha), np.array(eps)
 
 
+def _sources(scene, elements, used, stacks, index):
+    """Moisture availability, internal flux, airspeed and length per element from the stacks and
+    the scene file's ``thermal.materials`` and ``thermal.objects``."""
+    spec = scene.spec.thermal
+    beta, flux = [], []
+    for m, stack in zip(used, stacks, strict=True):
+        override = spec.materials.get(scene.material_names[m])
+        given = None if override is None else override.moisture_availability
+        beta.append(given if given is not None else float(getattr(stack, "moisture_availability", 0.0) or 0.0))
+        flux.append(0.0 if override is None else override.internal_flux)
+    internal = np.array(flux)[index]
+    speed = np.full(elements.size, np.nan)
+    length = np.ones(elements.size)
+    for k, obj in enumerate(scene.objects):
+        settings = spec.objects.get(obj.name)
+        if settings is None:
+            continue
+        mine = elements.object == k
+        area = float(elements.area[mine].sum())
+        internal[mine] += settings.internal_flux + (settings.internal_power / area if area > 0 else 0.0)
+        if settings.air_speed > 0:
+            speed[mine] = settings.air_speed
+            length[mine] = settings.length
+    return {"moisture_availability": np.array(beta)[index], "internal_flux": internal, "air_speed": speed,
+            "characteristic_length": length}
+
+
+def _fixed_exitance(scene, elements):
+    """ε σ T⁴ of every face that keeps a fixed temperature (0 on solved faces) [W m-2]."""
+    from radscene.materials.thermal import longwave_emissivity
+    from radscene.thermal.radiation import SIGMA
+
+    temperature = np.concatenate([o.face_temperature for o in scene.objects])
+    material = np.concatenate([o.face_material for o in scene.objects])
+    fixed = elements.face_element < 0
+    out = np.zeros(temperature.size)
+    for m in np.unique(material[fixed]):
+        sel = fixed & (material == m)
+        out[sel] = longwave_emissivity(scene.materials[m]) * SIGMA * temperature[sel] ** 4
+    return out
+
+
 def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> xr.Dataset:
     """The heat balance of every surface of a scene without a fixed temperature.
 
@@ -196,13 +238,15 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     alpha, eps = _optics(scene, used, stacks, (table.wavelength, table.spectrum.mean(axis=0)))
     options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval, spin_up=spec.spin_up,
                              spin_up_tolerance=spec.spin_up_tolerance, hemisphere_samples=spec.hemisphere_samples,
-                             nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed)
+                             nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed,
+                             lateral=spec.lateral, exchange_reflections=spec.exchange_reflections)
     tracer = RayTracer(meshes)
-    fixed = np.concatenate([o.face_temperature for o in scene.objects])
-    ds = solve_elements(tracer, elements, stacks, stack_index.ravel(), times,
+    index = stack_index.ravel()
+    sources = _sources(scene, elements, used, stacks, index)
+    ds = solve_elements(tracer, elements, stacks, index, times,
                         (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,
-                        absorptance=alpha[stack_index.ravel()], emissivity=eps[stack_index.ravel()],
-                        fixed_face_temperature=fixed, options=options,
+                        absorptance=alpha[index], emissivity=eps[index],
+                        fixed_face_exitance=_fixed_exitance(scene, elements), meshes=meshes, options=options, **sources,
                         names={"material": scene.material_names, "object": names}, sun_override=override,
                         progress=progress)
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})

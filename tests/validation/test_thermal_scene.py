@@ -50,6 +50,12 @@ def test_cool_patch_trails_the_shadow(solved):
     # the patch that left the shadow is warming but still well below the cells lit all along
     assert t_shade + 1.0 < t_emerged < t_sunny - 2.0
     assert ds.attrs["spin_up_days"] >= 2
+    # every term of the balance is there, and the energy closes at every step
+    assert {"q_a", "q_sky", "q_env", "q_t", "q_k", "q_v", "q_i", "q_d"} <= set(ds.data_vars)
+    assert float(ds.closure[1:].max()) <= 1e-6
+    # the ground under the block sees only the block (300 K): Q_env keeps it near that
+    under = (np.abs(cells.x) < 2.5) & (np.abs(cells.y) < 2.5)
+    assert np.all(np.abs(cells.surface_temperature.isel(time=-1).values[under] - 300.0) < 5.0)
 
 
 def test_rendered_thermal_image_shows_the_trailing_patch(solved):

@@ -448,6 +448,7 @@ class ThermalObjectSpec(_Model):
     internal_flux: Irradiance = Field(0.0, description="W m-2 over the object's surface")
     internal_power: Power = Field(0.0, description="W spread over the object's surface")
     air_speed: Speed = Field(0.0, description="speed through the air, for aerodynamic heating")
+    length: PositiveLength = Field(1.0, description="length along the airflow, for the airspeed's convection")
 
 
 class ThermalSpec(_Model):
@@ -465,6 +466,8 @@ class ThermalSpec(_Model):
     hemisphere_samples: Annotated[int, Field(ge=1, le=4096)] = 64
     nodes: Annotated[int, Field(ge=3, le=200)] = 20
     convection: str = "mcadams"
+    lateral: bool = Field(False, description="lateral conduction between neighbouring elements")
+    exchange_reflections: Annotated[int, Field(ge=0, le=100)] = 1
     weather: WeatherSpec = WeatherSpec()
     materials: dict[str, ThermalMaterialSpec] = Field(default_factory=dict)
     objects: dict[str, ThermalObjectSpec] = Field(default_factory=dict)

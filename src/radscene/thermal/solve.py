@@ -51,6 +51,10 @@ class ThermalOptions:
     convection : str
         Wind correlation (``thermal.convection.CONVECTION_MODELS``).
     seed : int
+    lateral : bool
+        Lateral conduction between neighbouring elements (``thermal.lateral``).
+    exchange_reflections : int
+        Reflections followed in Q_env.
     """
 
     step: float = 600.0
@@ -62,6 +66,8 @@ class ThermalOptions:
     nodes: int = 20
     convection: str = "mcadams"
     seed: int = 0
+    lateral: bool = False
+    exchange_reflections: int = 1
 
 
 def time_axis(start, end, step):
@@ -117,7 +123,8 @@ def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
 
 
 def solve_elements(tracer, elements, stacks, stack_index, times, location, atmosphere, weather,
-                   *, absorptance=None, emissivity=None, fixed_face_temperature=None,
+                   *, absorptance=None, emissivity=None, fixed_face_exitance=None, moisture_availability=None,
+                   internal_flux=0.0, air_speed=None, characteristic_length=1.0, meshes=None,
                    options=ThermalOptions(), names=None, sun_override=None, progress=None):
     """Surface temperatures and flux terms of every element at every time.
 
@@ -142,9 +149,19 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         ``longwave_down`` [W m-2] (:class:`radscene.thermal.weather.WeatherSeries`).
     absorptance, emissivity : ndarray, (n_elements,), optional
         Broadband solar absorptance and long-wave emissivity [-]; default the stacks'.
-    fixed_face_temperature : ndarray, (n_faces,), optional
-        Temperatures of faces that are not solved [K] (their long-wave reaches the elements
-        that see them).
+    fixed_face_exitance : ndarray, (n_faces,), optional
+        ε σ T⁴ of the faces that are not solved [W m-2] (their long-wave reaches the elements
+        that see them, in Q_env).
+    moisture_availability : ndarray, (n_elements,), optional
+        β of Q_v [-]; default 0.
+    internal_flux : ndarray, (n_elements,) or scalar, optional
+        Q_i of internal sources [W m-2].
+    air_speed : ndarray, (n_elements,), optional
+        Speed through the air of airborne elements [m s-1], NaN elsewhere.
+    characteristic_length : ndarray or float, optional
+        Length along the airflow of airborne elements [m].
+    meshes : sequence of Mesh, optional
+        The scene's meshes (needed with ``options.lateral``).
     options : ThermalOptions
     names : dict, optional
         ``{"material": [...], "object": [...]}``: names for the output's coordinates.
@@ -201,8 +218,18 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     lit = _shadow_history(tracer, elements, times, sun_dir, options.shadow_interval, progress)
     cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
 
+    lateral = _lateral(elements, stacks, np.asarray(stack_index), meshes) if options.lateral else None
     balance = HeatBalance(stacks, np.asarray(stack_index), absorptance=absorptance, emissivity=emissivity,
-                          n_nodes=options.nodes, convection=options.convection)
+                          n_nodes=options.nodes, convection=options.convection, exchange=hemisphere.exchange,
+                          exchange_reflections=options.exchange_reflections,
+                          moisture_availability=moisture_availability, characteristic_length=characteristic_length,
+                          lateral=lateral, area=elements.area if lateral is not None else None)
+    environment = 0.0
+    if fixed_face_exitance is not None and hemisphere.fixed.nnz:
+        environment = hemisphere.fixed @ np.asarray(fixed_face_exitance, float)
+    speed = None
+    if air_speed is not None and np.any(np.isfinite(air_speed)):
+        speed = np.asarray(air_speed, float)
     col = (slice(None), None)
     forcing = ThermalForcing(
         time=_seconds(times),
@@ -214,12 +241,47 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         wind_speed=np.asarray(w["wind_speed"], float)[col],
         lit=lit,
         sky_view_fraction=hemisphere.sky_view,
+        relative_humidity=np.asarray(w["relative_humidity"], float)[col],
+        pressure=np.asarray(w["pressure"], float)[col],
+        internal_flux=internal_flux,
+        air_speed=speed,
+        environment_irradiance=environment,
     )
     spin = options.spin_up and _seconds(times)[-1] >= DAY - 1e-6
     result = balance.run(forcing, spin_up=spin, spin_up_tolerance=options.spin_up_tolerance,
-                         max_spin_up_days=options.max_spin_up_days)
+                         max_spin_up_days=options.max_spin_up_days, record_terms=True)
     return _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i,
                     balance, names, spin)
+
+
+def _lateral(elements, stacks, stack_index, meshes):
+    """Lateral conductances between elements that share edges: k and t of each element's top
+    layer (a semi-infinite top layer conducts over its diurnal penetration depth)."""
+    import trimesh
+    from scipy import sparse
+
+    from radscene.thermal.conduction import penetration_depth
+    from radscene.thermal.lateral import mesh_conductance
+
+    if meshes is None:
+        raise ConfigError("lateral conduction needs the scene's meshes", key="thermal.lateral")
+    top = [st.layers[0] for st in stacks]
+    k = np.array([layer.conductivity for layer in top])[stack_index]
+    t = np.array([layer.thickness if layer.thickness is not None else
+                  penetration_depth(layer.conductivity, layer.density, layer.specific_heat) for layer in top])[stack_index]
+    total = sparse.csr_array((elements.size, elements.size))
+    offset = 0
+    for mesh in meshes:
+        n = len(mesh.faces)
+        fe = elements.face_element[offset:offset + n]
+        offset += n
+        solved = fe >= 0
+        if solved.sum() < 2:
+            continue
+        merged = trimesh.Trimesh(mesh.vertices, mesh.faces[solved], process=False)
+        merged.merge_vertices()
+        total = total + mesh_conductance(merged.vertices, merged.faces, fe[solved], k, t, n_elements=elements.size)
+    return total.tocsr()
 
 
 def _cloudy_shortwave(direct, diffuse, cloud, zenith):
@@ -253,17 +315,9 @@ def _cloudy_longwave(clear, air, humidity, cloud):
 
 def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i, balance,
              names, spin):
-    from radscene.thermal.radiation import SIGMA
-
     t_s = result.surface_temperature
     eps, alpha = balance.emissivity, balance.absorptance
-    q_a = alpha * (direct[:, None] * np.maximum(cos_i, 0.0) * lit + diffuse[:, None] * hemisphere.sky_view)
-    q_sky = eps * longwave[:, None] * hemisphere.sky_view
-    q_t = -eps * SIGMA * t_s**4
-    terms = dict(getattr(result, "terms", None) or {})
-    terms.setdefault("q_a", q_a)
-    terms.setdefault("q_sky", q_sky)
-    terms.setdefault("q_t", q_t)
+    terms = dict(result.terms)
     el = ("element",)
     material = np.asarray(names["material"])[elements.material] if names else elements.material
     obj = np.asarray(names["object"])[elements.object] if names else elements.object
@@ -283,7 +337,7 @@ def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave
     }
     long_names = {"q_a": "absorbed short-wave", "q_sky": "absorbed sky long-wave", "q_env": "exchange with the scene",
                   "q_t": "emitted long-wave", "q_k": "convection", "q_v": "evaporation", "q_i": "internal sources",
-                  "q_d": "conduction into the stack"}
+                  "q_lat": "lateral conduction from the neighbours", "q_d": "conduction into the stack"}
     for name, value in terms.items():
         data[name] = (("time", "element"), np.asarray(value, np.float32),
                       {"units": "W m-2", "long_name": long_names.get(name, name) + " (into the surface positive)"})
@@ -299,6 +353,9 @@ def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave
         "material": (el, np.asarray(material).astype(str)),
         "object": (el, np.asarray(obj).astype(str)),
     }
+    data["closure"] = (("time",), np.asarray(result.closure, float), {
+        "units": "1", "long_name": "energy closure of the step: |sum of terms x dt - change of heat content| "
+        "/ (sum of |terms| x dt)"})
     ds = xr.Dataset(data, coords=coords)
     ds.attrs.update({
         "spin_up_days": int(result.spin_up_days),
