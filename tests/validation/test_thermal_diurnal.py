@@ -100,9 +100,9 @@ SITES = {
     "davis": Site(
         "davis", 38.54, -121.76, 16.0, "2012-07-01", -7.0, "asphalt",
         {"t_min": "14 degC", "t_max": "34 degC", "relative_humidity": 0.35, "wind_speed": 2.0},
-        "ASSUMED: a clear Davis July day (the source gives no weather); the compared contrast is "
-        "11.1 K at t_min/t_max 14/34 and 12/30 degC alike, but 13.2 K at 1 m/s and 8.3 K at 4 m/s "
-        "of wind (McAdams; Watmuff: 13.7, 16.1 and 10.4 K)",
+        "ASSUMED: a clear Davis July day (the source gives no weather); the compared contrast does "
+        "not move between t_min/t_max 14/34 and 12/30 degC but is about 2 K larger at 1 m/s and "
+        "3 K smaller at 4 m/s of wind, with either convection model",
         patches=(("slab", "concrete", (4.0, 4.0, 0.05), (0.0, 0.0)),),
         materials={"asphalt": {"solar_absorptance": 0.92}, "concrete": {"solar_absorptance": 0.72}}),
 }
@@ -145,12 +145,14 @@ class Published:
 #: 0.3 K of its maximum from 11:30 to 14:00), the clear days' peak times spread by 0.75 h, the
 #: data are half-hourly, and the clock of the Gothenburg parameterisation is not stated.
 DT, DH = 4.0, 1.5
-NO_EVAPORATION = ("radscene has no evaporation (Q_v) yet: the meadow's latent heat flux peaked at "
-                  "420 W m-2 on these days, and the grass is solved as the bare surface of its soil "
-                  "stack (no leaf layer, canopy heat capacity unused)")
+NO_EVAPORATION = ("scenes solve without evaporation: the balance has Q_v and grass_canopy a moisture "
+                  "availability of 0.57, but solve_thermal does not pass it on yet; the meadow's "
+                  "latent heat flux peaked at 420 W m-2 on these days; and the grass is solved as "
+                  "the bare top of its soil stack (no leaf layer, canopy heat capacity unused)")
 LAWN_NO_EVAPORATION = ("a lawn's transpiration keeps it within a few K of the air (the scheme's 7.9 K "
-                       "excess); radscene has no evaporation (Q_v) yet and solves the grass as the "
-                       "bare top of its soil stack")
+                       "excess); scenes solve without evaporation (solve_thermal does not pass the "
+                       "materials' moisture availability to Q_v yet) and the grass is the bare top "
+                       "of its soil stack")
 NO_CANOPY_NIGHT = ("the grass is solved as the top of a clay/silt stack (admittance of moist "
                    "ground): the soil's stored heat keeps it warm at night, where a leaf layer "
                    "insulated from the soil cools radiatively below the air")
