@@ -60,3 +60,48 @@ def test_thermal_bad_input_exits_2_and_writes_nothing(scene_file, tmp_path, args
     assert result.exit_code == 2
     assert message in result.output
     assert not out.exists()
+
+
+def _write(tmp_path, changes):
+    import copy
+
+    scene = copy.deepcopy(_SCENE)
+    scene["thermal"].update(changes)
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    return path
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"materials": {"painted_metal": {"layers": [{"thickness": 0.001, "conductivity": 0.0, "density": 7800,
+                                                  "specific_heat": 450}]}}}, "conductivity"),
+    ({"materials": {"painted_metal": {"layers": [{"thickness": 0.001, "conductivity": 50, "density": -1,
+                                                  "specific_heat": 450}]}}}, "density"),
+    ({"materials": {"painted_metal": {"layers": [{"thickness": 0.0, "conductivity": 50, "density": 7800,
+                                                  "specific_heat": 450}]}}}, "thickness"),
+    ({"materials": {"paint": {"solar_absorptance": 0.5}}}, "thermal.materials.paint"),
+    ({"objects": {"lorry": {"internal_power": "1 kW"}}}, "thermal.objects.lorry"),
+    ({"step": "-5 min"}, "thermal.step"),
+])
+def test_thermal_bad_scene_exits_2_naming_the_key(tmp_path, changes, message):
+    out = tmp_path / "bad.nc"
+    result = runner.invoke(app, ["thermal", str(_write(tmp_path, changes)), "-o", str(out)])
+    assert result.exit_code == 2, result.output
+    assert message in result.output
+    assert not out.exists()
+
+
+def test_thermal_weather_file_with_a_gap_exits_2_naming_the_row(tmp_path):
+    rows = ["# latitude: 35.0", "# longitude: 0.0",
+            "time [UTC],air_temperature [degC],relative_humidity [%],wind_speed [m/s],cloud_cover [%],pressure [hPa]"]
+    for hour in range(30):  # hourly from 2026-06-20T00:00, the air temperature missing at 12:00
+        day, hh = divmod(hour, 24)
+        value = "" if hour == 12 else "20"
+        rows.append(f"2026-06-{20 + day}T{hh:02d}:00,{value},50,2,0,1013")
+    (tmp_path / "site.csv").write_text("\n".join(rows) + "\n")
+    path = _write(tmp_path, {"weather": {"file": "site.csv"}})
+    out = tmp_path / "bad.nc"
+    result = runner.invoke(app, ["thermal", str(path), "-o", str(out)])
+    assert result.exit_code == 2, result.output
+    assert "site.csv" in result.output and "line 16" in result.output
+    assert not out.exists()
