@@ -274,7 +274,8 @@ def apply_thermal(scene, solution=None, time=None):
     if solution is None:
         solution = scene.render_cache.get("thermal")
         if solution is None:
-            solution = scene.render_cache["thermal"] = solve_thermal(scene)
+            solution = solve_thermal(scene)
+    scene.render_cache["thermal"] = solution
     elements = scene.render_cache.get("thermal_elements")
     if elements is None:
         raise ConfigError("the solution's elements are not known: solve it with solve_thermal(scene)", key="thermal")

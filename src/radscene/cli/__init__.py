@@ -106,6 +106,17 @@ def render(
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                       TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
                       TimeRemainingColumn(), console=err_console, transient=False) as bar:
+            from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
+
+            if thermal_active(scene):  # the heat balance first, with its own progress
+                stages = {}
+
+                def thermal_progress(stage, done, total):
+                    if stage not in stages:
+                        stages[stage] = bar.add_task(f"heat balance: {stage}", total=total)
+                    bar.update(stages[stage], completed=done, total=total)
+
+                apply_thermal(scene, solve_thermal(scene, progress=thermal_progress))
             for name in names:
                 task = bar.add_task(f"render {name}", total=1)
 

@@ -450,7 +450,8 @@ class HeatBalance:
                 )
         return f
 
-    def run(self, forcing, initial_temperature=None, spin_up=False, spin_up_tolerance=0.01, max_spin_up_days=30, record_terms=False):
+    def run(self, forcing, initial_temperature=None, spin_up=False, spin_up_tolerance=0.01, max_spin_up_days=30, record_terms=False,
+            progress=None):
         """Advance every element through the forcing.
 
         Parameters
@@ -468,6 +469,9 @@ class HeatBalance:
         record_terms : bool, optional
             Fill ``ThermalResult.terms`` and ``closure`` (memory: 9 arrays of
             (n_times, n_elements)).
+        progress : callable(stage, done, total), optional
+            Called after each spin-up day (``"spin-up days"``, out of ``max_spin_up_days``)
+            and every 20 steps of the run (``"steps"``).
 
         Returns
         -------
@@ -498,6 +502,8 @@ class HeatBalance:
                 for k in range(1, end + 1):
                     self._step(state, f, k, time[k] - time[k - 1], out=record[k - 1])
                 days += 1
+                if progress is not None:
+                    progress("spin-up days", days, max_spin_up_days)
                 if days == 1:
                     # the periodic state's daily mean is the same at every depth when no heat
                     # leaves through the bottom: start every node from the first day's mean
@@ -521,6 +527,8 @@ class HeatBalance:
         surface[0] = self._external(state[0])
         for k in range(1, time.size):
             self._step(state, f, k, time[k] - time[k - 1], recorder, out=surface[k])
+            if progress is not None and (k % 20 == 0 or k == time.size - 1):
+                progress("steps", k, time.size - 1)
         return ThermalResult(
             time=time,
             surface_temperature=surface,

@@ -249,7 +249,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     )
     spin = options.spin_up and _seconds(times)[-1] >= DAY - 1e-6
     result = balance.run(forcing, spin_up=spin, spin_up_tolerance=options.spin_up_tolerance,
-                         max_spin_up_days=options.max_spin_up_days, record_terms=True)
+                         max_spin_up_days=options.max_spin_up_days, record_terms=True, progress=progress)
     return _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i,
                     balance, names, spin)
 
