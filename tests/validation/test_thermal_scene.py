@@ -72,3 +72,20 @@ def test_rendered_thermal_image_shows_the_trailing_patch(solved):
     t, b = truth.values[seen], bt.values[seen]
     hot, cold = t >= np.percentile(t, 80), t <= np.percentile(t, 5)
     assert b[hot].mean() - b[cold].mean() > 0.7 * (t[hot].mean() - t[cold].mean())
+
+
+@pytest.mark.slow  # about 60 s: the coupled surface solve of lateral conduction at every step
+def test_lateral_conduction_softens_the_shadow_edge():
+    """With lateral conduction (thermal.lateral) heat flows from the sunlit asphalt into the
+    shaded cells beside it: the shade's edge warms, the sun's edge cools, the far field stays."""
+    scene = load_scene({**_SCENE, "thermal": {**_SCENE["thermal"], "lateral": True}}, base_dir=".")
+    with_lateral = radscene.solve_thermal(scene)
+    without = radscene.solve_thermal(load_scene(_SCENE, base_dir="."))
+    assert "q_lat" in with_lateral.data_vars and float(with_lateral.closure[1:].max()) <= 1e-6
+    a = with_lateral.where(with_lateral.object == "terrain", drop=True).isel(time=-1)
+    b = without.where(without.object == "terrain", drop=True).isel(time=-1)
+    diff = a.surface_temperature.values - b.surface_temperature.values
+    shade = b.sunlit.values < 0.01
+    far = np.hypot(b.x.values, b.y.values) > 25.0
+    assert diff[shade & ~far].max() > 0.05  # some shaded cell next to the sun gains
+    assert np.abs(diff[far & ~shade]).max() < 0.05
