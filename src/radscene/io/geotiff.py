@@ -26,13 +26,12 @@ Example::
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from radscene.errors import ConfigError
+from radscene.io.files import atomic_output
 
 __all__ = ["write_geotiff", "write_geotiff_gcps", "read_geotiff", "RESAMPLING"]
 
@@ -84,15 +83,8 @@ def _prepare(data, x, y):
 
 def _atomic(path, write):
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tif", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_output(path, suffix=".tif") as tmp:
         write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 

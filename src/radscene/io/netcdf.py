@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
+
+from radscene.io.files import atomic_output
 
 __all__ = ["write_netcdf", "read_netcdf"]
 
@@ -45,15 +46,8 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, compress: bool = True)
         The written file.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
+    with atomic_output(path) as tmp:
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=_encoding(ds, compress))
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
     return path
 
 
