@@ -74,6 +74,19 @@ def test_single_scattering_reflectance_thin_limit_and_top():
     assert 0.0 < part < full
 
 
+def test_single_scattering_below_an_observer_weighs_the_layers_own_mixture():
+    # thin layer: rho = (f_R tau_R P_R + f_A omega tau_A P_A) / (4 mu_s mu_v), the phase
+    # function of what lies below the observer, not of the whole column
+    tau_r, tau_a, om, pr, pa, f_r, f_a = 2e-6, 3e-6, 0.9, 1.2, 0.3, 0.3, 0.8
+    mu_s, mu_v = np.cos(np.radians(30.0)), np.cos(np.radians(45.0))
+    got = m.single_scattering_reflectance(30.0, 45.0, pr, pa, tau_r, tau_a, om, f_r, f_a)
+    want = (f_r * tau_r * pr + f_a * om * tau_a * pa) / (4 * mu_s * mu_v)
+    assert got == pytest.approx(want, rel=1e-5)
+    # at the top of the atmosphere the layer is the column
+    top = m.single_scattering_reflectance(30.0, 45.0, pr, pa, tau_r, tau_a, om, 1.0, 1.0)
+    assert top == pytest.approx((tau_r * pr + om * tau_a * pa) / (4 * mu_s * mu_v), rel=1e-5)
+
+
 def test_single_scattering_sky_matches_a_numerical_layer_integral():
     # L(mu) = E0/(4 pi mu) ∫0^τ ω P e^{-t/μs} e^{-(τ-t)/μ} dt, integrated independently
     e0, tau_r, tau_a, om, pr, pa = 1800.0, 0.1, 0.3, 0.9, 1.1, 0.4

@@ -405,9 +405,10 @@ def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase
                                   fraction_rayleigh=1.0, fraction_aerosol=1.0):
     r"""Singly scattered path reflectance of a plane-parallel atmosphere over a black surface.
 
-    The layer between the target and an observer holds the fractions ``fraction_rayleigh`` and
-    ``fraction_aerosol`` of the column's optical depths τ_R, τ_A; sunlight reaches it through
-    the rest of the column. With P̄ = (τ_R P_R + ω_A τ_A P_A) / τ, τ_l the layer's optical depth
+    The layer between the target and an observer holds the fractions f_R = ``fraction_rayleigh``
+    and f_A = ``fraction_aerosol`` of the column's optical depths τ_R, τ_A; sunlight reaches it
+    through the rest of the column. With τ_l = f_R τ_R + f_A τ_A the layer's optical depth,
+    P̄ = (f_R τ_R P_R + f_A ω_A τ_A P_A) / τ_l the phase function of the layer's own mixture
     and m = 1/μ_s + 1/μ_v:
 
     .. math::
@@ -417,7 +418,13 @@ def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase
 
     (Chandrasekhar 1960; at the top of the atmosphere the classic single-scattering
     reflectance). The database divides 6S's path reflectance by it before interpolating, so
-    that only the smooth multiple-scattering factor is interpolated between angles.
+    that only the smooth multiple-scattering factor is interpolated between angles and
+    observer heights. The layer's mixture matters there: the aerosol (scale height 2 km) lies
+    lower than the molecules (8 km), so below an aircraft it scatters a larger share than in
+    the column. With the column's P̄ in its place the factor was not linear between the
+    database's aircraft nodes 1 and 4 km: its path reflectance 3 km up (all else on nodes)
+    came out 0.8-2.4 % above 6S at 0.44-0.67 um (continental and maritime, AOT550 0.1-0.3),
+    with the layer's mixture -0.8 to +0.1 %.
 
     Parameters
     ----------
@@ -438,10 +445,12 @@ def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase
     mu_s = np.cos(np.radians(np.asarray(sun_zenith, dtype=float)))
     mu_v = np.cos(np.radians(np.asarray(view_zenith, dtype=float)))
     tau = tau_rayleigh + tau_aerosol
-    tau_l = tau_rayleigh * fraction_rayleigh + tau_aerosol * fraction_aerosol
-    source = (tau_rayleigh * phase_rayleigh + omega_aerosol * tau_aerosol * phase_aerosol)
+    tau_r_l = tau_rayleigh * fraction_rayleigh
+    tau_a_l = tau_aerosol * fraction_aerosol
+    tau_l = tau_r_l + tau_a_l
+    source = tau_r_l * phase_rayleigh + omega_aerosol * tau_a_l * phase_aerosol
     with np.errstate(divide="ignore", invalid="ignore"):
-        pbar = np.where(tau > 0, source / np.where(tau > 0, tau, 1.0), 0.0)
+        pbar = np.where(tau_l > 0, source / np.where(tau_l > 0, tau_l, 1.0), 0.0)
     m = 1.0 / mu_s + 1.0 / mu_v
     return (pbar * np.exp(-(tau - tau_l) / mu_s) * -np.expm1(-tau_l * m)
             / (4.0 * (mu_s + mu_v)))
