@@ -87,6 +87,16 @@ def test_single_scattering_below_an_observer_weighs_the_layers_own_mixture():
     assert top == pytest.approx((tau_r * pr + om * tau_a * pa) / (4 * mu_s * mu_v), rel=1e-5)
 
 
+def test_layer_share_is_one_at_the_top_zero_at_the_ground_and_the_isotropic_ratio_between():
+    args = (30.0, 45.0, 0.2, 0.3)
+    assert m.layer_share(*args, 1.0, 1.0) == pytest.approx(1.0, rel=1e-12)
+    assert m.layer_share(*args, 0.0, 0.0) == 0.0
+    part = m.layer_share(*args, 0.4, 0.8)
+    iso = m.single_scattering_reflectance(30.0, 45.0, 1.0, 1.0, 0.2, 0.3, 1.0, 0.4, 0.8)
+    top = m.single_scattering_reflectance(30.0, 45.0, 1.0, 1.0, 0.2, 0.3, 1.0)
+    assert part == pytest.approx(iso / top, rel=1e-12)
+
+
 def test_single_scattering_sky_matches_a_numerical_layer_integral():
     # L(mu) = E0/(4 pi mu) ∫0^τ ω P e^{-t/μs} e^{-(τ-t)/μ} dt, integrated independently
     e0, tau_r, tau_a, om, pr, pa = 1800.0, 0.1, 0.3, 0.9, 1.1, 0.4

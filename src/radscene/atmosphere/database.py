@@ -36,7 +36,10 @@ _gas`): a column f times the profile's absorbs along airmass m as the profile's 
 Between nodes the database
 interpolates only smooth factors: the path reflectance divided by its single-scattering value
 ρ_ss (:func:`~radscene.atmosphere.sixs_model.single_scattering_reflectance`, with 6S's phase
-functions), which carries the sharp angular and altitude structure analytically; the diffuse
+functions and the mixture of the layer below the observer), which carries the sharp angular
+and altitude structure analytically — where the aerosol is thick, the excess ρ - ρ_ss instead,
+divided by the share of the column's single scattering below the observer
+(:func:`~radscene.atmosphere.sixs_model.layer_share`, 1 at the top); the diffuse
 shares (T - e^{-τ/μ}) / (1 - e^{-τ/μ}) of the total transmittances; linearly in surface
 altitude, in the aerosol fraction below the observer x = 1 - exp(-Δh / 2 km) (6S's aerosol
 profile; x = 1 at the top), in sun and view zenith, by a three-term cosine series in relative
@@ -463,8 +466,14 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                     with np.errstate(divide="ignore", invalid="ignore"):
                         r = np.where(ss > 0, rho[:, ih, ix] / np.where(ss > 0, ss, 1.0), 1.0)
                     out[:, ih, ix] = r
-                    excess[:, ih, ix] = rho[:, ih, ix] - ss
+                    share = model.layer_share(
+                        a["sun_zenith"][:, None, None], a["view_zenith"][None, :, None],
+                        self.t["tau_rayleigh"][:, ih, None, None, None],
+                        self.t["tau_aerosol"][:, ih, None, None, None], float(fr[0]),
+                        float(x[0]))
+                    excess[:, ih, ix] = (rho[:, ih, ix] - ss) / share
                 out[:, ih, 0] = out[:, ih, 1]
+                excess[:, ih, 0] = excess[:, ih, 1]
             self.ratio[key] = out
             self.excess[key] = excess
 
@@ -646,7 +655,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         # the factor interpolated: ρ/ρ_ss where single scattering carries the angular
         # structure (thin aerosol), ρ − ρ_ss where multiple scattering dominates (AOT550 ≳ 0.5;
         # there ρ/ρ_ss swings with the phase function between the nodes): the two blended by
-        # the aerosol optical depth at each wavelength, linearly from 0.25 to 0.75
+        # the aerosol optical depth at each wavelength, linearly from 0.25 to 0.75. The excess
+        # is held over the layer's share of single scattering (1 at the top of the
+        # atmosphere), which carries its growth with observer height: interpolated raw and
+        # linearly in x, it came out 7 % (0.5 km) to 13 % (6 km) above 6S at 0.44 um for the
+        # continental aerosol at AOT550 0.6 with every angle on a node; 3.7 % and 4.4 % now
         blend = np.clip((tau_a_q - _BLEND[0]) / (_BLEND[1] - _BLEND[0]), 0.0, 1.0)  # (λs, N)
         i_s1 = min(i_s + 1, a["sun_zenith"].size - 1)
 
@@ -662,12 +675,15 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
             by_ratio = at_geometry(self.ratio[name])
             by_excess = at_geometry(self.excess[name]) if np.any(blend > 0.0) else None
+            share_q = model.layer_share(sz_eff, np.minimum(vz, 89.0)[None, :], tau_r_q, tau_a_q,
+                                        fr_q[None, :], x_q[None, :])
             total = 0.0
             for phi, w in zip(phis, simpson, strict=True):
                 ss = self._ss(sz_eff, np.minimum(vz, 89.0), phi, tau_r_q, tau_a_q, fr_q, x_q, ray)
                 value = model.azimuth_fourier(phi, *np.moveaxis(by_ratio, -1, 0)) * ss
                 if by_excess is not None:
-                    extra = model.azimuth_fourier(phi, *np.moveaxis(by_excess, -1, 0)) + ss
+                    extra = (model.azimuth_fourier(phi, *np.moveaxis(by_excess, -1, 0))
+                             * share_q + ss)
                     value = value * (1.0 - blend) + extra * blend
                 total = total + w * value
             rho[name] = self._spectral(total.T, wl)  # (N, n)

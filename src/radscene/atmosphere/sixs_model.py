@@ -456,6 +456,25 @@ def single_scattering_reflectance(sun_zenith, view_zenith, phase_rayleigh, phase
             / (4.0 * (mu_s + mu_v)))
 
 
+def layer_share(sun_zenith, view_zenith, tau_rayleigh, tau_aerosol, fraction_rayleigh,
+                fraction_aerosol):
+    r"""The share of the column's single scattering (phase function aside) that an observer
+    inside the atmosphere sees: h(τ_l) / h(τ) with h(t) = e^{-(τ - t)/μ_s} (1 - e^{-t m}),
+    τ_l = f_R τ_R + f_A τ_A the optical depth below the observer, m = 1/μ_s + 1/μ_v
+    (:func:`single_scattering_reflectance` with an isotropic phase function, over its value
+    at the top of the atmosphere). 1 at the top; 0 at the ground.
+    """
+    mu_s = np.cos(np.radians(np.asarray(sun_zenith, dtype=float)))
+    mu_v = np.cos(np.radians(np.asarray(view_zenith, dtype=float)))
+    m = 1.0 / mu_s + 1.0 / mu_v
+    tau = np.asarray(tau_rayleigh, dtype=float) + np.asarray(tau_aerosol, dtype=float)
+    tau_l = tau_rayleigh * fraction_rayleigh + tau_aerosol * fraction_aerosol
+    with np.errstate(divide="ignore", invalid="ignore"):
+        top = -np.expm1(-tau * m)
+        out = np.exp(-(tau - tau_l) / mu_s) * -np.expm1(-tau_l * m) / np.where(top > 0, top, 1.0)
+    return np.where(top > 0, out, 1.0)
+
+
 def single_scattering_grid(sun_zenith, view_zenith, relative_azimuth, angle_nodes,
                            phase_rayleigh, phase_aerosol, tau_rayleigh, tau_aerosol,
                            omega_aerosol, fraction_rayleigh, fraction_aerosol,
