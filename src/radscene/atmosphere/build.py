@@ -702,11 +702,18 @@ class _Builder:
                 ok = np.isfinite(num) & np.isfinite(den) & (den > 0)
                 return np.where(ok, num / np.where(ok, den, 1.0), 1.0)
 
+        def airmass(zenith):
+            return 1.0 / np.cos(np.radians(np.minimum(np.asarray(zenith, dtype=float), 89.0)))
+
         def onto_dense(values, zen_axes):
-            """(λr, coarse...) → (λs, dense...): linear in log λ and in angle (ends held)."""
+            """(λr, coarse...) → (λs, dense...): linear in log λ and in the airmass 1/cos θ
+            (ends held). The ratios to the top change with the slant path: linear in angle
+            between the coarse nodes 60 and 85 deg, an aircraft's path reflectance at the dense
+            node 75 deg came out 10-26 % above 6S at 0.55-0.67 um (4 km, AOT550 0.3 and 1);
+            linear in airmass within 4 % (0.44 um under thick aerosol aside)."""
             out = values
             for axis, dense in zen_axes:
-                idx, f = model.axis_weights(dense, zc)
+                idx, f = model.axis_weights(airmass(dense), airmass(zc))
                 hi = np.minimum(idx + 1, n_c - 1)
                 out = (np.take(out, idx, axis=axis) * _shape(1 - f, axis, out.ndim)
                        + np.take(out, hi, axis=axis) * _shape(f, axis, out.ndim))
