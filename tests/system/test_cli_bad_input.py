@@ -164,3 +164,24 @@ def test_map_products_carry_geolocation_and_a_geotiff(tmp_path):
     assert tif.shape == (2, 4, 4)
     assert float(tif.isel(band=0).mean()) == pytest.approx(float(ds["radiance"].isel(band=0).mean()),
                                                            rel=1e-5)
+
+
+def test_a_camera_below_the_terrain_is_refused(tmp_path):
+    import yaml
+    from typer.testing import CliRunner
+
+    from radscene.cli import app
+
+    scene = {
+        "environment": {"location": {"latitude": 0.0, "longitude": 0.0}, "time": "2026-06-21T12:00:00Z"},
+        "terrain": {"type": "dem", "elevation": [[50.0, 50.0], [50.0, 50.0]], "spacing": [10.0, 10.0],
+                    "temperature": "300 K"},
+        "bands": [{"name": "red", "min": "0.63 um", "max": "0.69 um"}],
+        "observers": [{"name": "cam", "type": "perspective", "position": [5.0, 5.0, 20.0],
+                       "look_at": [5.0, 6.0, 0.0], "shape": [4, 4]}],
+    }
+    path = tmp_path / "below.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    result = CliRunner().invoke(app, ["check", str(path)])
+    assert result.exit_code == 2
+    assert "observers[0].position" in result.output and "30 m below the terrain" in result.output

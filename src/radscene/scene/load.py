@@ -613,6 +613,8 @@ class _Resolver:
         objects.extend(self.objects(hf))
         bands = self.bands()
         observers = self.observers([b.name for b in bands])
+        if hf is not None:
+            _check_above_terrain(spec.observers, hf)
         for m_name, material in zip(self.material_names, self.materials, strict=True):
             lo = min(b.response.support[0] for b in bands)
             hi = max(b.response.support[1] for b in bands)
@@ -641,6 +643,25 @@ class _Resolver:
             source=self.path,
             brdfs=self.brdfs,
         )
+
+
+def _check_above_terrain(observers, hf) -> None:
+    """Refuse a frame camera below the terrain under it, or a map camera below its highest point."""
+    top = float(np.max(hf.elevation))
+    x0, x1, y0, y1 = hf.extent
+    for i, o in enumerate(observers):
+        if o.type == "perspective":
+            x, y, z = o.position
+            if x0 <= x <= x1 and y0 <= y <= y1:
+                ground = float(hf.height_at(x, y))
+                if z <= ground:
+                    raise ConfigError(
+                        f"the camera at z = {z:g} m is {ground - z:.3g} m below the terrain there "
+                        f"(height {ground:g} m): it would see nothing but the inside of the ground; "
+                        "raise it", key=f"observers[{i}].position")
+        elif o.type == "orthographic" and o.altitude <= top:
+            raise ConfigError(f"{o.altitude:g} m is not above the terrain's highest point ({top:g} m)",
+                              key=f"observers[{i}].altitude")
 
 
 def _material_range(material) -> tuple[float, float]:
