@@ -762,6 +762,17 @@ def _pixel_sums(pixel, weight, rows):
     return pixel[starts], np.add.reduceat(weighted, starts, axis=1)
 
 
+def _central_subsamples(rays) -> np.ndarray:
+    """True for the sub-samples of each pixel symmetric about its centre: the centre one of an
+    odd k×k grid, the middle 2×2 of an even one (whose mean position is the centre)."""
+    k2 = int(np.max(rays.subsample)) + 1
+    k = int(round(np.sqrt(k2)))
+    if k % 2:
+        return rays.subsample == (k // 2) * k + (k // 2)
+    row, col = np.divmod(rays.subsample, k)
+    return (np.abs(row - (k - 1) / 2.0) < 1.0) & (np.abs(col - (k - 1) / 2.0) < 1.0)
+
+
 def _central_subsample(rays) -> np.ndarray:
     """True for the sub-sample of each pixel whose index is the centre of the k×k grid."""
     k2 = int(np.max(rays.subsample)) + 1
@@ -1023,8 +1034,17 @@ def _geolocation(scene, hits, rays, labelled, track) -> dict:
     loc = scene.location
     frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
     pick = slice(None) if labelled.all() else labelled
-    lat, lon, height, vz, va = frame.pixel_geolocation(
-        hits.position[pick], rays.directions[pick], rays.pixel[pick], ny * nx).reshape(5, ny, nx)
+    position, direction, pixel = hits.position[pick], rays.directions[pick], rays.pixel[pick]
+    if int(np.max(rays.subsample)) > 0:
+        # an even k×k grid has no sub-sample at the pixel's centre: the mean of the middle 2×2
+        # (those that hit) is there on a plane; an odd grid's centre sample is its own mean
+        middle = np.flatnonzero(_central_subsamples(rays) & hits.hit)
+        pixel, inverse, count = np.unique(rays.pixel[middle], return_inverse=True, return_counts=True)
+        inverse = inverse.ravel()
+        position = np.stack([np.bincount(inverse, hits.position[middle, a]) for a in range(3)], axis=1) / count[:, None]
+        direction = np.stack([np.bincount(inverse, rays.directions[middle, a]) for a in range(3)], axis=1)
+        direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    lat, lon, height, vz, va = frame.pixel_geolocation(position, direction, pixel, ny * nx).reshape(5, ny, nx)
     hit = np.isfinite(lat)
     sun_zenith, sun_azimuth = np.full((2, ny * nx), np.nan)
     zen, azi = track.angles(rays.time[pick] if track.moving else None)
