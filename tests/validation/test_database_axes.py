@@ -67,7 +67,8 @@ AOT_QUICK = ("rural", 0.37)
     for c in AOT_CASES])
 def test_aot550_between_nodes_matches_6s(tmp_path, case):
     """Every model at AOT550 between the nodes 0.1, 0.3, 0.6 and 1, within 3 % in every
-    window band."""
+    window band. Measured: worst +2.27 % (desert 0.75, blue); at 0.17 and 0.37 within 1.59 %
+    (maritime 0.37, blue)."""
     model, aot = case
     kw = dict(profile="midlatitude_summer", aerosol=model, aot550=aot)
     sun = GEOMETRY[3]
