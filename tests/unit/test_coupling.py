@@ -128,6 +128,75 @@ def test_coupling_terms_leave_uncovered_pixels_and_black_surfaces_alone():
         assert np.all(np.isfinite(layer))
 
 
+@pytest.mark.parametrize("half", [2, 5, 12])
+def test_blur_equals_a_direct_linear_convolution(half):
+    """The FFT blur (padded only as far as the grid's window needs) is the linear convolution
+    of the deviation from the border mean, plus that mean, for kernels narrower and wider
+    than the grid."""
+    rng = np.random.default_rng(4)
+    grid = rng.random((2, 9, 6))
+    w = 2 * half + 1
+    kernels = [rng.random((w, w)) * 0.004, rng.random((w, w)) * 0.006]
+    shares = np.array([0.3, 0.8])
+    out = coupling.blur_environment(grid, kernels, shares)
+    for b, s in enumerate(shares):
+        k = s * kernels[0] + (1.0 - s) * kernels[1]
+        border = np.concatenate([grid[b, 0], grid[b, -1], grid[b, 1:-1, 0],
+                                 grid[b, 1:-1, -1]]).mean()
+        dev = np.pad(grid[b] - border, half)
+        direct = np.array([[np.sum(dev[i:i + w, j:j + w] * k[::-1, ::-1])
+                            for j in range(6)] for i in range(9)])
+        assert out[b] == pytest.approx(border + direct, rel=1e-12, abs=1e-14)
+
+
+@pytest.mark.parametrize("blurred", [False, True])
+def test_image_layers_equal_the_coupling_terms_of_the_mixed_quantities(blurred):
+    """The compiled image pass gives coupling_terms's layers of the same pixels, with the
+    transmittances mixed from path nodes and the PSF surroundings, and adds them to a total."""
+    rng = np.random.default_rng(7)
+    n_b, side, n_j = 3, 24, 4
+    n = side * side
+    sun_d, sun_s, sky, emitted = (rng.random((n_b, n)) * f for f in (20.0, 0.5, 4.0, 1.0))
+    sun_s[:, ::3] = 0.0
+    coverage = rng.uniform(0.5, 1.0, n)
+    coverage[5] = 0.0
+    tau_nodes, t_d_nodes = rng.uniform(0.5, 0.9, (n_b, n_j)), rng.uniform(0.0, 0.2, (n_b, n_j))
+    index = rng.integers(0, n_j, (n + 3, 2))
+    weight = rng.random((n + 3, 2))
+    weight[::4, 1] = 0.0
+    weight /= weight.sum(axis=1, keepdims=True)
+    rank = rng.permutation(n + 3)[:n]
+    tau = np.array([[weight[h] @ tau_nodes[b, index[h]] for h in rank] for b in range(n_b)])
+    t_d = np.array([[weight[h] @ t_d_nodes[b, index[h]] for h in rank] for b in range(n_b)])
+    s, e0, e_dif = rng.uniform(0.05, 0.2, n_b), rng.uniform(10, 60, n_b), rng.uniform(2, 20, n_b)
+    e_dif[-1] = 0.0
+    x, y = (a.ravel() * 30.0 for a in np.meshgrid(np.arange(side), np.arange(side),
+                                                 indexing="ij"))
+    shares = rng.random(n_b)
+    environment = None
+    psf = None
+    if blurred:
+        psf = (x, y, 8.0, 0.9, shares)
+
+        def environment(values):
+            return coupling.surroundings(x, y, values, coverage, 8.0, 0.9, shares)
+    pixel = rng.permutation(n + 5)[:n]
+    names = ("multiple_reflection", "diffuse_transmitted", "adjacency")
+    expected = {k: np.zeros((n_b, n + 5)) for k in names}
+    coupling.coupling_terms(sun_d + sun_s + sky, emitted, sky, coverage, tau, t_d, s, e0, e_dif,
+                            environment, out=expected, pixel=pixel)
+    out = {k: np.zeros((n_b, n + 5)) for k in names}
+    total = rng.random((n_b, n + 5))
+    before = total.copy()
+    nodes = coupling.NodeTransmittances(tau_nodes, t_d_nodes, index, weight, rank)
+    coupling.image_layers(sun_d, sun_s, sky, emitted, coverage, nodes, s, e0, e_dif, out, pixel,
+                          psf, total)
+    for k in names:
+        assert out[k] == pytest.approx(expected[k], rel=1e-12, abs=1e-15)
+    assert np.any(out["adjacency"] != 0.0) == blurred
+    assert total == pytest.approx(before + sum(out.values()), rel=1e-15)
+
+
 @pytest.mark.parametrize(("args", "key"), [
     ((-0.1, 700.0, 1.0, 0.5), "r_km"), ((np.nan, 700.0, 1.0, 0.5), "r_km"),
     ((1.0, 0.0, 1.0, 0.5), "height_km"), ((1.0, 700.0, 0.0, 0.5), "cos_view"),

@@ -29,12 +29,15 @@ the mean of its border (6S's "uniform surroundings beyond r").
 
 from __future__ import annotations
 
+import functools
+from dataclasses import dataclass
+
 import numba
 import numpy as np
 
 __all__ = ["environment_function", "psf_kernel", "psf_kernel_fast", "environment_map",
-           "blur_environment", "surroundings", "coupling_terms", "BOUNDARY_LAYER_HEIGHT",
-           "SATELLITE_HEIGHT_KM", "MAP_CELLS"]
+           "blur_environment", "surroundings", "coupling_terms", "image_layers",
+           "NodeTransmittances", "BOUNDARY_LAYER_HEIGHT", "SATELLITE_HEIGHT_KM", "MAP_CELLS"]
 
 #: Observers higher than this above the ground see the adjacency effect by default [m].
 BOUNDARY_LAYER_HEIGHT = 2000.0
@@ -173,18 +176,26 @@ def environment_map(x, y, values, weights, cell, bounds):
     numpy.ndarray
         (n_b, nx, ny).
     """
-    from scipy import ndimage
-
     x0, y0, nx, ny = bounds
     ix = np.clip(((x - x0) / cell).astype(np.int64), 0, nx - 1)
     iy = np.clip(((y - y0) / cell).astype(np.int64), 0, ny - 1)
     flat = ix * ny + iy
     w = np.bincount(flat, weights, nx * ny)
-    seen = w > 0
-    out = np.empty((values.shape[0], nx * ny))
+    sums = np.empty((values.shape[0], nx * ny))
     for b in range(values.shape[0]):
-        s = np.bincount(flat, values[b] * weights, nx * ny)
-        out[b] = np.divide(s, w, out=np.zeros_like(s), where=seen)
+        sums[b] = np.bincount(flat, values[b] * weights, nx * ny)
+    return _cell_means(sums, w, nx, ny)
+
+
+def _cell_means(sums, w, nx, ny):
+    """The map (n_b, nx, ny) of weighted sums ``sums`` (n_b, nx·ny) over the cells' weights
+    ``w`` (nx·ny,): empty cells take the value of the nearest cell that has one."""
+    from scipy import ndimage
+
+    seen = w > 0
+    out = np.empty_like(sums)
+    for b in range(sums.shape[0]):
+        out[b] = np.divide(sums[b], w, out=np.zeros_like(sums[b]), where=seen)
     out = out.reshape(-1, nx, ny)
     empty = ~seen.reshape(nx, ny)
     if np.any(empty) and not np.all(empty):
@@ -202,23 +213,42 @@ def blur_environment(grid, kernels, shares):
     the mean of its border cells; the kernel's missing weight (F beyond its window) goes to
     them too, so a uniform grid comes back unchanged.
     """
+    size = _fft_size(grid.shape, kernels[0].shape)
+    return _blur_spectra(grid, _spectra(kernels, size), kernels[0].shape, size, shares)
+
+
+def _fft_size(grid_shape, kernel_shape):
+    """FFT sizes for the linear convolution of a grid with a kernel of half-width h, of which
+    only the grid's own window is kept: n + h per axis (whatever wraps around falls outside
+    that window; the kernel's entries beyond it never reach it)."""
+    from scipy import fft
+
+    return tuple(fft.next_fast_len(n + (k - 1) // 2, real=True)
+                 for n, k in zip(grid_shape[1:], kernel_shape, strict=True))
+
+
+def _spectra(kernels, size):
+    """The kernels' real FFTs at ``size``."""
+    from scipy import fft
+
+    return tuple(fft.rfft2(k, s=size, workers=-1) for k in kernels)
+
+
+def _blur_spectra(grid, spectra, kernel_shape, size, shares):
+    """:func:`blur_environment` with the kernels' spectra at ``size`` given."""
     from scipy import fft
 
     border = np.concatenate([grid[:, 0, :], grid[:, -1, :], grid[:, 1:-1, 0],
                              grid[:, 1:-1, -1]], axis=1).mean(axis=1)
     dev = grid - border[:, None, None]
     n_b, nx, ny = grid.shape
-    hx, hy = (kernels[0].shape[0] - 1) // 2, (kernels[0].shape[1] - 1) // 2
-    # linear (not circular) convolution: pad to the full size, then keep the grid's window
-    size = (fft.next_fast_len(nx + 2 * hx, real=True), fft.next_fast_len(ny + 2 * hy, real=True))
+    hx, hy = (kernel_shape[0] - 1) // 2, (kernel_shape[1] - 1) // 2
+    k_r, k_a = spectra
+    s = np.asarray(shares, dtype=float)[:, None, None]
     spectrum = fft.rfft2(dev, s=size, axes=(1, 2), workers=-1)
-    out = np.empty_like(grid)
-    k_r, k_a = (fft.rfft2(k, s=size, workers=-1) for k in kernels)
-    for b in range(n_b):
-        s = float(shares[b])
-        full = fft.irfft2(spectrum[b] * (s * k_r + (1.0 - s) * k_a), s=size, workers=-1)
-        out[b] = border[b] + full[hx:hx + nx, hy:hy + ny]
-    return out
+    spectrum *= s * k_r + (1.0 - s) * k_a
+    full = fft.irfft2(spectrum, s=size, axes=(1, 2), workers=-1)
+    return border[:, None, None] + full[:, hx:hx + nx, hy:hy + ny]
 
 
 #: Grid cells per side of the environment map, at most.
@@ -259,10 +289,47 @@ def surroundings(x, y, values, weights, height_km, cos_view, shares):
     bounds, cell = _map_grid(x, y)
     x0, y0, nx, ny = bounds
     grid = environment_map(x, y, values, weights, cell, bounds)
-    half = max(nx, ny)
-    kernels = [psf_kernel_fast(cell, half, height_km, cos_view, s) for s in (1.0, 0.0)]
-    blurred = blur_environment(grid, kernels, shares)
+    blurred = _blur(grid, cell, height_km, cos_view, shares)
     return _bilinear(blurred, (x - x0) / cell - 0.5, (y - y0) / cell - 0.5)
+
+
+def _blur(grid, cell, height_km, cos_view, shares):
+    """``grid`` (n_b, nx, ny) of cells ``cell`` [m] through the PSF of each band
+    (:func:`blur_environment` with :func:`psf_kernel_fast`'s kernels as wide as the grid)."""
+    half = max(grid.shape[1], grid.shape[2])
+    shape = (2 * half + 1, 2 * half + 1)
+    size = _fft_size(grid.shape, shape)
+    spectra = _kernel_spectra(float(cell), half, float(height_km), float(cos_view), size)
+    return _blur_spectra(grid, spectra, shape, size, shares)
+
+
+@functools.lru_cache(maxsize=4)
+def _kernel_spectra(cell_m, half_width, height_km, cos_view, size):
+    """The spectra of the molecular and aerosol kernels of :func:`psf_kernel_fast`, kept for
+    the next render of the same geometry (read-only)."""
+    kernels = [psf_kernel_fast(cell_m, half_width, height_km, cos_view, s) for s in (1.0, 0.0)]
+    spectra = _spectra(kernels, size)
+    for k in spectra:
+        k.flags.writeable = False
+    return spectra
+
+
+@numba.njit(inline="always")
+def _cell_weights(fx, fy, nx, ny):
+    """Bilinear corners and weights (ix, iy, jx, jy, wx, wy) at cell coordinates (fx, fy),
+    cell centres at integers, held at the edges of an nx × ny grid."""
+    fx = min(max(fx, 0.0), nx - 1.0)
+    fy = min(max(fy, 0.0), ny - 1.0)
+    ix = min(int(fx), nx - 2) if nx > 1 else 0
+    iy = min(int(fy), ny - 2) if ny > 1 else 0
+    return ix, iy, min(ix + 1, nx - 1), min(iy + 1, ny - 1), fx - ix, fy - iy
+
+
+@numba.njit(inline="always")
+def _bilinear_value(grid, b, ix, iy, jx, jy, wx, wy):
+    """Band ``b`` of ``grid`` at the corners and weights of :func:`_cell_weights`."""
+    return ((1.0 - wx) * ((1.0 - wy) * grid[b, ix, iy] + wy * grid[b, ix, jy])
+            + wx * ((1.0 - wy) * grid[b, jx, iy] + wy * grid[b, jx, jy]))
 
 
 @numba.njit(parallel=True, cache=True)
@@ -272,17 +339,9 @@ def _bilinear(grid, cx, cy):  # pragma: no cover - compiled
     n_b, nx, ny = grid.shape
     out = np.empty((n_b, cx.size))
     for i in numba.prange(cx.size):
-        fx = min(max(cx[i], 0.0), nx - 1.0)
-        fy = min(max(cy[i], 0.0), ny - 1.0)
-        ix = min(int(fx), nx - 2) if nx > 1 else 0
-        iy = min(int(fy), ny - 2) if ny > 1 else 0
-        wx = fx - ix
-        wy = fy - iy
-        jx = min(ix + 1, nx - 1)
-        jy = min(iy + 1, ny - 1)
+        ix, iy, jx, jy, wx, wy = _cell_weights(cx[i], cy[i], nx, ny)
         for b in range(n_b):
-            out[b, i] = ((1.0 - wx) * ((1.0 - wy) * grid[b, ix, iy] + wy * grid[b, ix, jy])
-                         + wx * ((1.0 - wy) * grid[b, jx, iy] + wy * grid[b, jx, jy]))
+            out[b, i] = _bilinear_value(grid, b, ix, iy, jx, jy, wx, wy)
     return out
 
 
@@ -347,6 +406,178 @@ def coupling_terms(reflected, emitted, sky_reflected, coverage, tau, t_d, spheri
     return out
 
 
+@dataclass(frozen=True)
+class NodeTransmittances:
+    """The direct and diffuse upward transmittances of pixels, mixed from path nodes.
+
+    Pixel ``i``'s τ in band ``b`` is Σ_s weight[h, s] · tau[b, index[h, s]] with
+    h = rank[i] (zero weights skipped), its t_d the same from ``t_d``: the renderer's
+    path-node mixing (:func:`radscene.render.node_mixing.mix_rows`).
+
+    Attributes
+    ----------
+    tau, t_d : (n_b, n_nodes) band transmittances at the path nodes [-]
+    index, weight : (H, S) the nodes each row mixes and their weights
+    rank : (N,) each pixel's row of ``index`` and ``weight``
+    """
+
+    tau: np.ndarray
+    t_d: np.ndarray
+    index: np.ndarray
+    weight: np.ndarray
+    rank: np.ndarray
+
+    def arrays(self) -> tuple:
+        """The compiled kernels' arguments: contiguous float64 and int64 arrays."""
+        return (np.ascontiguousarray(self.tau, dtype=np.float64),
+                np.ascontiguousarray(self.t_d, dtype=np.float64),
+                np.ascontiguousarray(self.index, dtype=np.int64),
+                np.ascontiguousarray(self.weight, dtype=np.float64),
+                np.ascontiguousarray(self.rank, dtype=np.int64))
+
+
+def image_layers(sun_diffuse, sun_specular, sky_reflected, emitted, coverage, transmittances,
+                 spherical_albedo, e0, e_dif, out, pixel, psf=None, total=None):
+    """:func:`coupling_terms` for the pixels of a rendered image, in compiled passes that
+    write the three layers and nothing else (no band × pixel intermediates).
+
+    The reflected radiance is sun_diffuse + sun_specular + sky_reflected, the transmittances
+    are mixed from path nodes per pixel and band (:class:`NodeTransmittances`), and with a
+    ``psf`` the surface-leaving map is binned, blurred and interpolated back as
+    :func:`surroundings` does. The results equal those of :func:`coupling_terms` given the
+    same quantities as arrays.
+
+    Parameters
+    ----------
+    sun_diffuse, sun_specular, sky_reflected, emitted : (n_b, N) the pixels' terms at the
+        sensor [W m-2 sr-1] (views of any layout)
+    coverage : (N,) share of each pixel covered by surface [-]
+    transmittances : NodeTransmittances
+    spherical_albedo, e0, e_dif : (n_b,) as in :func:`coupling_terms`
+    out : dict
+        ``multiple_reflection``, ``diffuse_transmitted`` and ``adjacency``, (n_b, P) float64
+        arrays written at the columns ``pixel`` (N,) (distinct).
+    psf : tuple, optional
+        (x, y, height_km, cos_view, shares): the pixels' positions (N,) [m] and the PSF's
+        settings, as in :func:`surroundings`; None: uniform surroundings, each pixel's own
+        (the adjacency layer is zero).
+    total : (n_b, P) float64, optional
+        The image's total radiance: the three layers are added to it at the columns
+        ``pixel``, in the order above.
+
+    Returns
+    -------
+    dict
+        ``out``.
+    """
+    n_b, n = np.shape(sun_diffuse)
+    terms = tuple(_f64(a) for a in (sun_diffuse, sun_specular, sky_reflected, emitted))
+    cover = _f64(coverage)
+    tau, t_d, index, weight, rank = transmittances.arrays()
+    bands = tuple(_f64(a) for a in (spherical_albedo, e0, e_dif))
+    layers = (out["multiple_reflection"], out["diffuse_transmitted"], out["adjacency"])
+    pixel = np.ascontiguousarray(pixel, dtype=np.int64)
+    sink = (np.empty((n_b, 0)), False) if total is None else (total, True)
+    if n == 0:
+        return out
+    if psf is None:
+        none = np.empty(0)
+        _image_layers(*terms, cover, tau, t_d, index, weight, rank, np.empty((n_b, 0, 0)),
+                      False, none, none, 0.0, 0.0, 1.0, *bands, pixel, *layers, *sink)
+        return out
+    x, y, height_km, cos_view, shares = psf
+    x, y = _f64(x), _f64(y)
+    bounds, cell = _map_grid(x, y)
+    x0, y0, nx, ny = float(bounds[0]), float(bounds[1]), bounds[2], bounds[3]
+    sums, w = np.zeros((n_b, nx * ny)), np.zeros(nx * ny)
+    _leaving_sums(*terms[:3], cover, tau, index, weight, rank, x, y, x0, y0, float(cell), nx,
+                  ny, sums, w)
+    blurred = _blur(_cell_means(sums, w, nx, ny), cell, height_km, cos_view, shares)
+    _image_layers(*terms, cover, tau, t_d, index, weight, rank, np.ascontiguousarray(blurred),
+                  True, x, y, x0, y0, float(cell), *bands, pixel, *layers, *sink)
+    return out
+
+
+#: Pixels per work item of the image kernels: each item runs through the bands one after the
+#: other over its pixels (the band rows lie a whole image apart and share cache sets).
+_CHUNK = 256
+
+
+@numba.njit(inline="always")
+def _mix(table, b, index, weight, h):
+    """Σ_s weight[h, s] table[b, index[h, s]], zero weights skipped (node_mixing's order)."""
+    acc = 0.0
+    for s in range(index.shape[1]):
+        w = weight[h, s]
+        if w == 0.0:
+            continue
+        acc += w * table[b, index[h, s]]
+    return acc
+
+
+@numba.njit(parallel=True, cache=True)
+def _leaving_sums(sun_d, sun_s, sky, coverage, tau, index, weight, rank, x, y, x0, y0, cell,
+                  nx, ny, sums, w):  # pragma: no cover - compiled
+    """The surface-leaving reflected radiance of every pixel, weighted by its coverage and
+    summed per map cell into ``sums`` (n_b, nx·ny), the coverage into ``w``: the sums
+    :func:`environment_map` forms, each in the same order (pixel after pixel; the bands in
+    parallel)."""
+    n_b, n = sun_d.shape
+    flat = np.empty(n, dtype=np.int64)
+    for i in numba.prange(n):
+        ix = min(max(int((x[i] - x0) / cell), 0), nx - 1)
+        iy = min(max(int((y[i] - y0) / cell), 0), ny - 1)
+        flat[i] = ix * ny + iy
+    for i in range(n):
+        w[flat[i]] += coverage[i]
+    for b in numba.prange(n_b):
+        for i in range(n):
+            c = coverage[i]
+            t = _mix(tau, b, index, weight, rank[i])
+            reflected = sun_d[b, i] + sun_s[b, i] + sky[b, i]
+            leaving = reflected / (t * c) if (t > 0.0 and c > 0.0) else 0.0
+            sums[b, flat[i]] += leaving * c
+
+
+@numba.njit(parallel=True, cache=True)
+def _image_layers(sun_d, sun_s, sky, emitted, coverage, tau, t_d, index, weight, rank, blurred,
+                  use_psf, x, y, x0, y0, cell, s_alb, e0, e_dif, pixel, multiple, diffuse,
+                  adjacency, total, add_total):  # pragma: no cover - compiled
+    """The three layers of :func:`image_layers` for every pixel and band (added to ``total``
+    where ``add_total``)."""
+    n_b, n = sun_d.shape
+    nx, ny = blurred.shape[1], blurred.shape[2]
+    for chunk in numba.prange((n + _CHUNK - 1) // _CHUNK):
+        lo, hi = chunk * _CHUNK, min(n, (chunk + 1) * _CHUNK)
+        corner = np.zeros((4, hi - lo), dtype=np.int64)
+        share = np.zeros((2, hi - lo))
+        if use_psf:
+            for i in range(lo, hi):
+                ix, iy, jx, jy, wx, wy = _cell_weights((x[i] - x0) / cell - 0.5,
+                                                       (y[i] - y0) / cell - 0.5, nx, ny)
+                k = i - lo
+                corner[0, k], corner[1, k], corner[2, k], corner[3, k] = ix, iy, jx, jy
+                share[0, k], share[1, k] = wx, wy
+        for b in range(n_b):
+            for i in range(lo, hi):
+                k = i - lo
+                h = rank[i]
+                env = 0.0
+                if use_psf:
+                    env = _bilinear_value(blurred, b, corner[0, k], corner[1, k], corner[2, k],
+                                          corner[3, k], share[0, k], share[1, k])
+                m, d, a = _pixel_layers(sun_d[b, i] + sun_s[b, i] + sky[b, i], emitted[b, i],
+                                        sky[b, i], coverage[i], _mix(tau, b, index, weight, h),
+                                        _mix(t_d, b, index, weight, h), env, use_psf, s_alb[b],
+                                        e0[b], e_dif[b])
+                p = pixel[i]
+                multiple[b, p] = m
+                diffuse[b, p] = d
+                adjacency[b, p] = a
+                if add_total:
+                    total[b, p] = total[b, p] + m + d + a
+
+
 def _f64(a):
     """``a`` as float64 without a copy where it is one already (views of any layout)."""
     return np.asarray(a, dtype=np.float64)
@@ -364,6 +595,30 @@ def _leaving(reflected, coverage, tau, l_refl):  # pragma: no cover - compiled
             l_refl[b, i] = reflected[b, i] / (t * c) if (t > 0.0 and c > 0.0) else 0.0
 
 
+@numba.njit(inline="always")
+def _pixel_layers(reflected, emitted, sky, c, t, t_d, env, blurred, s_alb, e0, e_dif):
+    """(multiple reflection, diffusely transmitted, adjacency) of one pixel in one band, from
+    its reflected, emitted and reflected-sky radiance at the sensor, its coverage ``c``, its
+    transmittances τ and t_d and, where ``blurred``, the surroundings' leaving radiance
+    ``env`` (else the pixel's own)."""
+    inv = 1.0 / (t * c) if (t > 0.0 and c > 0.0) else 0.0
+    own = env if blurred else reflected * inv
+    # the surroundings' albedo: π L / E_0, at most 1 (a glint's radiance is not albedo)
+    rho_e = min(np.pi * own / e0, 1.0) if e0 > 0.0 else 0.0
+    s_rho = s_alb * rho_e
+    # extra diffuse irradiance E_0 S ρ_e / (1 − S ρ_e), reflected as the sky's is
+    gain = e0 / e_dif if e_dif > 0.0 else 0.0
+    m = sky * gain * s_rho / (1.0 - s_rho)
+    l_own = (reflected + emitted + m) * inv
+    diffuse = t_d * c * l_own
+    adjacency = 0.0
+    if blurred:
+        # the surroundings' own multiple reflection: 1 / (1 − S ρ_e) on their light
+        env_total = own / (1.0 - s_rho) + emitted * inv
+        adjacency = t_d * c * (env_total - l_own)
+    return m, diffuse, adjacency
+
+
 @numba.njit(parallel=True, cache=True)
 def _layers(reflected, emitted, sky, coverage, tau, t_d, env, blurred, s_alb, e0, e_dif,
             pixel, multiple, diffuse, adjacency):  # pragma: no cover - compiled
@@ -375,21 +630,9 @@ def _layers(reflected, emitted, sky, coverage, tau, t_d, env, blurred, s_alb, e0
         p = pixel[i]
         c = coverage[i]
         for b in range(n_b):
-            t = tau[b, i]
-            inv = 1.0 / (t * c) if (t > 0.0 and c > 0.0) else 0.0
-            own = env[b, i] if blurred else reflected[b, i] * inv
-            # the surroundings' albedo: π L / E_0, at most 1 (a glint's radiance is not albedo)
-            rho_e = min(np.pi * own / e0[b], 1.0) if e0[b] > 0.0 else 0.0
-            s_rho = s_alb[b] * rho_e
-            # extra diffuse irradiance E_0 S ρ_e / (1 − S ρ_e), reflected as the sky's is
-            gain = e0[b] / e_dif[b] if e_dif[b] > 0.0 else 0.0
-            m = sky[b, i] * gain * s_rho / (1.0 - s_rho)
+            m, d, a = _pixel_layers(reflected[b, i], emitted[b, i], sky[b, i], c, tau[b, i],
+                                    t_d[b, i], env[b, i] if blurred else 0.0, blurred,
+                                    s_alb[b], e0[b], e_dif[b])
             multiple[b, p] = m
-            l_own = (reflected[b, i] + emitted[b, i] + m) * inv
-            diffuse[b, p] = t_d[b, i] * c * l_own
-            if blurred:
-                # the surroundings' own multiple reflection: 1 / (1 − S ρ_e) on their light
-                env_total = own / (1.0 - s_rho) + emitted[b, i] * inv
-                adjacency[b, p] = t_d[b, i] * c * (env_total - l_own)
-            else:
-                adjacency[b, p] = 0.0
+            diffuse[b, p] = d
+            adjacency[b, p] = a

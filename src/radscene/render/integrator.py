@@ -636,15 +636,13 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             normal_map[:, p[c]] = nrm[c].T
         tile_totals(sl)
         _report(progress, sl.stop, total)
+    # the layers are added to the total radiance (where it is formed per tile) as they are made
     coupled = _coupling_pass(scene, bset, acc, truth_sum["hit_weight"], rays, hits, labelled,
-                             hit_rank, path_nodes_all, obs_alt, tgt_alt, view_zenith)
-    if radiance is not None:
-        for layer in coupled.values():
-            radiance += layer
-        if bt_map is not None:
-            for b in thermal:
-                if any(np.any(layer[b]) for layer in coupled.values()):
-                    bt_map[b] = band_brightness_temperature(radiance[b], bands[b].response)
+                             hit_rank, path_nodes_all, obs_alt, tgt_alt, view_zenith, radiance)
+    if bt_map is not None:
+        for b in thermal:
+            if any(np.any(layer[b]) for layer in coupled.values()):
+                bt_map[b] = band_brightness_temperature(radiance[b], bands[b].response)
     sums.update(coupled)
     elapsed = _time.perf_counter() - started
     ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
@@ -665,8 +663,9 @@ def _adjacency_on(scene, height) -> bool:
 
 
 def _coupling_pass(scene, bset, acc, coverage, rays, hits, labelled, hit_rank, path_nodes,
-                   obs_alt, tgt_alt, view_zenith) -> dict:
-    """The coupling layers (band, pixel) of a render: zero where nothing couples."""
+                   obs_alt, tgt_alt, view_zenith, total=None) -> dict:
+    """The coupling layers (band, pixel) of a render: zero where nothing couples; added to
+    ``total`` (band, pixel), the total radiance, where given."""
     from radscene.render import coupling
 
     n_b, n_pix = acc.shape[1], acc.shape[2]
@@ -676,28 +675,20 @@ def _coupling_pass(scene, bset, acc, coverage, rays, hits, labelled, hit_rank, p
     slot = {name: i for i, name in enumerate(TERMS)}
     sample = np.flatnonzero(labelled)  # one hit per pixel: its position and path nodes
     pix = rays.pixel[sample]
-    rank = hit_rank[sample]
-    table = np.ascontiguousarray(np.concatenate([tables.tau, tables.t_d]).T[None])
-    mixed = node_mixing.mix_rows(table, np.zeros(len(rank), dtype=np.int64),
-                                 path_nodes.index[rank], path_nodes.weight[rank]).T
-    tau, t_d = mixed[:n_b], mixed[n_b:]
     at = _as_slice(pix)  # every pixel in order (the usual case): views, not copies
-    sky = acc[slot["sky_reflected"]][:, at]
-    reflected = acc[slot["sun_diffuse"]][:, at] + acc[slot["sun_specular"]][:, at] + sky
-    emitted = acc[slot["thermal_emission"]][:, at]
-    environment = None
+    terms = [acc[slot[name]][:, at] for name in ("sun_diffuse", "sun_specular",
+                                                 "sky_reflected", "thermal_emission")]
+    transmittances = coupling.NodeTransmittances(tables.tau, tables.t_d, path_nodes.index,
+                                                 path_nodes.weight, hit_rank[sample])
+    psf = None
     height = float(np.mean(obs_alt) - np.mean(tgt_alt))
     if _adjacency_on(scene, height):
-        pos = hits.position[sample]
+        pos = hits.position[_as_slice(sample)]
         cos_view = float(np.cos(np.radians(np.mean(view_zenith))))
-        cover = coverage[at]
-
-        def environment(values):
-            return coupling.surroundings(pos[:, 0], pos[:, 1], values, cover, height / 1000.0,
-                                         cos_view, tables.share)
+        psf = (pos[:, 0], pos[:, 1], height / 1000.0, cos_view, tables.share)
     out = {name: np.zeros((n_b, n_pix)) for name in COUPLING_TERMS}
-    coupling.coupling_terms(reflected, emitted, sky, coverage[at], tau, t_d, tables.s,
-                            tables.e0, tables.e_dif, environment, out=out, pixel=pix)
+    coupling.image_layers(*terms, coverage[at], transmittances, tables.s, tables.e0,
+                          tables.e_dif, out, pix, psf, total)
     return out
 
 
