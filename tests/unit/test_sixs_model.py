@@ -262,3 +262,47 @@ def test_multiple_scattering_shape():
     assert toward == pytest.approx(depth * (1 + g3) / (1 - g3) ** 2, rel=1e-9)
     assert away == pytest.approx(depth * (1 - g3 * g3) / (1 + g3 * g3 - 2 * g3 * np.cos(
         np.radians(60.0))) ** 1.5, rel=1e-9)
+
+
+def test_aerosol_asymmetry_is_the_trapezoidal_mean_cosine_of_the_interpolated_phase():
+    """The compiled pass (geometric steps within a node interval) equals the trapezoidal rule
+    over phase_interp's values at the 1 801 angles, to rounding."""
+    nodes = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 7.5, 10.0, 15.0, 20.0, 30.0, 40.0, 60.0,
+                      80.0, 100.0, 120.0, 130.0, 135.0, 140.0, 145.0, 150.0, 155.0, 160.0,
+                      165.0, 170.0, 175.0, 180.0])
+    rng = np.random.default_rng(3)
+    c = np.cos(np.radians(nodes))[:, None]
+    g = np.array([0.2, 0.6, 0.8])
+    table = (1 - g * g) / (1 + g * g - 2 * g * c) ** 1.5 * rng.uniform(0.8, 1.2, (nodes.size, 3))
+    fine = np.linspace(0.0, 180.0, 1801)
+    theta = np.radians(fine)[:, None]
+    dens = m.phase_interp(fine, nodes, table) * np.sin(theta)
+    expected = (np.trapezoid(dens * np.cos(theta), theta, axis=0)
+                / np.trapezoid(dens, theta, axis=0))
+    np.testing.assert_allclose(m.aerosol_asymmetry(nodes, table), expected, rtol=1e-13)
+
+
+def test_sky_terms_do_not_depend_on_the_order_of_the_directions():
+    """The sky and shape kernels reuse each zenith's layer factor along a run of directions
+    of that zenith: shuffled directions give the same values."""
+    qz, qp, _ = m.hemisphere_quadrature(6, 8)
+    order = np.random.default_rng(5).permutation(qz.size)
+    nodes = np.linspace(0.0, 180.0, 19)
+    pr = 0.75 * (1 + np.cos(np.radians(nodes)) ** 2)[:, None] * np.ones((1, 2))
+    pa = np.exp(-nodes / 40.0)[:, None] * np.array([[1.0, 2.0]])
+    args = (35.0, np.array([1800.0, 1500.0]), np.array([0.95, 0.9]), np.array([0.1, 0.05]),
+            np.array([0.3, 0.2]), np.array([0.9, 0.92]), nodes, pr, pa)
+    sky = m.single_scattering_sky(qz, qp, *args)
+    assert np.array_equal(m.single_scattering_sky(qz[order], qp[order], *args), sky[order])
+    tau, share, g = np.array([0.4, 0.25]), np.array([0.6, 0.7]), np.array([0.7, 0.65])
+    shape = m.multiple_scattering_shape(qz, qp, 35.0, tau, share, g)
+    assert np.array_equal(m.multiple_scattering_shape(qz[order], qp[order], 35.0, tau, share, g),
+                          shape[order])
+    # the closed form, evaluated by numpy
+    mu = np.cos(np.radians(qz))[:, None]
+    x = tau / mu
+    c = np.cos(np.radians(m.scattering_angle_sky(35.0, qz, qp)))[:, None]
+    g3 = g**3
+    expected = ((1 - mu / tau * (1 - np.exp(-x)))
+                * ((1 - share) + share * (1 - g3 * g3) / (1 + g3 * g3 - 2 * g3 * c) ** 1.5))
+    np.testing.assert_allclose(shape, expected, rtol=1e-12)

@@ -69,6 +69,7 @@ plane-parallel layer).
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numba
@@ -658,13 +659,15 @@ def _sky_kernel(theta, mu, weight, mu_s, nodes, log_pr, log_pa, e0g, tau_r, tau_
     for j in numba.prange(n):
         tau = tau_r[j] + tau_a[j]
         total = 0.0
+        h = 0.0
         for k in range(n_dir):
             i, t = lower[k], frac[k]
             pr = math.exp(log_pr[i, j] * (1.0 - t) + log_pr[i + 1, j] * t)
             pa = math.exp(log_pa[i, j] * (1.0 - t) + log_pa[i + 1, j] * t)
-            y = tau * slant[k]
-            phi = -math.expm1(-y) / y if y > 1e-8 else 1.0 - 0.5 * y
-            h = math.exp(-tau / longest[k]) * phi
+            if k == 0 or mu[k] != mu[k - 1]:  # the layer factor depends on the zenith only
+                y = tau * slant[k]
+                phi = -math.expm1(-y) / y if y > 1e-8 else 1.0 - 0.5 * y
+                h = math.exp(-tau / longest[k]) * phi
             source = tau_r[j] * pr + om[j] * tau_a[j] * pa
             value = e0g[j] / (4.0 * np.pi * mu[k]) * source * h
             if summed:
@@ -673,6 +676,10 @@ def _sky_kernel(theta, mu, weight, mu_s, nodes, log_pr, log_pa, e0g, tau_r, tau_
                 out[k * n + j] = value
         if summed:
             out[j] = total
+
+
+#: Scattering angles [deg] of the integrals of :func:`aerosol_asymmetry`.
+_ASYMMETRY_ANGLES = np.linspace(0.0, 180.0, 1801)
 
 
 def aerosol_asymmetry(angle_nodes, phase):
@@ -689,7 +696,7 @@ def aerosol_asymmetry(angle_nodes, phase):
     -------
     numpy.ndarray
         g [-], shape (n,): the mean cosine weighted by P sin Θ over the phase function
-        interpolated log-linearly in angle (1 801 points).
+        interpolated log-linearly in angle (1 801 points, trapezoidal rule).
 
     Examples
     --------
@@ -699,12 +706,49 @@ def aerosol_asymmetry(angle_nodes, phase):
     >>> round(float(aerosol_asymmetry(nodes, hg[:, None])[0]), 3)
     0.7
     """
-    fine = np.linspace(0.0, 180.0, 1801)
-    p = phase_interp(fine, angle_nodes, phase)  # (1801, n)
-    theta = np.radians(fine)[:, None]
-    dens = p * np.sin(theta)
-    return (np.trapezoid(dens * np.cos(theta), theta, axis=0)
-            / np.trapezoid(dens, theta, axis=0))
+    nodes = np.asarray(angle_nodes, dtype=float)
+    p = np.asarray(phase, dtype=float)
+    logp = np.ascontiguousarray(np.log(np.maximum(p, 1e-12)).reshape(nodes.size, -1))
+    fine = _ASYMMETRY_ANGLES
+    a = np.clip(fine, nodes[0], nodes[-1])
+    i = np.clip(np.searchsorted(nodes, a, side="right") - 1, 0, nodes.size - 2)
+    t = (a - nodes[i]) / (nodes[i + 1] - nodes[i])
+    theta = np.radians(fine)
+    out = np.empty(logp.shape[1])
+    _asymmetry_kernel(i, t, np.sin(theta), np.cos(theta), np.diff(theta), logp, out)
+    return out
+
+
+@numba.njit(parallel=True, cache=True)
+def _asymmetry_kernel(lower, frac, sin_t, cos_t, step, logp, out):  # pragma: no cover
+    """Trapezoidal ∫ P cos Θ sin Θ dΘ / ∫ P sin Θ dΘ per wavelength, P log-linear between the
+    nodes: within a node interval the fine angles' values form a geometric sequence (one
+    exponential per interval, the rest products)."""
+    m = lower.size
+    for j in numba.prange(logp.shape[1]):
+        num = 0.0
+        den = 0.0
+        prev_d = 0.0
+        prev_n = 0.0
+        p = 0.0
+        ratio = 1.0
+        for k in range(m):
+            i = lower[k]
+            if k == 0 or i != lower[k - 1] or frac[k] <= frac[k - 1]:
+                p = math.exp(logp[i, j] * (1.0 - frac[k]) + logp[i + 1, j] * frac[k])
+                ratio = 1.0
+                if k + 1 < m and lower[k + 1] == i and frac[k + 1] > frac[k]:
+                    ratio = math.exp((logp[i + 1, j] - logp[i, j]) * (frac[k + 1] - frac[k]))
+            else:
+                p = p * ratio
+            d = p * sin_t[k]
+            c = d * cos_t[k]
+            if k > 0:
+                den += step[k - 1] * (d + prev_d) / 2.0
+                num += step[k - 1] * (c + prev_n) / 2.0
+            prev_d = d
+            prev_n = c
+        out[j] = num / den
 
 
 def multiple_scattering_shape(zenith, relative_azimuth, sun_zenith, tau, aerosol_share,
@@ -731,21 +775,48 @@ def multiple_scattering_shape(zenith, relative_azimuth, sun_zenith, tau, aerosol
 
     Notes
     -----
-    .. math:: M = \left[1 - rac{\mu}{	au}(1 - e^{-	au/\mu})
-ight]
-              \left[(1 - w) + w\,rac{1 - g^6}{(1 + g^6 - 2 g^3 \cos\Theta)^{3/2}}
-ight]
+    .. math:: M = \left[1 - \frac{\mu}{\tau}(1 - e^{-\tau/\mu})\right]
+              \left[(1 - w) + w\,\frac{1 - g^6}{(1 + g^6 - 2 g^3 \cos\Theta)^{3/2}}\right]
     """
     z, p = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(relative_azimuth, float))
-    mu = np.cos(np.radians(np.minimum(z, 89.999)))[..., None]
-    x = np.asarray(tau, dtype=float) / mu
-    with np.errstate(divide="ignore", invalid="ignore"):
-        depth = np.where(x > 1e-6, 1.0 - (-np.expm1(-x)) / x, 0.5 * x)
-    c = np.cos(np.radians(scattering_angle_sky(sun_zenith, z, p)))[..., None]
-    g = np.asarray(asymmetry, dtype=float) ** 3
-    hg = (1.0 - g * g) / (1.0 + g * g - 2.0 * g * c) ** 1.5
-    w = np.asarray(aerosol_share, dtype=float)
-    return depth * ((1.0 - w) + w * hg)
+    args = _shape_arguments(z.ravel(), p.ravel(), sun_zenith, tau, aerosol_share, asymmetry)
+    out = np.empty((z.size, args[2].size))
+    _shape_kernel(*args, np.zeros(0), out)
+    return out.reshape(z.shape + (args[2].size,))
+
+
+def _shape_arguments(zenith, relative_azimuth, sun_zenith, tau, aerosol_share, asymmetry):
+    """μ and cos Θ of flat directions, and τ, w, g³ per wavelength, for :func:`_shape_kernel`."""
+    mu = np.cos(np.radians(np.minimum(zenith, 89.999)))
+    c = np.cos(np.radians(scattering_angle_sky(sun_zenith, zenith, relative_azimuth)))
+    tau, w, g = np.broadcast_arrays(*(np.asarray(x, dtype=float).ravel()
+                                      for x in (tau, aerosol_share, asymmetry)))
+    return (np.ascontiguousarray(mu), np.ascontiguousarray(c), np.ascontiguousarray(tau),
+            np.ascontiguousarray(w), np.ascontiguousarray(g) ** 3)
+
+
+@numba.njit(parallel=True, cache=True)
+def _shape_kernel(mu, c, tau, w, g3, weight, out):  # pragma: no cover - compiled
+    """M of :func:`multiple_scattering_shape` at directions (μ, cos Θ) and wavelengths into
+    ``out`` (K, n), or, with ``weight`` (K,), only Σ_k weight_k M_k into ``out`` (n,)."""
+    summed = weight.size > 0
+    for j in numba.prange(tau.size):
+        g = g3[j]
+        total = 0.0
+        depth = 0.0
+        for k in range(mu.size):
+            if k == 0 or mu[k] != mu[k - 1]:  # the depth factor depends on the zenith only
+                x = tau[j] / mu[k]
+                depth = 1.0 - (-math.expm1(-x)) / x if x > 1e-6 else 0.5 * x
+            base = 1.0 + g * g - 2.0 * g * c[k]
+            hg = (1.0 - g * g) / (base * math.sqrt(base))
+            value = depth * ((1.0 - w[j]) + w[j] * hg)
+            if summed:
+                total += weight[k] * value
+            else:
+                out[k, j] = value
+        if summed:
+            out[0, j] = total
 
 
 def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):
@@ -759,6 +830,12 @@ def hemisphere_quadrature(n_mu: int = 24, n_phi: int = 48):
     weight : numpy.ndarray
         μ dΩ weights [sr], summing to π.
     """
+    return tuple(a.copy() for a in _quadrature(int(n_mu), int(n_phi)))
+
+
+@functools.lru_cache(maxsize=4)
+def _quadrature(n_mu, n_phi):
+    """:func:`hemisphere_quadrature`, computed once per order."""
     x, w = np.polynomial.legendre.leggauss(n_mu)
     mu = 0.5 * (x + 1.0)
     wmu = 0.5 * w
@@ -829,7 +906,8 @@ def sky_radiance(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down,
         np.size(angle_nodes), -1)).reshape(e0.shape)
     shape_args = (sun_zenith, np.broadcast_to(tau, e0.shape), np.broadcast_to(share, e0.shape),
                   g)
-    norm = qw @ multiple_scattering_shape(qz, qp, *shape_args).reshape(qw.size, -1)
+    norm = np.empty((1, e0.size))  # Σ_q w_q M(q), without the (directions × n) array
+    _shape_kernel(*_shape_arguments(qz, qp, *shape_args), qw, norm)
     norm = norm.reshape(e0.shape)
     with np.errstate(divide="ignore", invalid="ignore"):
         ms = np.where(norm > 0.0, rest / norm, 0.0)
