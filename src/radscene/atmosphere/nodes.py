@@ -41,6 +41,7 @@ Lines of sight within :data:`VERTICAL_ZENITH` of the vertical have no azimuth th
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 __all__ = ["AZIMUTH_STEPS", "VERTICAL_ZENITH", "air_mass", "zenith_from_air_mass",
@@ -90,8 +91,20 @@ def fold_relative_azimuth(view_azimuth, sun_azimuth) -> np.ndarray:
     >>> fold_relative_azimuth([350.0, 10.0, 170.0, 200.0], 0.0).tolist()
     [10.0, 10.0, 170.0, 160.0]
     """
-    d = (np.asarray(view_azimuth, dtype=float) - np.asarray(sun_azimuth, dtype=float)) % 360.0
-    return np.minimum(d, 360.0 - d)
+    v, s = np.broadcast_arrays(np.asarray(view_azimuth, dtype=float),
+                               np.asarray(sun_azimuth, dtype=float))
+    out = np.empty(v.shape)
+    _fold(np.ascontiguousarray(v).reshape(-1), np.ascontiguousarray(s).reshape(-1),
+          out.reshape(-1))
+    return out if out.ndim else out[()]
+
+
+@numba.njit(cache=True)
+def _fold(view, sun, out):  # pragma: no cover - compiled
+    """min(d, 360 - d), d = (view - sun) mod 360 (the sign of the divisor, as numpy's %)."""
+    for i in range(view.size):
+        d = (view[i] - sun[i]) % 360.0
+        out[i] = min(d, 360.0 - d)
 
 
 def azimuth_step(view_zenith) -> float:
@@ -152,9 +165,8 @@ def relative_azimuth_axis(relative_azimuth, view_zenith, step: float | None = No
     n = phi.size
     if n == 0:
         return np.zeros(1), np.zeros((0, 1), dtype=np.int64), np.ones((0, 1))
-    slanted = (vz > VERTICAL_ZENITH) & (vz < 180.0 - VERTICAL_ZENITH)
-    if np.any(slanted):
-        lo, hi = phi[slanted].min(), phi[slanted].max()
+    any_slanted, lo, hi = _slanted_range(phi, vz, VERTICAL_ZENITH)
+    if any_slanted:
         phi = np.clip(phi, lo, hi)  # the vertical ones take the nearest end of the range
     else:
         phi = np.full(n, phi.mean())
@@ -172,3 +184,19 @@ def relative_azimuth_axis(relative_azimuth, view_zenith, step: float | None = No
     index = np.stack([lookup[lower], lookup[upper]], axis=1)
     weight = np.stack([1.0 - frac, frac], axis=1)
     return grid[used], index, weight
+
+
+@numba.njit(cache=True)
+def _slanted_range(phi, view_zenith, vertical):  # pragma: no cover - compiled
+    """Whether any line of sight is more than ``vertical`` from the vertical, and the range
+    of ``phi`` over those that are."""
+    found = False
+    lo = np.inf
+    hi = -np.inf
+    for i in range(phi.size):
+        z = view_zenith[i]
+        if z > vertical and z < 180.0 - vertical:
+            found = True
+            lo = min(lo, phi[i])
+            hi = max(hi, phi[i])
+    return found, lo, hi

@@ -154,30 +154,70 @@ def check_path_geometry(observer_altitude, target_altitude, view_zenith, min_tar
 
     o, t, z = np.broadcast_arrays(*(np.asarray(x, dtype=float)
                                     for x in (observer_altitude, target_altitude, view_zenith)))
-    for name, arr in (("observer_altitude", o), ("target_altitude", t), ("view_zenith", z)):
-        if arr.size and not np.all(np.isfinite(arr)):
+    shape = o.shape
+    upper, lower, zenith = (np.empty(shape) for _ in range(3))
+    flat = (np.ascontiguousarray(a).reshape(-1) for a in (o, t, z))
+    finite, low, top, z_lo, z_hi, bad = _path_geometry(
+        *flat, float(min_target), upper.reshape(-1), lower.reshape(-1), zenith.reshape(-1))
+    for name, ok in zip(("observer_altitude", "target_altitude", "view_zenith"), finite,
+                        strict=True):
+        if not ok:
             raise ConfigError("must be finite", key=name)
-    if t.size and min(t.min(), o.min()) < min_target - GROUND_TOLERANCE:
-        low = min(t.min(), o.min())
+    if not o.size:
+        return upper, lower, zenith
+    if low < min_target - GROUND_TOLERANCE:
         raise ConfigError(f"a path below the ground: {low:g} m is under the engine's lowest "
                           f"altitude {min_target:g} m", key="target_altitude")
-    o, t = np.maximum(o, min_target), np.maximum(t, min_target)  # on the ground, within noise
-    if t.size and t.max() >= TOP_OF_ATMOSPHERE:
-        raise ConfigError(f"a target at {t.max():g} m is above the atmosphere's top "
+    if top >= TOP_OF_ATMOSPHERE:
+        raise ConfigError(f"a target at {top:g} m is above the atmosphere's top "
                           f"({TOP_OF_ATMOSPHERE:g} m)", key="target_altitude")
-    if z.size and (z.min() < 0 or z.max() > 180):
+    if z_lo < 0 or z_hi > 180:
         raise ConfigError("must lie in [0, 180] deg", key="view_zenith")
-    up = o >= t
-    bad = (up & (o - t > 0.5) & (z >= 90.0)) | (~up & (t - o > 0.5) & (z <= 90.0))
-    if np.any(bad):
+    if bad:
         raise ConfigError("the zenith angle contradicts the altitudes: an observer above its "
                           "target must be seen at < 90 deg from it, one below at > 90 deg",
                           key="view_zenith")
-    upper = np.where(up, o, t)
-    lower = np.where(up, t, o)
-    zenith = np.where(up, z, 180.0 - z)
-    zenith = np.where(upper - lower <= 0.5, np.minimum(zenith, 89.0), zenith)
     return upper, lower, zenith
+
+
+@numba.njit(cache=True)
+def _path_geometry(o, t, z, min_target, upper, lower, zenith):  # pragma: no cover - compiled
+    """:func:`check_path_geometry`'s one pass: the downward form into ``upper``, ``lower``,
+    ``zenith``, and what its checks read: whether each input is finite, the lowest end, the
+    highest target (both ends held at ``min_target``), the zenith's range, and whether a
+    zenith contradicts its altitudes."""
+    finite = [True, True, True]
+    low = np.inf
+    top = -np.inf
+    z_lo = np.inf
+    z_hi = -np.inf
+    bad = False
+    for i in range(o.size):
+        oi, ti, zi = o[i], t[i], z[i]
+        if not np.isfinite(oi):
+            finite[0] = False
+        if not np.isfinite(ti):
+            finite[1] = False
+        if not np.isfinite(zi):
+            finite[2] = False
+        low = min(low, ti, oi)
+        oi = max(oi, min_target)  # on the ground, within noise
+        ti = max(ti, min_target)
+        top = max(top, ti)
+        z_lo = min(z_lo, zi)
+        z_hi = max(z_hi, zi)
+        if oi >= ti:
+            bad = bad or (oi - ti > 0.5 and zi >= 90.0)
+            u, lo_, zen = oi, ti, zi
+        else:
+            bad = bad or (ti - oi > 0.5 and zi <= 90.0)
+            u, lo_, zen = ti, oi, 180.0 - zi
+        if u - lo_ <= 0.5:
+            zen = min(zen, 89.0)
+        upper[i] = u
+        lower[i] = lo_
+        zenith[i] = zen
+    return (finite[0], finite[1], finite[2]), low, top, z_lo, z_hi, bad
 
 
 def bracket(wavelength, nodes):
@@ -558,19 +598,61 @@ def multilinear_nodes(coordinates, axes):
     for values, nodes in zip(coordinates, axes, strict=True):
         if nodes.size == 1:  # every point sits on the one node
             continue
-        i, f = axis_weights(values, nodes)
-        hi = np.minimum(i + 1, nodes.size - 1)
-        flat = np.concatenate([flat * nodes.size + i[:, None], flat * nodes.size + hi[:, None]], 1)
-        weight = np.concatenate([weight * (1.0 - f)[:, None], weight * f[:, None]], 1)
+        # each corner splits in two: the lower node's corners first, then the upper's
+        wider = (np.empty((n, 2 * flat.shape[1]), dtype=np.int64),
+                 np.empty((n, 2 * flat.shape[1])))
+        _split_corners(np.ascontiguousarray(values, dtype=float).reshape(-1),
+                       np.ascontiguousarray(nodes), flat, weight, *wider)
+        flat, weight = wider
     sizes = [a.size for a in axes]
     # the grid is small: compact the used nodes with a lookup table (no sort of N rows)
-    present = np.zeros(int(np.prod(sizes)), dtype=bool)
-    present[flat.ravel()] = True
+    present = np.zeros(int(np.prod(sizes)), dtype=np.bool_)
+    _mark(flat, present)
     used = np.flatnonzero(present)
     lookup = np.cumsum(present) - 1
-    index = lookup[flat]
+    _relabel(flat, lookup)  # in place: flat indices become indices of the used nodes
     multi = np.unravel_index(used, sizes) if used.size else [np.zeros(0, int)] * len(axes)
-    return [a[m] for a, m in zip(axes, multi, strict=True)], index, weight
+    return [a[m] for a, m in zip(axes, multi, strict=True)], flat, weight
+
+
+@numba.njit(cache=True)
+def _split_corners(values, nodes, flat, weight, out_flat, out_weight):  # pragma: no cover
+    """One more axis of :func:`multilinear_nodes`: each point's corners (flat grid indices
+    ``flat`` and weights, (N, m)) times its bracketing nodes on ``nodes`` (as
+    :func:`axis_weights`: ends held), into (N, 2m)."""
+    k = nodes.size
+    m = flat.shape[1]
+    for p in range(values.size):
+        v = min(max(values[p], nodes[0]), nodes[k - 1])
+        lo, hi = 0, k  # searchsorted(nodes, v, "right")
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if nodes[mid] <= v:
+                lo = mid + 1
+            else:
+                hi = mid
+        i = min(max(lo - 1, 0), k - 2)
+        f = (v - nodes[i]) / (nodes[i + 1] - nodes[i])
+        up = min(i + 1, k - 1)
+        for c in range(m):
+            out_flat[p, c] = flat[p, c] * k + i
+            out_flat[p, m + c] = flat[p, c] * k + up
+            out_weight[p, c] = weight[p, c] * (1.0 - f)
+            out_weight[p, m + c] = weight[p, c] * f
+
+
+@numba.njit(cache=True)
+def _mark(flat, present):  # pragma: no cover - compiled
+    for p in range(flat.shape[0]):
+        for c in range(flat.shape[1]):
+            present[flat[p, c]] = True
+
+
+@numba.njit(cache=True)
+def _relabel(flat, lookup):  # pragma: no cover - compiled
+    for p in range(flat.shape[0]):
+        for c in range(flat.shape[1]):
+            flat[p, c] = lookup[flat[p, c]]
 
 
 def single_scattering_sky(zenith, relative_azimuth, sun_zenith, toa_irradiance, gas_down,
