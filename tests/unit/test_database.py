@@ -217,3 +217,26 @@ def test_every_shipped_table_is_finite_and_phase_functions_positive():
         near_sun = atm.sky([30.0, 31.0], [180.0, 182.0], [0.45, 0.55, 0.65],
                            SkyGeometry(0.0, 30.0, 180.0))
         assert np.all(np.isfinite(near_sun)) and np.all(near_sun > 0.0), aerosol
+
+
+def test_kept_tables_follow_the_wavelength_grid_and_the_sun():
+    """The gas tables of the last wavelength grid and the path tables at the last sun are
+    kept between queries: queries on alternating grids and suns give what a fresh engine
+    gives."""
+    def fresh(sun_zenith):
+        return DatabaseAtmosphere(profile="midlatitude_summer", aerosol="rural",
+                                  visibility="23 km", sun_zenith=sun_zenith, sun_azimuth=150.0)
+
+    atm = fresh(40.0)
+    grids = (np.linspace(0.45, 0.9, 7), np.linspace(1.5, 2.3, 5))
+    geometry = (np.array([9000.0, 9000.0]), np.array([1200.0, 1500.0]), np.array([0.0, 20.0]))
+    for wl in (*grids, grids[0]):
+        assert np.array_equal(atm.path(*geometry, wl).scattered_radiance,
+                              fresh(40.0).path(*geometry, wl).scattered_radiance)
+        assert np.array_equal(atm.coupling(*geometry, wl).diffuse_transmittance,
+                              fresh(40.0).coupling(*geometry, wl).diffuse_transmittance)
+    moved = atm.with_sun(55.0, 150.0)
+    for engine in (moved, atm):
+        sun = engine.sun_zenith
+        assert np.array_equal(engine.path(*geometry, grids[1]).scattered_radiance,
+                              fresh(sun).path(*geometry, grids[1]).scattered_radiance)

@@ -579,12 +579,25 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             out[sel] = np.exp(-da * ratio ** k)
         return out
 
+    def _gas_spectra(self, table_name, wavelength, extra_index=None):
+        """A gas table on ``wavelength``, (h_t, m, n). The tables of the last wavelength grid
+        asked for are kept: a band's queries (path, sun, sky, coupling) share its grid."""
+        key = np.asarray(wavelength, dtype=float).tobytes()
+        grid, tables = self.__dict__.get("_gas_grid") or (None, None)
+        if grid != key:
+            grid, tables = key, {}
+            self._gas_grid = (grid, tables)
+        name = (table_name, extra_index)
+        if name not in tables:
+            tab = self.t[table_name]  # (wl, h_t, [obs], m)
+            if extra_index is not None:
+                tab = tab[:, :, extra_index, :]
+            tables[name] = self._fine(tab, wavelength, axis=0)
+        return tables[name]
+
     def _gas_nodes(self, table_name, wavelength, h_t, airmass, extra_index=None):
         """Gas transmittance at (h_t, airmass) per geometry × wavelength: (N, n)."""
-        tab = self.t[table_name]  # (wl, h_t, [obs], m)
-        if extra_index is not None:
-            tab = tab[:, :, extra_index, :]
-        tab = self._fine(tab, wavelength, axis=0)  # (h_t, m, n)
+        tab = self._gas_spectra(table_name, wavelength, extra_index)  # (h_t, m, n)
         ih, fh = model.axis_weights(h_t, self.axes["surface_altitude"])
         logm = np.log(self.axes["airmass"])
         im, fm = model.axis_weights(np.log(np.maximum(airmass, 1.0)), logm)
@@ -605,6 +618,21 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             raise ConfigError(f"{self.file.name} covers surface altitudes up to {hmax:g} m; "
                               f"a path ends at {lower.max():g} m", key="target_altitude")
         return upper, lower, zen
+
+    def _at_sun(self, kind, name, i_s, f_s):
+        """The ``kind`` ("ratio" or "excess") table of ``name`` at a sun zenith (its node
+        ``i_s`` and fraction ``f_s``), (λs, h, x, θv, φ); kept for the sun last asked for
+        (a configured engine's queries share its sun)."""
+        sun = (i_s, f_s)
+        held, tables = self.__dict__.get("_sun_tables") or (None, None)
+        if held != sun:
+            held, tables = sun, {}
+            self._sun_tables = (held, tables)
+        if (kind, name) not in tables:
+            tab = getattr(self, kind)[name]
+            i_s1 = min(i_s + 1, tab.shape[3] - 1)
+            tables[kind, name] = tab[:, :, :, i_s] * (1 - f_s) + tab[:, :, :, i_s1] * f_s
+        return tables[kind, name]
 
     # -- the whole set of quantities ----------------------------------------------------------
     def components(self, observer_altitude, target_altitude, view_zenith, wavelength,
@@ -661,10 +689,9 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         # linearly in x, it came out 7 % (0.5 km) to 13 % (6 km) above 6S at 0.44 um for the
         # continental aerosol at AOT550 0.6 with every angle on a node; 3.7 % and 4.4 % now
         blend = np.clip((tau_a_q - _BLEND[0]) / (_BLEND[1] - _BLEND[0]), 0.0, 1.0)  # (λs, N)
-        i_s1 = min(i_s + 1, a["sun_zenith"].size - 1)
 
-        def at_geometry(tab):
-            q = tab[:, :, :, i_s] * (1 - f_s) + tab[:, :, :, i_s1] * f_s  # (λs, h, x, θv, φ)
+        def at_geometry(kind, name):
+            q = self._at_sun(kind, name, i_s, f_s)  # (λs, h, x, θv, φ)
             acc = 0.0
             for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
                 for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
@@ -673,8 +700,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             return acc
 
         for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):
-            by_ratio = at_geometry(self.ratio[name])
-            by_excess = at_geometry(self.excess[name]) if np.any(blend > 0.0) else None
+            by_ratio = at_geometry("ratio", name)
+            by_excess = at_geometry("excess", name) if np.any(blend > 0.0) else None
             share_q = model.layer_share(sz_eff, np.minimum(vz, 89.0)[None, :], tau_r_q, tau_a_q,
                                         fr_q[None, :], x_q[None, :])
             total = 0.0
