@@ -244,9 +244,9 @@ def _blur_spectra(grid, spectra, kernel_shape, size, shares):
     n_b, nx, ny = grid.shape
     hx, hy = (kernel_shape[0] - 1) // 2, (kernel_shape[1] - 1) // 2
     k_r, k_a = spectra
-    s = np.asarray(shares, dtype=float)[:, None, None]
     spectrum = fft.rfft2(dev, s=size, axes=(1, 2), workers=-1)
-    spectrum *= s * k_r + (1.0 - s) * k_a
+    for b, s in enumerate(np.asarray(shares, dtype=float)):
+        spectrum[b] *= s * k_r + (1.0 - s) * k_a
     full = fft.irfft2(spectrum, s=size, axes=(1, 2), workers=-1)
     return border[:, None, None] + full[:, hx:hx + nx, hy:hy + ny]
 
@@ -544,38 +544,61 @@ def _image_layers(sun_d, sun_s, sky, emitted, coverage, tau, t_d, index, weight,
                   use_psf, x, y, x0, y0, cell, s_alb, e0, e_dif, pixel, multiple, diffuse,
                   adjacency, total, add_total):  # pragma: no cover - compiled
     """The three layers of :func:`image_layers` for every pixel and band (added to ``total``
-    where ``add_total``)."""
+    where ``add_total``). Per chunk of pixels: their node rows and map cells once, then band
+    by band the mixed transmittances and surroundings, the layers, and their writes, each in
+    its own loop (the layers' loop has no gathers and no scattered writes)."""
     n_b, n = sun_d.shape
     nx, ny = blurred.shape[1], blurred.shape[2]
+    n_s = index.shape[1]
     for chunk in numba.prange((n + _CHUNK - 1) // _CHUNK):
         lo, hi = chunk * _CHUNK, min(n, (chunk + 1) * _CHUNK)
-        corner = np.zeros((4, hi - lo), dtype=np.int64)
-        share = np.zeros((2, hi - lo))
-        if use_psf:
-            for i in range(lo, hi):
-                ix, iy, jx, jy, wx, wy = _cell_weights((x[i] - x0) / cell - 0.5,
-                                                       (y[i] - y0) / cell - 0.5, nx, ny)
-                k = i - lo
+        m = hi - lo
+        node = np.empty((n_s, m), dtype=np.int64)
+        node_w = np.empty((n_s, m))
+        corner = np.zeros((4, m), dtype=np.int64)
+        corner_w = np.zeros((2, m))
+        for k in range(m):
+            h = rank[lo + k]
+            for s in range(n_s):
+                node[s, k] = index[h, s]
+                node_w[s, k] = weight[h, s]
+            if use_psf:
+                ix, iy, jx, jy, wx, wy = _cell_weights((x[lo + k] - x0) / cell - 0.5,
+                                                       (y[lo + k] - y0) / cell - 0.5, nx, ny)
                 corner[0, k], corner[1, k], corner[2, k], corner[3, k] = ix, iy, jx, jy
-                share[0, k], share[1, k] = wx, wy
+                corner_w[0, k], corner_w[1, k] = wx, wy
+        t_dir = np.empty(m)
+        t_dif = np.empty(m)
+        env = np.zeros(m)
+        layer = np.empty((3, m))
         for b in range(n_b):
-            for i in range(lo, hi):
-                k = i - lo
-                h = rank[i]
-                env = 0.0
+            for k in range(m):  # Σ_s w_s table[b, j_s], zero weights skipped (_mix's order)
+                a_dir = 0.0
+                a_dif = 0.0
+                for s in range(n_s):
+                    w = node_w[s, k]
+                    if w != 0.0:
+                        a_dir += w * tau[b, node[s, k]]
+                        a_dif += w * t_d[b, node[s, k]]
+                t_dir[k] = a_dir
+                t_dif[k] = a_dif
                 if use_psf:
-                    env = _bilinear_value(blurred, b, corner[0, k], corner[1, k], corner[2, k],
-                                          corner[3, k], share[0, k], share[1, k])
-                m, d, a = _pixel_layers(sun_d[b, i] + sun_s[b, i] + sky[b, i], emitted[b, i],
-                                        sky[b, i], coverage[i], _mix(tau, b, index, weight, h),
-                                        _mix(t_d, b, index, weight, h), env, use_psf, s_alb[b],
-                                        e0[b], e_dif[b])
-                p = pixel[i]
-                multiple[b, p] = m
-                diffuse[b, p] = d
-                adjacency[b, p] = a
+                    env[k] = _bilinear_value(blurred, b, corner[0, k], corner[1, k],
+                                             corner[2, k], corner[3, k], corner_w[0, k],
+                                             corner_w[1, k])
+            sd, ss, sk = sun_d[b, lo:hi], sun_s[b, lo:hi], sky[b, lo:hi]
+            em, cv = emitted[b, lo:hi], coverage[lo:hi]
+            for k in range(m):
+                layer[0, k], layer[1, k], layer[2, k] = _pixel_layers(
+                    sd[k] + ss[k] + sk[k], em[k], sk[k], cv[k], t_dir[k], t_dif[k], env[k],
+                    use_psf, s_alb[b], e0[b], e_dif[b])
+            for k in range(m):
+                p = pixel[lo + k]
+                multiple[b, p] = layer[0, k]
+                diffuse[b, p] = layer[1, k]
+                adjacency[b, p] = layer[2, k]
                 if add_total:
-                    total[b, p] = total[b, p] + m + d + a
+                    total[b, p] = total[b, p] + layer[0, k] + layer[1, k] + layer[2, k]
 
 
 def _f64(a):
