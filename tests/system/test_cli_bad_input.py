@@ -185,3 +185,13 @@ def test_a_camera_below_the_terrain_is_refused(tmp_path):
     result = CliRunner().invoke(app, ["check", str(path)])
     assert result.exit_code == 2
     assert "observers[0].position" in result.output and "30 m below the terrain" in result.output
+
+
+def test_help_shows_units_in_brackets():
+    from typer.testing import CliRunner
+
+    from radscene.cli import app
+
+    result = CliRunner().invoke(app, ["atmosphere", "los", "--help"])
+    assert result.exit_code == 0
+    assert "Sun zenith [deg]" in result.output and "[g cm-2]" in result.output

@@ -20,7 +20,10 @@ from rich.table import Table
 from radscene import __version__
 from radscene.errors import ConfigError, EngineError
 
+# rich_markup_mode=None: help texts are plain text, so units in brackets ("[deg]", "[g cm-2]")
+# are shown instead of being taken for Rich markup and dropped
 app = typer.Typer(
+    rich_markup_mode=None,
     name="radscene",
     help="Render what an EO/IR sensor records of a scene, 0.4–20 µm.",
     no_args_is_help=True,
@@ -56,7 +59,7 @@ def add_subcommands(sub_app: typer.Typer, name: str, help_text: str) -> None:
     """Register a package's typer sub-app under ``radscene NAME``, with radscene's error rule."""
     import copy
 
-    guarded = typer.Typer(name=name, help=help_text, no_args_is_help=True)
+    guarded = typer.Typer(name=name, help=help_text, no_args_is_help=True, rich_markup_mode=None)
     for info in sub_app.registered_commands:
         entry = copy.copy(info)
         entry.callback = _guarded(info.callback)
