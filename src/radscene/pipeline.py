@@ -235,7 +235,17 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     distance = float(earth_sun_distance(start)) if scene.sun is None else scene.sun.distance
     override = None if scene.sun is None else (scene.sun.zenith, scene.sun.azimuth, scene.sun.distance)
     table = shortwave_table(scene.atmosphere, loc.altitude, day, distance)
-    alpha, eps = _optics(scene, used, stacks, (table.wavelength, table.spectrum.mean(axis=0)))
+    if scene.sun is None:
+        import pandas as pd
+
+        from radscene.sun import sun_position
+
+        zenith = sun_position(pd.DatetimeIndex(times).tz_localize("UTC"), loc.latitude, loc.longitude,
+                              loc.altitude).zenith
+    else:
+        zenith = np.full(times.size, scene.sun.zenith)
+    # solar absorptance against the ground's global spectrum summed over the run's sun positions
+    alpha, eps = _optics(scene, used, stacks, (table.wavelength, table.daily_spectrum(zenith)))
     options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval, spin_up=spec.spin_up,
                              spin_up_tolerance=spec.spin_up_tolerance, hemisphere_samples=spec.hemisphere_samples,
                              nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed,
