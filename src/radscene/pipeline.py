@@ -11,16 +11,36 @@ from radscene.errors import ConfigError
 from radscene.render import render as _render_observer
 from radscene.render import render_all as _render_all
 
-__all__ = ["render", "render_all", "simulate", "solve_thermal", "thermal_active", "apply_thermal"]
+__all__ = ["as_scene", "render", "render_all", "simulate", "solve_thermal", "thermal_active", "apply_thermal"]
 
 #: Bands whose response reaches beyond this wavelength make the heat balance run by default [um].
 THERMAL_FROM = 2.5
+
+
+def as_scene(scene):
+    """A loaded scene from a :class:`~radscene.scene.Scene`, a scene file path or a dict.
+
+    The public functions below take any of the three, so ``radscene.render("scene.yaml")`` and
+    ``radscene.render({...})`` give the same errors as ``radscene render`` on the command line
+    (:class:`~radscene.errors.ConfigError` naming the key).
+    """
+    from pathlib import Path
+
+    from radscene.scene import Scene, load_scene
+
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, (dict, str, Path)):
+        return load_scene(scene)
+    raise TypeError(f"a scene is a radscene Scene, a scene file path or a dict, not "
+                    f"{type(scene).__name__}")
 
 
 def thermal_active(scene) -> bool:
     """Whether the scene's surface temperatures come from the heat balance: ``thermal.enabled``
     true, or ``auto`` with a band reaching beyond 2.5 µm and a surface without a fixed
     temperature."""
+    scene = as_scene(scene)
     enabled = scene.spec.thermal.enabled
     if enabled is not True and enabled != "auto":
         return False
@@ -189,7 +209,8 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
 
     Parameters
     ----------
-    scene : radscene.scene.Scene
+    scene : radscene.scene.Scene, dict or path
+        A loaded scene, or what :func:`radscene.load_scene` loads.
     start, end : datetime, optional
         Timezone-aware; default ``thermal.start``/``thermal.end`` of the scene file, else one
         day up to the scene's time.
@@ -209,6 +230,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     from radscene.thermal.irradiance import shortwave_table
     from radscene.thermal.solve import ThermalOptions, solve_elements, time_axis
 
+    scene = as_scene(scene)
     spec = scene.spec.thermal
     start, end = _span(scene, start, end)
     step = spec.step if step is None else float(step)
@@ -309,6 +331,7 @@ def apply_thermal(scene, solution=None, time=None):
 def render(scene, observer=None, **kwargs):
     """:func:`radscene.render.render` with the scene's heat balance applied first (when it runs;
     :func:`thermal_active`)."""
+    scene = as_scene(scene)
     if thermal_active(scene):
         apply_thermal(scene)
     return _render_observer(scene, observer, **kwargs)
@@ -316,6 +339,7 @@ def render(scene, observer=None, **kwargs):
 
 def render_all(scene, **kwargs):
     """:func:`radscene.render.render_all` with the scene's heat balance applied first."""
+    scene = as_scene(scene)
     if thermal_active(scene):
         apply_thermal(scene)
     return _render_all(scene, **kwargs)
@@ -330,7 +354,8 @@ def simulate(scene, observer: str | None = None, *, progress=None
 
     Parameters
     ----------
-    scene : radscene.scene.Scene
+    scene : radscene.scene.Scene, dict or path
+        A loaded scene, or what :func:`radscene.load_scene` loads.
     observer : str, optional
         Observer name; the first by default.
     progress : callable, optional
@@ -344,6 +369,7 @@ def simulate(scene, observer: str | None = None, *, progress=None
         The sensor's output (``dn(frame, band, y, x)`` [DN] and its truth), or None when the
         observer has no sensor.
     """
+    scene = as_scene(scene)
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     images = render(scene, setup.name, progress=progress)
     if setup.sensor is None:

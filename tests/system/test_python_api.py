@@ -1,0 +1,49 @@
+"""The Python API takes a scene dict or file as the command line does, with the same errors."""
+
+import numpy as np
+import pytest
+
+import radscene
+from radscene.errors import ConfigError
+
+
+def _scene(**atmosphere):
+    return {
+        "name": "api_plate",
+        "environment": {"sun": {"zenith": 30.0, "azimuth": 180.0},
+                        "atmosphere": {"type": "none", **atmosphere}},
+        "materials": {"grey": {"reflectance": 0.3}},
+        "objects": [{"name": "plate", "shape": {"type": "plate", "width": "100 m",
+                                                "length": "100 m"},
+                     "material": "grey", "temperature": "300 K"}],
+        "bands": [{"name": "red", "min": "0.6 um", "max": "0.7 um"}],
+        "observers": [{"name": "map", "type": "orthographic", "center": [0, 0], "gsd": "5 m",
+                       "shape": [4, 4], "altitude": "1 km"}],
+    }
+
+
+def test_render_of_a_dict_equals_render_of_the_loaded_scene():
+    from_dict = radscene.render(_scene())
+    loaded = radscene.render(radscene.load_scene(_scene()))
+    np.testing.assert_array_equal(from_dict["radiance"].values, loaded["radiance"].values)
+
+
+def test_render_of_a_file_path(tmp_path):
+    import yaml
+
+    path = tmp_path / "plate.yaml"
+    path.write_text(yaml.safe_dump(_scene()))
+    images = radscene.render(str(path))
+    assert images["radiance"].shape == (1, 4, 4)
+
+
+def test_a_bad_dict_gives_the_command_lines_error():
+    bad = _scene()
+    bad["objects"][0]["material"] = "asfalt"
+    with pytest.raises(ConfigError, match=r"objects\[0\]\.material.*asfalt"):
+        radscene.render(bad)
+
+
+def test_something_else_is_refused_by_name():
+    with pytest.raises(TypeError, match="not int"):
+        radscene.render(3)
