@@ -503,6 +503,110 @@ def test_wth_bad_input(tmp_path, edit, message):
         read_weather(path, start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=0.0)
 
 
+def _wth_measured(count=193, step=0.25):
+    """Entries with measured short-wave in fields 7 (global) and 8 (diffuse) [W m-2] and a cloud
+    cover in tenths in field 10: a half-sine day from 06:00 to 18:00 local."""
+    lines, hours, air, rh, wind = _wth_rows(count, step)
+    local = hours % 24.0
+    glob = np.round(np.where((local > 6.0) & (local < 18.0), 800.0 * np.sin(np.pi * (local - 6.0) / 12.0), 0.0), 2)
+    diff = np.round(0.15 * glob, 2)
+    tenths = np.where(hours < 24.0, 2.0, 7.0)
+    out = []
+    for line, g, d, c in zip(lines, glob, diff, tenths, strict=True):
+        head = line[: -len("     0.00     0.00 1.00  0  0   0.00  0.00")]
+        out.append(f"{head}{g:9.2f}{d:9.2f} 1.00{c:3.0f}  0   0.00  0.00")
+    return out, glob, diff, tenths
+
+
+_MEASURED = {7: "global_shortwave [W m-2]", 8: "diffuse_shortwave [W/m2]", 10: "cloud_cover [tenths]"}
+
+
+def test_wth_declared_fields_are_read_with_their_units(tmp_path):
+    lines, glob, diff, tenths = _wth_measured()
+    w = read_weather(_wth(tmp_path, lines), start="2024-06-21T00:00-04:00", latitude=43.16, longitude=-77.61, fields=_MEASURED)
+    np.testing.assert_allclose(w.global_shortwave, glob, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(w.diffuse_shortwave, diff, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(w.cloud_cover, tenths / 10.0, rtol=0, atol=1e-12)
+    assert w.longwave_down is None
+    assert float(w.at(np.datetime64("2024-06-21T16:00"))["global_shortwave"]) == pytest.approx(800.0, abs=1e-9)  # 12:00 EDT
+    # undeclared, the same file keeps its fields unread and needs a cloud cover
+    plain = read_weather(_wth(tmp_path, lines), start="2024-06-21T00:00-04:00", latitude=43.16, longitude=-77.61, cloud_cover=0.1)
+    assert plain.global_shortwave is None and set(plain.cloud_cover) == {0.1}
+
+
+def test_wth_measured_shortwave_drives_the_heat_balance(tmp_path):
+    """A declared measured short-wave replaces the modelled one: the solver's beam and diffuse
+    irradiance are the file's figures (beam on a horizontal plane = global - diffuse)."""
+    from radscene.scene import load_scene
+
+    lines, glob, diff, _ = _wth_measured()
+    path = _wth(tmp_path, lines)
+    scene = {
+        "name": "wth_measured",
+        "environment": {"location": {"latitude": 43.16, "longitude": -77.61, "altitude": 150.0},
+                        "time": "2024-06-21T13:00:00-04:00",
+                        "atmosphere": {"type": "uniform", "transmittance": 0.8}},
+        "terrain": {"type": "dem", "elevation": np.zeros((3, 3)).tolist(), "spacing": [2.0, 2.0],
+                    "origin": [-2.0, -2.0], "material": "asphalt"},
+        "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+        "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "altitude": 100.0,
+                       "gsd": 1.0, "shape": [2, 2]}],
+        "thermal": {"start": "2024-06-21T10:00:00-04:00", "end": "2024-06-21T13:00:00-04:00", "step": "30 min",
+                    "hemisphere_samples": 4, "spin_up": False,
+                    "weather": {"file": str(path), "start": "2024-06-21T00:00:00-04:00", "fields": _MEASURED}},
+    }
+    import radscene
+
+    ds = radscene.solve_thermal(load_scene(scene, base_dir=tmp_path))
+    local = (ds.time.values - np.datetime64("2024-06-21T04:00")) / np.timedelta64(1, "h")
+    g = np.interp(local, np.arange(glob.size) * 0.25, glob)
+    d = np.interp(local, np.arange(glob.size) * 0.25, diff)
+    mu = np.cos(np.radians(ds.sun_zenith.values))
+    np.testing.assert_allclose(ds.diffuse_irradiance.values, d, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(ds.direct_irradiance.values * mu, g - d, rtol=1e-9, atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    "fields, cloud, message",
+    [
+        ({5: "global_shortwave [W m-2]"}, 0.0, r"winter.wth: field 5 is read as dew point"),
+        ({7: "global_shortwave"}, 0.0, r"winter.wth: field 7: 'global_shortwave' is not 'name \[unit\]'"),
+        ({7: "sunshine [h]"}, 0.0, r"winter.wth: field 7: unknown name 'sunshine'; known: global_shortwave"),
+        ({7: "global_shortwave [degC]", 8: "diffuse_shortwave [W m-2]"}, 0.0, r"winter.wth: field 7 'global_shortwave' has unit 'degC'"),
+        ({7: "global_shortwave [W m-2]"}, 0.0, r"winter.wth: field 7 is declared global_shortwave but no field is diffuse_shortwave"),
+        ({7: "cloud_cover [tenths]", 9: "cloud_cover [1]"}, None, r"winter.wth: fields 7 and 9 are both declared cloud_cover"),
+        ({"x": "cloud_cover [1]"}, None, r"winter.wth: field number 'x' is not an integer"),
+        ({10: "cloud_cover [tenths]"}, 0.2, r"winter.wth: cloud cover is both a declared field and given as 0.2"),
+        ({14: "cloud_cover [tenths]"}, None, r"winter.wth: line 2: 13 fields; no field 14 as declared"),
+        ({7: "diffuse_shortwave [W m-2]", 8: "global_shortwave [W m-2]"}, 0.0,
+         r"winter.wth: line 27: diffuse_shortwave 52.32 W m-2 above global_shortwave 7.85 W m-2"),
+        ({10: "cloud_cover [1]"}, None, r"winter.wth: line 2: cloud_cover = 2 0-1 is outside \[0, 1\]"),
+    ],
+    ids=["field-1-to-6", "no-unit", "unknown-name", "wrong-unit", "global-alone", "twice", "not-integer",
+         "cloud-twice", "beyond-the-row", "diffuse-above-global", "tenths-as-fraction"],
+)
+def test_wth_bad_field_declaration(tmp_path, fields, cloud, message):
+    path = _wth(tmp_path, _wth_measured()[0])
+    with pytest.raises(ConfigError, match=message):
+        read_weather(path, start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=cloud, fields=fields)
+
+
+def test_wth_rows_of_another_width_and_fields_for_other_formats_refused(tmp_path):
+    lines = _wth_measured()[0]
+    lines[40] = lines[40].rsplit(" ", 2)[0]  # one field fewer
+    with pytest.raises(ConfigError, match=r"winter.wth: line 42: 12 fields; the first entry \(line 2\) has 13"):
+        read_weather(_wth(tmp_path, lines), start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=0.0)
+    with pytest.raises(ConfigError, match=r"site.csv: fields are declared for .wth files"):
+        read_weather(_csv(tmp_path), fields={7: "cloud_cover [1]"})
+
+
+def test_csv_global_without_diffuse_refused(tmp_path):
+    rows = ["2024-06-21T00:00Z,15,70,2,20,1013,0", "2024-06-21T01:00Z,14,75,2,20,1013,0"]
+    header = "time,air_temperature [degC],relative_humidity [%],wind_speed [m/s],cloud_cover [%],pressure [hPa],global_shortwave [W m-2]"
+    with pytest.raises(ConfigError, match=r"site.csv: global_shortwave without diffuse_shortwave"):
+        read_weather(_csv(tmp_path, rows, header))
+
+
 # --- diurnal default ---------------------------------------------------------------------
 
 

@@ -417,6 +417,9 @@ class WeatherSpec(_Model):
 
     file: str | None = Field(None, description="CSV, NetCDF or THERM .wth weather file")
     start: _dt.datetime | None = Field(None, description="when a .wth file's first row is (it has no date)")
+    fields: dict[int, str] | None = Field(
+        None, description="a .wth file's fields after the sixth, which its format leaves undocumented: "
+        "field number -> 'name [unit]', e.g. {7: 'global_shortwave [W m-2]', 8: 'diffuse_shortwave [W m-2]'}")
     t_min: Temperature = 285.15
     t_max: Temperature = 298.15
     relative_humidity: Fraction = 0.5

@@ -141,6 +141,22 @@ def build_series(path, time, columns, labels, latitude, longitude, max_gap=None)
                 key="dew_point",
             )
         columns["relative_humidity"] = dew_point_to_relative_humidity(air, dew)
+    pair = [name for name in ("global_shortwave", "diffuse_shortwave") if name in columns]
+    if len(pair) == 1:
+        other = "diffuse_shortwave" if pair[0] == "global_shortwave" else "global_shortwave"
+        raise ConfigError(
+            f"{path}: {pair[0]} without {other}; the measured short-wave replaces the modelled one only as a pair",
+            key=other,
+        )
+    if pair:
+        above = np.flatnonzero(columns["diffuse_shortwave"] > columns["global_shortwave"] + 1e-6)
+        if above.size:
+            i = int(above[0])
+            raise ConfigError(
+                f"{path}: {labels[i]}: diffuse_shortwave {columns['diffuse_shortwave'][i]:g} W m-2 above "
+                f"global_shortwave {columns['global_shortwave'][i]:g} W m-2; is the column or field right?",
+                key="diffuse_shortwave",
+            )
     for name, values in columns.items():
         unit, low, high, low_inclusive = {**REQUIRED, **OPTIONAL}[name]
         ok = (values >= low) if low_inclusive else (values > low)

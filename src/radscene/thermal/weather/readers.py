@@ -43,7 +43,7 @@ from radscene.thermal.weather._table import (
     unit_factor,
 )
 from radscene.thermal.weather.series import to_utc_datetime64
-from radscene.thermal.weather.wth import read_wth
+from radscene.thermal.weather.wth import parse_fields, read_wth
 
 __all__ = ["read_weather", "read_weather_csv", "read_weather_netcdf", "WEATHER_FORMATS"]
 
@@ -282,7 +282,8 @@ def _netcdf_place(path, ds, name):
 WEATHER_FORMATS = {".csv": "csv", ".txt": "csv", ".nc": "netcdf", ".nc4": "netcdf", ".cdf": "netcdf", ".wth": "wth"}
 
 
-def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, tolerance_deg=1.0, max_gap=None, cloud_cover=None):
+def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, tolerance_deg=1.0, max_gap=None, cloud_cover=None,
+                 fields=None):
     """Read a weather file and check it against the scene's place and time span.
 
     Parameters
@@ -302,8 +303,13 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
         Longest step between rows accepted [s], or a string such as ``"2 h"``; by default
         three times the file's most frequent step.
     cloud_cover : float, optional
-        Cloud cover [0-1] for a ``.wth`` file (whose cloud fields radscene does not read);
+        Cloud cover [0-1] for a ``.wth`` file that declares no cloud field (see ``fields``);
         refused for the other formats, which carry their own.
+    fields : dict of int to str, optional
+        For a ``.wth`` file, the meaning and unit of fields after the sixth, which the format's
+        documentation does not state: 1-based field number -> ``"name [unit]"``, e.g.
+        ``{7: "global_shortwave [W m-2]", 8: "diffuse_shortwave [W m-2]"}`` (see
+        ``radscene.thermal.weather.wth.parse_fields``); refused for the other formats.
 
     Returns
     -------
@@ -337,7 +343,12 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
     if t_start is not None and t_end is not None and t_start > t_end:
         raise ConfigError(f"{path}: start {start!s} is after end {end!s}", key="start")
     if kind == "wth":
-        missing = [n for n, v in (("start", start), ("latitude", latitude), ("longitude", longitude), ("cloud_cover", cloud_cover)) if v is None]
+        declared = parse_fields(fields, path)
+        cloud_declared = any(name == "cloud_cover" for name, _, _ in declared.values())
+        needed = (("start", start), ("latitude", latitude), ("longitude", longitude))
+        if not cloud_declared:
+            needed += (("cloud_cover", cloud_cover),)
+        missing = [n for n, v in needed if v is None]
         if missing:
             raise ConfigError(
                 f"{path}: a THERM .wth file states no date, place or cloud cover; give {', '.join(missing)} "
@@ -346,14 +357,19 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
             )
         if isinstance(start, np.datetime64) or (isinstance(start, np.ndarray) and np.issubdtype(start.dtype, np.datetime64)):
             raise ConfigError(f"{path}: a .wth file's hours are local: give start with its zone, e.g. '2024-06-20T00:00-04:00'", key="start")
-        cover = float(cloud_cover)
-        if not 0.0 <= cover <= 1.0:
-            raise ConfigError(f"must lie in [0, 1]; got {cloud_cover!r}", key="cloud_cover")
-        series = read_wth(path, start=t_start, latitude=latitude, longitude=longitude, cloud_cover=cover, max_gap=_max_gap(max_gap))
+        cover = None
+        if cloud_cover is not None:
+            cover = float(cloud_cover)
+            if not 0.0 <= cover <= 1.0:
+                raise ConfigError(f"must lie in [0, 1]; got {cloud_cover!r}", key="cloud_cover")
+        series = read_wth(path, start=t_start, latitude=latitude, longitude=longitude, cloud_cover=cover, fields=fields,
+                          max_gap=_max_gap(max_gap))
         check_span(series, None, t_end)
         return series
     if cloud_cover is not None:
         raise ConfigError(f"{path}: cloud_cover is for .wth files; a {kind} weather file carries its own", key="cloud_cover")
+    if fields:
+        raise ConfigError(f"{path}: fields are declared for .wth files; a {kind} weather file names its own columns", key="fields")
     series = read_weather_csv(path, max_gap=max_gap) if kind == "csv" else read_weather_netcdf(path, max_gap=max_gap)
     check_place(series, latitude, longitude, tolerance_deg)
     check_span(series, t_start, t_end)

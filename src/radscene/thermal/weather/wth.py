@@ -10,8 +10,14 @@ pressure [mbar], relative humidity [0-1], dew point [°C], wind speed [m s-1]. T
 its constraints are what the documentation states; this field layout was read off a public
 example file, so every file is checked for it: the relative humidity of field 4 must agree
 with the one of the dew point of field 5 (``HUMIDITY_AGREEMENT``).
-The fields after the wind speed (insolation, cloud and precipitation) are not read; the
-caller states the cloud cover. Numbers may run together in fixed-width fields
+
+The meaning and units of the fields after the wind speed (the example file has seven more)
+could not be confirmed from a published description, so radscene does not assign them. A
+caller who knows a file's layout declares those fields (``fields``, 1-based field number ->
+``"name [unit]"``, a name of ``DECLARABLE`` with a unit the CSV reader accepts for it), e.g.
+``{7: "global_shortwave [W m-2]", 8: "diffuse_shortwave [W m-2]", 10: "cloud_cover [tenths]"}``;
+the measured irradiances then replace the modelled ones, as for the CSV reader, and a declared
+cloud cover replaces the caller's constant. Numbers may run together in fixed-width fields
 (``0.00-15.00``), so fields are split by number, not by white space.
 """
 
@@ -23,16 +29,19 @@ from pathlib import Path
 import numpy as np
 
 from radscene.errors import ConfigError
-from radscene.thermal.weather._table import build_series
+from radscene.thermal.weather._table import build_series, unit_factor
 from radscene.thermal.weather.humidity import dew_point_to_relative_humidity
 
-__all__ = ["read_wth"]
+__all__ = ["DECLARABLE", "parse_fields", "read_wth"]
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
+_DECLARED = re.compile(r"^\s*([A-Za-z_]\w*)\s*\[(.+)\]\s*$")
 #: Largest disagreement accepted between the file's relative humidity and the one of its dew
 #: point [0-1]; a file that exceeds it is not laid out as radscene reads it.
 HUMIDITY_AGREEMENT = 0.1
 _FIELDS = ("hour", "air temperature [°C]", "pressure [mbar]", "relative humidity [0-1]", "dew point [°C]", "wind speed [m s-1]")
+#: Variables a caller may declare for the fields after the sixth.
+DECLARABLE = ("global_shortwave", "diffuse_shortwave", "longwave_down", "cloud_cover")
 
 
 def _numbers(line, path, lineno):
@@ -43,7 +52,69 @@ def _numbers(line, path, lineno):
     return [float(v) for v in values]
 
 
-def read_wth(path, *, start, latitude, longitude, cloud_cover, max_gap=None):
+def parse_fields(fields, path="weather", key="fields"):
+    """Check a declaration of a ``.wth`` file's fields after the sixth.
+
+    Parameters
+    ----------
+    fields : dict of int to str, or None
+        1-based field number (> 6) -> ``"name [unit]"``, ``name`` one of ``DECLARABLE`` and
+        ``unit`` one the CSV reader accepts for it (``W m-2``, ``tenths``, ``%``, ...).
+    path : str, optional
+        The file, for messages.
+    key : str, optional
+        The configuration key, for messages.
+
+    Returns
+    -------
+    dict of int to tuple
+        Field number -> (name, factor, offset) converting the field to the series' units
+        (W m-2, 0-1) by ``value * factor + offset``.
+
+    Raises
+    ------
+    ConfigError
+        A field number that is not an integer above 6, a declaration that is not
+        ``"name [unit]"``, an unknown name, a name declared twice, a unit of another kind, or
+        one of ``global_shortwave`` and ``diffuse_shortwave`` without the other.
+    """
+    if not fields:
+        return {}
+    out, seen = {}, {}
+    for number, text in dict(fields).items():
+        try:
+            n = int(number)
+        except (TypeError, ValueError):
+            raise ConfigError(f"{path}: field number {number!r} is not an integer", key=key) from None
+        if n != number and str(n) != str(number).strip():
+            raise ConfigError(f"{path}: field number {number!r} is not an integer", key=key)
+        if n <= len(_FIELDS):
+            raise ConfigError(
+                f"{path}: field {n} is read as {_FIELDS[n - 1]}; only fields after the sixth can be declared", key=f"{key}.{n}"
+            )
+        match = _DECLARED.match(str(text))
+        if match is None:
+            raise ConfigError(f"{path}: field {n}: {text!r} is not 'name [unit]', e.g. 'global_shortwave [W m-2]'", key=f"{key}.{n}")
+        name, unit = match.group(1).lower(), match.group(2)
+        if name not in DECLARABLE:
+            raise ConfigError(f"{path}: field {n}: unknown name {name!r}; known: {', '.join(DECLARABLE)}", key=f"{key}.{n}")
+        if name in seen:
+            raise ConfigError(f"{path}: fields {seen[name]} and {n} are both declared {name}", key=f"{key}.{n}")
+        seen[name] = n
+        factor, offset = unit_factor(path, name, unit, f"field {n}")
+        out[n] = (name, factor, offset)
+    if ("global_shortwave" in seen) != ("diffuse_shortwave" in seen):
+        given = "global_shortwave" if "global_shortwave" in seen else "diffuse_shortwave"
+        other = "diffuse_shortwave" if given == "global_shortwave" else "global_shortwave"
+        raise ConfigError(
+            f"{path}: field {seen[given]} is declared {given} but no field is {other}; the measured short-wave "
+            "replaces the modelled one only as a pair",
+            key=key,
+        )
+    return out
+
+
+def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None, max_gap=None):
     """Read a THERM ``.wth`` weather-history file.
 
     Parameters
@@ -54,8 +125,12 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover, max_gap=None):
         UTC instant of the file's hour 0 (local midnight of the file's first day) [UTC].
     latitude, longitude : float
         Place the weather is for [deg]; the file does not state it.
-    cloud_cover : float
-        Cloud cover over the whole file [0-1].
+    cloud_cover : float, optional
+        Cloud cover over the whole file [0-1]; required unless ``fields`` declares a
+        ``cloud_cover`` field, refused if it does.
+    fields : dict of int to str, optional
+        The meaning and unit of fields after the sixth (see ``parse_fields``); fields not
+        declared are checked to be numbers and otherwise not read.
     max_gap : float, optional
         Longest step between entries accepted [s], for the row checks shared with the other
         readers; the header's fixed step already forbids gaps.
@@ -68,10 +143,19 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover, max_gap=None):
     ------
     ConfigError
         A header that is not two numbers, a count that differs from the rows, a step that is
-        not positive or longer than the span, a row with fewer than six fields or a field that
-        is not a number, hours out of step with the header, or a humidity that disagrees with
-        the dew point (each names the file and the line).
+        not positive or longer than the span, a row with fewer than six fields or with another
+        number of fields than the first entry, a field that is not a number, hours out of step
+        with the header, a humidity that disagrees with the dew point, a declared field that
+        is missing from the entries or out of range, diffuse above global short-wave (each
+        names the file and the line; the last two from ``build_series``); a bad ``fields`` declaration (see ``parse_fields``);
+        a cloud cover both declared and given, or neither.
     """
+    declared = parse_fields(fields, path)
+    has_cloud = any(name == "cloud_cover" for name, _, _ in declared.values())
+    if has_cloud and cloud_cover is not None:
+        raise ConfigError(f"{path}: cloud cover is both a declared field and given as {cloud_cover!r}; give one", key="cloud_cover")
+    if not has_cloud and cloud_cover is None:
+        raise ConfigError(f"{path}: no cloud cover: give cloud_cover, or declare the file's cloud field", key="cloud_cover")
     text = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
     rows = [(i + 1, line) for i, line in enumerate(text) if line.strip()]
     if not rows:
@@ -88,13 +172,22 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover, max_gap=None):
     entries = rows[1:]
     if len(entries) != count:
         raise ConfigError(f"{path}: line {lineno} announces {count} entries; the file has {len(entries)}", key="weather")
-    table = np.empty((count, 6))
+    width = None
+    needed = max([len(_FIELDS), *declared])
+    table = np.empty((count, needed))
     for k, (n, line) in enumerate(entries):
         values = _numbers(line, path, n)
-        if len(values) < 6:
+        if len(values) < len(_FIELDS):
             missing = ", ".join(_FIELDS[len(values):])
             raise ConfigError(f"{path}: line {n}: {len(values)} fields; missing {missing}", key="weather")
-        table[k] = values[:6]
+        if width is None:
+            width = len(values)
+            short = [f for f in declared if f > width]
+            if short:
+                raise ConfigError(f"{path}: line {n}: {width} fields; no field {short[0]} as declared", key="fields")
+        elif len(values) != width:
+            raise ConfigError(f"{path}: line {n}: {len(values)} fields; the first entry (line {entries[0][0]}) has {width}", key="weather")
+        table[k] = values[:needed]
     hours = table[:, 0]
     lines = [f"line {n}" for n, _ in entries]
     for k in range(1, count):
@@ -127,7 +220,10 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover, max_gap=None):
         "air_temperature": air,
         "relative_humidity": rh,
         "wind_speed": table[:, 5],
-        "cloud_cover": np.full(count, float(cloud_cover)),
         "pressure": table[:, 2] * 100.0,
     }
+    if not has_cloud:
+        columns["cloud_cover"] = np.full(count, float(cloud_cover))
+    for number, (name, factor, offset) in sorted(declared.items()):
+        columns[name] = table[:, number - 1] * factor + offset
     return build_series(str(path), time, columns, lines, latitude, longitude, max_gap)
