@@ -82,8 +82,7 @@ def _weather(scene, start, end):
             if spec.start is None:
                 raise ConfigError("a THERM .wth file has no date: give thermal.weather.start, the instant of its "
                                   "hour 0 with its UTC offset", key="thermal.weather.start")
-            declared = [text.split("[")[0].strip().lower() for text in (spec.fields or {}).values()]
-            cloud = spec.cloud_cover if "cloud_cover" in spec.model_fields_set or "cloud_cover" not in declared else None
+            cloud = spec.cloud_cover if "cloud_cover" in spec.model_fields_set else None
             weather = wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=spec.start,
                                       cloud_cover=cloud, fields=spec.fields)
             if not weather.covers(start, end):

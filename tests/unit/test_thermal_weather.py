@@ -424,11 +424,15 @@ def test_netcdf_unsorted_and_missing_variable(tmp_path):
 
 # --- THERM .wth --------------------------------------------------------------------------
 
+LY_H = 41840.0 / 3600.0  # W m-2 per Langley h-1 (1 cal_th cm-2 h-1)
 
-def _wth_rows(count=193, step=0.25, rh=None):
+
+def _wth_rows(count=193, step=0.25, rh=None, sky=0.70, width=13, direct=None, diffuse=None):
     """A THERM file's entries in its fixed-width layout, numbers running together as in
-    published files ("0.00-15.00"): hour, T [°C], p [mbar], RH, T_d [°C], wind, then seven
-    fields radscene does not read. ``rh`` replaces the relative humidity of every entry."""
+    published files ("0.00-15.00"): hour, T [°C], p [mbar], RH, T_d [°C], wind, direct and
+    diffuse insolation [Ly/h], sky exposure, cloud type, precipitation type, rate and
+    temperature (the DIRSIG manual's order); ``width`` 6 stops after the wind speed. ``rh``
+    replaces the relative humidity of every entry."""
     hours = np.arange(count) * step
     air = np.round(-10.0 + 5.0 * np.sin(2 * np.pi * (hours - 9.0) / 24.0), 2)
     dew = np.full(count, -16.0)
@@ -436,8 +440,15 @@ def _wth_rows(count=193, step=0.25, rh=None):
         rh = np.round(dew_point_to_relative_humidity(air + T0, dew + T0), 2)
     rh = np.broadcast_to(rh, hours.shape)
     wind = np.round(3.0 + 0.01 * hours, 2)
-    lines = [f"{h:.2f}{t:6.2f}{1005.0:8.2f}{r:6.2f}{d:6.2f}{u:7.2f}{0.0:9.2f}{0.0:9.2f} 1.00  0  0   0.00  0.00"
-             for h, t, r, d, u in zip(hours, air, rh, dew, wind, strict=True)]
+    direct = np.zeros(count) if direct is None else direct
+    diffuse = np.zeros(count) if diffuse is None else diffuse
+    sky = np.broadcast_to(sky, hours.shape)
+    lines = []
+    for h, t, r, d, u, b, f, s in zip(hours, air, rh, dew, wind, direct, diffuse, sky, strict=True):
+        line = f"{h:.2f}{t:6.2f}{1005.0:8.2f}{r:6.2f}{d:6.2f}{u:7.2f}"
+        if width == 13:
+            line += f"{b:9.2f}{f:9.2f}{s:5.2f}  0  0   0.00  0.00"
+        lines.append(line)
     return lines, hours, air, rh, wind
 
 
@@ -447,38 +458,53 @@ def _wth(tmp_path, lines, header="193 0.250000"):
     return path
 
 
+WINTER = {"start": "2024-01-15T00:00-05:00", "latitude": 43.16, "longitude": -77.61}
+
+
 def test_wth_round_trip(tmp_path):
-    lines, hours, air, rh, wind = _wth_rows()
+    lines, hours, air, rh, wind = _wth_rows(sky=np.where(np.arange(193) < 96, 0.70, 0.25))
     assert lines[0].startswith("0.00-") and "-16.00" in lines[0]  # numbers run together
-    w = read_weather(_wth(tmp_path, lines), start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=0.3)
+    w = read_weather(_wth(tmp_path, lines), **WINTER)
     assert w.start == np.datetime64("2024-01-15T05:00")  # local midnight EST in UTC
     assert w.end - w.start == np.timedelta64(48, "h")
     np.testing.assert_allclose(w.air_temperature, air + T0, rtol=0, atol=1e-9)
     np.testing.assert_allclose(w.relative_humidity, rh, rtol=0, atol=1e-12)
     np.testing.assert_allclose(w.wind_speed, wind, rtol=0, atol=1e-12)
     np.testing.assert_allclose(w.pressure, 100500.0, rtol=1e-12)
-    np.testing.assert_allclose(w.cloud_cover, 0.3, rtol=1e-12)
+    # cloud cover = 1 - sky exposure (field 9)
+    np.testing.assert_allclose(w.cloud_cover, np.where(np.arange(193) < 96, 0.30, 0.75), rtol=0, atol=1e-12)
+    assert w.global_shortwave is None and w.direct_normal_shortwave is None  # insolation not read undeclared
     assert (w.latitude, w.longitude) == (43.16, -77.61)
     # interpolation between the 15-minute rows
     mid = w.at(np.datetime64("2024-01-15T05:07:30"))["air_temperature"]
     assert float(mid) == pytest.approx(0.5 * (w.air_temperature[0] + w.air_temperature[1]), abs=1e-12)
 
 
-def test_wth_needs_date_place_and_cloud(tmp_path):
+def test_wth_without_sky_exposure_takes_the_callers_cloud_cover(tmp_path):
+    path = _wth(tmp_path, _wth_rows(width=6)[0])
+    w = read_weather(path, **WINTER, cloud_cover=0.4)
+    np.testing.assert_allclose(w.cloud_cover, 0.4, rtol=1e-12)
+    with pytest.raises(ConfigError, match=r"winter.wth: entries of 6 fields carry no sky exposure \(field 9\): give cloud_cover"):
+        read_weather(path, **WINTER)
+    with pytest.raises(ConfigError, match=r"winter.wth: the file carries its sky exposure \(field 9, cloud cover = 1 - sky exposure\); cloud_cover 0.4"):
+        read_weather(_wth(tmp_path, _wth_rows()[0]), **WINTER, cloud_cover=0.4)
+
+
+def test_wth_needs_date_and_place(tmp_path):
     path = _wth(tmp_path, _wth_rows()[0])
-    with pytest.raises(ConfigError, match=r"winter.wth: a THERM .wth file states no date, place or cloud cover; give start, latitude") as info:
-        read_weather(path, longitude=-77.61, cloud_cover=0.0)
+    with pytest.raises(ConfigError, match=r"winter.wth: a THERM .wth file states no date or place; give start, latitude") as info:
+        read_weather(path, longitude=-77.61)
     assert info.value.key == "start"
     with pytest.raises(ConfigError, match="hours are local: give start with its zone"):
-        read_weather(path, start=np.datetime64("2024-01-15T00:00"), latitude=43.16, longitude=-77.61, cloud_cover=0.0)
+        read_weather(path, start=np.datetime64("2024-01-15T00:00"), latitude=43.16, longitude=-77.61)
     with pytest.raises(ConfigError, match="time zone"):
-        read_weather(path, start="2024-01-15T00:00", latitude=43.16, longitude=-77.61, cloud_cover=0.0)
+        read_weather(path, start="2024-01-15T00:00", latitude=43.16, longitude=-77.61)
 
 
 def test_wth_scene_beyond_its_48_hours_refused(tmp_path):
     path = _wth(tmp_path, _wth_rows()[0])
     with pytest.raises(ConfigError, match=r"winter.wth: covers 2024-01-15T05:00Z to 2024-01-17T05:00Z; the scene needs"):
-        read_weather(path, start="2024-01-15T00:00-05:00", end="2024-01-18T12:00Z", latitude=43.16, longitude=-77.61, cloud_cover=0.0)
+        read_weather(path, **WINTER, end="2024-01-18T12:00Z")
 
 
 @pytest.mark.parametrize(
@@ -490,57 +516,58 @@ def test_wth_scene_beyond_its_48_hours_refused(tmp_path):
         (lambda lines: ("193 0.25", lines[:10] + [lines[10].replace("2.50", "2.75", 1)] + lines[11:]), r"winter.wth: line 12: hour 2.75 is out of step; expected 2.5"),
         (lambda lines: ("193 0.25", lines[:10] + [lines[9]] + lines[11:]), r"winter.wth: line 12: hour 2.25 repeats"),
         (lambda lines: ("193 0.25", lines[:5] + ["1.25 -9.00 1005.00  0.50"] + lines[6:]), r"winter.wth: line 7: 4 fields; missing dew point"),
-        (lambda lines: ("193 0.25", lines[:5] + [lines[5].replace(" 1.00 ", " x.00 ")] + lines[6:]), r"winter.wth: line 7: 'x' is not a number"),
+        (lambda lines: ("193 0.25", lines[:5] + [lines[5].replace(" 0.70 ", " x.70 ")] + lines[6:]), r"winter.wth: line 7: 'x' is not a number"),
+        (lambda lines: ("193 0.25", lines[:40] + [lines[40].rsplit(" ", 2)[0]] + lines[41:]), r"winter.wth: line 42: 12 fields; the first entry \(line 2\) has 13"),
         (lambda lines: ("193 0.25", _wth_rows(rh=0.99)[0]), r"winter.wth: line \d+: relative humidity 0.99 \(field 4\) and dew point -16 °C"),
         (lambda lines: ("193 0.25", _wth_rows(rh=68.0)[0]), r"winter.wth: line 2: relative humidity 68 outside \[0, 1\]"),
+        (lambda lines: ("193 0.25", _wth_rows(sky=np.where(np.arange(193) == 50, 7.0, 0.7))[0]),
+         r"winter.wth: line 52: sky exposure 7 \(field 9\) outside \[0, 1\] \(1 clear, 0 overcast\)"),
     ],
-    ids=["count", "step-longer-than-span", "zero-step", "out-of-step", "duplicated-hour", "short-row", "not-a-number", "fields-disagree", "percent"],
+    ids=["count", "step-longer-than-span", "zero-step", "out-of-step", "duplicated-hour", "short-row", "not-a-number",
+         "another-width", "fields-disagree", "percent", "sky-exposure-in-tenths"],
 )
 def test_wth_bad_input(tmp_path, edit, message):
     header, lines = edit(_wth_rows()[0])
     path = _wth(tmp_path, lines, header)
     with pytest.raises(ConfigError, match=message):
-        read_weather(path, start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=0.0)
+        read_weather(path, **WINTER)
 
 
-def _wth_measured(count=193, step=0.25):
-    """Entries with measured short-wave in fields 7 (global) and 8 (diffuse) [W m-2] and a cloud
-    cover in tenths in field 10: a half-sine day from 06:00 to 18:00 local."""
-    lines, hours, air, rh, wind = _wth_rows(count, step)
-    local = hours % 24.0
-    glob = np.round(np.where((local > 6.0) & (local < 18.0), 800.0 * np.sin(np.pi * (local - 6.0) / 12.0), 0.0), 2)
-    diff = np.round(0.15 * glob, 2)
-    tenths = np.where(hours < 24.0, 2.0, 7.0)
-    out = []
-    for line, g, d, c in zip(lines, glob, diff, tenths, strict=True):
-        head = line[: -len("     0.00     0.00 1.00  0  0   0.00  0.00")]
-        out.append(f"{head}{g:9.2f}{d:9.2f} 1.00{c:3.0f}  0   0.00  0.00")
-    return out, glob, diff, tenths
+def _clear_day(count=193, step=0.25):
+    """Direct normal and diffuse insolation [Ly/h] of a half-sine day, 06:00 to 18:00 local."""
+    local = (np.arange(count) * step) % 24.0
+    day = (local > 6.0) & (local < 18.0)
+    sine = np.sin(np.pi * np.clip(local - 6.0, 0.0, 12.0) / 12.0)
+    direct = np.round(np.where(day, 75.0 * sine**0.3, 0.0), 2)
+    diffuse = np.round(np.where(day, 8.0 * sine, 0.0), 2)
+    return direct, diffuse
 
 
-_MEASURED = {7: "global_shortwave [W m-2]", 8: "diffuse_shortwave [W/m2]", 10: "cloud_cover [tenths]"}
+INSOLATION = {7: "direct_normal_shortwave [Ly/h]", 8: "diffuse_shortwave [Ly/h]"}
 
 
-def test_wth_declared_fields_are_read_with_their_units(tmp_path):
-    lines, glob, diff, tenths = _wth_measured()
-    w = read_weather(_wth(tmp_path, lines), start="2024-06-21T00:00-04:00", latitude=43.16, longitude=-77.61, fields=_MEASURED)
-    np.testing.assert_allclose(w.global_shortwave, glob, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(w.diffuse_shortwave, diff, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(w.cloud_cover, tenths / 10.0, rtol=0, atol=1e-12)
-    assert w.longwave_down is None
-    assert float(w.at(np.datetime64("2024-06-21T16:00"))["global_shortwave"]) == pytest.approx(800.0, abs=1e-9)  # 12:00 EDT
-    # undeclared, the same file keeps its fields unread and needs a cloud cover
-    plain = read_weather(_wth(tmp_path, lines), start="2024-06-21T00:00-04:00", latitude=43.16, longitude=-77.61, cloud_cover=0.1)
-    assert plain.global_shortwave is None and set(plain.cloud_cover) == {0.1}
+def test_wth_declared_insolation_is_read_in_langleys(tmp_path):
+    direct, diffuse = _clear_day()
+    path = _wth(tmp_path, _wth_rows(direct=direct, diffuse=diffuse)[0])
+    w = read_weather(path, **WINTER, fields=INSOLATION)
+    np.testing.assert_allclose(w.direct_normal_shortwave, direct * LY_H, rtol=1e-12)
+    np.testing.assert_allclose(w.diffuse_shortwave, diffuse * LY_H, rtol=1e-12)
+    assert float(w.direct_normal_shortwave.max()) == pytest.approx(75.0 * 11.6222, rel=1e-4)  # 872 W m-2
+    np.testing.assert_allclose(w.cloud_cover, 0.3, rtol=1e-12)  # still from the sky exposure
+    assert w.global_shortwave is None and w.longwave_down is None
+    # a declared cloud field replaces the sky exposure
+    w = read_weather(path, **WINTER, fields={**INSOLATION, 12: "cloud_cover [tenths]"})
+    np.testing.assert_allclose(w.cloud_cover, 0.0, atol=1e-12)
 
 
 def test_wth_measured_shortwave_drives_the_heat_balance(tmp_path):
-    """A declared measured short-wave replaces the modelled one: the solver's beam and diffuse
-    irradiance are the file's figures (beam on a horizontal plane = global - diffuse)."""
+    """Declared insolation replaces the modelled short-wave: the solver's beam and diffuse
+    irradiance are the file's figures, the beam zero with the sun below the horizon."""
+    import radscene
     from radscene.scene import load_scene
 
-    lines, glob, diff, _ = _wth_measured()
-    path = _wth(tmp_path, lines)
+    direct, diffuse = _clear_day()
+    path = _wth(tmp_path, _wth_rows(direct=direct, diffuse=diffuse, sky=1.0)[0])
     scene = {
         "name": "wth_measured",
         "environment": {"location": {"latitude": 43.16, "longitude": -77.61, "altitude": 150.0},
@@ -551,56 +578,51 @@ def test_wth_measured_shortwave_drives_the_heat_balance(tmp_path):
         "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
         "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "altitude": 100.0,
                        "gsd": 1.0, "shape": [2, 2]}],
-        "thermal": {"start": "2024-06-21T10:00:00-04:00", "end": "2024-06-21T13:00:00-04:00", "step": "30 min",
+        "thermal": {"start": "2024-06-21T04:00:00-04:00", "end": "2024-06-21T13:00:00-04:00", "step": "30 min",
                     "hemisphere_samples": 4, "spin_up": False,
-                    "weather": {"file": str(path), "start": "2024-06-21T00:00:00-04:00", "fields": _MEASURED}},
+                    "weather": {"file": str(path), "start": "2024-06-21T00:00:00-04:00", "fields": INSOLATION}},
     }
-    import radscene
-
     ds = radscene.solve_thermal(load_scene(scene, base_dir=tmp_path))
     local = (ds.time.values - np.datetime64("2024-06-21T04:00")) / np.timedelta64(1, "h")
-    g = np.interp(local, np.arange(glob.size) * 0.25, glob)
-    d = np.interp(local, np.arange(glob.size) * 0.25, diff)
-    mu = np.cos(np.radians(ds.sun_zenith.values))
-    np.testing.assert_allclose(ds.diffuse_irradiance.values, d, rtol=1e-9, atol=1e-9)
-    np.testing.assert_allclose(ds.direct_irradiance.values * mu, g - d, rtol=1e-9, atol=1e-6)
+    file_hours = np.arange(direct.size) * 0.25
+    up = ds.sun_zenith.values < 90.0
+    assert up.any() and (~up).any()
+    np.testing.assert_allclose(ds.diffuse_irradiance.values, np.interp(local, file_hours, diffuse) * LY_H, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(ds.direct_irradiance.values[up], np.interp(local, file_hours, direct)[up] * LY_H, rtol=1e-9)
+    np.testing.assert_array_equal(ds.direct_irradiance.values[~up], 0.0)
 
 
 @pytest.mark.parametrize(
     "fields, cloud, message",
     [
-        ({5: "global_shortwave [W m-2]"}, 0.0, r"winter.wth: field 5 is read as dew point"),
-        ({7: "global_shortwave"}, 0.0, r"winter.wth: field 7: 'global_shortwave' is not 'name \[unit\]'"),
-        ({7: "sunshine [h]"}, 0.0, r"winter.wth: field 7: unknown name 'sunshine'; known: global_shortwave"),
-        ({7: "global_shortwave [degC]", 8: "diffuse_shortwave [W m-2]"}, 0.0, r"winter.wth: field 7 'global_shortwave' has unit 'degC'"),
-        ({7: "global_shortwave [W m-2]"}, 0.0, r"winter.wth: field 7 is declared global_shortwave but no field is diffuse_shortwave"),
-        ({7: "cloud_cover [tenths]", 9: "cloud_cover [1]"}, None, r"winter.wth: fields 7 and 9 are both declared cloud_cover"),
+        ({5: "global_shortwave [W m-2]"}, None, r"winter.wth: field 5 is read as dew point"),
+        ({7: "global_shortwave"}, None, r"winter.wth: field 7: 'global_shortwave' is not 'name \[unit\]'"),
+        ({7: "sunshine [h]"}, None, r"winter.wth: field 7: unknown name 'sunshine'; known: global_shortwave"),
+        ({7: "direct_normal_shortwave [degC]", 8: "diffuse_shortwave [Ly/h]"}, None, r"winter.wth: field 7 'direct_normal_shortwave' has unit 'degC'"),
+        ({7: "direct_normal_shortwave [Ly/h]"}, None, r"winter.wth: direct_normal_shortwave without diffuse_shortwave"),
+        ({8: "diffuse_shortwave [Ly/h]"}, None, r"winter.wth: diffuse_shortwave without global_shortwave or direct_normal_shortwave"),
+        ({7: "direct_normal_shortwave [Ly/h]", 10: "global_shortwave [W m-2]", 8: "diffuse_shortwave [Ly/h]"}, None,
+         r"winter.wth: both global_shortwave and direct_normal_shortwave"),
+        ({10: "cloud_cover [tenths]", 12: "cloud_cover [1]"}, None, r"winter.wth: fields 10 and 12 are both declared cloud_cover"),
         ({"x": "cloud_cover [1]"}, None, r"winter.wth: field number 'x' is not an integer"),
-        ({10: "cloud_cover [tenths]"}, 0.2, r"winter.wth: cloud cover is both a declared field and given as 0.2"),
+        ({12: "cloud_cover [tenths]"}, 0.2, r"winter.wth: cloud cover is both a declared field and given as 0.2"),
         ({14: "cloud_cover [tenths]"}, None, r"winter.wth: line 2: 13 fields; no field 14 as declared"),
-        ({7: "diffuse_shortwave [W m-2]", 8: "global_shortwave [W m-2]"}, 0.0,
-         r"winter.wth: line 27: diffuse_shortwave 52.32 W m-2 above global_shortwave 7.85 W m-2"),
-        ({10: "cloud_cover [1]"}, None, r"winter.wth: line 2: cloud_cover = 2 0-1 is outside \[0, 1\]"),
+        ({8: "global_shortwave [Ly/h]", 7: "diffuse_shortwave [Ly/h]"}, None,
+         r"winter.wth: line 27: diffuse_shortwave \d+\.?\d* W m-2 above global_shortwave \d+\.?\d* W m-2"),
     ],
-    ids=["field-1-to-6", "no-unit", "unknown-name", "wrong-unit", "global-alone", "twice", "not-integer",
-         "cloud-twice", "beyond-the-row", "diffuse-above-global", "tenths-as-fraction"],
+    ids=["field-1-to-6", "no-unit", "unknown-name", "wrong-unit", "direct-alone", "diffuse-alone", "two-beams", "twice",
+         "not-integer", "cloud-twice", "beyond-the-row", "diffuse-above-global"],
 )
 def test_wth_bad_field_declaration(tmp_path, fields, cloud, message):
-    path = _wth(tmp_path, _wth_measured()[0])
+    direct, diffuse = _clear_day()
+    path = _wth(tmp_path, _wth_rows(direct=direct, diffuse=diffuse)[0])
     with pytest.raises(ConfigError, match=message):
-        read_weather(path, start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=cloud, fields=fields)
+        read_weather(path, **WINTER, cloud_cover=cloud, fields=fields)
 
 
-def test_wth_rows_of_another_width_and_fields_for_other_formats_refused(tmp_path):
-    lines = _wth_measured()[0]
-    lines[40] = lines[40].rsplit(" ", 2)[0]  # one field fewer
-    with pytest.raises(ConfigError, match=r"winter.wth: line 42: 12 fields; the first entry \(line 2\) has 13"):
-        read_weather(_wth(tmp_path, lines), start="2024-01-15T00:00-05:00", latitude=43.16, longitude=-77.61, cloud_cover=0.0)
+def test_fields_are_for_wth_files_and_shortwave_comes_in_pairs(tmp_path):
     with pytest.raises(ConfigError, match=r"site.csv: fields are declared for .wth files"):
         read_weather(_csv(tmp_path), fields={7: "cloud_cover [1]"})
-
-
-def test_csv_global_without_diffuse_refused(tmp_path):
     rows = ["2024-06-21T00:00Z,15,70,2,20,1013,0", "2024-06-21T01:00Z,14,75,2,20,1013,0"]
     header = "time,air_temperature [degC],relative_humidity [%],wind_speed [m/s],cloud_cover [%],pressure [hPa],global_shortwave [W m-2]"
     with pytest.raises(ConfigError, match=r"site.csv: global_shortwave without diffuse_shortwave"):
@@ -682,3 +704,13 @@ def test_series_is_immutable():
         w.air_temperature[0] = 300.0
     with pytest.raises(AttributeError):
         w.source = "elsewhere"
+
+
+def test_series_measured_shortwave_is_diffuse_with_one_beam():
+    t = np.array(["2024-06-21T00:00", "2024-06-21T01:00"], "datetime64[ns]")
+    base = dict(air_temperature=290.0, relative_humidity=0.5, wind_speed=2.0, cloud_cover=0.0, pressure=1e5, source="s")
+    WeatherSeries(t, **base, direct_normal_shortwave=0.0, diffuse_shortwave=0.0)
+    for extra in ({"global_shortwave": 0.0}, {"diffuse_shortwave": 0.0},
+                  {"global_shortwave": 0.0, "direct_normal_shortwave": 0.0, "diffuse_shortwave": 0.0}):
+        with pytest.raises(ConfigError, match=r"s: measured short-wave is diffuse_shortwave with one of"):
+            WeatherSeries(t, **base, **extra)

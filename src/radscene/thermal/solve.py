@@ -145,8 +145,8 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         The scene's engine.
     weather : object with ``at(times) -> dict``
         Air temperature [K], relative humidity [-], wind speed [m s-1], cloud cover [-],
-        pressure [Pa], and optionally measured ``global_shortwave``, ``diffuse_shortwave``,
-        ``longwave_down`` [W m-2] (:class:`radscene.thermal.weather.WeatherSeries`).
+        pressure [Pa], and optionally measured ``global_shortwave`` or
+        ``direct_normal_shortwave`` with ``diffuse_shortwave``, ``longwave_down`` [W m-2] (:class:`radscene.thermal.weather.WeatherSeries`).
     absorptance, emissivity : ndarray, (n_elements,), optional
         Broadband solar absorptance and long-wave emissivity [-]; default the stacks'.
     fixed_face_exitance : ndarray, (n_faces,), optional
@@ -205,6 +205,9 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         diffuse = np.asarray(w["diffuse_shortwave"], float)
         beam = np.asarray(w["global_shortwave"], float) - diffuse
         direct = np.where(mu > 0.05, np.maximum(beam, 0.0) / np.maximum(mu, 0.05), 0.0)
+    elif w.get("direct_normal_shortwave") is not None and w.get("diffuse_shortwave") is not None:
+        diffuse = np.asarray(w["diffuse_shortwave"], float)
+        direct = np.where(sun.zenith < 90.0, np.asarray(w["direct_normal_shortwave"], float), 0.0)
     air = np.asarray(w["air_temperature"], float)
     if w.get("longwave_down") is not None:
         longwave = np.asarray(w["longwave_down"], float)

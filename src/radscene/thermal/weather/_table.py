@@ -47,6 +47,19 @@ _PRESSURE = {
     "mmHg": (133.322387415, 0.0),
 }
 
+#: A Langley per hour: 1 cal_th cm-2 h-1 = 41840 J m-2 / 3600 s [W m-2] (the unit of a THERM
+#: ``.wth`` file's insolation, DIRSIG manual, prn2wth, Table 30-1).
+LANGLEY_PER_HOUR = 41840.0 / 3600.0
+_IRRADIANCE = {
+    **UNITS["irradiance"],
+    "Ly/h": (LANGLEY_PER_HOUR, 0.0),
+    "Ly h-1": (LANGLEY_PER_HOUR, 0.0),
+    "Ly/hr": (LANGLEY_PER_HOUR, 0.0),
+    "langley/h": (LANGLEY_PER_HOUR, 0.0),
+    "Langley/hr": (LANGLEY_PER_HOUR, 0.0),
+    "Langleys/hr": (LANGLEY_PER_HOUR, 0.0),
+}
+
 #: Columns of a weather file: name -> (kind, unit table). Units are to the series' units
 #: (K, 0-1, m s-1, 0-1, Pa, W m-2) by canonical = value * factor + offset.
 COLUMNS = {
@@ -56,9 +69,10 @@ COLUMNS = {
     "wind_speed": ("speed", _SPEED),
     "cloud_cover": ("cloud fraction", _CLOUD),
     "pressure": ("pressure", _PRESSURE),
-    "global_shortwave": ("irradiance", UNITS["irradiance"]),
-    "diffuse_shortwave": ("irradiance", UNITS["irradiance"]),
-    "longwave_down": ("irradiance", UNITS["irradiance"]),
+    "global_shortwave": ("irradiance", _IRRADIANCE),
+    "direct_normal_shortwave": ("irradiance", _IRRADIANCE),
+    "diffuse_shortwave": ("irradiance", _IRRADIANCE),
+    "longwave_down": ("irradiance", _IRRADIANCE),
 }
 
 #: Bounds of plausible screen-level weather, beyond which a value most likely carries the wrong
@@ -69,6 +83,7 @@ PLAUSIBLE = {
     "pressure": (3.0e4, 1.1e5),
     "wind_speed": (0.0, 120.0),
     "global_shortwave": (0.0, 1500.0),
+    "direct_normal_shortwave": (0.0, 1500.0),
     "diffuse_shortwave": (0.0, 1500.0),
     "longwave_down": (0.0, 700.0),
 }
@@ -141,22 +156,7 @@ def build_series(path, time, columns, labels, latitude, longitude, max_gap=None)
                 key="dew_point",
             )
         columns["relative_humidity"] = dew_point_to_relative_humidity(air, dew)
-    pair = [name for name in ("global_shortwave", "diffuse_shortwave") if name in columns]
-    if len(pair) == 1:
-        other = "diffuse_shortwave" if pair[0] == "global_shortwave" else "global_shortwave"
-        raise ConfigError(
-            f"{path}: {pair[0]} without {other}; the measured short-wave replaces the modelled one only as a pair",
-            key=other,
-        )
-    if pair:
-        above = np.flatnonzero(columns["diffuse_shortwave"] > columns["global_shortwave"] + 1e-6)
-        if above.size:
-            i = int(above[0])
-            raise ConfigError(
-                f"{path}: {labels[i]}: diffuse_shortwave {columns['diffuse_shortwave'][i]:g} W m-2 above "
-                f"global_shortwave {columns['global_shortwave'][i]:g} W m-2; is the column or field right?",
-                key="diffuse_shortwave",
-            )
+    check_shortwave(path, columns, labels)
     for name, values in columns.items():
         unit, low, high, low_inclusive = {**REQUIRED, **OPTIONAL}[name]
         ok = (values >= low) if low_inclusive else (values > low)
@@ -176,6 +176,31 @@ def build_series(path, time, columns, labels, latitude, longitude, max_gap=None)
                     key=name,
                 )
     return WeatherSeries(time=time, **columns, latitude=latitude, longitude=longitude, source=str(path))
+
+
+def check_shortwave(path, columns, labels):
+    """Refuse measured short-wave that cannot replace the modelled one: diffuse without a beam
+    (global or direct normal) or the reverse, both beams, diffuse above global."""
+    beams = [name for name in ("global_shortwave", "direct_normal_shortwave") if name in columns]
+    if len(beams) == 2:
+        raise ConfigError(f"{path}: both global_shortwave and direct_normal_shortwave; give one with diffuse_shortwave",
+                          key="direct_normal_shortwave")
+    if bool(beams) != ("diffuse_shortwave" in columns):
+        given = beams[0] if beams else "diffuse_shortwave"
+        other = "diffuse_shortwave" if beams else "global_shortwave or direct_normal_shortwave"
+        raise ConfigError(
+            f"{path}: {given} without {other}; the measured short-wave replaces the modelled one only as a pair",
+            key="diffuse_shortwave" if beams else "global_shortwave",
+        )
+    if columns.get("global_shortwave") is not None:
+        above = np.flatnonzero(columns["diffuse_shortwave"] > columns["global_shortwave"] + 1e-6)
+        if above.size:
+            i = int(above[0])
+            raise ConfigError(
+                f"{path}: {labels[i]}: diffuse_shortwave {columns['diffuse_shortwave'][i]:g} W m-2 above "
+                f"global_shortwave {columns['global_shortwave'][i]:g} W m-2; is the column or field right?",
+                key="diffuse_shortwave",
+            )
 
 
 def _hours(seconds):

@@ -21,7 +21,8 @@ Columns (name | unit accepted | meaning): ``air_temperature`` (K, degC, degF, ..
 air; ``relative_humidity`` (%, 1, fraction) or ``dew_point`` (K, degC, ...), one of the two;
 ``wind_speed`` (m/s, km/h, knots, mph); ``cloud_cover`` (%, 1, oktas, tenths); ``pressure``
 (Pa, hPa, mbar, kPa); optional measured ``global_shortwave``, ``diffuse_shortwave``,
-``longwave_down`` (W m-2, ...) on a horizontal plane, which replace the modelled ones.
+``longwave_down`` (W m-2, Ly/h, ...) on a horizontal plane, and ``direct_normal_shortwave``
+(normal to the beam), which replace the modelled ones (diffuse with one of the two beams).
 """
 
 from __future__ import annotations
@@ -303,12 +304,13 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
         Longest step between rows accepted [s], or a string such as ``"2 h"``; by default
         three times the file's most frequent step.
     cloud_cover : float, optional
-        Cloud cover [0-1] for a ``.wth`` file that declares no cloud field (see ``fields``);
-        refused for the other formats, which carry their own.
+        Cloud cover [0-1] for a ``.wth`` file whose entries stop before the sky exposure (field
+        9) and that declares no cloud field (see ``fields``); refused for the other files,
+        which carry their own.
     fields : dict of int to str, optional
         For a ``.wth`` file, the meaning and unit of fields after the sixth, which the format's
         documentation does not state: 1-based field number -> ``"name [unit]"``, e.g.
-        ``{7: "global_shortwave [W m-2]", 8: "diffuse_shortwave [W m-2]"}`` (see
+        ``{7: "direct_normal_shortwave [Ly/h]", 8: "diffuse_shortwave [Ly/h]"}`` (see
         ``radscene.thermal.weather.wth.parse_fields``); refused for the other formats.
 
     Returns
@@ -343,15 +345,11 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
     if t_start is not None and t_end is not None and t_start > t_end:
         raise ConfigError(f"{path}: start {start!s} is after end {end!s}", key="start")
     if kind == "wth":
-        declared = parse_fields(fields, path)
-        cloud_declared = any(name == "cloud_cover" for name, _, _ in declared.values())
-        needed = (("start", start), ("latitude", latitude), ("longitude", longitude))
-        if not cloud_declared:
-            needed += (("cloud_cover", cloud_cover),)
-        missing = [n for n, v in needed if v is None]
+        parse_fields(fields, path)
+        missing = [n for n, v in (("start", start), ("latitude", latitude), ("longitude", longitude)) if v is None]
         if missing:
             raise ConfigError(
-                f"{path}: a THERM .wth file states no date, place or cloud cover; give {', '.join(missing)} "
+                f"{path}: a THERM .wth file states no date or place; give {', '.join(missing)} "
                 "(start: the zoned local time of its hour 0, e.g. '2024-06-20T00:00-04:00')",
                 key=missing[0],
             )

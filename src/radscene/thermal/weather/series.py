@@ -30,6 +30,7 @@ REQUIRED = {
 #: Measured irradiances a series may hold; they replace the modelled ones.
 OPTIONAL = {
     "global_shortwave": ("W m-2", 0.0, np.inf, True),
+    "direct_normal_shortwave": ("W m-2", 0.0, np.inf, True),
     "diffuse_shortwave": ("W m-2", 0.0, np.inf, True),
     "longwave_down": ("W m-2", 0.0, np.inf, True),
 }
@@ -139,6 +140,9 @@ class WeatherSeries:
     global_shortwave, diffuse_shortwave, longwave_down : numpy.ndarray or None
         Measured global and diffuse short-wave and downwelling long-wave irradiance on a
         horizontal plane [W m-2]; None when not measured (then modelled).
+    direct_normal_shortwave : numpy.ndarray or None
+        Measured direct solar irradiance normal to the beam [W m-2], with
+        ``diffuse_shortwave`` the alternative to ``global_shortwave``.
     latitude, longitude : float or None
         Place of the weather [deg] (north, east positive); None for a source without a place.
     source : str
@@ -149,7 +153,8 @@ class WeatherSeries:
     ConfigError
         Times not strictly increasing or fewer than two; arrays not of the times' length;
         a value not finite or out of its range (the message names the source, the variable
-        and the first offending sample).
+        and the first offending sample); measured short-wave other than diffuse with one
+        beam (global or direct normal).
     """
 
     time: np.ndarray
@@ -161,6 +166,7 @@ class WeatherSeries:
     global_shortwave: np.ndarray | None = None
     diffuse_shortwave: np.ndarray | None = None
     longwave_down: np.ndarray | None = None
+    direct_normal_shortwave: np.ndarray | None = None
     latitude: float | None = None
     longitude: float | None = None
     source: str = "weather"
@@ -204,6 +210,14 @@ class WeatherSeries:
                 raise ConfigError(f"{src}: {name} = {float(arr[i])!r} at sample {i} ({format_time(time[i])}) is {what}", key=name)
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
+        beams = [n for n in ("global_shortwave", "direct_normal_shortwave") if getattr(self, n) is not None]
+        if len(beams) > 1 or bool(beams) != (self.diffuse_shortwave is not None):
+            given = ", ".join(beams + (["diffuse_shortwave"] if self.diffuse_shortwave is not None else []))
+            raise ConfigError(
+                f"{src}: measured short-wave is diffuse_shortwave with one of global_shortwave or "
+                f"direct_normal_shortwave; got {given}",
+                key="diffuse_shortwave",
+            )
         for name, limit in (("latitude", 90.0), ("longitude", 180.0)):
             value = getattr(self, name)
             if value is not None:

@@ -1,24 +1,30 @@
 """Reader of THERM weather-history files (``.wth``), as DIRSIG uses them.
 
-The format (DIRSIG documentation, "Weather history file", dirsig.org/docs/new/wth.html): a first
-line with the number of entries and the time between them in hours (193 and 0.25 for DIRSIG:
-48 hours, both ends included), then one entry per line, the first field the local time in hours.
-The file states neither its date nor its place, so the caller gives both.
+The format: a first line with the number of entries and the time between them in hours (193
+and 0.25 for DIRSIG: 48 hours, both ends included), then one entry per line, the first field
+the local time in hours (DIRSIG documentation, "Weather history file",
+dirsig.org/docs/new/wth.html). The file states neither its date nor its place, so the caller
+gives both. The fields of an entry, in order, are named by the DIRSIG manual's description of
+its PRISM-to-WTH converter (dirsig.org/docs/manual/prn2wth-technical.html, Table 30-1, "WTH
+Data Sources"): relative time [h], air temperature [°C], pressure [mbar], relative humidity
+[0-1], dew point [°C], wind speed [m s-1], direct insolation [Langley h-1], diffuse
+insolation, sky exposure [0 overcast - 1 clear], cloud type, precipitation type, precipitation
+rate [cm h-1], precipitation temperature.
 
-radscene reads the first six fields of each entry — hour [h, local], air temperature [°C],
-pressure [mbar], relative humidity [0-1], dew point [°C], wind speed [m s-1]. The header and
-its constraints are what the documentation states; this field layout was read off a public
-example file, so every file is checked for it: the relative humidity of field 4 must agree
-with the one of the dew point of field 5 (``HUMIDITY_AGREEMENT``).
+radscene reads the first six, and the sky exposure as the cloud cover, 1 - sky exposure (the
+converter maps a cloud cover of 0-10 tenths linearly onto a sky exposure of 1-0). Every file
+is checked for this layout: the relative humidity of field 4 must agree with the one of the
+dew point of field 5 (``HUMIDITY_AGREEMENT``) and the sky exposure must lie in [0, 1].
 
-The meaning and units of the fields after the wind speed (the example file has seven more)
-could not be confirmed from a published description, so radscene does not assign them. A
-caller who knows a file's layout declares those fields (``fields``, 1-based field number ->
-``"name [unit]"``, a name of ``DECLARABLE`` with a unit the CSV reader accepts for it), e.g.
-``{7: "global_shortwave [W m-2]", 8: "diffuse_shortwave [W m-2]", 10: "cloud_cover [tenths]"}``;
-the measured irradiances then replace the modelled ones, as for the CSV reader, and a declared
-cloud cover replaces the caller's constant. Numbers may run together in fixed-width fields
-(``0.00-15.00``), so fields are split by number, not by white space.
+The insolation fields are not read by default: the table gives the direct insolation's unit
+(Langley h-1, converted from W m-2 by 0.0858) but not whether it is normal to the beam or on a
+horizontal plane, nor the diffuse insolation's unit. A caller who knows declares them
+(``fields``, 1-based field number -> ``"name [unit]"``, a name of ``DECLARABLE``), e.g.
+``{7: "direct_normal_shortwave [Ly/h]", 8: "diffuse_shortwave [Ly/h]"}``; the measured
+irradiances then replace the modelled ones, as for the CSV reader, and a declared
+``cloud_cover`` replaces the sky exposure. Precipitation is not used by the heat balance.
+Numbers may run together in fixed-width fields (``0.00-15.00``), so fields are split by number,
+not by white space.
 """
 
 from __future__ import annotations
@@ -29,10 +35,10 @@ from pathlib import Path
 import numpy as np
 
 from radscene.errors import ConfigError
-from radscene.thermal.weather._table import build_series, unit_factor
+from radscene.thermal.weather._table import build_series, check_shortwave, unit_factor
 from radscene.thermal.weather.humidity import dew_point_to_relative_humidity
 
-__all__ = ["DECLARABLE", "parse_fields", "read_wth"]
+__all__ = ["DECLARABLE", "SKY_EXPOSURE_FIELD", "parse_fields", "read_wth"]
 
 _NUMBER = re.compile(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?")
 _DECLARED = re.compile(r"^\s*([A-Za-z_]\w*)\s*\[(.+)\]\s*$")
@@ -40,8 +46,10 @@ _DECLARED = re.compile(r"^\s*([A-Za-z_]\w*)\s*\[(.+)\]\s*$")
 #: point [0-1]; a file that exceeds it is not laid out as radscene reads it.
 HUMIDITY_AGREEMENT = 0.1
 _FIELDS = ("hour", "air temperature [°C]", "pressure [mbar]", "relative humidity [0-1]", "dew point [°C]", "wind speed [m s-1]")
+#: Field (1-based) of the sky exposure [0 overcast - 1 clear].
+SKY_EXPOSURE_FIELD = 9
 #: Variables a caller may declare for the fields after the sixth.
-DECLARABLE = ("global_shortwave", "diffuse_shortwave", "longwave_down", "cloud_cover")
+DECLARABLE = ("global_shortwave", "direct_normal_shortwave", "diffuse_shortwave", "longwave_down", "cloud_cover")
 
 
 def _numbers(line, path, lineno):
@@ -59,7 +67,7 @@ def parse_fields(fields, path="weather", key="fields"):
     ----------
     fields : dict of int to str, or None
         1-based field number (> 6) -> ``"name [unit]"``, ``name`` one of ``DECLARABLE`` and
-        ``unit`` one the CSV reader accepts for it (``W m-2``, ``tenths``, ``%``, ...).
+        ``unit`` one the CSV reader accepts for it (``W m-2``, ``Ly/h``, ``tenths``, ``%``, ...).
     path : str, optional
         The file, for messages.
     key : str, optional
@@ -76,7 +84,8 @@ def parse_fields(fields, path="weather", key="fields"):
     ConfigError
         A field number that is not an integer above 6, a declaration that is not
         ``"name [unit]"``, an unknown name, a name declared twice, a unit of another kind, or
-        one of ``global_shortwave`` and ``diffuse_shortwave`` without the other.
+        a beam (``global_shortwave`` or ``direct_normal_shortwave``) without
+        ``diffuse_shortwave`` or the reverse, or both beams.
     """
     if not fields:
         return {}
@@ -103,14 +112,7 @@ def parse_fields(fields, path="weather", key="fields"):
         seen[name] = n
         factor, offset = unit_factor(path, name, unit, f"field {n}")
         out[n] = (name, factor, offset)
-    if ("global_shortwave" in seen) != ("diffuse_shortwave" in seen):
-        given = "global_shortwave" if "global_shortwave" in seen else "diffuse_shortwave"
-        other = "diffuse_shortwave" if given == "global_shortwave" else "global_shortwave"
-        raise ConfigError(
-            f"{path}: field {seen[given]} is declared {given} but no field is {other}; the measured short-wave "
-            "replaces the modelled one only as a pair",
-            key=key,
-        )
+    check_shortwave(path, {name: None for name in seen}, [])
     return out
 
 
@@ -126,8 +128,8 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None,
     latitude, longitude : float
         Place the weather is for [deg]; the file does not state it.
     cloud_cover : float, optional
-        Cloud cover over the whole file [0-1]; required unless ``fields`` declares a
-        ``cloud_cover`` field, refused if it does.
+        Cloud cover over the whole file [0-1], for a file whose entries stop before the sky
+        exposure (field 9) and that declares no ``cloud_cover`` field; refused otherwise.
     fields : dict of int to str, optional
         The meaning and unit of fields after the sixth (see ``parse_fields``); fields not
         declared are checked to be numbers and otherwise not read.
@@ -147,15 +149,14 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None,
         number of fields than the first entry, a field that is not a number, hours out of step
         with the header, a humidity that disagrees with the dew point, a declared field that
         is missing from the entries or out of range, diffuse above global short-wave (each
-        names the file and the line; the last two from ``build_series``); a bad ``fields`` declaration (see ``parse_fields``);
-        a cloud cover both declared and given, or neither.
+        names the file and the line; the last two from ``build_series``); a bad ``fields``
+        declaration (see ``parse_fields``); a cloud cover given for a file that carries one,
+        or none for a file without; a sky exposure outside [0, 1].
     """
     declared = parse_fields(fields, path)
     has_cloud = any(name == "cloud_cover" for name, _, _ in declared.values())
     if has_cloud and cloud_cover is not None:
         raise ConfigError(f"{path}: cloud cover is both a declared field and given as {cloud_cover!r}; give one", key="cloud_cover")
-    if not has_cloud and cloud_cover is None:
-        raise ConfigError(f"{path}: no cloud cover: give cloud_cover, or declare the file's cloud field", key="cloud_cover")
     text = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
     rows = [(i + 1, line) for i, line in enumerate(text) if line.strip()]
     if not rows:
@@ -173,8 +174,8 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None,
     if len(entries) != count:
         raise ConfigError(f"{path}: line {lineno} announces {count} entries; the file has {len(entries)}", key="weather")
     width = None
-    needed = max([len(_FIELDS), *declared])
-    table = np.empty((count, needed))
+    needed = max([SKY_EXPOSURE_FIELD, *declared])
+    table = np.full((count, needed), np.nan)
     for k, (n, line) in enumerate(entries):
         values = _numbers(line, path, n)
         if len(values) < len(_FIELDS):
@@ -187,7 +188,7 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None,
                 raise ConfigError(f"{path}: line {n}: {width} fields; no field {short[0]} as declared", key="fields")
         elif len(values) != width:
             raise ConfigError(f"{path}: line {n}: {len(values)} fields; the first entry (line {entries[0][0]}) has {width}", key="weather")
-        table[k] = values[:needed]
+        table[k, : min(needed, len(values))] = values[:needed]
     hours = table[:, 0]
     lines = [f"line {n}" for n, _ in entries]
     for k in range(1, count):
@@ -223,7 +224,32 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None,
         "pressure": table[:, 2] * 100.0,
     }
     if not has_cloud:
-        columns["cloud_cover"] = np.full(count, float(cloud_cover))
+        exposed = width >= SKY_EXPOSURE_FIELD and SKY_EXPOSURE_FIELD not in declared
+        if exposed and cloud_cover is not None:
+            raise ConfigError(
+                f"{path}: the file carries its sky exposure (field {SKY_EXPOSURE_FIELD}, cloud cover = 1 - sky exposure); "
+                f"cloud_cover {cloud_cover!r} is for files without it",
+                key="cloud_cover",
+            )
+        if exposed:
+            sky = table[:, SKY_EXPOSURE_FIELD - 1]
+            bad = np.flatnonzero((sky < 0.0) | (sky > 1.0))
+            if bad.size:
+                k = int(bad[0])
+                raise ConfigError(
+                    f"{path}: {lines[k]}: sky exposure {sky[k]:g} (field {SKY_EXPOSURE_FIELD}) outside [0, 1] "
+                    "(1 clear, 0 overcast)",
+                    key="cloud_cover",
+                )
+            columns["cloud_cover"] = 1.0 - sky
+        elif cloud_cover is None:
+            raise ConfigError(
+                f"{path}: entries of {width} fields carry no sky exposure (field {SKY_EXPOSURE_FIELD}): give cloud_cover, "
+                "or declare the file's cloud field",
+                key="cloud_cover",
+            )
+        else:
+            columns["cloud_cover"] = np.full(count, float(cloud_cover))
     for number, (name, factor, offset) in sorted(declared.items()):
         columns[name] = table[:, number - 1] * factor + offset
     return build_series(str(path), time, columns, lines, latitude, longitude, max_gap)
