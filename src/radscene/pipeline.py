@@ -293,7 +293,9 @@ def apply_thermal(scene, solution=None, time=None):
     Parameters
     ----------
     scene : radscene.scene.Scene
-        Changed in place: ``face_temperature`` of every face without a fixed temperature.
+        Changed in place: ``face_temperature`` of every face without a fixed temperature, and
+        the terrain's ``face_corner_temperature`` (the reconstruction of
+        :mod:`radscene.thermal.reconstruction`) unless ``thermal.interpolate`` is false.
     solution : xarray.Dataset, optional
         From :func:`solve_thermal`; solved (and kept with the scene) when not given.
     time : datetime, optional
@@ -320,10 +322,20 @@ def apply_thermal(scene, solution=None, time=None):
     surface = solution.surface_temperature.interp(time=t).values.astype(float)
     fixed = np.concatenate([o.face_temperature for o in scene.objects])
     faces = elements.face_values(surface, fixed)
+    corners = None
+    if scene.spec.thermal.interpolate and elements.grid_shape is not None:
+        from radscene.thermal.reconstruction import corner_temperature, terrain_neighbours
+
+        cached = scene.render_cache.get("thermal_neighbours")
+        if cached is None or cached[0] is not elements:
+            cached = scene.render_cache["thermal_neighbours"] = (elements, terrain_neighbours(elements))
+        neighbours = cached[1]
+        corners = corner_temperature(elements, surface, fixed, neighbours)
     offset = 0
     for obj in scene.objects:
         n = len(obj.face_temperature)
         obj.face_temperature = faces[offset:offset + n].copy()
+        obj.face_corner_temperature = None if corners is None or not obj.is_terrain else corners[offset:offset + n].copy()
         offset += n
     scene.render_cache.pop("tables", None)
     return solution

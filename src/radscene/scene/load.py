@@ -43,6 +43,10 @@ class SceneObject:
     face_fixed : numpy.ndarray or None
         Whether each face's temperature was given in the scene file (True) or is left to the
         heat balance (False), shape (n_faces,); None: every face given.
+    face_corner_temperature : numpy.ndarray or None
+        Temperature at each face's three corners [K], shape (n_faces, 3), in the order of the
+        face's vertices: the renderer interpolates it across the face a ray hits; None: each
+        face at its ``face_temperature``.
     """
 
     name: str
@@ -52,6 +56,7 @@ class SceneObject:
     textures: dict = field(default_factory=dict)
     is_terrain: bool = False
     face_fixed: np.ndarray | None = None
+    face_corner_temperature: np.ndarray | None = None
 
 
 @dataclass

@@ -470,6 +470,9 @@ class ThermalSpec(_Model):
     nodes: Annotated[int, Field(ge=3, le=200)] = 20
     convection: str = "mcadams"
     lateral: bool = Field(False, description="lateral conduction between neighbouring elements")
+    interpolate: bool = Field(True, description="render the terrain's temperature as a limited linear "
+                              "reconstruction across its thermal cells (each cell's mean kept); false: "
+                              "one temperature per cell")
     exchange_reflections: Annotated[int, Field(ge=0, le=100)] = 1
     weather: WeatherSpec = WeatherSpec()
     materials: dict[str, ThermalMaterialSpec] = Field(default_factory=dict)

@@ -1,7 +1,8 @@
 """Heat balance over surface elements: one module per flux term (``radiation``,
 ``convection``, ``exchange``, ``evaporation``, ``aerodynamic``), the layered conduction solver
 (``conduction``), lateral conduction between elements (``lateral``), the time stepper
-(``balance``) and the weather that drives it (``weather``). See docs/thermal.md."""
+(``balance``), the weather that drives it (``weather``) and the terrain's temperature between
+its cells for the render (``reconstruction``). See docs/thermal.md."""
 
 from radscene.thermal.aerodynamic import (
     air_viscosity,
@@ -52,6 +53,7 @@ from radscene.thermal.radiation import (
     emitted_longwave,
     emitted_longwave_derivative,
 )
+from radscene.thermal.reconstruction import corner_temperature, limited_slopes, terrain_neighbours
 from radscene.thermal.weather import (
     CLEAR_SKY_EMISSIVITY_MODELS,
     CLOUD_EMISSIVITY_MODELS,
@@ -103,6 +105,7 @@ __all__ = [
     "cloudy_sky_emissivity",
     "convection_coefficient",
     "convective_flux",
+    "corner_temperature",
     "coupled_surface_temperature",
     "dew_point_to_relative_humidity",
     "diurnal_weather",
@@ -114,6 +117,7 @@ __all__ = [
     "flat_plate_coefficient",
     "grid_conductance",
     "laplacian",
+    "limited_slopes",
     "latent_heat_of_vaporisation",
     "linearised_evaporative_flux",
     "mesh_conductance",
@@ -128,6 +132,7 @@ __all__ = [
     "specific_humidity",
     "speed_of_sound",
     "stack_depth",
+    "terrain_neighbours",
     "to_utc_datetime64",
     "vapour_pressure",
     "vapour_transfer_coefficient",
