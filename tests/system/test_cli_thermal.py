@@ -105,3 +105,27 @@ def test_thermal_weather_file_with_a_gap_exits_2_naming_the_row(tmp_path):
     assert result.exit_code == 2, result.output
     assert "site.csv" in result.output and "line 16" in result.output
     assert not out.exists()
+
+
+def _wth_file(tmp_path, sky="0.80"):
+    """48 h of 15-minute THERM entries from local midnight (13 fields, sky exposure in field 9)."""
+    lines = ["193 0.250000"]
+    for k in range(193):
+        lines.append(f"{0.25 * k:.2f} 20.00 1013.00  0.50  9.27   2.00     0.00     0.00 {sky}  0  0   0.00  0.00")
+    (tmp_path / "site.wth").write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize("weather, sky, message", [
+    ({"fields": {7: "direct_normal_shortwave [Ly/h]"}}, "0.80", "direct_normal_shortwave without diffuse_shortwave"),
+    ({"fields": {3: "cloud_cover [1]"}}, "0.80", "field 3 is read as pressure"),
+    ({"cloud_cover": 0.2}, "0.80", "the file carries its sky exposure (field 9"),
+    ({}, "8.00", "line 2: sky exposure 8 (field 9) outside [0, 1]"),
+])
+def test_thermal_wth_declaration_or_field_wrong_exits_2_naming_it(tmp_path, weather, sky, message):
+    _wth_file(tmp_path, sky)
+    path = _write(tmp_path, {"weather": {"file": "site.wth", "start": "2026-06-20T00:00:00Z", **weather}})
+    out = tmp_path / "bad.nc"
+    result = runner.invoke(app, ["thermal", str(path), "-o", str(out)])
+    assert result.exit_code == 2, result.output
+    assert "site.wth" in result.output and message in result.output
+    assert not out.exists()
