@@ -14,10 +14,16 @@ __version__ = "0.1.0"
 
 # render and render_all apply the scene's heat balance first (the function shadows the package name)
 from radscene.io import write_netcdf  # noqa: E402
-from radscene.pipeline import render, render_all, simulate, solve_thermal  # noqa: E402
+from radscene.pipeline import (  # noqa: E402
+    render,
+    render_all,
+    render_hyperspectral,
+    simulate,
+    solve_thermal,
+)
 from radscene.scene import load_scene  # noqa: E402
 
-__all__ = ["__version__", "load_scene", "render", "render_all", "simulate", "solve_thermal",
+__all__ = ["__version__", "load_scene", "render", "render_all", "render_hyperspectral", "simulate", "solve_thermal",
            "example_path", "write_netcdf"]
 
 

@@ -11,7 +11,8 @@ from radscene.errors import ConfigError
 from radscene.render import render as _render_observer
 from radscene.render import render_all as _render_all
 
-__all__ = ["as_scene", "render", "render_all", "simulate", "solve_thermal", "thermal_active", "apply_thermal"]
+__all__ = ["as_scene", "render", "render_all", "render_hyperspectral", "spectral_passes", "simulate",
+           "solve_thermal", "thermal_active", "apply_thermal"]
 
 #: Bands whose response reaches beyond this wavelength make the heat balance run by default [um].
 THERMAL_FROM = 2.5
@@ -47,7 +48,9 @@ def thermal_active(scene) -> bool:
     free = any(obj.face_fixed is not None and not np.all(obj.face_fixed) for obj in scene.objects)
     if enabled is True:
         return free
-    return free and any(b.response.support[1] > THERMAL_FROM for b in scene.bands)
+    return free and (any(b.response.support[1] > THERMAL_FROM for b in scene.bands) or any(
+        o.spectral is not None and o.spectral.wavelength[-1] > THERMAL_FROM
+        for o in scene.observers))
 
 
 def _span(scene, start=None, end=None):
@@ -356,6 +359,29 @@ def render_all(scene, **kwargs):
     if thermal_active(scene):
         apply_thermal(scene)
     return _render_all(scene, **kwargs)
+
+
+def render_hyperspectral(scene, observer=None, **kwargs):
+    """:func:`radscene.render.hyperspectral.render_hyperspectral` (the observer's spectral grid
+    into one Dataset, ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1]) with the scene's heat
+    balance applied first."""
+    from radscene.render.hyperspectral import render_hyperspectral as _render_cube
+
+    scene = as_scene(scene)
+    if thermal_active(scene):
+        apply_thermal(scene)
+    return _render_cube(scene, observer, **kwargs)
+
+
+def spectral_passes(scene, observer=None, **kwargs):
+    """:func:`radscene.render.hyperspectral.render_passes` (the observer's spectral grid a group
+    of channels at a time) with the scene's heat balance applied first."""
+    from radscene.render.hyperspectral import render_passes
+
+    scene = as_scene(scene)
+    if thermal_active(scene):
+        apply_thermal(scene)
+    return render_passes(scene, observer, **kwargs)
 
 
 def simulate(scene, observer: str | None = None, *, progress=None

@@ -88,7 +88,8 @@ def render(
     observer: list[str] = typer.Option(None, "--observer", help="Render only these observers."),
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
 ):
-    """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT."""
+    """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
+    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr."""
     from radscene.io import (
         band_quicklooks,
         signal_quicklooks,
@@ -105,7 +106,7 @@ def render(
         for name in names:
             scene.observer(name)
         started = time.perf_counter()
-        results, signals = {}, {}
+        results, signals, spectral = {}, {}, {}
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                       TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
                       TimeRemainingColumn(), console=err_console, transient=False) as bar:
@@ -120,16 +121,20 @@ def render(
                     bar.update(stages[stage], completed=done, total=total)
 
                 apply_thermal(scene, solve_thermal(scene, progress=thermal_progress))
+            written = []
             for name in names:
                 task = bar.add_task(f"render {name}", total=1)
 
                 def progress(done, total, task=task):
                     bar.update(task, completed=done, total=total)
 
+                if scene.observer(name).spectral is not None:  # written pass by pass
+                    spectral[name], files = _write_spectral(scene, name, output, progress)
+                    written.extend(files)
+                    continue
                 results[name], signals[name] = simulate(scene, name, progress=progress)
     except (ConfigError, EngineError) as err:
         _fail(err)
-    written = []
     for name, ds in results.items():
         written.append(write_netcdf(ds, output / f"{name}.nc"))
         if ds["x"].attrs.get("units") == "m":  # a map product: also a GeoTIFF
@@ -160,8 +165,40 @@ def render(
             table.add_row(name, str(band), f"{float(sel['wavelength_center']):.3g}",
                           f"{rad.mean():.4g}", f"{rad.min():.4g}", f"{rad.max():.4g}",
                           f"{float(bt[bt == bt].mean()):.2f}" if (bt == bt).any() else "—")
-    console.print(table)
+    if results:
+        console.print(table)
+    for name, text in spectral.items():
+        console.print(f"{name}: {text}")
     console.print(f"wrote {len(written)} files under {output}/")
+
+
+def _write_spectral(scene, name, output, progress):
+    """Render a spectral observer pass by pass into ``NAME_spectral.nc`` and the ENVI
+    ``NAME_spectral.img``/``.hdr``; returns a summary line and the files."""
+    import numpy as np
+
+    from radscene.io import write_spectral
+    from radscene.pipeline import spectral_passes
+
+    grid = scene.observer(name).spectral
+    stats = []
+
+    def summarised(passes):
+        for part in passes:
+            values = part["radiance"].values
+            stats.append((float(values.sum()), values.size, float(values.min()),
+                          float(values.max())))
+            yield part
+
+    files = write_spectral(summarised(spectral_passes(scene, name, progress=progress)),
+                           output / f"{name}_spectral.nc", grid,
+                           envi=output / f"{name}_spectral.img")
+    total, count, low, high = (sum(s[0] for s in stats), sum(s[1] for s in stats),
+                               min(s[2] for s in stats), max(s[3] for s in stats))
+    wl = np.asarray(grid.wavelength)
+    text = (f"{len(wl)} channels {wl[0]:.4g}–{wl[-1]:.4g} um every {grid.step:.4g} um; spectral "
+            f"radiance mean {total / count:.4g}, min {low:.4g}, max {high:.4g} W m-2 sr-1 um-1")
+    return text, files
 
 
 @app.command()
@@ -181,8 +218,11 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file.")):
     console.print(f"  materials: {', '.join(scene.material_names)}")
     console.print(f"  bands: {', '.join(b.name for b in scene.bands)}")
     for obs in scene.observers:
+        grid = "" if obs.spectral is None else (
+            f", spectral: {len(obs.spectral)} channels {obs.spectral.wavelength[0]:.4g}–"
+            f"{obs.spectral.wavelength[-1]:.4g} um every {obs.spectral.step:.4g} um")
         console.print(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
-                      f" px, supersample {obs.supersample}")
+                      f" px, supersample {obs.supersample}{grid}")
     console.print(f"  atmosphere: {scene.atmosphere.name}")
     console.print(f"  sun: zenith {sun.zenith:.2f}°, azimuth {sun.azimuth:.2f}°, "
                   f"{sun.distance:.5f} AU")

@@ -1,6 +1,8 @@
 """Radiometry: CODATA constants, Planck functions and band integrals, brightness
-temperature, spectral grids, spectral response functions, and unit parsing."""
+temperature, spectral grids and the channels of a hyperspectral grid, spectral response
+functions, and unit parsing."""
 
+from radscene.radiometry.channels import ChannelGrid, channel_grid
 from radscene.radiometry.constants import C1, C1L, C2, SIGMA, WIEN_B
 from radscene.radiometry.grids import RESAMPLE_METHODS, resample, wavelength_grid
 from radscene.radiometry.planck import (
@@ -44,6 +46,8 @@ __all__ = [
     "RESPONSES",
     "make_response",
     "wavelength_grid",
+    "ChannelGrid",
+    "channel_grid",
     "resample",
     "RESAMPLE_METHODS",
     "parse_quantity",

@@ -399,7 +399,7 @@ def _sky_sum(table, row, nodes, fractions):
 
 
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
-           _tables: _SceneTables | None = None) -> xr.Dataset:
+           bands=None, specular=None, _tables: _SceneTables | None = None) -> xr.Dataset:
     """Render one observer of a scene.
 
     Parameters
@@ -410,6 +410,13 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         Name of the observer; the first one by default.
     progress : callable, optional
         Called as ``progress(samples_done, samples_total)`` after each tile.
+    bands : list, optional
+        Bands to render instead of the observer's: objects with ``name`` and ``response``
+        (the channels of :mod:`radscene.render.hyperspectral`).
+    specular : array_like of bool, optional
+        Per material, whether its samples trace specular lobes; default: those with a
+        nonzero specular coefficient in some band. Renders of one observer split over
+        several band sets pass the same flags, so that they draw the same random numbers.
 
     Returns
     -------
@@ -419,7 +426,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     """
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     tables = _tables or scene_tables(scene)
-    bands = [scene.band(name) for name in setup.bands]
+    bands = [scene.band(name) for name in setup.bands] if bands is None else list(bands)
     sun = tables.sun
     settings = scene.settings
     rays = setup.camera.rays(supersample=setup.supersample)
@@ -439,13 +446,14 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         shadows = worker.submit(_shadows, tables, hits, hit, rays.directions, sun_dir,
                                 settings.shadows, track.up)
         return _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
-                            settings, rays, hits, hit, shadows, worker, started, progress)
+                            settings, rays, hits, hit, shadows, worker, started, progress,
+                            specular)
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
 
 
 def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, settings, rays,
-                 hits, hit, shadows, worker, started, progress) -> xr.Dataset:
+                 hits, hit, shadows, worker, started, progress, specular=None) -> xr.Dataset:
     """:func:`render` after the primary rays: the path nodes, the band tables and the tiles.
 
     ``sun`` is the scene's sun (the Dataset's attributes), ``track`` the sun at the rays'
@@ -496,7 +504,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     hit_material = tables.face_material[hit_face]
     hit_temperature = _hit_temperature(tables, hits, hit, hit_face)
     specular_material = np.any(coef.sun_specular != 0.0, axis=(1, 2)) | np.any(
-        coef.sky_specular != 0.0, axis=(1, 2, 3))
+        coef.sky_specular != 0.0, axis=(1, 2, 3)) if specular is None else np.asarray(
+        specular, dtype=bool)
     # The shadow, sky and lobe rays of the next tiles are traced on a worker thread while this
     # thread evaluates the terms of tile i (Embree and the numba kernels release the GIL). The
     # random rotations are drawn here, tile by tile, in the order of a serial render.

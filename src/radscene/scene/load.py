@@ -78,6 +78,8 @@ class ObserverSetup:
     kind: str
     sensor: Any = None
     frames: int = 1
+    #: The hyperspectral grid (radscene.radiometry.ChannelGrid), None for a band observer.
+    spectral: Any = None
 
 
 @dataclass
@@ -591,7 +593,15 @@ class _Resolver:
                     )
             except ConfigError as err:
                 raise ConfigError(err.message, key=f"{key}.{err.key}" if err.key else key) from None
-            out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type, sensor, o.frames))
+            grid = None
+            if o.spectral is not None:
+                from radscene.radiometry import channel_grid
+
+                g = o.spectral
+                grid = channel_grid(g.min, g.max, g.step, key=f"{key}.spectral")
+                bands = []
+            out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type, sensor, o.frames,
+                                     grid))
         return out
 
     def resolve(self) -> Scene:
@@ -620,14 +630,26 @@ class _Resolver:
         observers = self.observers([b.name for b in bands])
         if hf is not None:
             _check_above_terrain(spec.observers, hf)
+        spans = [b.response.support for b in bands]
+        for i, obs in enumerate(observers):
+            if obs.spectral is not None:
+                wl = obs.spectral.wavelength
+                key = f"observers[{i}].spectral"
+                atmosphere.check_wavelength(wl[[0, -1]], key=key)
+                from radscene.sun.spectrum import SOLAR_WAVELENGTH_RANGE
+
+                slo, shi = SOLAR_WAVELENGTH_RANGE
+                if wl[0] < slo or wl[-1] > shi:
+                    raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} um; the renderer's "
+                                      f"solar spectrum covers {slo:g}–{shi:g} um", key=key)
+                spans.append((float(wl[0]), float(wl[-1])))
+        lo, hi = min(s[0] for s in spans), max(s[1] for s in spans)
         for m_name, material in zip(self.material_names, self.materials, strict=True):
-            lo = min(b.response.support[0] for b in bands)
-            hi = max(b.response.support[1] for b in bands)
             mlo, mhi = _material_range(material)
             if lo < mlo or hi > mhi:
                 raise ConfigError(
                     f"material {m_name!r} is defined over {mlo:g}–{mhi:g} um but the bands "
-                    f"span {lo:g}–{hi:g} um",
+                    f"and spectral grids span {lo:g}–{hi:g} um",
                     key=f"materials.{m_name}",
                 )
         return Scene(

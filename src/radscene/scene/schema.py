@@ -352,12 +352,34 @@ class BandSpec(_Model):
         return self
 
 
+class SpectralGridSpec(_Model):
+    """A hyperspectral grid: channel centres from ``min`` to ``max`` every ``step``, each with a
+    triangular response (FWHM = step) reaching zero at its neighbours' centres
+    (:mod:`radscene.radiometry.channels`)."""
+
+    min: Wavelength
+    max: Wavelength
+    step: float = Field(description="spacing of the channel centres, e.g. '10 nm'")
+
+    @field_validator("step", mode="before")
+    @classmethod
+    def _step(cls, value):
+        if isinstance(value, bool):
+            raise ValueError(f"expected a wavelength, got {value!r}")
+        number = float(parse_quantity(value, "wavelength"))
+        if not number > 0:
+            raise ValueError(f"must be > 0 um; got {value!r}")
+        return number
+
+
 class _ObserverCommon(_Model):
     name: str
     shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] | None = Field(
         None, description="rendered samples (rows, columns); from the sensor when omitted")
     supersample: Annotated[int, Field(ge=1, le=16)] = 1
     bands: list[str] | None = None
+    spectral: SpectralGridSpec | None = Field(
+        None, description="hyperspectral mode: spectral radiance on this grid instead of bands")
     sensor: str | None = Field(None, description="name of an entry of `sensors`")
     frames: Annotated[int, Field(ge=1, le=1000)] = 1
 
@@ -498,7 +520,8 @@ class SceneSpec(_Model):
                     "mixture, ...}; without 'type' a custom material (reflectance, emissivity, ...)")
     terrain: Terrain | None = None
     objects: list[ObjectSpec] = Field(default_factory=list)
-    bands: list[BandSpec] = Field(min_length=1)
+    bands: list[BandSpec] = Field(default_factory=list,
+                                  description="at least one, unless every observer is spectral")
     sensors: dict[str, Any] = Field(
         default_factory=dict,
         description="sensor models by name: a mapping (radscene.sensor.make_sensor), "
@@ -518,6 +541,14 @@ class SceneSpec(_Model):
         if self.terrain is None and not self.objects:
             raise ValueError("the scene has neither terrain nor objects")
         for i, obs in enumerate(self.observers):
+            if getattr(obs, "spectral", None) is not None:
+                for other in ("bands", "sensor"):
+                    if getattr(obs, other) is not None:
+                        raise ValueError(f"observers[{i}].{other}: a spectral observer renders "
+                                         f"its grid, not {other}; remove one of them")
+            elif not self.bands:
+                raise ValueError(f"bands: give at least one band (observers[{i}] has no "
+                                 "spectral grid)")
             sensor = getattr(obs, "sensor", None)
             if sensor is not None and sensor not in self.sensors:
                 known = ", ".join(self.sensors) or "none defined"

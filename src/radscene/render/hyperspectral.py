@@ -1,0 +1,267 @@
+"""Hyperspectral mode: spectral radiance on a grid of hundreds of channels, in passes.
+
+Each channel of a :class:`radscene.radiometry.ChannelGrid` is a band whose response is a
+triangle on the grid (a partition of unity), so the band machinery integrates the spectral
+factors per material × channel × atmospheric node exactly as it does for any band
+(ARCHITECTURE.md, "Speed comes from separating the spectrum from space"). The channels are
+rendered a few at a time — one pass of the integrator per group, with the same rays, random
+numbers and truth maps — so that the memory of a pass stays bounded whatever the number of
+channels; a pass's radiance [W m-2 sr-1] is divided by its channels' equivalent widths into
+spectral radiance [W m-2 sr-1 um-1] and handed on (:func:`render_passes`), to be gathered in
+memory (:func:`render_hyperspectral`) or written as it comes (:mod:`radscene.io.spectral`).
+
+Integrated with a band's response S, the cube gives that band's radiance
+(:func:`band_radiance`): exactly (to rounding) for an S linear between the grid's centres and
+zero outside the grid, because every signature term is linear in the response; see
+docs/hyperspectral.md for what else holds and what does not.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from radscene.errors import ConfigError
+from radscene.radiometry import ChannelGrid
+
+__all__ = ["Channel", "channels", "pass_size", "render_passes", "render_hyperspectral",
+           "band_radiance", "spectral_attributes", "PASS_MEMORY"]
+
+#: Memory a pass may hold in its per-channel image layers [bytes]; with the eleven float64
+#: layers a render keeps per band (five terms, three coupling layers, the total, the
+#: brightness temperature, the transmittance) that is 16 channels per pass at 1024 × 1024.
+PASS_MEMORY = 1.5e9
+#: Per-band image layers of one render (see PASS_MEMORY) and their bytes per value.
+LAYERS_PER_CHANNEL = 11
+_BYTES = 8
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One channel as the integrator takes a band: its ``name`` and ``response``."""
+
+    name: str
+    response: object
+
+
+def channels(grid: ChannelGrid) -> list[Channel]:
+    """The grid's channels as bands, in grid order."""
+    return [Channel(r.name, r) for r in grid.responses()]
+
+
+def pass_size(grid: ChannelGrid, pixels: int, memory: float = PASS_MEMORY) -> int:
+    """How many channels one pass renders so that its image layers fit in ``memory`` [bytes]
+    for ``pixels`` ray samples (at least one, at most all)."""
+    per_channel = LAYERS_PER_CHANNEL * _BYTES * max(int(pixels), 1)
+    return int(min(len(grid), max(1, memory // per_channel)))
+
+
+def _specular_flags(scene, grid: ChannelGrid) -> np.ndarray:
+    """Per material: a specular reflectance above zero somewhere on the grid (its centres,
+    the midpoints between them, and the spectrum's own samples inside the grid)."""
+    wl = grid.wavelength
+    probe = [wl, 0.5 * (wl[1:] + wl[:-1])]
+    flags = []
+    for m in scene.materials:
+        spectrum = m.specular_reflectance
+        own = getattr(spectrum, "wavelength", None)
+        if own is not None:
+            own = np.asarray(own, dtype=float)
+            probe_m = np.concatenate(probe + [own[(own >= wl[0]) & (own <= wl[-1])]])
+        else:
+            probe_m = np.concatenate(probe)
+        flags.append(bool(np.any(np.asarray(spectrum(probe_m), dtype=float) != 0.0)))
+    return np.array(flags, dtype=bool)
+
+
+def spectral_attributes(grid: ChannelGrid) -> dict:
+    """CF attributes of a spectral radiance cube on ``grid``."""
+    return {
+        "units": "W m-2 sr-1 um-1",
+        "long_name": "at-aperture spectral radiance, the channel's response-weighted mean",
+        "comment": (
+            "channel c has a triangular response peaking at its wavelength and zero at the "
+            "neighbouring centres (half triangles at the two ends), full width at half maximum "
+            "= equivalent width = fwhm; value = integral of response x L d lambda / fwhm. "
+            "For a band response S linear between the centres and zero outside the grid, "
+            "sum over c of S(wavelength_c) fwhm_c radiance_c = integral of S L d lambda"),
+        "grid_step_um": float(grid.step),
+    }
+
+
+def _coords(grid: ChannelGrid, part=slice(None)) -> dict:
+    return {
+        "wavelength": ("wavelength", grid.wavelength[part],
+                       {"units": "um", "long_name": "channel centre wavelength",
+                        "standard_name": "radiation_wavelength"}),
+        "fwhm": ("wavelength", grid.width[part],
+                 {"units": "um", "long_name": "channel full width at half maximum, equal to "
+                  "its equivalent width (integral of the response)"}),
+    }
+
+
+def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None = None, *,
+                  channels_per_pass: int | None = None, memory: float = PASS_MEMORY,
+                  progress: Callable[[int, int], None] | None = None
+                  ) -> Iterator[xr.Dataset]:
+    """Render an observer's spectral grid a group of channels at a time.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene
+    observer : str, optional
+        Observer name; the first by default.
+    grid : radscene.radiometry.ChannelGrid, optional
+        Default the observer's ``spectral`` grid.
+    channels_per_pass : int, optional
+        Channels per pass; default from ``memory`` (:func:`pass_size`).
+    memory : float
+        Bytes a pass may hold in its image layers.
+    progress : callable, optional
+        ``progress(done, total)`` in ray samples over all passes.
+
+    Yields
+    ------
+    xarray.Dataset
+        One per pass, in grid order: ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1]
+        (float64) of its channels with their ``wavelength`` and ``fwhm`` [um], and the
+        render's per-pixel maps that do not depend on the band (``object_id``, ``range``,
+        geolocation, ...), the same in every pass.
+
+    Raises
+    ------
+    ConfigError
+        No grid, or a grid beyond the atmosphere's wavelengths (the message names the key).
+    """
+    from radscene.render.integrator import render
+
+    setup = scene.observers[0] if observer is None else scene.observer(observer)
+    key = f"observers[{scene.observers.index(setup)}].spectral"
+    if grid is None:
+        grid = getattr(setup, "spectral", None)
+        if grid is None:
+            raise ConfigError(f"observer {setup.name!r} has no spectral grid: give "
+                              "spectral: {min, max, step}", key=key)
+    scene.atmosphere.check_wavelength(grid.wavelength[[0, -1]], key=key)
+    bands = channels(grid)
+    samples = int(np.prod(setup.camera.shape)) * setup.supersample**2
+    per_pass = channels_per_pass or pass_size(grid, samples, memory)
+    if per_pass < 1:
+        raise ConfigError(f"must be >= 1; got {per_pass!r}", key="channels_per_pass")
+    specular = _specular_flags(scene, grid)
+    starts = range(0, len(bands), per_pass)
+    for n, start in enumerate(starts):
+        part = slice(start, min(start + per_pass, len(bands)))
+
+        def report(done, total, n=n):
+            if progress is not None:
+                progress(n * total + done, len(starts) * total)
+
+        ds = render(scene, setup.name, bands=bands[part], specular=specular, progress=report)
+        yield _spectral_part(ds, grid, part)
+        del ds
+
+
+#: Band-dependent variables of a band render that hyperspectral mode does not keep.
+_BAND_VARIABLES = ("band", "wavelength_center", "wavelength_min", "wavelength_max",
+                   "equivalent_width")
+
+
+def _spectral_part(ds: xr.Dataset, grid: ChannelGrid, part: slice) -> xr.Dataset:
+    """A band render of channels ``part`` as spectral radiance, with its band-free maps."""
+    width = grid.width[part]
+    radiance = ds["radiance"].values
+    radiance /= width[:, None, None]  # the render's own array, no copy
+    keep = {name: var for name, var in ds.data_vars.items() if "band" not in var.dims}
+    out = xr.Dataset(keep, coords={k: v for k, v in ds.coords.items()
+                                   if k not in _BAND_VARIABLES})
+    out["radiance"] = xr.Variable(("wavelength", "y", "x"), radiance, spectral_attributes(grid))
+    out = out.assign_coords(_coords(grid, part))
+    out.attrs = dict(ds.attrs)
+    out.attrs.pop("band_radiance_definition", None)
+    return out
+
+
+def render_hyperspectral(scene, observer: str | None = None, grid: ChannelGrid | None = None,
+                         *, dtype=np.float32, **kwargs) -> xr.Dataset:
+    """Render an observer's spectral grid into one in-memory Dataset.
+
+    Parameters
+    ----------
+    scene, observer, grid
+        As for :func:`render_passes`.
+    dtype : numpy dtype
+        Of the cube; float32 (seven significant digits) holds 1024 × 1024 × 200 channels in
+        0.84 GB.
+    **kwargs
+        ``channels_per_pass``, ``memory``, ``progress`` of :func:`render_passes`.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1], coordinates ``wavelength`` and
+        ``fwhm`` [um], and the per-pixel truth and geolocation maps.
+
+    Examples
+    --------
+    >>> ds = render_hyperspectral(scene, "hsi")                        # doctest: +SKIP
+    >>> band_radiance(ds, scene.band("red").response)                  # doctest: +SKIP
+    """
+    cube, first, done = None, None, 0
+    for part in render_passes(scene, observer, grid, **kwargs):
+        values = part["radiance"].values
+        if cube is None:
+            setup = scene.observers[0] if observer is None else scene.observer(observer)
+            grid = grid or setup.spectral
+            cube = np.empty((len(grid),) + values.shape[1:], dtype=dtype)
+            first = part.drop_vars(["radiance", "wavelength", "fwhm"])
+        cube[done:done + len(values)] = values
+        done += len(values)
+    out = first.assign(radiance=xr.Variable(("wavelength", "y", "x"), cube,
+                                            spectral_attributes(grid)))
+    out = out.assign_coords(_coords(grid))
+    out.attrs["spectral_mode"] = "hyperspectral"
+    return out
+
+
+def band_radiance(cube: xr.Dataset, response) -> xr.DataArray:
+    """Integrate a spectral cube with a band's response: Σ_c S(λ_c) fwhm_c L_c.
+
+    Parameters
+    ----------
+    cube : xarray.Dataset
+        From :func:`render_hyperspectral` (or read back from its NetCDF file): ``radiance``
+        [W m-2 sr-1 um-1] over ``wavelength`` with ``fwhm`` [um].
+    response : radscene.radiometry.SpectralResponse
+        The band's response S; its support inside the grid.
+
+    Returns
+    -------
+    xarray.DataArray
+        Band radiance (y, x) [W m-2 sr-1]: ∫ S L dλ, exact when S is linear between the
+        centres (accumulated in float64, channel by channel).
+
+    Raises
+    ------
+    ConfigError
+        A response beyond the grid.
+    """
+    wl = np.asarray(cube["wavelength"].values, dtype=float)
+    lo, hi = response.support
+    if lo < wl[0] - 1e-12 or hi > wl[-1] + 1e-12:
+        raise ConfigError(f"response {response.name!r} spans {lo:g}–{hi:g} um, beyond the "
+                          f"cube's {wl[0]:g}–{wl[-1]:g} um", key="response")
+    weights = np.asarray(response(wl), dtype=float) * np.asarray(cube["fwhm"].values, float)
+    radiance = cube["radiance"]
+    total = np.zeros(radiance.shape[1:])
+    for c in np.flatnonzero(weights):
+        total += weights[c] * np.asarray(radiance[c].values, dtype=float)
+    dims = radiance.dims[1:]
+    return xr.DataArray(total, dims=dims, coords={d: cube[d] for d in dims if d in cube.coords},
+                        name="radiance",
+                        attrs={"units": "W m-2 sr-1",
+                               "long_name": f"band radiance of {response.name!r} from the "
+                                            "spectral cube"})
