@@ -1,0 +1,118 @@
+"""Hyperspectral mode against band mode: the cube integrated with a band's response equals that
+band rendered in band mode.
+
+The statement (radscene.radiometry.channels): for a response S linear between the grid's
+centres and zero outside the grid, Σ_c S(λ_c) fwhm_c L_c = ∫ S L dλ exactly, because every
+signature term is linear in the response. The scene has what makes per-pixel values differ —
+two materials (one specular), a box that casts a shadow and hides part of the sky, two
+temperatures, tabulated spectra with kinks between the grid's centres, a specular reflectance
+that is zero in part of a grid — and the cube is rendered in several passes, so the passes
+must share rays and random numbers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import radscene
+from radscene.render.hyperspectral import band_radiance
+
+#: Float32 storage of the cube (seven significant digits) and the quadratures' rounding.
+REL = 1e-6
+
+ATMOSPHERE = {
+    "type": "uniform",
+    "transmittance": {"wavelength": [0.4, 0.553, 0.61, 0.9, 3.0, 8.0, 9.63, 10.0, 13.0],
+                      "values": [0.70, 0.80, 0.74, 0.90, 0.75, 0.80, 0.55, 0.88, 0.70]},
+    "sun_transmittance": {"wavelength": [0.4, 0.58, 2.0, 14.0], "values": [0.8, 0.9, 0.92, 0.9]},
+    "path_radiance": {"wavelength": [0.4, 0.637, 1.0, 5.0, 9.1, 14.0],
+                      "values": [30.0, 18.0, 5.0, 0.5, 1.3, 2.0]},
+    "sky_radiance": {"wavelength": [0.4, 0.6, 1.0, 8.0, 14.0], "values": [40, 25, 8, 3, 4]},
+    "sky_zenith": [0, 60, 85], "sky_profile": [1.0, 1.3, 2.0],
+}
+#: Band responses with knots on the grids (0.50-0.70 um every 10 nm, 8-12 um every 0.25 um),
+#: zero beyond the grids; each is nonzero at one end of its grid (a half-width end channel).
+VIS = ([0.50, 0.53, 0.56, 0.60, 0.61, 0.66], [0.4, 0.3, 1.0, 0.8, 0.9, 0.0])
+LWIR = ([8.25, 8.5, 9.5, 10.75, 11.5, 12.0], [0.0, 0.6, 1.0, 0.7, 0.4, 0.5])
+
+
+def _scene(tmp_path, supersample):
+    for name, (wl, s) in (("vis", VIS), ("lwir", LWIR)):
+        np.savetxt(tmp_path / f"{name}.csv", np.c_[wl, s], delimiter=",")
+    camera = {"type": "orthographic", "center": [0, 0], "gsd": 2.0, "shape": [20, 20],
+              "altitude": 1000, "supersample": supersample}
+    spec = {
+        "name": "hyperspectral_vs_bands",
+        "environment": {"sun": {"zenith": 50, "azimuth": 120}, "atmosphere": ATMOSPHERE},
+        "materials": {
+            "soil": {"reflectance": {"wavelength": [0.4, 0.515, 0.58, 0.655, 1.0, 8.7, 10.2, 14],
+                                     "values": [0.05, 0.09, 0.20, 0.26, 0.35, 0.10, 0.03, 0.05]},
+                     # specular only beyond 0.6 um: some passes hold no specular channel
+                     "specular_reflectance": {"wavelength": [0.4, 0.6, 0.62, 14.0],
+                                              "values": [0.0, 0.0, 0.03, 0.03]},
+                     "specular_exponent": 10},
+            "paint": {"reflectance": 0.25, "specular_reflectance": 0.05, "specular_exponent": 30},
+        },
+        "objects": [
+            {"name": "ground", "shape": {"type": "plate", "width": 120, "length": 120},
+             "position": [0, 0, 0], "material": "soil", "temperature": "300 K"},
+            {"name": "box", "shape": {"type": "box", "size": [12, 12, 10]},
+             "position": [4, -4, 0], "material": "paint", "temperature": "325 K"},
+        ],
+        "bands": [{"name": "vis", "file": "vis.csv"}, {"name": "lwir", "file": "lwir.csv"}],
+        "observers": [
+            {"name": "bands", **camera},
+            {"name": "vnir", **camera, "spectral": {"min": "500 nm", "max": "700 nm",
+                                                    "step": "10 nm"}},
+            {"name": "tir", **camera, "spectral": {"min": 8.0, "max": 12.0, "step": 0.25}},
+        ],
+        "render": {"sky_samples": 9, "specular_samples": 9, "seed": 4},
+    }
+    return radscene.load_scene(spec, base_dir=tmp_path)
+
+
+@pytest.mark.parametrize("supersample", [1, 2])
+def test_cube_integrated_with_a_response_equals_band_mode(tmp_path, supersample):
+    scene = _scene(tmp_path, supersample)
+    bands = radscene.render(scene, "bands")
+    # the scene is not trivial: a shadow, the box, partial sky view
+    assert float(bands["shadow_fraction"].max()) > 0.5
+    assert {0, 1} <= set(np.unique(bands["object_id"].values))
+    assert float(bands["sky_view_fraction"].min()) < 0.9
+    for observer, band, per_pass in (("vnir", "vis", 4), ("tir", "lwir", 5)):
+        cube = radscene.render_hyperspectral(scene, observer, channels_per_pass=per_pass)
+        assert cube["radiance"].attrs["units"] == "W m-2 sr-1 um-1"
+        got = band_radiance(cube, scene.band(band).response).values
+        want = bands["radiance"].sel(band=band).values
+        np.testing.assert_allclose(got, want, rtol=REL, atol=0)
+        # the per-pixel maps are the band render's
+        np.testing.assert_array_equal(cube["object_id"].values, bands["object_id"].values)
+        np.testing.assert_array_equal(cube["shadow_fraction"].values,
+                                      bands["shadow_fraction"].values)
+
+
+def test_passes_do_not_change_the_cube(tmp_path):
+    scene = _scene(tmp_path, 1)
+    one = radscene.render_hyperspectral(scene, "vnir", channels_per_pass=1)
+    all_ = radscene.render_hyperspectral(scene, "vnir", channels_per_pass=len(
+        scene.observer("vnir").spectral))
+    np.testing.assert_array_equal(one["radiance"].values, all_["radiance"].values)
+
+
+def test_channel_value_is_spectral_radiance(tmp_path):
+    """A channel's value is the band radiance of its triangular response divided by its
+    equivalent width (the step; half of it at the grid's ends)."""
+    from radscene.radiometry import TabulatedResponse
+    from radscene.render.hyperspectral import Channel
+
+    scene = _scene(tmp_path, 1)
+    cube = radscene.render_hyperspectral(scene, "vnir")
+    wl = cube["wavelength"].values
+    c = 15  # 0.65 um: both materials specular, as in every pass of the cube
+    hat = TabulatedResponse(wl[c - 1:c + 2], [0.0, 1.0, 0.0], name="hat")
+    band = radscene.render(scene, "vnir", bands=[Channel("hat", hat)])
+    np.testing.assert_allclose(cube["radiance"].values[c],
+                               band["radiance"].values[0] / 0.01, rtol=REL)
+    assert float(cube["fwhm"][c]) == pytest.approx(0.01, rel=1e-12)
+    assert float(cube["fwhm"][0]) == pytest.approx(0.005, rel=1e-12)
