@@ -1,0 +1,100 @@
+"""Hyperspectral mode on the command line: the cube in NetCDF and ENVI, and bad grids refused
+with one line naming the key, exit code 2, nothing written."""
+
+from __future__ import annotations
+
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from radscene.cli import app
+from radscene.io import read_netcdf
+
+GOOD = textwrap.dedent("""
+    name: tiny_hsi
+    environment:
+      sun: {zenith: 30 deg, azimuth: 180 deg}
+      atmosphere: {type: uniform, transmittance: {wavelength: [0.35, 3.0], values: [0.8, 0.9]},
+                   path_radiance: 2.0, sky_radiance: 3.0}
+    materials:
+      paint: {reflectance: 0.4}
+    objects:
+      - {name: plate, shape: {type: plate, width: 50 m, length: 50 m}, material: paint,
+         temperature: 300 K}
+    observers:
+      - {name: hsi, type: orthographic, center: [0, 0], gsd: 1 m, shape: [4, 6],
+         spectral: {min: 400 nm, max: 1000 nm, step: 10 nm}}
+""")
+
+runner = CliRunner()
+
+
+def _run(tmp_path: Path, text: str):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(text)
+    out = tmp_path / "out"
+    return runner.invoke(app, ["render", str(scene), "-o", str(out)]), out
+
+
+def test_spectral_observer_writes_netcdf_and_envi(tmp_path):
+    result, out = _run(tmp_path, GOOD)
+    assert result.exit_code == 0, result.output
+    assert "61 channels 0.4–1 um" in result.output
+    cube = read_netcdf(out / "hsi_spectral.nc")
+    assert cube["radiance"].dims == ("wavelength", "y", "x")
+    assert cube["radiance"].shape == (61, 4, 6)
+    assert cube["radiance"].attrs["units"] == "W m-2 sr-1 um-1"
+    np.testing.assert_allclose(cube["wavelength"].values, np.linspace(0.4, 1.0, 61), rtol=1e-12)
+    image = np.fromfile(out / "hsi_spectral.img", dtype="<f4").reshape(61, 4, 6)
+    np.testing.assert_array_equal(image, cube["radiance"].values)
+    header = (out / "hsi_spectral.hdr").read_text()
+    for line in ("samples = 6", "lines = 4", "bands = 61", "interleave = bsq", "data type = 4",
+                 "byte order = 0", "wavelength units = Micrometers"):
+        assert line in header.splitlines()
+    assert "fwhm = {0.005000, 0.010000," in header
+
+
+def test_envi_file_reads_back_with_the_spectral_package(tmp_path):
+    envi = pytest.importorskip("spectral.io.envi")
+    result, out = _run(tmp_path, GOOD)
+    assert result.exit_code == 0, result.output
+    image = envi.open(str(out / "hsi_spectral.hdr"), str(out / "hsi_spectral.img"))
+    cube = read_netcdf(out / "hsi_spectral.nc")
+    np.testing.assert_array_equal(np.moveaxis(np.asarray(image.load()), 2, 0),
+                                  cube["radiance"].values)
+    np.testing.assert_allclose(image.bands.centers, cube["wavelength"].values, rtol=1e-6)
+    np.testing.assert_allclose(image.bands.bandwidths, cube["fwhm"].values, rtol=1e-6)
+
+
+BAD = {
+    "zero step": (GOOD.replace("step: 10 nm", "step: 0 nm"), "observers[0].spectral.step"),
+    "negative step": (GOOD.replace("step: 10 nm", "step: -10 nm"),
+                      "observers[0].spectral.step: must be > 0 um"),
+    "empty grid": (GOOD.replace("max: 1000 nm", "max: 400 nm"),
+                   "observers[0].spectral.max: must be above min"),
+    "one channel": (GOOD.replace("step: 10 nm", "step: 1 um"),
+                    "observers[0].spectral.step"),
+    "beyond the atmosphere": (GOOD.replace("max: 1000 nm", "max: 4 um"),
+                              "observers[0].spectral: the 'uniform' atmosphere covers 0.35–3 um"),
+    "bands and a grid": (GOOD.replace("spectral:", "bands: [vis], spectral:").replace(
+        "observers:", "bands: [{name: vis, min: 0.5, max: 0.6}]\nobservers:"),
+        "observers[0].bands: a spectral observer renders its grid"),
+    "no bands and no grid": (GOOD.replace(",\n     spectral: {min: 400 nm, max: 1000 nm, "
+                                          "step: 10 nm}", ""), "bands: give at least one band"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_grid_is_one_line_exit_2_and_writes_nothing(tmp_path, case):
+    text, expected = BAD[case]
+    assert text != GOOD
+    result, out = _run(tmp_path, text)
+    assert result.exit_code == 2, result.output
+    message = result.output.strip()
+    assert expected in message, message
+    assert "Traceback" not in message
+    assert len(message.splitlines()) == 1, message
+    assert not out.exists()
