@@ -346,16 +346,23 @@ def apply_thermal(scene, solution=None, time=None):
 
 def render(scene, observer=None, **kwargs):
     """:func:`radscene.render.render` with the scene's heat balance applied first (when it runs;
-    :func:`thermal_active`)."""
+    :func:`thermal_active`); an observer with a spectral grid (and no ``bands`` given) through
+    :func:`render_hyperspectral`."""
     scene = as_scene(scene)
+    setup = scene.observers[0] if observer is None else scene.observer(observer)
+    if setup.spectral is not None and kwargs.get("bands") is None:
+        return render_hyperspectral(scene, setup.name, progress=kwargs.get("progress"))
     if thermal_active(scene):
         apply_thermal(scene)
     return _render_observer(scene, observer, **kwargs)
 
 
 def render_all(scene, **kwargs):
-    """:func:`radscene.render.render_all` with the scene's heat balance applied first."""
+    """:func:`radscene.render.render_all` with the scene's heat balance applied first; observers
+    with a spectral grid through :func:`render_hyperspectral`."""
     scene = as_scene(scene)
+    if any(o.spectral is not None for o in scene.observers):
+        return {o.name: render(scene, o.name, **kwargs) for o in scene.observers}
     if thermal_active(scene):
         apply_thermal(scene)
     return _render_all(scene, **kwargs)
@@ -403,7 +410,8 @@ def simulate(scene, observer: str | None = None, *, progress=None
     Returns
     -------
     radiance : xarray.Dataset
-        The render (``radiance(band, y, x)`` [W m-2 sr-1], terms, truth).
+        The render (``radiance(band, y, x)`` [W m-2 sr-1], terms, truth); for an observer
+        with a spectral grid the cube, ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1].
     signal : xarray.Dataset or None
         The sensor's output (``dn(frame, band, y, x)`` [DN] and its truth), or None when the
         observer has no sensor.
@@ -411,7 +419,7 @@ def simulate(scene, observer: str | None = None, *, progress=None
     scene = as_scene(scene)
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     images = render(scene, setup.name, progress=progress)
-    if setup.sensor is None:
+    if setup.sensor is None or setup.spectral is not None:
         return images, None
     responses = {b.name: b.response for b in scene.bands if b.name in setup.bands}
     signal = setup.sensor.apply(images, frames=setup.frames, seed=scene.settings.seed,

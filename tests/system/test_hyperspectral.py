@@ -125,3 +125,17 @@ def test_channel_value_is_spectral_radiance(tmp_path):
                                band["radiance"].values[0] / 0.01, rtol=REL)
     assert float(cube["fwhm"][c]) == pytest.approx(0.01, rel=1e-12)
     assert float(cube["fwhm"][0]) == pytest.approx(0.005, rel=1e-12)
+
+
+def test_render_of_a_spectral_observer_is_its_cube(tmp_path):
+    from radscene.errors import ConfigError
+    from radscene.render import render as band_render
+
+    scene = _scene(tmp_path, 1)
+    cube = radscene.render(scene, "tir")
+    assert cube["radiance"].dims == ("wavelength", "y", "x")
+    np.testing.assert_array_equal(
+        cube["radiance"].values, radscene.render_hyperspectral(scene, "tir")["radiance"].values)
+    assert set(radscene.render_all(scene)) == {"bands", "vnir", "tir"}
+    with pytest.raises(ConfigError, match="'tir' records a spectral grid"):
+        band_render(scene, "tir")

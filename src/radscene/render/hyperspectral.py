@@ -139,7 +139,7 @@ def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None =
     from radscene.render.integrator import render
 
     setup = scene.observers[0] if observer is None else scene.observer(observer)
-    key = f"observers[{scene.observers.index(setup)}].spectral"
+    key = f"observers[{next(i for i, o in enumerate(scene.observers) if o is setup)}].spectral"
     if grid is None:
         grid = getattr(setup, "spectral", None)
         if grid is None:
@@ -214,8 +214,9 @@ def render_hyperspectral(scene, observer: str | None = None, grid: ChannelGrid |
     for part in render_passes(scene, observer, grid, **kwargs):
         values = part["radiance"].values
         if cube is None:
-            setup = scene.observers[0] if observer is None else scene.observer(observer)
-            grid = grid or setup.spectral
+            if grid is None:
+                setup = scene.observers[0] if observer is None else scene.observer(observer)
+                grid = setup.spectral
             cube = np.empty((len(grid),) + values.shape[1:], dtype=dtype)
             first = part.drop_vars(["radiance", "wavelength", "fwhm"])
         cube[done:done + len(values)] = values

@@ -425,6 +425,11 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         and the truth maps; see ``docs/outputs.md``.
     """
     setup = scene.observers[0] if observer is None else scene.observer(observer)
+    if bands is None and getattr(setup, "spectral", None) is not None:
+        from radscene.errors import ConfigError
+
+        raise ConfigError(f"observer {setup.name!r} records a spectral grid: render it with "
+                          "radscene.render_hyperspectral", key="observer")
     tables = _tables or scene_tables(scene)
     bands = [scene.band(name) for name in setup.bands] if bands is None else list(bands)
     sun = tables.sun
