@@ -139,3 +139,12 @@ def test_render_of_a_spectral_observer_is_its_cube(tmp_path):
     assert set(radscene.render_all(scene)) == {"bands", "vnir", "tir"}
     with pytest.raises(ConfigError, match="'tir' records a spectral grid"):
         band_render(scene, "tir")
+
+
+@pytest.mark.parametrize("bad", [0, -2, 1.5, True])
+def test_channels_per_pass_must_be_a_positive_whole_number(tmp_path, bad):
+    from radscene.errors import ConfigError
+
+    scene = _scene(tmp_path, 1)
+    with pytest.raises(ConfigError, match="channels_per_pass: must be a whole number >= 1"):
+        radscene.render_hyperspectral(scene, "vnir", channels_per_pass=bad)

@@ -148,9 +148,10 @@ def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None =
     scene.atmosphere.check_wavelength(grid.wavelength[[0, -1]], key=key)
     bands = channels(grid)
     samples = int(np.prod(setup.camera.shape)) * setup.supersample**2
-    per_pass = channels_per_pass or pass_size(grid, samples, memory)
-    if per_pass < 1:
-        raise ConfigError(f"must be >= 1; got {per_pass!r}", key="channels_per_pass")
+    per_pass = pass_size(grid, samples, memory) if channels_per_pass is None else channels_per_pass
+    if isinstance(per_pass, bool) or not isinstance(per_pass, int | np.integer) or per_pass < 1:
+        raise ConfigError(f"must be a whole number >= 1; got {per_pass!r}",
+                          key="channels_per_pass")
     specular = _specular_flags(scene, grid)
     starts = range(0, len(bands), per_pass)
     for n, start in enumerate(starts):
