@@ -17,7 +17,7 @@ import pytest
 import yaml
 
 import radscene
-from radscene.render import COUPLING_TERMS, TERMS
+from radscene.render import BACKGROUND_TERM, COUPLING_TERMS, TERMS
 
 STATS = Path(__file__).with_name("demo_stats.json")
 #: Relative tolerance: renders are seeded and deterministic; this allows for floating-point
@@ -48,7 +48,7 @@ def _statistics() -> dict:
             entry = {"mean": float(rad.mean()), "std": float(rad.std()),
                      "min": float(rad.min()), "max": float(rad.max())}
             entry.update({f"{t}_mean": float(sel[t].values.mean())
-                          for t in TERMS + COUPLING_TERMS})
+                          for t in TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS})
             stats[f"{name}/{band}"] = entry
         stats[f"{name}/truth"] = {
             "shadow_fraction_mean": float(ds["shadow_fraction"].mean()),
@@ -83,5 +83,6 @@ def test_demo_statistics_are_physical(stats):
             assert entry["object_pixels"] > 0
         else:
             assert entry["min"] >= 0.0
-            assert np.isclose(sum(entry[f"{t}_mean"] for t in TERMS + COUPLING_TERMS),
+            assert np.isclose(sum(entry[f"{t}_mean"]
+                                  for t in TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS),
                               entry["mean"], rtol=1e-9)

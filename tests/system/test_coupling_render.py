@@ -7,7 +7,7 @@ import pytest
 
 from radscene import load_scene, render
 from radscene.errors import ConfigError
-from radscene.render import COUPLING_TERMS, TERMS
+from radscene.render import BACKGROUND_TERM, COUPLING_TERMS, TERMS
 
 DATABASE = {"type": "database", "profile": "us_standard", "aerosol": "rural",
             "visibility": "23 km"}
@@ -23,7 +23,7 @@ def _plate(make_plate_scene, atmosphere=DATABASE, altitude=700_000.0, **settings
 
 def test_layers_sum_to_the_radiance_and_a_uniform_plate_has_no_adjacency(make_plate_scene):
     ds = render(load_scene(_plate(make_plate_scene)))
-    total = sum(ds[name].values for name in TERMS + COUPLING_TERMS)
+    total = sum(ds[name].values for name in TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS)
     np.testing.assert_allclose(ds["radiance"].values, total, rtol=1e-12)
     for name in ("multiple_reflection", "diffuse_transmitted"):
         assert np.all(ds[name].values > 0.0), name

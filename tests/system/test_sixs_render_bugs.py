@@ -65,7 +65,7 @@ def test_terrain_a_metre_below_the_ground_is_still_refused():
 def test_maritime_sky_seen_from_space_is_finite_and_near_6s_diffuse_irradiance():
     ds = _rendered()
     terms = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance",
-             "multiple_reflection", "diffuse_transmitted", "adjacency")
+             "background_reflected", "multiple_reflection", "diffuse_transmitted", "adjacency")
     radiance = ds["radiance"].values
     assert np.all(np.isfinite(radiance))
     np.testing.assert_allclose(radiance, sum(ds[t].values for t in terms), rtol=1e-12)

@@ -1,7 +1,7 @@
 """Rendering: signature terms, illumination queries and the image integrator."""
 
-from radscene.render.integrator import COUPLING_TERMS, TERMS, render, render_all
+from radscene.render.integrator import BACKGROUND_TERM, COUPLING_TERMS, TERMS, render, render_all
 from radscene.render.sun_track import SunGeometry, SunTrack, sun_geometry, sun_track
 
-__all__ = ["TERMS", "COUPLING_TERMS", "SunGeometry", "SunTrack", "render", "render_all",
+__all__ = ["TERMS", "BACKGROUND_TERM", "COUPLING_TERMS", "SunGeometry", "SunTrack", "render", "render_all",
            "sun_geometry", "sun_track"]

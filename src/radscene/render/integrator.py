@@ -26,11 +26,11 @@ import xarray as xr
 
 from radscene.atmosphere import CouplingSpectra, SkyGeometry, sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
-from radscene.render import illumination, node_mixing, terms
+from radscene.render import background, illumination, node_mixing, terms
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 from radscene.render.sun_track import combine_nodes, sun_geometry, sun_track
 
-__all__ = ["render", "render_all", "TERMS", "COUPLING_TERMS", "TILE_SAMPLES"]
+__all__ = ["render", "render_all", "TERMS", "BACKGROUND_TERM", "COUPLING_TERMS", "TILE_SAMPLES"]
 
 #: Output layer names of the signature terms, in the order they are summed.
 TERMS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance")
@@ -41,6 +41,11 @@ TERM_LONG_NAMES = {
     "sky_reflected": "reflected sky radiance",
     "path_radiance": "atmospheric path radiance (sky radiance where a ray leaves the scene)",
 }
+#: Output layer of the reflected background (:mod:`radscene.render.background`), summed into
+#: the radiance after the terms.
+BACKGROUND_TERM = "background_reflected"
+BACKGROUND_LONG_NAME = "reflected background: the radiance of the scene's other surfaces " \
+    "reflected by the surface seen"
 #: Output layers of the surface–atmosphere coupling (:mod:`radscene.render.coupling`),
 #: summed into the radiance after the terms.
 COUPLING_TERMS = ("multiple_reflection", "diffuse_transmitted", "adjacency")
@@ -148,6 +153,7 @@ class _BandSetup:
         taus = []  # the direct transmittance at the nodes, per band
         couplings = []  # the engine's coupling spectra at the nodes, per band
         self.sky_scale = []  # per band and sun node: the node table's factors (_sky_scale)
+        self.sun_spectra = []  # per band: E_sun τ_so of the reference sun node at the nodes
         hemisphere = _hemisphere_weights(zen_nodes, az_nodes) if atm_ref.couples else None
         for b, band in enumerate(bands):
             nodes, weights = band_quadrature(band.response, breakpoints)
@@ -185,6 +191,7 @@ class _BandSetup:
                 c.transmittance[b, block] = tau @ weights / weights.sum()
                 if s == reference:
                     c.sky_view[b] = sky @ weights
+                    self.sun_spectra.append(e_sun)
             tau = np.tile(tau, (n_s, 1))  # the same line of sight under every sun node
             self.emissivity_tau.append(eps[:, None, :] * tau[None, :, :])
             taus.append(tau)
@@ -562,6 +569,9 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     # the coupling layers: their pages are first touched tile by tile below, while the worker
     # traces (at 1 M pixels and 8 bands that first touch, 192 MB, was most of the coupling pass)
     layers = _coupling_layers(bset, labelled, n_b, n_pix)
+    # the reflected background: its own pass over each tile's hits (None: off)
+    reflect = _background_pass(scene, tables, bands, bset, per_pixel)
+    sums[BACKGROUND_TERM] = bg = np.zeros((n_b, n_pix))
 
     def tile_totals(sl):
         """The tile's total radiance (the terms summed in TERMS order, as _dataset would)
@@ -573,6 +583,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         np.copyto(total, acc[0, :, at])
         for t in range(1, len(TERMS)):
             total += acc[t, :, at]
+        if reflect is not None:
+            total += bg[:, at]
         if bt_map is not None:
             for b in thermal:
                 bt_map[b, at] = band_brightness_temperature(total[b], bands[b].response)
@@ -639,6 +651,12 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             cos_g = np.einsum("nc,nc->n", wo, np.broadcast_to(st.sun, wo.shape))
             _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f,
                         path_nodes_all.subset(rank))
+        if reflect is not None:  # at the surface, then through τ_a and Δρ
+            values = reflect(st.origin, nrm, wo, mat, st.sun, sl.start)
+            values *= _gather_band(coef.transmittance, path_nodes_all.subset(rank))
+            values *= tex["reflectance"][:, None]
+            pixels, totals = _pixel_sums(p, wh, values.T)
+            bg[:, pixels] += totals
         truth_rows = (cos_i, 1.0 - lit, sky_view, temp, hits.distance[hidx], None)
         if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
             at = _as_slice(p)  # a tile of whole rows: plain slices
@@ -681,6 +699,28 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, hits, rays, labelled, track)
     return ds.assign(geolocation)
+
+
+def _background_pass(scene, tables, bands, bset, per_pixel):
+    """The reflected background's pass over the tiles (:class:`background.Pass`), or None
+    where the scene's ``background_bounces`` is 0. The ``background_samples`` of a pixel are
+    shared among its ``per_pixel`` ray samples (at least one path each)."""
+    settings = scene.settings
+    if settings.background_bounces == 0:
+        return None
+    thermal = [band.response.center >= THERMAL_BAND_START for band in bands]
+    band_tables = background.band_tables(
+        scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
+        bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
+        tables.face_material, tables.face_temperature)
+    texture = None
+    if any(obj.textures for obj in scene.objects):
+        def texture(obj, pos):
+            return _textures(scene, obj, pos)
+    samples = -(-settings.background_samples // per_pixel)
+    return background.Pass(tables.tracer, band_tables, samples=samples,
+                           bounces=settings.background_bounces, seed=settings.seed,
+                           epsilon=tables.epsilon, shadows=settings.shadows, texture=texture)
 
 
 def _adjacency_on(scene, height) -> bool:
@@ -984,7 +1024,7 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         total = radiance.reshape(n_b, ny, nx)
     else:
         total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
-        for name in TERMS[1:] + COUPLING_TERMS:
+        for name in TERMS[1:] + (BACKGROUND_TERM,) + COUPLING_TERMS:
             total += cube[name]
     thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
     if brightness is not None:
@@ -1014,6 +1054,8 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     for name in TERMS:
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
+    data[BACKGROUND_TERM] = (("band", "y", "x"), cube[BACKGROUND_TERM],
+                             {**radiance_attrs, "long_name": BACKGROUND_LONG_NAME})
     for name in COUPLING_TERMS:
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": COUPLING_LONG_NAMES[name]})
@@ -1074,6 +1116,8 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         "longitude_deg": scene.location.longitude,
         "supersample": setup.supersample,
         "sky_samples": scene.settings.sky_samples,
+        "background_bounces": scene.settings.background_bounces,
+        "background_samples": scene.settings.background_samples,
         "render_seconds": round(elapsed, 3),
         "band_radiance_definition": "integral of S(lambda) L(lambda) d lambda with the band "
                                     "response S (peak 1 for rectangular and Gaussian bands)",

@@ -428,6 +428,13 @@ class RenderSettings(_Model):
     adjacency: Literal["auto"] | bool = Field(
         "auto", description="the atmospheric point-spread function over the scene's surface "
         "radiance; auto: for observers more than 2 km above the ground")
+    background_bounces: Annotated[int, Field(ge=0, le=64)] = Field(
+        1, description="surface vertices beyond the hit whose radiance the reflected "
+        "background term follows: 1 the neighbours' own emission, sun and sky, N a path "
+        "tracer of N bounces, 0 off")
+    background_samples: Annotated[int, Field(ge=1, le=65536)] = Field(
+        16, description="background paths per pixel, shared among its supersamples (at least "
+        "one each); the term's noise falls as 1/sqrt(samples)")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,0 +1,115 @@
+"""Compiled kernels of the background pass (numba): the plain materials' BRDF sampling.
+
+A plain material (ρ_d, ρ_s, n) is the registry's ``phong`` model
+(:class:`radscene.materials.brdf.Phong`); these kernels draw its directions and weigh them
+in one pass per path, with the same formulas and the same random numbers as its ``sample``,
+``pdf`` and ``f``, which :func:`radscene.render.background.brdf_weight_reference` calls and
+the tests hold them to.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+
+from radscene.render.kernels import _basis
+
+__all__ = ["phong_weights", "phong_values"]
+
+_TWO_PI = 2.0 * math.pi
+
+
+@numba.njit(inline="always")
+def _lobe_f(mu_i, mu_o, cos_g, n):
+    """f of a Phong lobe of unit albedo: (n+1)/(2π) max(cos θ_r, 0)^n / max(μ_i, μ_o)."""
+    cos_r = 2.0 * mu_i * mu_o - cos_g
+    if n == 0.0:
+        value = 1.0 if cos_r >= 0.0 else 0.0
+    else:
+        value = max(cos_r, 0.0) ** n
+    return value / max(mu_i, mu_o) * (n + 1.0) / _TWO_PI
+
+
+@numba.njit(parallel=True, cache=True)
+def phong_weights(wo, normal, u, material, p_lobe, exponent, diffuse, specular, wi, weight):
+    """Draw ω_i from each point's Phong model and weigh it by f cos θ_i / pdf.
+
+    Parameters
+    ----------
+    wo, normal : (N, 3) float64 unit vectors (ω_o, the normal facing it)
+    u : (N, 2) float64 uniforms in [0, 1]
+    material : (N,) int64
+    p_lobe : (M,) probability of drawing from the lobe, ρ_s / (ρ_d + ρ_s) of the sampler
+    exponent : (M,) Phong exponent
+    diffuse, specular : (M, B) band-mean ρ_d and ρ_s
+    wi : (N, 3) out — the directions
+    weight : (N, B) out — f cos θ_i / pdf per band (0 below the horizon or at pdf 0)
+    """
+    n_b = diffuse.shape[1]
+    for i in numba.prange(len(material)):
+        m = material[i]
+        nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
+        tx, ty, tz, bx, by, bz = _basis(nx, ny, nz)
+        ox, oy, oz = wo[i, 0], wo[i, 1], wo[i, 2]
+        lx, ly, lz = ox * tx + oy * ty + oz * tz, ox * bx + oy * by + oz * bz, \
+            ox * nx + oy * ny + oz * nz
+        p_s, n = p_lobe[m], exponent[m]
+        u1, u2 = u[i, 0], u[i, 1]
+        pick = u1 < p_s
+        if pick:
+            v = u1 / p_s if p_s > 0.0 else u1
+        else:
+            v = (u1 - p_s) / (1.0 - p_s) if p_s < 1.0 else u1 - p_s
+        v = min(max(v, 0.0), 1.0)
+        phi = _TWO_PI * u2
+        if pick:  # about the mirror of ω_o, in the local frame, then into it
+            cos_a = v ** (1.0 / (n + 1.0))
+            sin_a = math.sqrt(max(1.0 - cos_a * cos_a, 0.0))
+            ax, ay, az = -lx, -ly, lz
+            a_tx, a_ty, a_tz, a_bx, a_by, a_bz = _basis(ax, ay, az)
+            px, py, pz = sin_a * math.cos(phi), sin_a * math.sin(phi), cos_a
+            qx = px * a_tx + py * a_bx + pz * ax
+            qy = px * a_ty + py * a_by + pz * ay
+            qz = px * a_tz + py * a_bz + pz * az
+        else:  # cosine-weighted (Malley)
+            r = math.sqrt(v)
+            qx, qy, qz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(1.0 - v, 0.0))
+        dx = qx * tx + qy * bx + qz * nx
+        dy = qx * ty + qy * by + qz * ny
+        dz = qx * tz + qy * bz + qz * nz
+        wi[i, 0], wi[i, 1], wi[i, 2] = dx, dy, dz
+        mu_i = dx * nx + dy * ny + dz * nz
+        mu_o = lz
+        cos_g = min(max(dx * ox + dy * oy + dz * oz, -1.0), 1.0)
+        cos_a = 2.0 * mu_i * mu_o - cos_g
+        lobe_pdf = (max(cos_a, 0.0) ** n) * ((n + 1.0) / _TWO_PI) if cos_a >= 0.0 else 0.0
+        pdf = p_s * lobe_pdf + (1.0 - p_s) * max(mu_i, 0.0) / math.pi
+        if not (mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0 and math.isfinite(pdf)):
+            for b in range(n_b):
+                weight[i, b] = 0.0
+            continue
+        lobe = _lobe_f(mu_i, mu_o, cos_g, n)
+        scale = mu_i / pdf
+        for b in range(n_b):
+            weight[i, b] = (diffuse[m, b] / math.pi + specular[m, b] * lobe) * scale
+
+
+@numba.njit(parallel=True, cache=True)
+def phong_values(wi, wo, normal, material, exponent, diffuse, specular, out):
+    """The band-mean Phong f(ω_i, ω_o) of each point [sr-1] into ``out`` (N, B)."""
+    n_b = diffuse.shape[1]
+    for i in numba.prange(len(material)):
+        m = material[i]
+        mu_i = wi[i, 0] * normal[i, 0] + wi[i, 1] * normal[i, 1] + wi[i, 2] * normal[i, 2]
+        mu_o = wo[i, 0] * normal[i, 0] + wo[i, 1] * normal[i, 1] + wo[i, 2] * normal[i, 2]
+        if not (mu_i > 0.0 and mu_o > 0.0):
+            for b in range(n_b):
+                out[i, b] = 0.0
+            continue
+        cos_g = min(max(wi[i, 0] * wo[i, 0] + wi[i, 1] * wo[i, 1] + wi[i, 2] * wo[i, 2],
+                        -1.0), 1.0)
+        lobe = _lobe_f(mu_i, mu_o, cos_g, exponent[m])
+        for b in range(n_b):
+            out[i, b] = diffuse[m, b] / math.pi + specular[m, b] * lobe
+

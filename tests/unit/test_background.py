@@ -1,0 +1,190 @@
+"""The reflected-background pass (radscene.render.background): the vectorised estimator
+against its one-path-at-a-time reference, determinism, and the scene settings."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from radscene import load_scene, render
+from radscene.errors import ConfigError
+from radscene.geometry import RayTracer, box, plate
+from radscene.materials import Material
+from radscene.render import background
+from radscene.render.spectral import band_quadrature
+
+SUN = np.array([0.5, -0.3, 0.8]) / np.linalg.norm([0.5, -0.3, 0.8])
+
+
+class _Band:
+    """A rectangular response of peak 1 over [lo, hi] [um]."""
+
+    def __init__(self, lo, hi):
+        self.support = (lo, hi)
+        self.center = 0.5 * (lo + hi)
+
+    def __call__(self, wl):
+        wl = np.asarray(wl, dtype=float)
+        return ((wl >= self.support[0]) & (wl <= self.support[1])).astype(float)
+
+
+def _setup(bounces, specular=0.0):
+    """A 2 m box on a 40 m plate, a visible and a thermal band; points on the plate around
+    the box, looking up."""
+    meshes = [plate(40.0, 40.0), box((2.0, 2.0, 2.0)).transformed(translation=(0.0, 0.0, 0.0))]
+    tracer = RayTracer(meshes)
+    materials = [Material.create("ground", reflectance=0.3 + specular,
+                                 specular_reflectance=specular,
+                                 specular_exponent=40.0),
+                 Material.create("wall", reflectance=0.6)]
+    bands = [_Band(0.5, 0.6), _Band(8.0, 12.0)]
+    quadrature = [band_quadrature(b) for b in bands]
+    sun_spectra = [np.full(q[0].shape, 1500.0) for q in quadrature]
+    zen, az = np.array([0.0, 45.0, 90.0]), np.array([0.0, 180.0])
+    sky = np.array([[20.0, 25.0, 30.0, 32.0, 40.0, 41.0], [2.0, 2.5, 3.0, 3.0, 4.0, 4.0]])
+    faces = [len(m.faces) for m in meshes]
+    face_offset = np.array([0, faces[0]])
+    face_material = np.concatenate([np.zeros(faces[0], int), np.ones(faces[1], int)])
+    face_temperature = np.concatenate([np.full(faces[0], 300.0), np.full(faces[1], 320.0)])
+    tables = background.band_tables(materials, {}, quadrature, sun_spectra, sky, (zen, az),
+                                    [False, True], face_offset, face_material, face_temperature)
+    rng = np.random.default_rng(4)
+    n = 12
+    azimuth, radius = rng.uniform(0.0, 2.0 * np.pi, n), rng.uniform(1.5, 2.5, n)
+    xy = radius[:, None] * np.column_stack([np.cos(azimuth), np.sin(azimuth)])  # beside the box
+    origin = np.column_stack([xy, np.full(n, 1e-3)])
+    normal = np.tile([0.0, 0.0, 1.0], (n, 1))
+    wo = np.tile([0.2, 0.1, 1.0] / np.linalg.norm([0.2, 0.1, 1.0]), (n, 1))
+    u = background.draws(np.random.default_rng(7), n, 16, bounces)
+    return tracer, tables, origin, normal, wo, np.zeros(n, int), u
+
+
+@pytest.mark.parametrize("bounces", [1, 3])
+@pytest.mark.parametrize("specular", [0.0, 0.3])
+def test_vectorised_pass_equals_reference(bounces, specular):
+    tracer, tables, origin, normal, wo, material, u = _setup(bounces, specular)
+    args = (tracer, tables, origin, normal, wo, material, SUN, u)
+    fast = background.reflected(*args, epsilon=1e-3)
+    slow = background.reflected_reference(*args, epsilon=1e-3)
+    assert np.count_nonzero(fast[:, 1]) >= 8  # most points see the box
+    assert fast == pytest.approx(slow, rel=1e-12, abs=1e-12)
+
+
+def test_vectorised_pass_does_not_depend_on_the_chunk_size(monkeypatch):
+    tracer, tables, origin, normal, wo, material, u = _setup(2)
+    args = (tracer, tables, origin, normal, wo, material, SUN, u)
+    whole = background.reflected(*args, epsilon=1e-3)
+    monkeypatch.setattr(background, "CHUNK_SAMPLES", 40)  # 2 points per chunk
+    assert background.reflected(*args, epsilon=1e-3) == pytest.approx(whole, rel=1e-14)
+
+
+def test_band_mean_reflectance_and_emission():
+    _tracer, tables, *_ = _setup(1)
+    assert tables.diffuse[:, 0] == pytest.approx([0.3, 0.6], rel=1e-12)
+    from radscene.radiometry import band_radiance
+
+    for t, temperature in enumerate(tables.temperature_nodes):
+        assert tables.emission[1, t, 1] == pytest.approx(
+            0.4 * float(band_radiance(8.0, 12.0, temperature)), rel=1e-6)
+
+
+def test_brdf_weight_of_a_lambertian_is_its_reflectance():
+    _tracer, tables, _o, normal, wo, material, _u = _setup(1)
+    u = np.random.default_rng(0).random((len(material), 2))
+    wi, weight = background.brdf_weight(tables, material, wo, normal, u)
+    assert np.all(wi[:, 2] > 0.0)
+    assert weight == pytest.approx(np.tile(tables.diffuse[0], (len(material), 1)), rel=1e-12)
+
+
+def test_sky_radiance_is_zero_below_the_horizon():
+    _tracer, tables, *_ = _setup(1)
+    d = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.6, -0.8]])
+    sky = background.sky_radiance(tables, d)
+    assert sky[0] == pytest.approx([20.0, 2.0], rel=1e-12)
+    assert sky[2] == pytest.approx([0.0, 0.0], abs=0.0)
+
+
+def _open_plate(**render_settings):
+    return {
+        "name": "open",
+        "environment": {"sun": {"zenith": 30.0, "azimuth": 180.0},
+                        "atmosphere": {"type": "uniform", "sky_radiance": 3.0}},
+        "materials": {"grey": {"reflectance": 0.4}},
+        "objects": [{"name": "plate", "shape": {"type": "plate", "width": 100, "length": 100},
+                     "material": "grey", "temperature": "300 K"},
+                    {"name": "block", "shape": {"type": "box", "size": [4, 4, 6]},
+                     "position": [0, 6, 0], "material": "grey", "temperature": "330 K"}],
+        "bands": [{"name": "vis", "min": 0.5, "max": 0.6}, {"name": "lwir", "min": 8, "max": 12}],
+        "observers": [{"name": "nadir", "type": "orthographic", "center": [0, 0], "gsd": 1.0,
+                       "shape": [8, 8], "altitude": 1000}],
+        "render": render_settings,
+    }
+
+
+def test_radiance_is_the_sum_of_the_layers_with_the_background():
+    ds = render(load_scene(_open_plate(background_samples=8)))
+    layers = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected",
+              "path_radiance", "background_reflected", "multiple_reflection",
+              "diffuse_transmitted", "adjacency")
+    total = sum(ds[name] for name in layers)
+    assert ds["radiance"].values == pytest.approx(total.values, rel=1e-12)
+    assert float(ds["background_reflected"].max()) > 0.0  # the block's neighbours
+    assert ds.attrs["background_bounces"] == 1
+
+
+def test_renders_repeat_for_a_seed_and_change_with_it():
+    a = render(load_scene(_open_plate(background_samples=4, seed=3)))["background_reflected"]
+    b = render(load_scene(_open_plate(background_samples=4, seed=3)))["background_reflected"]
+    c = render(load_scene(_open_plate(background_samples=4, seed=4)))["background_reflected"]
+    assert np.array_equal(a.values, b.values)
+    assert not np.array_equal(a.values, c.values)
+
+
+def test_off_gives_a_zero_layer_and_leaves_the_other_terms():
+    on = render(load_scene(_open_plate(background_samples=4)))
+    off = render(load_scene(_open_plate(background_bounces=0)))
+    assert np.all(off["background_reflected"].values == 0.0)
+    for name in ("sun_diffuse", "sky_reflected", "thermal_emission", "path_radiance"):
+        assert on[name].values == pytest.approx(off[name].values, rel=1e-12), name
+    assert on["radiance"].values == pytest.approx(
+        (off["radiance"] + on["background_reflected"]).values, rel=1e-12)
+
+
+@pytest.mark.parametrize(("key", "value", "match"), [
+    ("background_samples", 0, "render.background_samples"),
+    ("background_samples", -4, "render.background_samples"),
+    ("background_bounces", -1, "render.background_bounces"),
+    ("background_bounces", 1.5, "render.background_bounces"),
+])
+def test_bad_settings_name_the_key(key, value, match):
+    with pytest.raises(ConfigError, match=match):
+        load_scene(_open_plate(**{key: value}))
+
+
+@pytest.mark.parametrize(("rho_d", "rho_s", "exponent"), [
+    (0.3, 0.0, 0.0), (0.0, 0.5, 300.0), (0.2, 0.3, 12.0), (0.0, 0.0, 5.0), (0.1, 0.4, 0.0)])
+def test_compiled_phong_sampling_equals_the_registry_model(rho_d, rho_s, exponent):
+    """The compiled kernels draw, weigh and evaluate as the registry's phong model does."""
+    rng = np.random.default_rng(11)
+    n = 500
+    material = Material.create("m", reflectance=rho_d + rho_s, specular_reflectance=rho_s,
+                               specular_exponent=exponent)
+    quadrature = [band_quadrature(_Band(0.5, 0.6)), band_quadrature(_Band(8.0, 12.0))]
+    tables = background.band_tables(
+        [material], {}, quadrature, [np.ones(q[0].shape) for q in quadrature],
+        np.zeros((2, 1)), (np.array([0.0]), np.array([0.0])), [False, True], np.array([0]),
+        np.zeros(2, int), np.full(2, 300.0))
+    normal = rng.normal(size=(n, 3))
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    wo = rng.normal(size=(n, 3))
+    wo /= np.linalg.norm(wo, axis=1, keepdims=True)
+    wo = np.where((np.einsum("nc,nc->n", wo, normal) > 0.0)[:, None], wo, -wo)
+    u = rng.random((n, 2))
+    m = np.zeros(n, int)
+    wi, weight = background.brdf_weight(tables, m, wo, normal, u)
+    wi_ref, weight_ref = background.brdf_weight_reference(tables, m, wo, normal, u)
+    assert wi == pytest.approx(wi_ref, abs=1e-12)
+    assert weight == pytest.approx(weight_ref, rel=1e-10, abs=1e-12)
+    f = background.brdf(tables, m, wi, wo, normal)
+    assert f == pytest.approx(background.brdf_reference(tables, m, wi, wo, normal),
+                              rel=1e-10, abs=1e-12)
