@@ -36,9 +36,11 @@ GRID = 12
 
 
 def with_buildings(spec: dict, terrain_size: float) -> dict:
-    """The scene with a GRID x GRID block of concrete buildings at its centre."""
+    """The scene with a block of concrete buildings over the middle third of the terrain
+    (GRID x GRID on the full one)."""
     centre = terrain_size / 2.0
-    offset = (np.arange(GRID) - (GRID - 1) / 2.0) * (BLOCK[1] + STREET)
+    grid = max(1, min(GRID, int(terrain_size / 3.0 / (BLOCK[1] + STREET))))
+    offset = (np.arange(grid) - (grid - 1) / 2.0) * (BLOCK[1] + STREET)
     spec["objects"] = [
         {"name": f"building_{i}_{j}", "shape": {"type": "box", "size": list(BLOCK)},
          "position": [float(centre + x), float(centre + y), -1.0], "material": "concrete",
@@ -62,7 +64,7 @@ def run(args) -> dict:
     report = {"date": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
               "load_average_at_start": os.getloadavg(), "radscene": source_version(),
               "machine": machine(), "command": " ".join(["python"] + sys.argv),
-              "settings": {"size": size, "terrain_size_m": terrain, "buildings": GRID * GRID,
+              "settings": {"size": size, "terrain_size_m": terrain, "buildings": len(with_buildings({}, terrain)["objects"]),
                            "background_samples": args.samples, "repeat": args.repeat}}
     scenes = {n: radscene.load_scene(with_buildings(scene_dict(size, 16, terrain,
                                                                background_samples=n), terrain))

@@ -60,6 +60,7 @@ from radscene.atmosphere import sky_node_weights
 
 __all__ = ["BackgroundTables", "band_tables", "draws", "reflected", "reflected_reference",
            "sky_radiance", "brdf", "brdf_reference", "brdf_weight", "brdf_weight_reference",
+           "directions",
            "tile_generator", "Pass", "WEIGHTING_TEMPERATURE",
            "CHUNK_SAMPLES"]
 
@@ -419,42 +420,75 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
         return out
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     step = max(1, CHUNK_SAMPLES // samples)
+    sky_on = bool(np.any(tables.sky > 0.0))
     for start in range(0, n, step):
         sl = slice(start, min(start + step, n))
         k = sl.stop - sl.start
-        rows = np.arange(sl.start, sl.stop).repeat(samples)
-        s_sun = sun if len(sun) == 1 else sun[rows]
-        wi, beta = brdf_weight(tables, material[rows], wo[rows], normal[rows],
-                               u[sl].reshape(k * samples, depth, 2)[:, 0])
-        total = np.zeros((k * samples, tables.bands))
-        alive = np.flatnonzero(np.any(beta > 0.0, axis=1))
-        o, d, beta = origin[rows[alive]], wi[alive], beta[alive]
         uu = u[sl].reshape(k * samples, depth, 2)
+        point = np.arange(sl.start, sl.stop).repeat(samples)  # each path's point
+        # every path's first direction; the weights only of those that meet the scene
+        wi, valid = directions(tables, material, wo, normal, point, uu[:, 0])
+        alive = np.flatnonzero(valid)
+        hits = tracer.intersect(origin[point[alive]], wi[alive])
+        alive, d, hits = alive[hits.hit], wi[alive[hits.hit]], _take(hits, hits.hit)
+        at = point[alive]
+        _, beta = brdf_weight(tables, material[at], wo[at], normal[at], uu[alive, 0])
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
-            hits = tracer.intersect(o, d)
-            if bounce > 1:  # the previous vertex's sky, along the ray that continues its path
-                sky = ~hits.hit & (d[:, 2] > 0.0)
-                if np.any(sky):
-                    total[alive[sky]] += beta[sky] * sky_radiance(tables, d[sky])
-            keep = hits.hit
-            alive, beta, d = alive[keep], beta[keep], d[keep]
-            if len(alive) == 0:
-                break
-            v = _vertices(tables, _take(hits, keep), d, epsilon, texture)
-            p_sun = s_sun if len(s_sun) == 1 else s_sun[alive]
-            total[alive] += beta * _own(tracer, tables, v, p_sun, shadows)
+            v = _vertices(tables, hits, d, epsilon, texture)
+            p_sun = sun if len(sun) == 1 else sun[point[alive]]
+            _add(out, point[alive], beta * _own(tracer, tables, v, p_sun, shadows))
             wi_v, w_v = brdf_weight(tables, v.material, v.to_previous, v.normal,
                                     uu[alive, bounce])
             beta = beta * w_v * v.reflectance[:, None]
-            go = np.any(beta > 0.0, axis=1)
+            go = np.flatnonzero(np.any(beta > 0.0, axis=1))
             alive, beta, o, d = alive[go], beta[go], v.origin[go], wi_v[go]
-            if bounce == bounces and len(alive) and np.any(tables.sky > 0.0):
-                sky = (d[:, 2] > 0.0) & ~tracer.occluded(o, d)
-                total[alive[sky]] += beta[sky] * sky_radiance(tables, d[sky])
-        out[sl] = total.reshape(k, samples, tables.bands).sum(axis=1) / samples
+            if len(alive) == 0:
+                break
+            if bounce == bounces:  # the last vertex's sky: an occlusion ray
+                if sky_on:
+                    sky = np.flatnonzero(d[:, 2] > 0.0)
+                    sky = sky[~tracer.occluded(o[sky], d[sky])]
+                    _add(out, point[alive[sky]], beta[sky] * sky_radiance(tables, d[sky]))
+                break
+            hits = tracer.intersect(o, d)  # the vertex's sky, or the next vertex
+            sky = ~hits.hit & (d[:, 2] > 0.0)
+            if np.any(sky):
+                _add(out, point[alive[sky]], beta[sky] * sky_radiance(tables, d[sky]))
+            keep = hits.hit
+            alive, beta, d, hits = alive[keep], beta[keep], d[keep], _take(hits, keep)
+    out /= samples
     return out
+
+
+def _add(out, rows, values):
+    """out[rows] += values, rows repeating."""
+    if len(rows) == 0:
+        return
+    for b in range(out.shape[1]):
+        out[:, b] += np.bincount(rows, values[:, b], minlength=len(out))
+
+
+def directions(tables, material, wo, normal, point, u) -> tuple[np.ndarray, np.ndarray]:
+    """The directions :func:`brdf_weight` draws for paths from points, without the weights.
+
+    ``point`` (P,) is each path's row of ``material``, ``wo`` and ``normal``; ``u`` (P, 2) its
+    uniforms. Returns ω_i (P, 3) and whether each weight may be non-zero (P,) bool.
+    """
+    plain, groups = _models(tables, material[point])
+    p = len(point)
+    wi, valid = np.empty((p, 3)), np.empty(p, dtype=bool)
+    reflects = np.any((tables.diffuse > 0.0) | (tables.specular > 0.0), axis=1)
+    _kernels().phong_directions(*_rows(None, wo, normal), _int(point),
+                                np.ascontiguousarray(u, dtype=np.float64), _int(material),
+                                tables.p_lobe, tables.exponent, reflects, wi, valid)
+    for _, idx in groups:  # materials with a BRDF model: through the registry
+        at = point[idx]
+        wi[idx], weight = brdf_weight_reference(tables, material[at], wo[at], normal[at],
+                                                u[idx])
+        valid[idx] = np.any(weight > 0.0, axis=1)
+    return wi, valid
 
 
 def _take(hits, keep):

@@ -15,7 +15,7 @@ import numba
 
 from radscene.render.kernels import _basis
 
-__all__ = ["phong_weights", "phong_values"]
+__all__ = ["phong_weights", "phong_directions", "phong_values"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -29,6 +29,43 @@ def _lobe_f(mu_i, mu_o, cos_g, n):
     else:
         value = max(cos_r, 0.0) ** n
     return value / max(mu_i, mu_o) * (n + 1.0) / _TWO_PI
+
+
+@numba.njit(inline="always")
+def _draw(ox, oy, oz, nx, ny, nz, u1, u2, p_s, n):
+    """One direction from a Phong model about normal n for ω_o = (ox, oy, oz), as the
+    registry's ``sample``: (ω_i, its pdf, μ_i, μ_o, cos g)."""
+    tx, ty, tz, bx, by, bz = _basis(nx, ny, nz)
+    lx, ly = ox * tx + oy * ty + oz * tz, ox * bx + oy * by + oz * bz
+    lz = ox * nx + oy * ny + oz * nz
+    pick = u1 < p_s
+    if pick:
+        v = u1 / p_s if p_s > 0.0 else u1
+    else:
+        v = (u1 - p_s) / (1.0 - p_s) if p_s < 1.0 else u1 - p_s
+    v = min(max(v, 0.0), 1.0)
+    phi = _TWO_PI * u2
+    if pick:  # about the mirror of ω_o, in the local frame, then into it
+        cos_a = v ** (1.0 / (n + 1.0))
+        sin_a = math.sqrt(max(1.0 - cos_a * cos_a, 0.0))
+        ax, ay, az = -lx, -ly, lz
+        a_tx, a_ty, a_tz, a_bx, a_by, a_bz = _basis(ax, ay, az)
+        px, py, pz = sin_a * math.cos(phi), sin_a * math.sin(phi), cos_a
+        qx = px * a_tx + py * a_bx + pz * ax
+        qy = px * a_ty + py * a_by + pz * ay
+        qz = px * a_tz + py * a_bz + pz * az
+    else:  # cosine-weighted (Malley)
+        r = math.sqrt(v)
+        qx, qy, qz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(1.0 - v, 0.0))
+    dx = qx * tx + qy * bx + qz * nx
+    dy = qx * ty + qy * by + qz * ny
+    dz = qx * tz + qy * bz + qz * nz
+    mu_i = dx * nx + dy * ny + dz * nz
+    cos_g = min(max(dx * ox + dy * oy + dz * oz, -1.0), 1.0)
+    cos_a = 2.0 * mu_i * lz - cos_g
+    lobe_pdf = (max(cos_a, 0.0) ** n) * ((n + 1.0) / _TWO_PI) if cos_a >= 0.0 else 0.0
+    pdf = p_s * lobe_pdf + (1.0 - p_s) * max(mu_i, 0.0) / math.pi
+    return dx, dy, dz, pdf, mu_i, lz, cos_g
 
 
 @numba.njit(parallel=True, cache=True)
@@ -49,50 +86,37 @@ def phong_weights(wo, normal, u, material, p_lobe, exponent, diffuse, specular, 
     n_b = diffuse.shape[1]
     for i in numba.prange(len(material)):
         m = material[i]
-        nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
-        tx, ty, tz, bx, by, bz = _basis(nx, ny, nz)
-        ox, oy, oz = wo[i, 0], wo[i, 1], wo[i, 2]
-        lx, ly, lz = ox * tx + oy * ty + oz * tz, ox * bx + oy * by + oz * bz, \
-            ox * nx + oy * ny + oz * nz
-        p_s, n = p_lobe[m], exponent[m]
-        u1, u2 = u[i, 0], u[i, 1]
-        pick = u1 < p_s
-        if pick:
-            v = u1 / p_s if p_s > 0.0 else u1
-        else:
-            v = (u1 - p_s) / (1.0 - p_s) if p_s < 1.0 else u1 - p_s
-        v = min(max(v, 0.0), 1.0)
-        phi = _TWO_PI * u2
-        if pick:  # about the mirror of ω_o, in the local frame, then into it
-            cos_a = v ** (1.0 / (n + 1.0))
-            sin_a = math.sqrt(max(1.0 - cos_a * cos_a, 0.0))
-            ax, ay, az = -lx, -ly, lz
-            a_tx, a_ty, a_tz, a_bx, a_by, a_bz = _basis(ax, ay, az)
-            px, py, pz = sin_a * math.cos(phi), sin_a * math.sin(phi), cos_a
-            qx = px * a_tx + py * a_bx + pz * ax
-            qy = px * a_ty + py * a_by + pz * ay
-            qz = px * a_tz + py * a_bz + pz * az
-        else:  # cosine-weighted (Malley)
-            r = math.sqrt(v)
-            qx, qy, qz = r * math.cos(phi), r * math.sin(phi), math.sqrt(max(1.0 - v, 0.0))
-        dx = qx * tx + qy * bx + qz * nx
-        dy = qx * ty + qy * by + qz * ny
-        dz = qx * tz + qy * bz + qz * nz
+        dx, dy, dz, pdf, mu_i, mu_o, cos_g = _draw(
+            wo[i, 0], wo[i, 1], wo[i, 2], normal[i, 0], normal[i, 1], normal[i, 2], u[i, 0],
+            u[i, 1], p_lobe[m], exponent[m])
         wi[i, 0], wi[i, 1], wi[i, 2] = dx, dy, dz
-        mu_i = dx * nx + dy * ny + dz * nz
-        mu_o = lz
-        cos_g = min(max(dx * ox + dy * oy + dz * oz, -1.0), 1.0)
-        cos_a = 2.0 * mu_i * mu_o - cos_g
-        lobe_pdf = (max(cos_a, 0.0) ** n) * ((n + 1.0) / _TWO_PI) if cos_a >= 0.0 else 0.0
-        pdf = p_s * lobe_pdf + (1.0 - p_s) * max(mu_i, 0.0) / math.pi
         if not (mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0 and math.isfinite(pdf)):
             for b in range(n_b):
                 weight[i, b] = 0.0
             continue
-        lobe = _lobe_f(mu_i, mu_o, cos_g, n)
+        lobe = _lobe_f(mu_i, mu_o, cos_g, exponent[m])
         scale = mu_i / pdf
         for b in range(n_b):
             weight[i, b] = (diffuse[m, b] / math.pi + specular[m, b] * lobe) * scale
+
+
+@numba.njit(parallel=True, cache=True)
+def phong_directions(wo, normal, point, u, material, p_lobe, exponent, reflects, wi, valid):
+    """The directions of :func:`phong_weights` for paths from points, without the weights.
+
+    ``point`` (N,) is each path's point (a row of ``wo``, ``normal`` and ``material``), ``u``
+    (N, 2) its uniforms, ``reflects`` (M,) whether a material reflects at all; ``valid`` (N,)
+    is set where the weight can be non-zero (above the horizon, pdf > 0).
+    """
+    for i in numba.prange(len(point)):
+        j = point[i]
+        m = material[j]
+        dx, dy, dz, pdf, mu_i, mu_o, _ = _draw(
+            wo[j, 0], wo[j, 1], wo[j, 2], normal[j, 0], normal[j, 1], normal[j, 2], u[i, 0],
+            u[i, 1], p_lobe[m], exponent[m])
+        wi[i, 0], wi[i, 1], wi[i, 2] = dx, dy, dz
+        valid[i] = (reflects[m] and mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0
+                    and math.isfinite(pdf))
 
 
 @numba.njit(parallel=True, cache=True)
