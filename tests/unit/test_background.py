@@ -121,8 +121,11 @@ def _open_plate(**render_settings):
     }
 
 
-def test_radiance_is_the_sum_of_the_layers_with_the_background():
-    ds = render(load_scene(_open_plate(background_samples=8)))
+@pytest.mark.parametrize("supersample", [1, 2])
+def test_radiance_is_the_sum_of_the_layers_with_the_background(supersample):
+    scene = _open_plate(background_samples=8)
+    scene["observers"][0]["supersample"] = supersample
+    ds = render(load_scene(scene))
     layers = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected",
               "path_radiance", "background_reflected", "multiple_reflection",
               "diffuse_transmitted", "adjacency")
@@ -188,3 +191,15 @@ def test_compiled_phong_sampling_equals_the_registry_model(rho_d, rho_s, exponen
     f = background.brdf(tables, m, wi, wo, normal)
     assert f == pytest.approx(background.brdf_reference(tables, m, wi, wo, normal),
                               rel=1e-10, abs=1e-12)
+
+
+def test_a_lambertian_brdf_model_reflects_the_background_like_the_plain_material():
+    """The registry's lambertian model draws the plain material's cosine-weighted directions
+    from the same uniforms: the same layer to rounding."""
+    plain = _open_plate(background_samples=8)
+    model = _open_plate(background_samples=8)
+    model["materials"]["grey"]["brdf"] = {"type": "lambertian", "reflectance": 0.4}
+    a = render(load_scene(plain))["background_reflected"].values
+    b = render(load_scene(model))["background_reflected"].values
+    assert np.count_nonzero(a) > 10
+    assert b == pytest.approx(a, rel=1e-9, abs=1e-12)
