@@ -3,7 +3,7 @@
 A plain material (ρ_d, ρ_s, n) is the registry's ``phong`` model
 (:class:`radscene.materials.brdf.Phong`); these kernels draw its directions and weigh them
 in one pass per path, with the same formulas and the same random numbers as its ``sample``,
-``pdf`` and ``f``, which :func:`radscene.render.background.brdf_weight_reference` calls and
+``pdf`` and ``f``, which :func:`radscene.render.background_tables.brdf_weight_reference` calls and
 the tests hold them to.
 """
 

@@ -570,7 +570,11 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     # traces (at 1 M pixels and 8 bands that first touch, 192 MB, was most of the coupling pass)
     layers = _coupling_layers(bset, labelled, n_b, n_pix)
     # the reflected background: its own pass over each tile's hits (None: off)
-    reflect = _background_pass(scene, tables, bands, bset, per_pixel)
+    reflect = background.for_render(
+        scene, tables, bset, bands, per_pixel,
+        [band.response.center >= THERMAL_BAND_START for band in bands],
+        (lambda obj, pos: _textures(scene, obj, pos))
+        if any(obj.textures for obj in scene.objects) else None)
     sums[BACKGROUND_TERM] = bg = np.zeros((n_b, n_pix))
 
     def tile_totals(sl):
@@ -699,28 +703,6 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, hits, rays, labelled, track)
     return ds.assign(geolocation)
-
-
-def _background_pass(scene, tables, bands, bset, per_pixel):
-    """The reflected background's pass over the tiles (:class:`background.Pass`), or None
-    where the scene's ``background_bounces`` is 0. The ``background_samples`` of a pixel are
-    shared among its ``per_pixel`` ray samples (at least one path each)."""
-    settings = scene.settings
-    if settings.background_bounces == 0:
-        return None
-    thermal = [band.response.center >= THERMAL_BAND_START for band in bands]
-    band_tables = background.band_tables(
-        scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
-        bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
-        tables.face_material, tables.face_temperature)
-    texture = None
-    if any(obj.textures for obj in scene.objects):
-        def texture(obj, pos):
-            return _textures(scene, obj, pos)
-    samples = -(-settings.background_samples // per_pixel)
-    return background.Pass(tables.tracer, band_tables, samples=samples,
-                           bounces=settings.background_bounces, seed=settings.seed,
-                           epsilon=tables.epsilon, shadows=settings.shadows, texture=texture)
 
 
 def _adjacency_on(scene, height) -> bool:
