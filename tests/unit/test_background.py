@@ -203,3 +203,12 @@ def test_a_lambertian_brdf_model_reflects_the_background_like_the_plain_material
     b = render(load_scene(model))["background_reflected"].values
     assert np.count_nonzero(a) > 10
     assert b == pytest.approx(a, rel=1e-9, abs=1e-12)
+
+
+def test_a_lone_plate_under_the_sky_has_no_background():
+    """Every direction above an open plate is sky: it stays in sky_reflected."""
+    scene = _open_plate(background_samples=16, background_bounces=3)
+    scene["objects"] = scene["objects"][:1]
+    ds = render(load_scene(scene))
+    assert np.all(ds["background_reflected"].values == 0.0)
+    assert np.all(ds["sky_reflected"].values > 0.0)
