@@ -55,7 +55,7 @@ def _setup(bounces, specular=0.0):
     origin = np.column_stack([xy, np.full(n, 1e-3)])
     normal = np.tile([0.0, 0.0, 1.0], (n, 1))
     wo = np.tile([0.2, 0.1, 1.0] / np.linalg.norm([0.2, 0.1, 1.0]), (n, 1))
-    u = background.draws(np.random.default_rng(7), n, 16, bounces)
+    u = background.draws(7, 0, n, 16, bounces)
     return tracer, tables, origin, normal, wo, np.zeros(n, int), u
 
 
@@ -212,3 +212,26 @@ def test_a_lone_plate_under_the_sky_has_no_background():
     ds = render(load_scene(scene))
     assert np.all(ds["background_reflected"].values == 0.0)
     assert np.all(ds["sky_reflected"].values > 0.0)
+
+
+def _splitmix_reference(key, path, bounce, depth, dim):
+    """SplitMix64 (Steele, Lea & Flood 2014) in Python integers, at the pass's counter."""
+    mask = (1 << 64) - 1
+    counter = (path * depth + bounce) * 2 + dim
+    z = (key + (counter + 1) * 0x9E3779B97F4A7C15) & mask
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & mask
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & mask
+    return ((z ^ (z >> 31)) >> 11) / 2.0**53
+
+
+def test_counter_uniforms_are_splitmix64_and_uniform():
+    u = background.draws(5, 131072, 1000, 4, 2)
+    paths = np.array([0, 1, 17, 3999])
+    got = u.at(paths, 2)
+    expected = [[_splitmix_reference(u.key, int(p), 2, 3, d) for d in range(2)] for p in paths]
+    assert got == pytest.approx(np.array(expected), abs=0.0)
+    sample = u.at(np.arange(4000), 0).ravel()
+    counts = np.histogram(sample, bins=20, range=(0.0, 1.0))[0]
+    chi2 = float(np.sum((counts - 400.0) ** 2 / 400.0))
+    assert chi2 < 43.8  # 19 degrees of freedom, p = 0.001
+    assert not np.array_equal(u.at(paths, 0), background.draws(6, 131072, 1000, 4, 2).at(paths, 0))

@@ -113,7 +113,7 @@ def test_v_groove_one_bounce_equals_the_view_factor_closed_form(tmp_path):
     z = (got - expected[None, :]) / sigma[None, :]
     assert np.all(np.abs(z) < 4.5), z
     column = got.mean(axis=0)  # 4 rows: σ / 2
-    assert np.all(np.abs(column - expected) < 4.0 * sigma / 2.0)
+    assert np.all(np.abs(column - expected) < 4.5 * sigma / 2.0)  # false alarm ~1e-4
     assert column == pytest.approx(expected, rel=0.02)
     # the other layers: the wall's own emission, nothing from a black sky
     assert ds["thermal_emission"].sel(band="lwir").values == pytest.approx(

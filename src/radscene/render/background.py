@@ -27,9 +27,10 @@ vertex's BRDF through the registry's ``sample`` (:mod:`radscene.materials.brdf`)
 f cos θ / pdf. The sun at a vertex is a shadow ray (next-event estimation); its sky is the
 sampled direction itself: the ray that continues the path, or at the last vertex an occlusion
 ray, sees the sky where it leaves the scene upwards. From x itself only the scene counts
-(sky directions are ``sky_reflected``'s). The random numbers are independent uniforms from a
-generator seeded by the scene's ``seed``: the noise falls as 1/√samples and a render is
-repeatable.
+(sky directions are ``sky_reflected``'s). The random numbers are independent uniforms,
+counter-based (SplitMix64 of the path, vertex and dimension under a key from the scene's
+``seed`` and the tile; Steele, Lea & Flood 2014): the noise falls as 1/√samples, a render is
+repeatable, and a path's numbers are drawn only while it lives.
 
 Assumptions
 -----------
@@ -47,6 +48,8 @@ References
 ----------
 J. T. Kajiya, "The rendering equation", SIGGRAPH '86, 143-150 (1986),
 doi:10.1145/15886.15902.
+G. L. Steele, D. Lea, C. H. Flood, "Fast splittable pseudorandom number generators",
+OOPSLA 2014, 453-472, doi:10.1145/2660193.2660195.
 """
 
 from __future__ import annotations
@@ -71,23 +74,46 @@ from radscene.render.background_tables import (
 
 __all__ = ["BackgroundTables", "band_tables", "draws", "reflected", "reflected_reference",
            "sky_radiance", "brdf", "brdf_reference", "brdf_weight", "brdf_weight_reference",
-           "directions", "tile_generator", "Pass", "for_render", "WEIGHTING_TEMPERATURE",
+           "directions", "Draws", "Pass", "for_render", "WEIGHTING_TEMPERATURE",
            "CHUNK_SAMPLES"]
 
 #: Paths (hits × samples) handled at once; the results do not depend on it.
 CHUNK_SAMPLES = 1 << 18
 
 
-def tile_generator(seed: int, first_sample: int) -> np.random.Generator:
-    """The generator of the tile whose first ray sample is ``first_sample``: its draws
-    depend on the scene's ``seed`` and the tile, not on the order tiles are rendered in."""
-    return np.random.default_rng([int(seed) % (1 << 64), 0x62676E64, int(first_sample)])
+@dataclass(frozen=True)
+class Draws:
+    """The uniforms of a tile's paths: ``points`` × ``samples`` paths of ``bounces`` + 1
+    vertices (the point itself and the vertices beyond it), two numbers per vertex.
+
+    Counter-based (SplitMix64 of the path, vertex and dimension under the tile's ``key``):
+    any path's numbers are drawn alone and in any order, so the vectorised pass draws them
+    only for the paths still alive, and the reference pass path by path, the same numbers.
+    """
+
+    key: int
+    points: int
+    samples: int
+    bounces: int
+
+    def at(self, paths, bounce: int) -> np.ndarray:
+        """(len(paths), 2) uniforms in [0, 1) of ``paths`` (point · samples + sample) at
+        vertex ``bounce``."""
+        from radscene.render import background_kernels
+
+        paths = np.ascontiguousarray(paths, dtype=np.int64)
+        out = np.empty((len(paths), 2))
+        background_kernels.counter_uniforms(np.uint64(self.key), paths, int(bounce),
+                                            self.bounces + 1, out)
+        return out
 
 
-def draws(rng: np.random.Generator, n_points: int, samples: int, bounces: int) -> np.ndarray:
-    """The uniforms of ``n_points`` × ``samples`` paths: (n_points, samples, bounces + 1, 2);
-    the direction drawn at x and at each of the ``bounces`` vertices beyond it."""
-    return rng.random((n_points, samples, bounces + 1, 2))
+def draws(seed: int, first_sample: int, n_points: int, samples: int, bounces: int) -> Draws:
+    """The uniforms of the tile whose first ray sample is ``first_sample``: they depend on the
+    scene's ``seed`` and the tile, not on the order tiles are rendered in."""
+    key = np.random.SeedSequence([int(seed) % (1 << 64), 0x62676E64, int(first_sample)])
+    return Draws(int(key.generate_state(1, np.uint64)[0]), int(n_points), int(samples),
+                 int(bounces))
 
 
 def sky_radiance(tables, directions) -> np.ndarray:
@@ -166,7 +192,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     wo : (N, 3) unit vectors towards the sensor
     material : (N,) int
     sun : (3,), (1, 3) or (N, 3) unit vectors towards the sun
-    u : (N, samples, bounces + 1, 2) uniforms (:func:`draws`)
+    u : Draws — the paths' uniforms (:func:`draws`), N points
     epsilon : float — offset of ray origins along the normal [m]
     shadows : bool — trace the vertices' shadow rays (else every vertex facing the sun is lit)
     texture : callable, optional — ``texture(object, position)`` → {"reflectance": Δρ,
@@ -177,8 +203,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     numpy.ndarray
         (N, n_b) band radiance [W m-2 sr-1], without the target-to-sensor τ_a and x's Δρ.
     """
-    n, samples, depth, _ = np.shape(u)
-    bounces = depth - 1
+    n, samples, bounces = u.points, u.samples, u.bounces
     out = np.zeros((n, tables.bands))
     if n == 0 or samples == 0 or bounces == 0:
         return out
@@ -187,16 +212,17 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     sky_on = bool(np.any(tables.sky > 0.0))
     for start in range(0, n, step):
         sl = slice(start, min(start + step, n))
-        k = sl.stop - sl.start
-        uu = u[sl].reshape(k * samples, depth, 2)
-        point = np.arange(sl.start, sl.stop).repeat(samples)  # each path's point
+        paths = np.arange(sl.start * samples, sl.stop * samples)
+        point = paths // samples  # each path's point
+        first = u.at(paths, 0)
         # every path's first direction; the weights only of those that meet the scene
-        wi, valid = directions(tables, material, wo, normal, point, uu[:, 0])
+        wi, valid = directions(tables, material, wo, normal, point, first)
         alive = np.flatnonzero(valid)
         hits = tracer.intersect(origin[point[alive]], wi[alive])
         alive, d, hits = alive[hits.hit], wi[alive[hits.hit]], _take(hits, hits.hit)
         at = point[alive]
-        _, beta = brdf_weight(tables, material[at], wo[at], normal[at], uu[alive, 0])
+        _, beta = brdf_weight(tables, material[at], wo[at], normal[at], first[alive])
+        del first
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
@@ -204,7 +230,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
             p_sun = sun if len(sun) == 1 else sun[point[alive]]
             _add(out, point[alive], beta * _own(tracer, tables, v, p_sun, shadows))
             wi_v, w_v = brdf_weight(tables, v.material, v.to_previous, v.normal,
-                                    uu[alive, bounce])
+                                    u.at(paths[alive], bounce))
             beta = beta * w_v * v.reflectance[:, None]
             go = np.flatnonzero(np.any(beta > 0.0, axis=1))
             alive, beta, o, d = alive[go], beta[go], v.origin[go], wi_v[go]
@@ -245,7 +271,7 @@ def _take(hits, keep):
 def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon,
                         shadows=True, texture: Callable | None = None) -> np.ndarray:
     """:func:`reflected`, one path at a time: the slow, obvious version (the tests' oracle)."""
-    n, samples, depth, _ = np.shape(u)
+    n, samples, depth = u.points, u.samples, u.bounces + 1
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     out = np.zeros((n, tables.bands))
     for i in range(n):
@@ -253,7 +279,7 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
         for s in range(samples):
             # the first direction, from x: only the scene counts
             wi, beta = brdf_weight_reference(tables, material[i:i + 1], wo[i:i + 1],
-                                             normal[i:i + 1], u[i, s, 0][None])
+                                             normal[i:i + 1], u.at([i * samples + s], 0))
             if not np.any(beta > 0.0):
                 continue
             o, d = origin[i:i + 1], wi
@@ -267,7 +293,7 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
                 out[i] += beta[0] * _own(tracer, tables, v, s_dir[None], shadows,
                                          brdf_reference)[0]
                 d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
-                                             u[i, s, bounce][None])
+                                             u.at([i * samples + s], bounce))
                 beta = beta * w * v.reflectance[0]
                 if not np.any(beta > 0.0):
                     break
@@ -286,7 +312,7 @@ class Pass:
     tracer : radscene.geometry.RayTracer
     tables : BackgroundTables
     samples, bounces : int — paths per hit, vertices per path (≥ 1)
-    seed : int — the scene's seed; each tile's draws come from :func:`tile_generator`
+    seed : int — the scene's seed; each tile's uniforms come from :func:`draws`
     epsilon : float — offset of ray origins along the normal [m]
     shadows : bool — trace the vertices' shadow rays
     texture : callable, optional — as for :func:`reflected`
@@ -303,8 +329,7 @@ class Pass:
     def __call__(self, origin, normal, wo, material, sun, first_sample) -> np.ndarray:
         """(N, n_b) background radiance at the surface of a tile's hits (:func:`reflected`);
         ``first_sample`` is the index of the tile's first ray sample."""
-        u = draws(tile_generator(self.seed, first_sample), len(material), self.samples,
-                  self.bounces)
+        u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
         return reflected(self.tracer, self.tables, origin, normal, wo, material, sun, u,
                          epsilon=self.epsilon, shadows=self.shadows, texture=self.texture)
 

@@ -12,10 +12,11 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 
 from radscene.render.kernels import _basis
 
-__all__ = ["phong_weights", "phong_directions", "phong_values"]
+__all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -137,3 +138,40 @@ def phong_values(wi, wo, normal, material, exponent, diffuse, specular, out):
         for b in range(n_b):
             out[i, b] = diffuse[m, b] / math.pi + specular[m, b] * lobe
 
+
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+
+
+@numba.njit(inline="always")
+def _splitmix(state):
+    """SplitMix64's output function of a 64-bit state (Steele, Lea & Flood 2014)."""
+    z = state
+    z = (z ^ (z >> np.uint64(30))) * _MIX1
+    z = (z ^ (z >> np.uint64(27))) * _MIX2
+    return z ^ (z >> np.uint64(31))
+
+
+@numba.njit(parallel=True, cache=True)
+def counter_uniforms(key, paths, bounce, depth, out):
+    """Uniforms in [0, 1) of paths at one vertex, from their counters (SplitMix64).
+
+    The counter of path p, vertex b and dimension d is c = (p · depth + b) · 2 + d; the
+    uniform is the top 53 bits of SplitMix64's output for the state key + (c + 1) · γ, so
+    any path's numbers can be drawn alone, in any order.
+
+    Parameters
+    ----------
+    key : uint64 — the tile's key
+    paths : (N,) int64 path indices
+    bounce : int — the vertex (0 for the point itself)
+    depth : int — vertices per path (bounces + 1)
+    out : (N, 2) float64 out
+    """
+    for i in numba.prange(len(paths)):
+        base = (np.uint64(paths[i]) * np.uint64(depth) + np.uint64(bounce)) * np.uint64(2)
+        for d in range(2):
+            state = key + (base + np.uint64(d) + np.uint64(1)) * _GOLDEN
+            out[i, d] = np.float64(_splitmix(state) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
