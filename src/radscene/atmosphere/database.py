@@ -113,6 +113,29 @@ _BELOW_TABLE = 500.0
 #: Aerosol optical depths between which the interpolated factor of the path reflectance goes
 #: from ρ/ρ_ss to ρ − ρ_ss (:meth:`DatabaseAtmosphere.components`).
 _BLEND = (0.25, 0.75)
+#: Which levels read their path-reflectance factors through a cubic spline in sun and view
+#: zenith ("top": the top of the atmosphere; "all"; "none": linear everywhere).
+_SPLINE_LEVELS = "top"
+
+
+def _angle_weights(values, nodes, spline: bool) -> np.ndarray:
+    """Weights (N, k) of the k angle nodes [deg] for values (N,) [deg] (ends held): linear, or
+    a natural cubic spline in the angle. The spline follows the curvature of ρ/ρ_ss between
+    the nodes 0-20-40-60 deg: linearly, the top of the atmosphere's path reflectance came out
+    2.9 % off 6S on average (10 % at worst) over a set of off-node geometries of the rural and
+    maritime aerosols (docs/atmosphere.md, "Database accuracy"), through the spline 1.2 %."""
+    v = np.clip(np.atleast_1d(np.asarray(values, dtype=float)), nodes[0], nodes[-1])
+    nodes = np.asarray(nodes, dtype=float)
+    if not spline or nodes.size < 3:
+        i, f = model.axis_weights(v, nodes)
+        w = np.zeros((v.size, nodes.size))
+        rows = np.arange(v.size)
+        w[rows, i] += 1 - f
+        w[rows, np.minimum(i + 1, nodes.size - 1)] += f
+        return w
+    from scipy.interpolate import CubicSpline
+
+    return CubicSpline(nodes, np.eye(nodes.size), bc_type="natural")(v)
 #: The largest scale factor of a profile's water-vapour or ozone column.
 _MAX_SCALE = 3.0
 
@@ -619,19 +642,25 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                               f"a path ends at {lower.max():g} m", key="target_altitude")
         return upper, lower, zen
 
-    def _at_sun(self, kind, name, i_s, f_s):
-        """The ``kind`` ("ratio" or "excess") table of ``name`` at a sun zenith (its node
-        ``i_s`` and fraction ``f_s``), (λs, h, x, θv, φ); kept for the sun last asked for
-        (a configured engine's queries share its sun)."""
-        sun = (i_s, f_s)
+    def _at_sun(self, kind, name, sz):
+        """The ``kind`` ("ratio" or "excess") table of ``name`` at a sun zenith ``sz`` [deg],
+        (λs, h, x, θv, φ): through a spline at the top of the atmosphere, linear below
+        (:data:`_SPLINE_LEVELS`); kept for the sun last asked for (a configured engine's
+        queries share its sun)."""
+        sun = (float(sz), _SPLINE_LEVELS)
         held, tables = self.__dict__.get("_sun_tables") or (None, None)
         if held != sun:
             held, tables = sun, {}
             self._sun_tables = (held, tables)
         if (kind, name) not in tables:
             tab = getattr(self, kind)[name]
-            i_s1 = min(i_s + 1, tab.shape[3] - 1)
-            tables[kind, name] = tab[:, :, :, i_s] * (1 - f_s) + tab[:, :, :, i_s1] * f_s
+            nodes = self.axes["sun_zenith"]
+            out = np.tensordot(tab, _angle_weights(sz, nodes, _SPLINE_LEVELS == "all")[0],
+                               axes=([3], [0]))
+            if _SPLINE_LEVELS == "top":
+                out[:, :, -1] = np.tensordot(tab[:, :, -1], _angle_weights(sz, nodes, True)[0],
+                                             axes=([2], [0]))
+            tables[kind, name] = out
         return tables[kind, name]
 
     # -- the whole set of quantities ----------------------------------------------------------
@@ -690,13 +719,17 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         # continental aerosol at AOT550 0.6 with every angle on a node; 3.7 % and 4.4 % now
         blend = np.clip((tau_a_q - _BLEND[0]) / (_BLEND[1] - _BLEND[0]), 0.0, 1.0)  # (λs, N)
 
+        w_line = _angle_weights(vz, a["view_zenith"], _SPLINE_LEVELS == "all")  # (N, nv)
+        w_top = _angle_weights(vz, a["view_zenith"], _SPLINE_LEVELS != "none")
+
         def at_geometry(kind, name):
-            q = self._at_sun(kind, name, i_s, f_s)  # (λs, h, x, θv, φ)
+            q = self._at_sun(kind, name, sz_eff)  # (λs, h, x, θv, φ)
             acc = 0.0
             for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
                 for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
-                    for vi_, vw in ((iv, 1 - fv), (np.minimum(iv + 1, nv - 1), fv)):
-                        acc = acc + (hw * xw * vw)[None, :, None] * q[:, hi_, xi_, vi_]
+                    wv = np.where((xi_ == nx - 1)[:, None], w_top, w_line)
+                    for k in range(nv):
+                        acc = acc + (hw * xw * wv[:, k])[None, :, None] * q[:, hi_, xi_, k]
             return acc
 
         for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):

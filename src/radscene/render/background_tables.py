@@ -71,6 +71,11 @@ class BackgroundTables:
 MAX_TEMPERATURE_NODES = 512
 
 
+#: Wavelengths over which a material's diffuse and specular reflectances are averaged for its
+#: sampler's lobe weight [um].
+SAMPLING_WAVELENGTHS = np.geomspace(0.4, 14.0, 64)
+
+
 def band_tables(materials, brdfs, quadrature, sun_spectra, sky, sky_nodes, thermal,
                 face_offset, face_material, face_temperature) -> BackgroundTables:
     """The band tables of the pass.
@@ -115,9 +120,15 @@ def band_tables(materials, brdfs, quadrature, sun_spectra, sky, sky_nodes, therm
         sun[b] = float(weights @ sun_spectra[b])
     exponent = np.array([m.specular_exponent for m in materials], dtype=float)
     samplers, lobes, p_lobe = [], [], np.full(n_m, 0.5)
+    # the samplers' lobe weights from each material's mean over a fixed grid, not over the
+    # pass's bands: a spectral cube rendered a few channels at a time then draws the same
+    # directions in every pass (the weights f cos / pdf carry the bands' own reflectances)
+    fixed = [m.components(SAMPLING_WAVELENGTHS) for m in materials]
     for m in range(n_m):
-        scale = max(1.0, float(diffuse[m].mean() + specular[m].mean()))  # rounding guard
-        rd, rs = float(diffuse[m].mean()) / scale, float(specular[m].mean()) / scale
+        d_mean = float(np.mean(fixed[m]["diffuse_reflectance"]))
+        s_mean = float(np.mean(fixed[m]["specular_reflectance"]))
+        scale = max(1.0, d_mean + s_mean)  # rounding guard
+        rd, rs = d_mean / scale, s_mean / scale
         if rd + rs > 0.0:  # as the phong model's mixture weight
             p_lobe[m] = rs / (rs + rd)
         samplers.append(brdfs.get(m) or make_brdf(
