@@ -87,9 +87,13 @@ def render(
     output: Path = typer.Option(Path("out"), "-o", "--output", help="Output folder."),
     observer: list[str] = typer.Option(None, "--observer", help="Render only these observers."),
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
+    overwrite: bool = typer.Option(False, "--overwrite",
+                                   help="Replace results of an earlier run in OUTPUT."),
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
-    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr."""
+    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. OUTPUT is
+    checked before any work: a file, a folder under a file or one that cannot be written is
+    refused, and so are earlier results in it unless --overwrite."""
     from radscene.io import (
         band_quicklooks,
         signal_quicklooks,
@@ -105,6 +109,9 @@ def render(
         names = observer or [o.name for o in scene.observers]
         for name in names:
             scene.observer(name)
+        from radscene.io.files import check_output_folder
+
+        check_output_folder(output, _result_files(scene, names), overwrite)
         started = time.perf_counter()
         results, signals, spectral = {}, {}, {}
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
@@ -170,6 +177,17 @@ def render(
     for name, text in spectral.items():
         console.print(f"{name}: {text}")
     console.print(f"wrote {len(written)} files under {output}/")
+
+
+def _result_files(scene, names) -> list[str]:
+    """The data files ``radscene render`` writes for these observers (not the quicklooks)."""
+    files = []
+    for name in names:
+        if scene.observer(name).spectral is not None:
+            files += [f"{name}_spectral.nc", f"{name}_spectral.img", f"{name}_spectral.hdr"]
+        else:
+            files += [f"{name}.nc", f"{name}_signal.nc", f"{name}_radiance.tif"]
+    return files
 
 
 def _write_spectral(scene, name, output, progress):
