@@ -89,6 +89,10 @@ def render(
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
     overwrite: bool = typer.Option(False, "--overwrite",
                                    help="Replace results of an earlier run in OUTPUT."),
+    max_memory: str = typer.Option(None, "--max-memory",
+                                   help="Refuse a scene whose render needs more, e.g. 8GB "
+                                        "(default: render.max_memory, else the machine's "
+                                        "memory)."),
     resume: bool = typer.Option(False, "--resume",
                                 help="Finish a run that stopped midway in OUTPUT: render only "
                                      "the observers it had not written."),
@@ -105,7 +109,7 @@ def render(
     from radscene.scene import load_scene
 
     try:
-        scene = load_scene(scene_file)
+        scene = load_scene(scene_file, max_memory=max_memory)
         names = observer or [o.name for o in scene.observers]
         for name in names:
             scene.observer(name)
@@ -242,13 +246,17 @@ def _write_spectral(scene, name, output, progress):
 
 
 @app.command()
-def check(scene_file: Path = typer.Argument(..., help="Scene YAML file.")):
+def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
+          max_memory: str = typer.Option(None, "--max-memory",
+                                         help="Refuse a scene whose render needs more, e.g. "
+                                              "8GB (default: render.max_memory, else the "
+                                              "machine's memory).")):
     """Validate a scene file and summarise what it holds, without rendering."""
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
 
     try:
-        scene = load_scene(scene_file)
+        scene = load_scene(scene_file, max_memory=max_memory)
         sun = sun_geometry(scene)
     except ConfigError as err:
         _fail(err)
@@ -263,6 +271,11 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file.")):
             f"{obs.spectral.wavelength[-1]:.4g} um every {obs.spectral.step:.4g} um")
         console.print(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
                       f" px, supersample {obs.supersample}{grid}")
+    from radscene.scene.memory import estimate
+
+    need = max((b for b, _, _ in estimate(scene.spec)["observers"]), default=0.0)
+    if need:
+        console.print(f"  memory: about {need / 1e9:.1f} GB for the largest render (estimate)")
     console.print(f"  atmosphere: {scene.atmosphere.name}")
     console.print(f"  sun: zenith {sun.zenith:.2f}°, azimuth {sun.azimuth:.2f}°, "
                   f"{sun.distance:.5f} AU")

@@ -180,7 +180,8 @@ def read_scene_file(path: str | Path) -> dict:
     return data
 
 
-def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) -> Scene:
+def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
+               max_memory=None) -> Scene:
     """Load and validate a scene.
 
     Parameters
@@ -190,6 +191,10 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) ->
     base_dir : str or pathlib.Path, optional
         Folder that relative file names are resolved against; by default the scene file's
         folder (or the working directory for a dict).
+    max_memory : float or str, optional
+        The memory a render may need [bytes, or e.g. ``"8 GB"``]: a scene whose estimate
+        (:mod:`radscene.scene.memory`) exceeds it is refused before anything is built; default
+        ``render.max_memory``, else the machine's memory.
 
     Returns
     -------
@@ -215,6 +220,9 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) ->
         spec = schema.SceneSpec.model_validate(data)
     except ValidationError as err:
         raise _validation_error(err) from None
+    from radscene.scene.memory import check_memory, parse_memory
+
+    check_memory(spec, None if max_memory is None else parse_memory(max_memory, "--max-memory"))
     return _Resolver(spec, base, path).resolve()
 
 
