@@ -93,6 +93,8 @@ def render(
                                    help="Refuse a scene whose render needs more, e.g. 8GB "
                                         "(default: render.max_memory, else the machine's "
                                         "memory)."),
+    confine: bool = typer.Option(False, "--confine",
+                                 help="Read no file outside the scene file's folder."),
     resume: bool = typer.Option(False, "--resume",
                                 help="Finish a run that stopped midway in OUTPUT: render only "
                                      "the observers it had not written."),
@@ -109,7 +111,7 @@ def render(
     from radscene.scene import load_scene
 
     try:
-        scene = load_scene(scene_file, max_memory=max_memory)
+        scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         names = observer or [o.name for o in scene.observers]
         for name in names:
             scene.observer(name)
@@ -250,13 +252,15 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
           max_memory: str = typer.Option(None, "--max-memory",
                                          help="Refuse a scene whose render needs more, e.g. "
                                               "8GB (default: render.max_memory, else the "
-                                              "machine's memory).")):
+                                              "machine's memory)."),
+          confine: bool = typer.Option(False, "--confine",
+                                       help="Read no file outside the scene file's folder.")):
     """Validate a scene file and summarise what it holds, without rendering."""
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
 
     try:
-        scene = load_scene(scene_file, max_memory=max_memory)
+        scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         sun = sun_geometry(scene)
     except ConfigError as err:
         _fail(err)

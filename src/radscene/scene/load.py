@@ -181,7 +181,7 @@ def read_scene_file(path: str | Path) -> dict:
 
 
 def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
-               max_memory=None) -> Scene:
+               max_memory=None, confine: bool = False) -> Scene:
     """Load and validate a scene.
 
     Parameters
@@ -195,6 +195,9 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
         The memory a render may need [bytes, or e.g. ``"8 GB"``]: a scene whose estimate
         (:mod:`radscene.scene.memory`) exceeds it is refused before anything is built; default
         ``render.max_memory``, else the machine's memory.
+    confine : bool
+        Read no file outside the scene's folder (``base_dir``): for scene files of unknown
+        origin (:mod:`radscene.scene.confine`).
 
     Returns
     -------
@@ -216,6 +219,10 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
             f"a scene is a file path or a mapping, not a {type(source).__name__}", key="scene"
         )
     base = Path(base_dir) if base_dir is not None else (path.parent if path else Path.cwd())
+    if confine and isinstance(data, dict):
+        from radscene.scene.confine import check_confined
+
+        check_confined(data, base)
     try:
         spec = schema.SceneSpec.model_validate(data)
     except ValidationError as err:
