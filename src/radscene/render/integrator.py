@@ -26,7 +26,7 @@ import xarray as xr
 
 from radscene.atmosphere import CouplingSpectra, SkyGeometry, sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
-from radscene.render import background, illumination, node_mixing, terms
+from radscene.render import background, illumination, node_mixing, terms, volumes
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 from radscene.render.sun_track import combine_nodes, sun_geometry, sun_track
 
@@ -457,11 +457,16 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     try:
         shadows = worker.submit(_shadows, tables, hits, hit, rays.directions, sun_dir,
                                 settings.shadows, track.up)
-        return _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
-                            settings, rays, hits, hit, shadows, worker, started, progress,
-                            specular)
+        ds = _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
+                          settings, rays, hits, hit, shadows, worker, started, progress,
+                          specular)
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
+    if scene.volumes:  # the light from behind through them, and their own
+        ds = volumes.apply(ds, scene, bands, rays, hits, sun_dir, track.up,
+                           _configured_atmosphere(scene, sun, None),
+                           TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS)
+    return ds
 
 
 def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, settings, rays,

@@ -103,6 +103,8 @@ class Scene:
     source: Path | None = None
     #: BRDF models of materials that have one, by material index (else Lambert + Phong).
     brdfs: dict = field(default_factory=dict)
+    #: Participating volumes (radscene.render.volumes.Volume).
+    volumes: list = field(default_factory=list)
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
     render_cache: dict = field(default_factory=dict, repr=False)
 
@@ -130,7 +132,7 @@ def _key(loc: tuple) -> str:
         if isinstance(part, int):
             out += f"[{part}]"
         elif isinstance(part, str) and part.endswith("]") is False and part in (
-            "procedural", "dem", "box", "cylinder", "plate", "mesh", "orthographic",
+            "procedural", "dem", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
             "perspective", "file", "noise", "function-after", "function-before", "image", "tile",
         ):
             continue  # discriminator tags pydantic inserts into the path
@@ -502,6 +504,49 @@ class _Resolver:
             )
         return out
 
+    def volumes(self) -> list:
+        from radscene.materials.spectrum import make_spectrum
+        from radscene.render.volumes import Volume, optical_path
+
+        out = []
+        for i, vspec in enumerate(self.spec.volumes):
+            key = f"volumes[{i}]"
+            shape = vspec.shape
+            half = np.asarray(shape.size if shape.type == "box" else shape.radii, float)
+            if shape.type == "box":
+                half = half / 2.0
+            profile = vspec.profile
+            sigma = None if profile.sigma is None else np.broadcast_to(
+                np.asarray(profile.sigma, float), (3,)).copy()
+            given = "extinction" if vspec.extinction is not None else "optical_depth"
+            spectrum = make_spectrum(getattr(vspec, given), key=f"{key}.{given}",
+                                     base_dir=self.base)
+            values = np.asarray(spectrum.values, float)
+            if np.any(values < 0.0) or not np.all(np.isfinite(values)):
+                raise ConfigError(f"must be finite and >= 0 everywhere; got a minimum of "
+                                  f"{float(np.min(values)):g}", key=f"{key}.{given}")
+            wavelengths = (np.zeros(0) if spectrum.wavelength is None
+                           else np.asarray(spectrum.wavelength, float))
+            volume = Volume(vspec.name, shape.type, np.asarray(vspec.position, float), half,
+                            spectrum, profile.type,
+                            np.inf if profile.scale_height is None else profile.scale_height,
+                            sigma, vspec.density, vspec.single_scattering_albedo,
+                            vspec.temperature, wavelengths)
+            if given == "optical_depth":
+                # k = τ / X along the vertical through the centre, from below
+                below = volume.center - np.array([0.0, 0.0, 2.0 * half[2] + 1.0])
+                vertical = float(optical_path(volume, below[None], np.array([[0.0, 0.0, 1.0]]))[0])
+                if not vertical > 0.0:
+                    raise ConfigError("an optical depth needs a density above 0 along the "
+                                      "vertical through the centre", key=f"{key}.density")
+                volume = Volume(*(getattr(volume, f) for f in (
+                    "name", "shape", "center", "half_size")),
+                    _Scaled(spectrum, 1.0 / vertical), *(getattr(volume, f) for f in (
+                        "profile", "scale_height", "sigma", "density", "albedo",
+                        "temperature", "wavelengths")))
+            out.append(volume)
+        return out
+
     def bands(self) -> list[Band]:
         from radscene.radiometry import GaussianResponse, RectangularResponse, TabulatedResponse
 
@@ -641,6 +686,7 @@ class _Resolver:
             hf, terrain_obj = self.terrain()
             objects.append(terrain_obj)
         objects.extend(self.objects(hf))
+        volumes = self.volumes()
         bands = self.bands()
         observers = self.observers([b.name for b in bands])
         if hf is not None:
@@ -684,7 +730,19 @@ class _Resolver:
             heightfield=hf,
             source=self.path,
             brdfs=self.brdfs,
+            volumes=volumes,
         )
+
+
+@dataclass(frozen=True)
+class _Scaled:
+    """A spectrum times a factor: a volume's extinction [m-1] from its optical depth."""
+
+    spectrum: Any
+    factor: float
+
+    def __call__(self, wavelength):
+        return self.spectrum(wavelength) * self.factor
 
 
 def _check_above_terrain(observers, hf) -> None:

@@ -301,6 +301,54 @@ class ObjectSpec(_Model):
     textures: TextureSet = TextureSet()
 
 
+class EllipsoidShape(_Model):
+    type: Literal["ellipsoid"]
+    radii: tuple[PositiveLength, PositiveLength, PositiveLength]
+
+
+class DensityProfile(_Model):
+    """How a volume's relative density varies: ``uniform``; ``exponential`` in height above
+    the volume's base, e-folding over ``scale_height``; ``gaussian`` about its centre with
+    standard deviations ``sigma`` (one, or one per axis) [m]."""
+
+    type: Literal["uniform", "exponential", "gaussian"] = "uniform"
+    scale_height: PositiveLength | None = None
+    sigma: PositiveLength | tuple[PositiveLength, PositiveLength, PositiveLength] | None = None
+
+    @model_validator(mode="after")
+    def _parameters(self):
+        need = {"exponential": "scale_height", "gaussian": "sigma"}.get(self.type)
+        if need is not None and getattr(self, need) is None:
+            raise ValueError(f"a {self.type} profile needs '{need}' [m]")
+        for other in ("scale_height", "sigma"):
+            if other != need and getattr(self, other) is not None:
+                raise ValueError(f"'{other}' does not belong to a {self.type} profile")
+        return self
+
+
+class VolumeSpec(_Model):
+    """A participating volume (smoke, dust, cloud, gas): an axis-aligned box or ellipsoid
+    centred at ``position`` (z above the scene origin) filled with a medium of extinction
+    coefficient ``extinction`` [m-1] at density 1 (a number or a spectrum), or of vertical
+    optical depth ``optical_depth`` through its centre; ``density`` scales the ``profile``."""
+
+    name: str
+    shape: Annotated[BoxShape | EllipsoidShape, Field(discriminator="type")]
+    position: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    density: Annotated[float, Field(ge=0.0)] = 1.0
+    profile: DensityProfile = DensityProfile()
+    extinction: float | dict[str, Any] | None = None
+    optical_depth: float | dict[str, Any] | None = None
+    single_scattering_albedo: Fraction = 0.0
+    temperature: Temperature
+
+    @model_validator(mode="after")
+    def _one_medium(self):
+        if (self.extinction is None) == (self.optical_depth is None):
+            raise ValueError("give exactly one of 'extinction' [m-1] or 'optical_depth'")
+        return self
+
+
 # ---------------------------------------------------------------------------------------------
 # bands and observers
 
@@ -530,6 +578,8 @@ class SceneSpec(_Model):
                     "mixture, ...}; without 'type' a custom material (reflectance, emissivity, ...)")
     terrain: Terrain | None = None
     objects: list[ObjectSpec] = Field(default_factory=list)
+    volumes: list[VolumeSpec] = Field(default_factory=list,
+                                      description="participating media (smoke, dust, cloud, gas)")
     bands: list[BandSpec] = Field(default_factory=list,
                                   description="at least one, unless every observer is spectral")
     sensors: dict[str, Any] = Field(
@@ -542,7 +592,8 @@ class SceneSpec(_Model):
 
     @model_validator(mode="after")
     def _unique_names(self):
-        for label, items in (("bands", self.bands), ("observers", self.observers), ("objects", self.objects)):
+        for label, items in (("bands", self.bands), ("observers", self.observers), ("objects", self.objects),
+                             ("volumes", self.volumes)):
             seen = set()
             for item in items:
                 if item.name in seen:
