@@ -29,6 +29,9 @@ GOOD = textwrap.dedent("""
       - {name: nadir, type: orthographic, center: [0, 0], gsd: 1 m, shape: [4, 4]}
 """)
 
+VOLUME = ("volumes:\n  - {name: smoke, shape: {type: box, size: [4 m, 4 m, 2 m]}, "
+          "position: [0, 0, 5 m], density: 1, optical_depth: 0.5, temperature: 350 K}\n")
+
 runner = CliRunner()
 
 
@@ -78,6 +81,30 @@ BAD = {
     "database water column beyond its range": (
         GOOD.replace("type: none", "type: database, profile: tropical, water: 20"),
         "atmosphere.water: 20 g cm-2 is outside 0-12.4 g cm-2"),
+    "volume with a negative density": (
+        GOOD.replace("bands:", VOLUME.replace("density: 1", "density: -0.5") + "bands:", 1),
+        "volumes[0].density"),
+    "volume without a temperature": (
+        GOOD.replace("bands:", VOLUME.replace(", temperature: 350 K", "") + "bands:", 1),
+        "volumes[0].temperature: required key is missing"),
+    "volume with a negative extinction": (
+        GOOD.replace("bands:", VOLUME.replace(
+            "optical_depth: 0.5", "extinction: {wavelength: [0.4, 14], values: [0.1, -0.2]}")
+            + "bands:", 1), "volumes[0].extinction: must be finite and >= 0"),
+    "volume with extinction and optical depth": (
+        GOOD.replace("bands:", VOLUME.replace("optical_depth: 0.5",
+                                              "optical_depth: 0.5, extinction: 0.1")
+                     + "bands:", 1), "volumes[0]: give exactly one of"),
+    "gaussian volume without sigma": (
+        GOOD.replace("bands:", VOLUME.replace("density: 1", "density: 1, profile: {type: "
+                                              "gaussian}") + "bands:", 1),
+        "volumes[0].profile: a gaussian profile needs 'sigma'"),
+    "transmittance above one": (GOOD.replace("reflectance: 0.4",
+                                             "reflectance: 0.4, transmittance: 1.2"),
+                                "materials.paint"),
+    "reflectance plus transmittance above one": (
+        GOOD.replace("reflectance: 0.4", "reflectance: 0.4, transmittance: 0.7"),
+        "reflectance + transmittance = 1.1"),
     "naive time": (GOOD.replace("sun: {zenith: 30 deg, azimuth: 180 deg}",
                                 "time: '2026-01-01T12:00:00'"), "environment.time"),
 }
