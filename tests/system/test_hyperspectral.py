@@ -115,6 +115,24 @@ def test_with_the_reflected_background_band_mode_agrees_within_its_approximation
     np.testing.assert_allclose(got, bands["radiance"].sel(band="vis").values, rtol=1e-3, atol=0)
 
 
+@pytest.mark.parametrize("supersample", [1, 2])
+def test_with_a_grey_volume_the_integrated_cube_equals_band_mode(tmp_path, supersample):
+    """A volume grey in both bands: its transmittance is the same in every channel, its
+    emission is integrated spectrally, so the cube integrates to band mode."""
+    spec = _scene(tmp_path, supersample).spec.model_dump(mode="json")
+    spec["volumes"] = [{"name": "smoke", "shape": {"type": "ellipsoid", "radii": [15, 10, 6]},
+                        "position": [-5, 5, 12], "optical_depth": 0.8, "temperature": 330.0,
+                        "profile": {"type": "gaussian", "sigma": 6.0}}]
+    scene = radscene.load_scene(spec, base_dir=tmp_path)
+    bands = radscene.render(scene, "bands")
+    assert float(bands["volume_transmittance"].min()) < 0.6
+    for observer, band, per_pass in (("vnir", "vis", 4), ("tir", "lwir", 5)):
+        cube = radscene.render_hyperspectral(scene, observer, channels_per_pass=per_pass)
+        got = band_radiance(cube, scene.band(band).response).values
+        np.testing.assert_allclose(got, bands["radiance"].sel(band=band).values, rtol=REL,
+                                   atol=0)
+
+
 def test_passes_do_not_change_the_cube(tmp_path):
     """Also with the reflected background on: every pass draws the same directions."""
     scene = _scene(tmp_path, 1, background=1)
