@@ -85,6 +85,18 @@ class _SceneTables:
         self.face_corner_temperature = None if all(c is None for c in corners) else np.concatenate(
             [np.repeat(np.asarray(obj.face_temperature, float)[:, None], 3, axis=1) if c is None else np.asarray(c, float)
              for obj, c in zip(scene.objects, corners, strict=True)])
+        # semi-transparent sheets: shadow rays pass them (render/sheets.py)
+        self.sheet_object = np.array([bool(getattr(o, "transmissive", False))
+                                      for o in scene.objects])
+        self.shadow_tracer = self.sheet_tracer = self.tracer
+        if self.sheet_object.any():
+            from radscene.geometry import Mesh
+
+            def only(keep):
+                return RayTracer([o.mesh if k else Mesh(np.zeros((0, 3)), np.zeros((0, 3), int))
+                                  for o, k in zip(scene.objects, keep, strict=True)])
+            self.shadow_tracer, self.sheet_tracer = only(~self.sheet_object), only(
+                self.sheet_object)
         lo, hi = self.tracer.bounds
         self.epsilon = 1e-4 + 2e-6 * float(np.linalg.norm(np.asarray(hi) - np.asarray(lo)))
         self.sun = sun_geometry(scene)
@@ -406,7 +418,8 @@ def _sky_sum(table, row, nodes, fractions):
 
 
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
-           bands=None, specular=None, _tables: _SceneTables | None = None) -> xr.Dataset:
+           bands=None, specular=None, _tables: _SceneTables | None = None, _rays=None,
+           _depth: int = 0) -> xr.Dataset:
     """Render one observer of a scene.
 
     Parameters
@@ -441,7 +454,8 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     bands = [scene.band(name) for name in setup.bands] if bands is None else list(bands)
     sun = tables.sun
     settings = scene.settings
-    rays = setup.camera.rays(supersample=setup.supersample)
+    # _rays, _depth: the rays beyond the sheets of an outer pass, and how many it crossed
+    rays = setup.camera.rays(supersample=setup.supersample) if _rays is None else _rays
     started = _time.perf_counter()
     # the sun at each ray's time (scanners), or the scene's
     track = sun_track(scene, rays.time, getattr(setup.camera, "epoch", None))
@@ -462,10 +476,21 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                           specular)
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
+    layers = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS
+    if tables.sheet_object.any():  # partial shadows, and the light from behind the sheets
+        from radscene.render import sheets
+
+        def behind(bundle):
+            return render(scene, setup.name, bands=bands, specular=specular, _tables=tables,
+                          _rays=bundle, _depth=_depth + 1)
+        ds = sheets.apply(ds, tables, sheets.band_transmittance(scene.materials, bands), bands,
+                          rays, hits, layers, sun_dir, track.up, settings.shadows,
+                          lambda obj, pos: _textures(scene, obj, pos)["transmittance"], behind,
+                          _depth)
+        layers += ("transmitted",)
     if scene.volumes:  # the light from behind through them, and their own
         ds = volumes.apply(ds, scene, bands, rays, hits, sun_dir, track.up,
-                           _configured_atmosphere(scene, sun, None),
-                           TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS)
+                           _configured_atmosphere(scene, sun, None), layers)
     return ds
 
 
@@ -545,7 +570,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
 
     sky_diffuse = np.ascontiguousarray(coef.sky_diffuse.transpose(0, 2, 1, 3), dtype=float)
     # one sample per pixel and no BRDF model: the terms go straight into the outputs
-    direct = per_pixel == 1 and bset.brdf is None
+    direct = per_pixel == 1 and bset.brdf is None and len(rays.pixel) == n_pix
     # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
     # sky fan is folded straight into it on the worker thread
     fused_sky = None if bset.brdf is not None else (
@@ -914,7 +939,7 @@ def _shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.n
     lit = np.zeros(len(pos))
     if not sun_up or len(pos) == 0:
         return lit
-    tracer = tables.tracer
+    tracer = tables.shadow_tracer
     todo = slice(None)  # the hits left to the checked query below: all of them, or
     if tracer.packets is not None:  # one pass, packets of eight neighbouring hits
         _traced, outside = kernels.packet_shadows(tracer.packets, np.ascontiguousarray(pos),

@@ -358,7 +358,10 @@ def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers):
     total = ds["radiance"].values
     total[...] = 0.0
     for name in layers:
-        total += ds[name].values
+        if name != "transmitted":
+            total += ds[name].values
+    if "transmitted" in layers:  # a sheet's, where no volume is in front of it
+        transmitted += ds["transmitted"].values.reshape(n_b, n_pix)
     total += cube(transmitted)
     total += cube(emission)
     attrs = {"units": "W m-2 sr-1"}

@@ -57,6 +57,8 @@ class SceneObject:
     is_terrain: bool = False
     face_fixed: np.ndarray | None = None
     face_corner_temperature: np.ndarray | None = None
+    #: A semi-transparent sheet: rays pass through it with its material's transmittance.
+    transmissive: bool = False
 
 
 @dataclass
@@ -490,6 +492,10 @@ class _Resolver:
             mesh = mesh.transformed(translation=(x, y, z), rotation=ospec.rotation)
             mesh.name = ospec.name
             midx = self.material_index(ospec.material, f"{key}.material")
+            if ospec.transmissive and not np.any(
+                    np.asarray(self.materials[midx].transmittance.values) > 0.0):
+                raise ConfigError(f"material {ospec.material!r} has no transmittance: give it "
+                                  "one, or remove transmissive: true", key=f"{key}.transmissive")
             n = len(mesh.faces)
             out.append(
                 SceneObject(
@@ -500,6 +506,7 @@ class _Resolver:
                                              else ospec.temperature),
                     textures=self.textures(ospec.textures, key),
                     face_fixed=np.full(n, ospec.temperature is not None),
+                    transmissive=ospec.transmissive,
                 )
             )
         return out

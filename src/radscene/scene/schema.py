@@ -299,6 +299,9 @@ class ObjectSpec(_Model):
         None, description="a fixed surface temperature [K]; default: solved by the heat balance "
         "(293.15 K with thermal off)")
     textures: TextureSet = TextureSet()
+    transmissive: bool = Field(
+        False, description="a semi-transparent sheet (camouflage net, foliage layer): rays "
+        "and sun rays pass through it with its material's transmittance (times the Δτ texture)")
 
 
 class EllipsoidShape(_Model):

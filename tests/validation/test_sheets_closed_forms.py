@@ -1,0 +1,103 @@
+"""Semi-transparent sheets (:mod:`radscene.render.sheets`) against closed forms.
+
+Each test renders a scene dict through ``radscene.render``: grey plates marked
+``transmissive`` (a camouflage net) above a grey ground, no atmosphere, no reflected
+background. A sheet of reflectance ρ and transmittance τ emits ε = 1 − ρ − τ (Kirchhoff) and
+lets τ of the light from behind through; sheets in series multiply (τ_1 τ_2); the direct sun
+reaching the ground under a sheet is τ of the unshadowed (seed 000's transmitted term;
+Willers et al.).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+
+from radscene import render
+from radscene.radiometry import spectral_radiance
+
+LWIR = {"name": "lwir", "min": 8.0, "max": 12.0}
+VIS = {"name": "vis", "min": 0.5, "max": 0.6}
+#: radscene's band quadrature against scipy's adaptive one.
+BAND_REL = 1e-7
+#: Ratios in which the band integrals cancel.
+EXACT_REL = 1e-10
+NET_T, GROUND_T, UPPER_T = 320.0, 300.0, 280.0
+
+
+def _band_planck(temperature):
+    value, _ = quad(lambda wl: float(spectral_radiance(wl, temperature)), LWIR["min"],
+                    LWIR["max"], epsabs=0.0, epsrel=1e-11, limit=200)
+    return value
+
+
+def _scene(rho=0.2, tau=0.5, sun_zenith=120.0, ground=0.0, second=None, center=(0.0, 0.0),
+           gsd=1.0):
+    objects = [{"name": "ground", "shape": {"type": "plate", "width": 300, "length": 300},
+                "material": "ground", "temperature": GROUND_T},
+               {"name": "net", "shape": {"type": "plate", "width": 40, "length": 40},
+                "position": [0, 0, 3], "material": "net", "temperature": NET_T,
+                "transmissive": True}]
+    materials = {"ground": {"reflectance": ground},
+                 "net": {"reflectance": rho, "transmittance": tau}}
+    if second is not None:
+        materials["upper"] = {"reflectance": 0.1, "transmittance": second}
+        objects.append({"name": "upper", "shape": {"type": "plate", "width": 40, "length": 40},
+                        "position": [0, 0, 6], "material": "upper", "temperature": UPPER_T,
+                        "transmissive": True})
+    return {
+        "name": "net",
+        "environment": {"sun": {"zenith": sun_zenith, "azimuth": 180.0},
+                        "atmosphere": {"type": "none"}},
+        "materials": materials,
+        "objects": objects,
+        "bands": [VIS, LWIR],
+        "observers": [{"name": "cam", "type": "orthographic", "center": list(center),
+                       "gsd": gsd, "shape": [9, 9], "altitude": 1000}],
+        "render": {"background_bounces": 0},
+    }
+
+
+@pytest.mark.parametrize(("rho", "tau"), [(0.2, 0.5), (0.05, 0.9), (0.6, 0.1)])
+def test_sheet_over_a_black_ground_in_the_thermal_infrared(rho, tau):
+    ds = render(_scene(rho, tau)).sel(band="lwir")
+    emission = (1.0 - rho - tau) * _band_planck(NET_T)
+    assert ds["thermal_emission"].values == pytest.approx(np.full((9, 9), emission),
+                                                          rel=BAND_REL)
+    assert ds["transmitted"].values == pytest.approx(
+        np.full((9, 9), tau * _band_planck(GROUND_T)), rel=BAND_REL)
+    assert ds["radiance"].values == pytest.approx(
+        np.full((9, 9), emission + tau * _band_planck(GROUND_T)), rel=BAND_REL)
+
+
+def test_two_sheets_in_series():
+    ds = render(_scene(0.2, 0.5, second=0.7)).sel(band="lwir")
+    upper = (1.0 - 0.1 - 0.7) * _band_planck(UPPER_T)
+    lower = (1.0 - 0.2 - 0.5) * _band_planck(NET_T)
+    expected = upper + 0.7 * (lower + 0.5 * _band_planck(GROUND_T))
+    assert ds["radiance"].values == pytest.approx(np.full((9, 9), expected), rel=BAND_REL)
+
+
+@pytest.mark.parametrize("sun_zenith", [0.0, 40.0])
+@pytest.mark.parametrize("tau", [0.3, 0.8])
+def test_partial_shadow_of_a_sheet(tau, sun_zenith):
+    """The ground seen beside the net, in its shadow: τ of the sunlit ground's sun term;
+    with the sun overhead, seen through the net: τ² of it."""
+    # the net covers |y| <= 20 m at 3 m; its shadow reaches 3 tan θ_0 m further north: a
+    # 9 x 9 patch of 0.2 m pixels in the middle of that strip
+    shift = 3.0 * np.tan(np.radians(sun_zenith))
+    center = (0.0, 0.0) if sun_zenith == 0.0 else (0.0, 20.0 + shift / 2.0)
+    ds = render(_scene(0.2, tau, sun_zenith=sun_zenith, ground=0.4, center=center, gsd=0.2))
+    clear = _scene(0.2, tau, sun_zenith=sun_zenith, ground=0.4, center=center, gsd=0.2)
+    clear["objects"] = clear["objects"][:1]
+    lit = render(clear)
+    if sun_zenith == 0.0:
+        ratio = ds["transmitted"].sel(band="vis").values / lit["radiance"].sel(band="vis").values
+        assert ratio == pytest.approx(np.full((9, 9), tau * tau), rel=EXACT_REL)
+    else:
+        ratio = (ds["sun_diffuse"].sel(band="vis").values
+                 / lit["sun_diffuse"].sel(band="vis").values)
+        assert ratio == pytest.approx(np.full((9, 9), tau), rel=EXACT_REL)
+        assert ds["shadow_fraction"].values == pytest.approx(np.full((9, 9), 1.0 - tau),
+                                                             rel=EXACT_REL)
