@@ -26,7 +26,7 @@ import xarray as xr
 
 from radscene.atmosphere import CouplingSpectra, SkyGeometry, sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
-from radscene.render import background, illumination, node_mixing, terms, volumes
+from radscene.render import background, illumination, node_mixing, sheets, terms, volumes
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 from radscene.render.sun_track import combine_nodes, sun_geometry, sun_track
 
@@ -86,17 +86,8 @@ class _SceneTables:
             [np.repeat(np.asarray(obj.face_temperature, float)[:, None], 3, axis=1) if c is None else np.asarray(c, float)
              for obj, c in zip(scene.objects, corners, strict=True)])
         # semi-transparent sheets: shadow rays pass them (render/sheets.py)
-        self.sheet_object = np.array([bool(getattr(o, "transmissive", False))
-                                      for o in scene.objects])
-        self.shadow_tracer = self.sheet_tracer = self.tracer
-        if self.sheet_object.any():
-            from radscene.geometry import Mesh
-
-            def only(keep):
-                return RayTracer([o.mesh if k else Mesh(np.zeros((0, 3)), np.zeros((0, 3), int))
-                                  for o, k in zip(scene.objects, keep, strict=True)])
-            self.shadow_tracer, self.sheet_tracer = only(~self.sheet_object), only(
-                self.sheet_object)
+        self.sheet_object, self.shadow_tracer, self.sheet_tracer = sheets.tracers(
+            scene.objects, self.tracer)
         lo, hi = self.tracer.bounds
         self.epsilon = 1e-4 + 2e-6 * float(np.linalg.norm(np.asarray(hi) - np.asarray(lo)))
         self.sun = sun_geometry(scene)
@@ -478,8 +469,6 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         worker.shutdown(wait=True, cancel_futures=True)
     layers = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS
     if tables.sheet_object.any():  # partial shadows, and the light from behind the sheets
-        from radscene.render import sheets
-
         def behind(bundle):
             return render(scene, setup.name, bands=bands, specular=specular, _tables=tables,
                           _rays=bundle, _depth=_depth + 1)

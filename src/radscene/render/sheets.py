@@ -27,13 +27,27 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MAX_DEPTH", "MAX_CROSSINGS", "band_transmittance", "sun_transmittance",
+__all__ = ["MAX_DEPTH", "MAX_CROSSINGS", "tracers", "band_transmittance", "sun_transmittance",
            "continuation", "apply"]
 
 #: Sheets a line of sight passes through, one integrator pass each.
 MAX_DEPTH = 4
 #: Sheets a sun ray passes through (beyond, the sun counts as blocked).
 MAX_CROSSINGS = 8
+
+
+def tracers(objects, tracer):
+    """Per object whether it is a sheet (n_objects,), and the tracers of the shadow rays (the
+    other objects) and of the sheets alone: ``tracer`` for both where there is no sheet."""
+    sheet = np.array([bool(getattr(o, "transmissive", False)) for o in objects])
+    if not sheet.any():
+        return sheet, tracer, tracer
+    from radscene.geometry import Mesh, RayTracer
+
+    def only(keep):  # a mesh without faces is never hit, and keeps the object indices
+        return RayTracer([o.mesh if k else Mesh(np.zeros((0, 3)), np.zeros((0, 3), int))
+                          for o, k in zip(objects, keep, strict=True)])
+    return sheet, only(~sheet), only(sheet)
 
 
 def band_transmittance(materials, bands) -> np.ndarray:
