@@ -55,7 +55,7 @@ def _scene(supersample):
 
 LAYERS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance",
           "background_reflected", "multiple_reflection", "diffuse_transmitted", "adjacency",
-          "transmitted", "volume_emission")
+          "transmitted", "volume_emission", "volume_scattered")
 
 
 @pytest.mark.parametrize("supersample", [1, 2])

@@ -149,12 +149,12 @@ def _scene(supersample=1, **volume):
 
 LAYERS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance",
           "background_reflected", "multiple_reflection", "diffuse_transmitted", "adjacency",
-          "transmitted", "volume_emission")
+          "transmitted", "volume_emission", "volume_scattered")
 
 
 @pytest.mark.parametrize("supersample", [1, 2])
 def test_radiance_is_the_sum_of_the_layers_with_a_volume(supersample):
-    ds = render(load_scene(_scene(supersample)))
+    ds = render(load_scene(_scene(supersample, single_scattering_albedo=0.5)))
     total = sum(ds[name] for name in LAYERS)
     assert ds["radiance"].values == pytest.approx(total.values, rel=1e-12)
     seen = ds["volume_transmittance"].values < 1.0
@@ -162,6 +162,7 @@ def test_radiance_is_the_sum_of_the_layers_with_a_volume(supersample):
     assert np.all(ds["volume_emission"].values[:, ~seen[0]] == 0.0)
     assert np.all(ds["transmitted"].values[:, ~seen[0]] == 0.0)
     assert float(ds["transmitted"].sel(band="vis").max()) > 0.0
+    assert float(ds["volume_scattered"].sel(band="vis").max()) > 0.0
 
 
 def test_volume_of_zero_density_changes_nothing():
@@ -197,3 +198,31 @@ def test_bad_volumes_name_the_key(change, key):
     scene["volumes"][0] = {k: v for k, v in scene["volumes"][0].items() if v is not None}
     with pytest.raises(ConfigError, match=key.replace("[", r"\[").replace("]", r"\]")):
         load_scene(scene)
+
+
+@pytest.mark.parametrize("shape", ["box", "ellipsoid"])
+@pytest.mark.parametrize("profile", ["uniform", "exponential", "gaussian"])
+def test_single_scattering_equals_the_reference(shape, profile):
+    vol = _volume(shape, profile, albedo=0.8, asymmetry=0.6, extinction=None)
+    origins, directions = _rays(200, seed=9)
+    sun = np.array([0.3, -0.4, 0.866])
+    sun /= np.linalg.norm(sun)
+    t_max = np.where(np.arange(200) % 4 == 0, 3.0, np.inf)
+    k, weight, source = 0.45, 1.0, 1.7
+    steps = 16  # the reference marches the sun path of every step: keep it short
+    fast = volumes.single_scattering(vol, np.array([k]), np.array([weight]),
+                                     np.array([source]), origins, directions, t_max, sun,
+                                     steps=steps, sun_steps=8)
+    slow = [volumes.single_scattering_reference(vol, k, source, o, d, t, sun, steps=steps,
+                                                sun_steps=8)
+            for o, d, t in zip(origins, directions, t_max, strict=True)]
+    assert np.count_nonzero(fast) > 15
+    assert fast == pytest.approx(slow, rel=1e-12, abs=1e-15)
+
+
+def test_henyey_greenstein_is_normalised():
+    mu = np.linspace(-1.0, 1.0, 200001)
+    for g in (0.0, 0.3, -0.5, 0.8):
+        p = volumes.phase_function(mu, g)
+        integral = 2.0 * np.pi * np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(mu))
+        assert integral == pytest.approx(4.0 * np.pi, rel=1e-6), g

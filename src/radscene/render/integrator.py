@@ -478,8 +478,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                           _depth)
         layers += ("transmitted",)
     if scene.volumes:  # the light from behind through them, and their own
-        ds = volumes.apply(ds, scene, bands, rays, hits, sun_dir, track.up,
-                           _configured_atmosphere(scene, sun, None), layers)
+        atm = _configured_atmosphere(scene, sun, None)
+        ds = volumes.apply(ds, scene, bands, rays, hits, sun_dir, track.up, atm, layers,
+                           _sun_irradiance(atm, sun), _breakpoints(scene))
     return ds
 
 
@@ -825,6 +826,19 @@ def _configured_atmosphere(scene, sun, azimuth):
     day = scene.time.timetuple().tm_yday if scene.time is not None else None
     return scene.atmosphere.with_sun(sun.zenith, sun.azimuth, day_of_year=day,
                                      view_azimuth=azimuth, earth_sun_distance=sun.distance)
+
+
+def _sun_irradiance(atm, sun):
+    """``irradiance(wavelength, altitude)``: E_sun τ_so normal to the beam [W m-2 um-1] of the
+    scene's sun through ``atm``, zero below the horizon."""
+    from radscene.sun import toa_solar_irradiance
+
+    def irradiance(wavelength, altitude):
+        if sun.zenith >= 90.0:
+            return np.zeros_like(wavelength)
+        toa = toa_solar_irradiance(wavelength, sun.distance, _solar_spectrum(atm))
+        return atm.sun(altitude, sun.zenith, wavelength, toa).irradiance
+    return irradiance
 
 
 def _pixel_sums(pixel, weight, rows):

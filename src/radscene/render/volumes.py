@@ -39,15 +39,17 @@ import numpy as np
 
 __all__ = ["Volume", "VOLUME_TERMS", "VOLUME_LONG_NAMES", "MARCH_STEPS", "entry_exit",
            "density", "optical_path", "optical_path_reference", "band_transmittance",
-           "band_emission", "apply"]
+           "band_emission", "phase_function", "single_scattering",
+           "single_scattering_reference", "line_of_sight", "sun_transmittance", "apply"]
 
 #: Output layers of the volume pass, summed into the radiance after the other layers.
-VOLUME_TERMS = ("transmitted", "volume_emission")
+VOLUME_TERMS = ("transmitted", "volume_emission", "volume_scattered")
 VOLUME_LONG_NAMES = {
     "transmitted": "radiance from behind semi-transparent volumes, attenuated by their "
                    "transmittance (Beer-Lambert)",
     "volume_emission": "thermal emission of volumes, (1 - albedo)(1 - t) B(T), through the "
                        "atmosphere to the sensor",
+    "volume_scattered": "sunlight scattered once by volumes towards the sensor",
 }
 #: Midpoint-rule steps along a ray's chord through a non-uniform volume.
 MARCH_STEPS = 64
@@ -80,6 +82,8 @@ class Volume:
         [K].
     wavelengths : numpy.ndarray
         Table wavelengths of k (kinks for the band quadrature) [um]; empty for a constant.
+    asymmetry : float
+        Henyey–Greenstein asymmetry parameter g of the scattering [-] (0: isotropic).
     """
 
     name: str
@@ -94,6 +98,7 @@ class Volume:
     albedo: float = 0.0
     temperature: float = 293.15
     wavelengths: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    asymmetry: float = 0.0
 
 
 def entry_exit(volume: Volume, origins, directions) -> tuple[np.ndarray, np.ndarray]:
@@ -218,10 +223,88 @@ def band_emission(extinction, weights, path, planck, albedo=0.0,
     return -np.expm1(-tau) @ source
 
 
-def _quadrature(volume, band):
+def phase_function(cos_scattering, asymmetry=0.0):
+    """Henyey–Greenstein phase function P(Θ) normalised to ∫ P dΩ = 4π [-] (1 for isotropic
+    scattering, ``asymmetry`` g = 0); Henyey & Greenstein 1941, ApJ 93, 70,
+    doi:10.1086/144246."""
+    g = float(asymmetry)
+    return (1.0 - g * g) / (1.0 + g * g - 2.0 * g * np.asarray(cos_scattering)) ** 1.5
+
+
+def single_scattering(volume, extinction, weights, source, origins, directions, t_max,
+                      sun_dir, steps: int = MARCH_STEPS, sun_steps: int = 16) -> np.ndarray:
+    """Band radiance of sunlight scattered once by a volume towards each ray's origin (N,)
+    [W m-2 sr-1].
+
+    .. math::
+
+        L = Σ_q w_q S_q \\frac{ω P(Θ)}{4π} k_q ∫ ρ(s) e^{−k_q (X(s) + Y(s))} ds
+
+    with X(s) the density-weighted path from the ray's entry to s, Y(s) that from s to the
+    sun out of the volume, Θ the scattering angle (cos Θ = sun · direction) and ``source``
+    S_q = E_sun τ_so τ_a (q,) [W m-2 um-1]: the midpoint rule in ``steps`` steps over the
+    chord, Y by :func:`optical_path` (``sun_steps`` steps where the profile is not uniform).
+    Shadows of other volumes and surfaces on the sun's path inside it are left out.
+    """
+    origins = np.asarray(origins, dtype=float)
+    directions = np.asarray(directions, dtype=float)
+    sun = np.reshape(np.asarray(sun_dir, dtype=float), (3,))
+    near, far = entry_exit(volume, origins, directions)
+    t0 = np.maximum(near, 0.0)
+    t1 = np.minimum(far, np.asarray(t_max, dtype=float))
+    length = np.where(t1 > t0, t1 - t0, 0.0)
+    out = np.zeros(len(origins))
+    cross = np.flatnonzero(length > 0.0)
+    k = np.asarray(extinction, dtype=float)
+    factor = weights * np.asarray(source, dtype=float) * k * volume.albedo / (4.0 * np.pi)
+    chunk = max(1, (1 << 18) // steps)
+    for start in range(0, len(cross), chunk):
+        idx = cross[start:start + chunk]
+        dt = length[idx] / steps
+        t = t0[idx, None] + (np.arange(steps) + 0.5)[None, :] * dt[:, None]
+        pts = (origins[idx, None, :] + t[..., None] * directions[idx, None, :]).reshape(-1, 3)
+        rho = density(volume, pts).reshape(len(idx), steps) * dt[:, None]  # ρ Δ
+        view = np.cumsum(rho, axis=1) - 0.5 * rho  # X at the step's midpoint
+        to_sun = optical_path(volume, pts, np.broadcast_to(sun, pts.shape),
+                              steps=sun_steps).reshape(len(idx), steps)
+        phase = phase_function(directions[idx] @ sun, volume.asymmetry)
+        depth = (view + to_sun)[..., None] * k  # (n, steps, q)
+        out[idx] = phase * np.einsum("ns,nsq,q->n", rho, np.exp(-depth), factor)
+    return out
+
+
+def single_scattering_reference(volume, wavelength_extinction, source, origin, direction,
+                                t_max, sun_dir, steps: int = MARCH_STEPS,
+                                sun_steps: int = 16) -> float:
+    """:func:`single_scattering` of one ray at one wavelength of weight 1, step by step."""
+    d = [float(v) for v in direction]
+    o = [float(v) for v in origin]
+    sun = [float(v) for v in np.reshape(sun_dir, (3,))]
+    near, far = (float(v[0]) for v in entry_exit(volume, [o], [d]))
+    t0, t1 = max(near, 0.0), min(far, float(t_max))
+    if t1 <= t0:
+        return 0.0
+    k = float(wavelength_extinction)
+    dt = (t1 - t0) / steps
+    cos_theta = sum(a * b for a, b in zip(d, sun, strict=True))
+    g = volume.asymmetry
+    phase = (1.0 - g * g) / (1.0 + g * g - 2.0 * g * cos_theta) ** 1.5
+    total, view = 0.0, 0.0
+    for i in range(steps):
+        t = t0 + (i + 0.5) * dt
+        p = [o[c] + t * d[c] for c in range(3)]
+        rho = float(density(volume, [p])[0])
+        to_sun = optical_path_reference(volume, p, sun, steps=sun_steps)
+        total += rho * dt * math.exp(-k * (view + 0.5 * rho * dt + to_sun))
+        view += rho * dt
+    return float(source) * volume.albedo * phase / (4.0 * math.pi) * k * total
+
+
+def _quadrature(volume, band, breakpoints=()):
     from radscene.render.spectral import band_quadrature
 
-    return band_quadrature(band.response, volume.wavelengths)
+    return band_quadrature(band.response, np.concatenate(
+        [volume.wavelengths, np.asarray(breakpoints, dtype=float).ravel()]))
 
 
 def _atmosphere_transmittance(atmosphere, location_altitude, origins, volume, nodes):
@@ -241,14 +324,18 @@ def _atmosphere_transmittance(atmosphere, location_altitude, origins, volume, no
 
 
 def _per_volume(volumes, bands, origins, directions, t_max, atmosphere=None, altitude=0.0,
-                emission=True):
-    """Entry distance (V, N), band transmittance (V, N, n_b) and emission (V, N, n_b)."""
+                emission=True, sun=None, breakpoints=()):
+    """Entry distance (V, N), band transmittance (V, N, n_b) and light (2, V, N, n_b): the
+    emission and, where ``sun`` = (unit vector to the sun (3,), ``irradiance(wavelength,
+    altitude)`` → E_sun τ_so (q,) [W m-2 um-1]) is given, the scattered sunlight.
+    ``breakpoints`` [um]: the kinks of the other spectra (sun, atmosphere) for the band
+    quadrature."""
     from radscene.radiometry import spectral_radiance
 
     n, n_b = len(origins), len(bands)
     entry = np.full((len(volumes), n), np.inf)
     trans = np.ones((len(volumes), n, n_b))
-    emit = np.zeros((len(volumes), n, n_b))
+    light = np.zeros((2, len(volumes), n, n_b))
     for v, vol in enumerate(volumes):
         x = optical_path(vol, origins, directions, t_max)
         cross = np.flatnonzero(x > 0.0)
@@ -256,56 +343,68 @@ def _per_volume(volumes, bands, origins, directions, t_max, atmosphere=None, alt
             continue
         entry[v, cross] = np.maximum(entry_exit(vol, origins[cross], directions[cross])[0], 0.0)
         for b, band in enumerate(bands):
-            nodes, weights = _quadrature(vol, band)
+            nodes, weights = _quadrature(vol, band, breakpoints)
             k = vol.extinction(nodes)
             trans[v, cross, b] = band_transmittance(k, weights, x[cross])
-            if emission:
-                tau_a = _atmosphere_transmittance(atmosphere, altitude, origins[cross], vol,
-                                                  nodes)
-                emit[v, cross, b] = band_emission(
-                    k, weights, x[cross], spectral_radiance(nodes, vol.temperature),
-                    vol.albedo, tau_a)
-    return entry, trans, emit
+            if not emission:
+                continue
+            tau_a = _atmosphere_transmittance(atmosphere, altitude, origins[cross], vol, nodes)
+            light[0, v, cross, b] = band_emission(
+                k, weights, x[cross], spectral_radiance(nodes, vol.temperature), vol.albedo,
+                tau_a)
+            if sun is not None and vol.albedo > 0.0:
+                source = sun[1](nodes, float(vol.center[2]) + altitude) * tau_a
+                light[1, v, cross, b] = single_scattering(
+                    vol, k, weights, source, origins[cross], directions[cross],
+                    np.asarray(t_max, float)[cross], sun[0])
+    return entry, trans, light
 
 
 def line_of_sight(volumes, bands, origins, directions, t_max, atmosphere=None,
-                  altitude=0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+                  altitude=0.0, sun=None, breakpoints=()
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Per ray: whether it crosses a volume (N,), the volumes' combined band transmittance
-    (N, n_b) and their emission reaching the ray's origin (N, n_b) [W m-2 sr-1].
+    (N, n_b) and their emission and scattered sunlight reaching the ray's origin
+    (2, N, n_b) [W m-2 sr-1] (``sun`` as for :func:`_per_volume`).
 
     Volumes along a ray are taken in the order the ray enters them, each nearer one
-    attenuating the emission of those behind it (overlapping volumes are treated as if
+    attenuating the light of those behind it (overlapping volumes are treated as if
     they followed each other).
     """
-    entry, trans, emit = _per_volume(volumes, bands, origins, directions, t_max, atmosphere,
-                                     altitude)
+    entry, trans, own = _per_volume(volumes, bands, origins, directions, t_max, atmosphere,
+                                    altitude, sun=sun, breakpoints=breakpoints)
     order = np.argsort(entry, axis=0)
     through = np.ones(trans.shape[1:])
-    light = np.zeros(trans.shape[1:])
+    light = np.zeros((2,) + trans.shape[1:])
     rows = np.arange(trans.shape[1])
     for rank in range(len(volumes)):
         v = order[rank]
-        light += through * emit[v, rows]
+        light += through * own[:, v, rows]
         through *= trans[v, rows]
     return np.isfinite(entry).any(axis=0), through, light
 
 
-def sun_transmittance(volumes, bands, points, sun_dir) -> np.ndarray:
+def sun_transmittance(volumes, bands, points, sun_dir, breakpoints=()) -> np.ndarray:
     """The volumes' band transmittance (N, n_b) along the sun rays from ``points`` (N, 3)."""
     sun = np.broadcast_to(np.reshape(sun_dir, (-1, 3)), np.shape(points))
-    _, trans, _ = _per_volume(volumes, bands, np.asarray(points, float), sun, None,
-                              emission=False)
+    _, trans, _ = _per_volume(volumes, bands, np.asarray(points, float), sun,
+                              np.full(len(points), np.inf), emission=False,
+                              breakpoints=breakpoints)
     return trans.prod(axis=0)
 
 
-def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers):
+def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers,
+          sun_irradiance=None, breakpoints=()):
     """The volume pass on a rendered Dataset ``ds`` (see the module docstring); returns it
     with ``transmitted``, ``volume_emission`` and ``volume_transmittance`` added and the
     other layers, ``radiance``, ``brightness_temperature`` and ``shadow_fraction`` updated.
 
     ``layers`` are the names of the surface and path layers that sum to the radiance,
     ``sun_dir`` the unit vector to the sun per hit (or one row), ``sun_up`` False when the
-    sun is below the horizon for every hit.
+    sun is below the horizon for every hit; ``sun_irradiance(wavelength, altitude)`` → E_sun
+    τ_so [W m-2 um-1] lights the volumes that scatter (their mean sun direction's), None: no
+    scattered sunlight; ``breakpoints`` [um] the kinks of the scene's other spectra (the
+    band quadrature's sub-interval edges).
     """
     from radscene.radiometry import band_brightness_temperature
 
@@ -332,7 +431,7 @@ def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers):
     if sun_up and scene.settings.shadows and np.any(hit):
         sun_rows = np.reshape(sun_dir, (-1, 3))
         points = hits.position[hit] + 1e-6 * np.broadcast_to(sun_rows, (int(hit.sum()), 3))
-        t_sun = sun_transmittance(volumes, bands, points, sun_rows)
+        t_sun = sun_transmittance(volumes, bands, points, sun_rows, breakpoints)
         hit_w = np.bincount(pix[hit], w[hit], n_pix)
         seen = hit_w > 0.0
         factor = np.ones((n_b, n_pix))
@@ -342,8 +441,13 @@ def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers):
         lit = 1.0 - ds["shadow_fraction"].values
         ds["shadow_fraction"].values[...] = 1.0 - lit * factor.mean(axis=0).reshape(ny, nx)
     t_max = np.where(hit, hits.distance, np.inf)
+    sun = None
+    if sun_up and sun_irradiance is not None:
+        mean_sun = np.reshape(sun_dir, (-1, 3)).mean(axis=0)
+        sun = (mean_sun / np.linalg.norm(mean_sun), sun_irradiance)
     crosses, through, light = line_of_sight(volumes, bands, rays.origins, rays.directions,
-                                            t_max, atmosphere, scene.location.altitude)
+                                            t_max, atmosphere, scene.location.altitude, sun,
+                                            breakpoints)
     crossing_share = per_pixel(through, crosses) / coverage  # Σ_cross w t / Σ w
     clear_share = np.bincount(pix[~crosses], w[~crosses], n_pix) / coverage
     transmittance = crossing_share + clear_share
@@ -354,7 +458,7 @@ def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers):
         behind = np.ones(n_pix, dtype=bool) if name != "path_radiance" else ~surface_seen
         transmitted[:, behind] += crossing_share[:, behind] * values[:, behind]
         values[:, behind] *= clear_share[behind]
-    emission = per_pixel(light)
+    emission, scattered = per_pixel(light[0]), per_pixel(light[1])
     total = ds["radiance"].values
     total[...] = 0.0
     for name in layers:
@@ -364,11 +468,14 @@ def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers):
         transmitted += ds["transmitted"].values.reshape(n_b, n_pix)
     total += cube(transmitted)
     total += cube(emission)
+    total += cube(scattered)
     attrs = {"units": "W m-2 sr-1"}
     ds["transmitted"] = (("band", "y", "x"), cube(transmitted),
                          {**attrs, "long_name": VOLUME_LONG_NAMES["transmitted"]})
     ds["volume_emission"] = (("band", "y", "x"), cube(emission),
                              {**attrs, "long_name": VOLUME_LONG_NAMES["volume_emission"]})
+    ds["volume_scattered"] = (("band", "y", "x"), cube(scattered),
+                              {**attrs, "long_name": VOLUME_LONG_NAMES["volume_scattered"]})
     ds["volume_transmittance"] = (("band", "y", "x"), cube(transmittance), {
         "units": "1", "long_name": "band transmittance of the volumes along the line of sight "
                                    "(pixel mean; 1 where no volume)"})

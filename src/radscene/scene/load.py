@@ -538,7 +538,7 @@ class _Resolver:
                             spectrum, profile.type,
                             np.inf if profile.scale_height is None else profile.scale_height,
                             sigma, vspec.density, vspec.single_scattering_albedo,
-                            vspec.temperature, wavelengths)
+                            vspec.temperature, wavelengths, vspec.asymmetry)
             if given == "optical_depth":
                 # k = τ / X along the vertical through the centre, from below
                 below = volume.center - np.array([0.0, 0.0, 2.0 * half[2] + 1.0])
@@ -550,7 +550,7 @@ class _Resolver:
                     "name", "shape", "center", "half_size")),
                     _Scaled(spectrum, 1.0 / vertical), *(getattr(volume, f) for f in (
                         "profile", "scale_height", "sigma", "density", "albedo",
-                        "temperature", "wavelengths")))
+                        "temperature", "wavelengths", "asymmetry")))
             out.append(volume)
         return out
 

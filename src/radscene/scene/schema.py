@@ -343,6 +343,8 @@ class VolumeSpec(_Model):
     extinction: float | dict[str, Any] | None = None
     optical_depth: float | dict[str, Any] | None = None
     single_scattering_albedo: Fraction = 0.0
+    asymmetry: Annotated[float, Field(gt=-1.0, lt=1.0)] = Field(
+        0.0, description="Henyey-Greenstein asymmetry parameter of the scattering (0: isotropic)")
     temperature: Temperature
 
     @model_validator(mode="after")
