@@ -284,7 +284,8 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
                         absorptance=alpha[index], emissivity=eps[index],
                         fixed_face_exitance=_fixed_exitance(scene, elements), meshes=meshes, options=options, **sources,
                         names={"material": scene.material_names, "object": names}, sun_override=override,
-                        progress=progress)
+                        progress=progress, sun_transmittance=_volume_sun_transmittance(
+                            scene, table.wavelength, table.daily_spectrum(zenith)))
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
     scene.render_cache["thermal_elements"] = elements
     return ds
@@ -342,6 +343,27 @@ def apply_thermal(scene, solution=None, time=None):
         offset += n
     scene.render_cache.pop("tables", None)
     return solution
+
+
+def _volume_sun_transmittance(scene, wavelength, spectrum):
+    """``transmittance(points, sun)``: the share of the direct sun passing the scene's volumes,
+    their transmittance weighted by the ground's global spectrum (the heat balance's solar
+    weighting) [-]; None without volumes."""
+    if not scene.volumes:
+        return None
+    from types import SimpleNamespace
+
+    from radscene.radiometry import TabulatedResponse
+    from radscene.render import volumes
+
+    keep = np.asarray(spectrum, float) > 0.0
+    band = SimpleNamespace(response=TabulatedResponse(np.asarray(wavelength, float)[keep],
+                                                      np.asarray(spectrum, float)[keep],
+                                                      name="shortwave"))
+
+    def transmittance(points, sun):
+        return volumes.sun_transmittance(scene.volumes, [band], points, sun)[:, 0]
+    return transmittance
 
 
 def render(scene, observer=None, **kwargs):

@@ -165,3 +165,34 @@ def test_ground_irradiance_from_the_database_falls_with_the_sun():
     # it (measured 175 of 867 W m-2)
     assert 850.0 < table.direct_normal[0] < 1000.0
     assert 0.1 < table.diffuse[0] / table.direct_normal[0] < 0.25
+
+
+@pytest.mark.parametrize(("tau", "sun_zenith"), [(0.4, 0.0), (1.2, 50.0)])
+def test_a_volume_over_the_ground_shades_it_partially(tau, sun_zenith):
+    """Terrain cells under a wide slab of optical depth τ: sunlit share e^{−τ/μ_0}; the
+    transmittance is the heat balance's, from the scene's volumes (pipeline)."""
+    from radscene import load_scene
+    from radscene.pipeline import _volume_sun_transmittance
+
+    scene = load_scene({
+        "environment": {"sun": {"zenith": 30.0}, "atmosphere": {"type": "none"}},
+        "objects": [{"name": "p", "shape": {"type": "plate", "width": 10, "length": 10},
+                     "material": "asphalt"}],
+        "volumes": [{"name": "slab", "shape": {"type": "box", "size": [400, 400, 2]},
+                     "position": [10, 10, 30], "optical_depth": tau, "temperature": 300.0}],
+        "bands": [{"name": "vis", "min": 0.5, "max": 0.6}],
+        "observers": [{"name": "o", "type": "orthographic", "center": [0, 0], "gsd": 1.0,
+                       "shape": [2, 2]}]})
+    wavelength = np.linspace(0.3, 3.0, 50)
+    transmittance = _volume_sun_transmittance(scene, wavelength, np.ones_like(wavelength))
+    hf = Heightfield(np.zeros((11, 11)), origin=(0.0, 0.0), spacing=(2.0, 2.0))
+    ground = hf.to_mesh()
+    tracer = RayTracer([ground])
+    el = build_elements([ground], [np.zeros(len(ground.faces), np.int64)], [True], terrain=0,
+                        heightfield=hf)
+    sun = sun_vectors(sun_zenith, 180.0)
+    clear = sunlit_fraction(tracer, el, sun)[0]
+    shaded = sunlit_fraction(tracer, el, sun, transmittance=transmittance)[0]
+    assert clear == pytest.approx(np.ones_like(clear), abs=1e-12)
+    assert shaded == pytest.approx(np.full_like(clear, np.exp(-tau / np.cos(np.radians(
+        sun_zenith)))), rel=1e-12)

@@ -67,7 +67,8 @@ def shadow_points(elements, spacing=1.0):
     return face, 1.0 / n, r1, r2
 
 
-def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0, progress=None):
+def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0, progress=None,
+                    transmittance=None):
     """Sunlit share of every element for each sun direction.
 
     Parameters
@@ -84,11 +85,16 @@ def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0, 
         (:func:`shadow_points`).
     progress : callable(done, total), optional
         Called after each sun direction.
+    transmittance : callable(points, sun), optional
+        The share [-] (N,) of the direct sun that passes the semi-transparent media (volumes)
+        between points (N, 3) [m] and the sun (unit vector (3,)): a point that sees the sun
+        counts that share of it (partial shadows).
 
     Returns
     -------
     ndarray, (n_times, n_elements)
-        Sunlit fraction [-]: area share of faces that face the sun and see it.
+        Sunlit fraction [-]: area share of faces that face the sun and see it, times the
+        media's transmittance where given.
     """
     sun = np.atleast_2d(np.asarray(sun_direction, float))
     if sun.shape[1] != 3 or not np.all(np.isfinite(sun)):
@@ -111,6 +117,8 @@ def sunlit_fraction(tracer, elements, sun_direction, epsilon=1e-3, spacing=1.0, 
             else:
                 d = np.ascontiguousarray(np.broadcast_to(s.astype(np.float32), (facing.size, 3)))
                 seen = ~tracer.occluded_local(local[facing], d)
+            if transmittance is not None:
+                seen = seen * transmittance(origin[facing], s)
             out[k] = np.bincount(element[facing], weights=share[facing] * seen, minlength=elements.size)
         if progress is not None:
             progress(k + 1, len(sun))

@@ -104,7 +104,7 @@ def _seconds(times):
     return (times - times[0]) / np.timedelta64(1, "s")
 
 
-def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
+def _shadow_history(tracer, elements, times, sun_dir, interval, progress, transmittance=None):
     """Sunlit fraction (n_times, n_elements): traced every ``interval`` s, linear between."""
     t = _seconds(times)
     if interval is None:
@@ -113,7 +113,8 @@ def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
         marks = np.arange(0.0, t[-1] + interval, interval)
         traced = np.unique(np.searchsorted(t, np.minimum(marks, t[-1])))
     report = None if progress is None else (lambda done, total: progress("shadows", done, total))
-    lit_at = sunlit_fraction(tracer, elements, sun_dir[traced], progress=report)
+    lit_at = sunlit_fraction(tracer, elements, sun_dir[traced], progress=report,
+                             transmittance=transmittance)
     if traced.size == times.size:
         return lit_at
     tk = t[traced]
@@ -125,7 +126,8 @@ def _shadow_history(tracer, elements, times, sun_dir, interval, progress):
 def solve_elements(tracer, elements, stacks, stack_index, times, location, atmosphere, weather,
                    *, absorptance=None, emissivity=None, fixed_face_exitance=None, moisture_availability=None,
                    internal_flux=0.0, air_speed=None, characteristic_length=1.0, meshes=None,
-                   options=ThermalOptions(), names=None, sun_override=None, progress=None):
+                   options=ThermalOptions(), names=None, sun_override=None, progress=None,
+                   sun_transmittance=None):
     """Surface temperatures and flux terms of every element at every time.
 
     Parameters
@@ -168,6 +170,9 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     sun_override : (float, float, float), optional
         A sun fixed at (zenith [deg], azimuth [deg], distance [AU]) instead of the ephemeris.
     progress : callable(stage, done, total), optional
+    sun_transmittance : callable(points, sun), optional
+        The share of the direct sun passing semi-transparent volumes on the way to points
+        (:func:`radscene.thermal.exposure.sunlit_fraction`); default none in the way.
 
     Returns
     -------
@@ -218,7 +223,8 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     hemisphere = hemisphere_exposure(tracer, elements, options.hemisphere_samples, options.seed)
     if progress is not None:
         progress("hemisphere", 1, 1)
-    lit = _shadow_history(tracer, elements, times, sun_dir, options.shadow_interval, progress)
+    lit = _shadow_history(tracer, elements, times, sun_dir, options.shadow_interval, progress,
+                          sun_transmittance)
     cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
 
     lateral = _lateral(elements, stacks, np.asarray(stack_index), meshes) if options.lateral else None
