@@ -222,3 +222,34 @@ def test_help_shows_units_in_brackets():
     result = CliRunner().invoke(app, ["atmosphere", "los", "--help"])
     assert result.exit_code == 0
     assert "Sun zenith [deg]" in result.output and "[g cm-2]" in result.output
+
+
+def test_volume_grid_of_wrong_dimensions_is_refused(tmp_path):
+    import numpy as np
+
+    np.save(tmp_path / "smoke.npy", np.ones((8, 8)))
+    volume = VOLUME.replace("density: 1", "density: 1, profile: {type: grid, file: smoke.npy}")
+    result, out = _run(tmp_path, GOOD.replace("bands:", volume + "bands:", 1))
+    assert result.exit_code == 2, result.output
+    message = result.output.strip()
+    assert "volumes[0].profile.file" in message and "(8, 8)" in message
+    assert len(message.splitlines()) == 1, message
+    assert not out.exists()
+
+
+def test_scene_with_a_volume_and_a_sheet_renders_and_writes_its_layers(tmp_path):
+    import xarray as xr
+
+    text = GOOD.replace("bands:", VOLUME + "bands:", 1).replace(
+        "reflectance: 0.4}", "reflectance: 0.4}\n  net: {reflectance: 0.2, transmittance: 0.5}"
+    ).replace("temperature: 300 K}", "temperature: 300 K}\n  - {name: net, shape: {type: plate, "
+              "width: 2 m, length: 2 m}, position: [1, 1, 1 m], material: net, temperature: "
+              "310 K, transmissive: true}")
+    result, out = _run(tmp_path, text)
+    assert result.exit_code == 0, result.output
+    with xr.open_dataset(out / "nadir.nc", engine="h5netcdf") as ds:
+        for name in ("transmitted", "volume_emission", "volume_scattered",
+                     "volume_transmittance"):
+            assert name in ds
+        assert float(ds["volume_transmittance"].min()) < 1.0
+        assert float(ds["transmitted"].sel(band="lwir").max()) > 0.0

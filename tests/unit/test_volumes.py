@@ -226,3 +226,46 @@ def test_henyey_greenstein_is_normalised():
         p = volumes.phase_function(mu, g)
         integral = 2.0 * np.pi * np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(mu))
         assert integral == pytest.approx(4.0 * np.pi, rel=1e-6), g
+
+
+def _grid_scene(tmp_path, grid, name="density.npy"):
+    path = tmp_path / name
+    if name.endswith(".npy"):
+        np.save(path, grid)
+    else:
+        import xarray as xr
+
+        dims = ("z", "y", "x") if np.ndim(grid) == 3 else ("y", "x")
+        xr.Dataset({"density": (dims, grid)}).to_netcdf(path, engine="h5netcdf")
+    scene = _scene(extinction=0.2, optical_depth=None,
+                   profile={"type": "grid", "file": name})
+    scene["volumes"][0]["shape"] = {"type": "box", "size": [8, 6, 4]}
+    return scene
+
+
+@pytest.mark.parametrize("name", ["density.npy", "density.nc"])
+def test_grid_profile_is_trilinear_between_its_nodes(tmp_path, name):
+    """Density rising linearly with height, 0 at the base to 2 at the top: the midpoint rule
+    integrates a linear profile exactly, ∫_0^4 (z/2) dz = 4 along the vertical."""
+    z = np.linspace(0.0, 2.0, 3)
+    grid = np.broadcast_to(z[:, None, None], (3, 4, 5)).copy()
+    scene = load_scene(_grid_scene(tmp_path, grid, name), base_dir=tmp_path)
+    vol = scene.volumes[0]
+    x = volumes.optical_path(vol, np.array([[-3.0, 0.5, -5.0], [-3.0, 0.5, 12.0]]),
+                             np.array([[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]]))
+    assert x == pytest.approx([4.0, 4.0], rel=1e-12)
+    ref = volumes.optical_path_reference(vol, [-3.0, 0.5, -5.0], [0.0, 0.0, 1.0])
+    assert ref == pytest.approx(4.0, rel=1e-12)
+    # outside the box nothing
+    assert volumes.density(vol, np.array([[100.0, 0.0, 8.0]])) == pytest.approx([0.0])
+
+
+@pytest.mark.parametrize(("grid", "name", "match"), [
+    (np.ones((4, 4)), "density.npy", "three dimensions"),
+    (np.ones((1, 4, 4)), "density.npy", "at least two"),
+    (-np.ones((2, 2, 2)), "density.npy", ">= 0"),
+    (np.ones((4, 4)), "density.nc", "dims"),
+])
+def test_bad_grids_name_the_file_key(tmp_path, grid, name, match):
+    with pytest.raises(ConfigError, match=r"volumes\[0\]\.profile\.file: .*" + match):
+        load_scene(_grid_scene(tmp_path, grid, name), base_dir=tmp_path)

@@ -84,6 +84,9 @@ class Volume:
         Table wavelengths of k (kinks for the band quadrature) [um]; empty for a constant.
     asymmetry : float
         Henyey–Greenstein asymmetry parameter g of the scattering [-] (0: isotropic).
+    grid : numpy.ndarray or None
+        (n_z, n_y, n_x) relative density of the ``grid`` profile at nodes evenly spaced over
+        the bounding box, corners included [-].
     """
 
     name: str
@@ -99,6 +102,7 @@ class Volume:
     temperature: float = 293.15
     wavelengths: np.ndarray = field(default_factory=lambda: np.zeros(0))
     asymmetry: float = 0.0
+    grid: np.ndarray | None = None
 
 
 def entry_exit(volume: Volume, origins, directions) -> tuple[np.ndarray, np.ndarray]:
@@ -135,8 +139,31 @@ def density(volume: Volume, points) -> np.ndarray:
     if volume.profile == "exponential":
         base = volume.center[2] - volume.half_size[2]
         return volume.density * np.exp(-(p[:, 2] - base) / volume.scale_height)
+    if volume.profile == "grid":
+        return volume.density * _trilinear(volume, p)
     u = (p - volume.center) / volume.sigma
     return volume.density * np.exp(-0.5 * np.einsum("nc,nc->n", u, u))
+
+
+def _trilinear(volume, points):
+    """The grid profile at points (N, 3), trilinear between its nodes, 0 outside the box."""
+    grid = volume.grid
+    lo = volume.center - volume.half_size
+    # node coordinates (x, y, z) → fractional indices (along the grid's x, y, z axes)
+    steps = np.array(grid.shape[::-1], dtype=float) - 1.0
+    f = (points - lo) / (2.0 * volume.half_size) * steps
+    inside = np.all((f >= 0.0) & (f <= steps), axis=1)
+    f = np.clip(f, 0.0, steps)
+    i0 = np.minimum(np.floor(f).astype(np.int64), (steps - 1).astype(np.int64))
+    t = f - i0
+    out = np.zeros(len(points))
+    for dx in (0, 1):
+        for dy in (0, 1):
+            for dz in (0, 1):
+                w = ((t[:, 0] if dx else 1 - t[:, 0]) * (t[:, 1] if dy else 1 - t[:, 1])
+                     * (t[:, 2] if dz else 1 - t[:, 2]))
+                out += w * grid[i0[:, 2] + dz, i0[:, 1] + dy, i0[:, 0] + dx]
+    return np.where(inside, out, 0.0)
 
 
 def optical_path(volume: Volume, origins, directions, t_max=None,

@@ -511,6 +511,39 @@ class _Resolver:
             )
         return out
 
+    def density_grid(self, profile, key) -> np.ndarray:
+        """A volume's density grid (n_z, n_y, n_x) from a .npy file or a NetCDF variable with
+        dims (z, y, x): finite, >= 0, at least two nodes along each axis."""
+        path = self.file(profile.file, f"{key}.file")
+        if path.suffix.lower() == ".npy":
+            grid = np.load(path)
+        else:
+            import xarray as xr
+
+            try:
+                with xr.open_dataset(path) as ds:
+                    if profile.variable not in ds:
+                        raise ConfigError(f"{path.name} has no variable {profile.variable!r}; "
+                                          f"it holds: {', '.join(map(str, ds.data_vars))}",
+                                          key=f"{key}.variable")
+                    var = ds[profile.variable]
+                    if var.dims != ("z", "y", "x"):
+                        raise ConfigError(f"{profile.variable!r} has dims {var.dims}; expected "
+                                          "('z', 'y', 'x')", key=f"{key}.file")
+                    grid = var.values
+            except (OSError, ValueError) as err:
+                if isinstance(err, ConfigError):
+                    raise
+                raise ConfigError(f"cannot read {path}: {err}", key=f"{key}.file") from None
+        grid = np.asarray(grid, dtype=float)
+        if grid.ndim != 3 or min(grid.shape) < 2:
+            raise ConfigError(f"a density grid has three dimensions (z, y, x) of at least two "
+                              f"nodes each; got shape {grid.shape}", key=f"{key}.file")
+        if not np.all(np.isfinite(grid)) or np.any(grid < 0.0):
+            raise ConfigError("a density grid must be finite and >= 0 everywhere",
+                              key=f"{key}.file")
+        return grid
+
     def volumes(self) -> list:
         from radscene.materials.spectrum import make_spectrum
         from radscene.render.volumes import Volume, optical_path
@@ -538,7 +571,9 @@ class _Resolver:
                             spectrum, profile.type,
                             np.inf if profile.scale_height is None else profile.scale_height,
                             sigma, vspec.density, vspec.single_scattering_albedo,
-                            vspec.temperature, wavelengths, vspec.asymmetry)
+                            vspec.temperature, wavelengths, vspec.asymmetry,
+                            None if profile.type != "grid" else self.density_grid(
+                                profile, f"{key}.profile"))
             if given == "optical_depth":
                 # k = τ / X along the vertical through the centre, from below
                 below = volume.center - np.array([0.0, 0.0, 2.0 * half[2] + 1.0])
@@ -550,7 +585,7 @@ class _Resolver:
                     "name", "shape", "center", "half_size")),
                     _Scaled(spectrum, 1.0 / vertical), *(getattr(volume, f) for f in (
                         "profile", "scale_height", "sigma", "density", "albedo",
-                        "temperature", "wavelengths", "asymmetry")))
+                        "temperature", "wavelengths", "asymmetry", "grid")))
             out.append(volume)
         return out
 

@@ -312,18 +312,22 @@ class EllipsoidShape(_Model):
 class DensityProfile(_Model):
     """How a volume's relative density varies: ``uniform``; ``exponential`` in height above
     the volume's base, e-folding over ``scale_height``; ``gaussian`` about its centre with
-    standard deviations ``sigma`` (one, or one per axis) [m]."""
+    standard deviations ``sigma`` (one, or one per axis) [m]; ``grid``: a 3-D array from
+    ``file``, trilinear between its nodes, which span the volume's bounding box."""
 
-    type: Literal["uniform", "exponential", "gaussian"] = "uniform"
+    type: Literal["uniform", "exponential", "gaussian", "grid"] = "uniform"
     scale_height: PositiveLength | None = None
     sigma: PositiveLength | tuple[PositiveLength, PositiveLength, PositiveLength] | None = None
+    file: str | None = Field(None, description="grid: a .npy array or a NetCDF variable of "
+                             "relative density, dims (z, y, x), nodes spanning the volume's box")
+    variable: str = Field("density", description="grid: the NetCDF variable")
 
     @model_validator(mode="after")
     def _parameters(self):
-        need = {"exponential": "scale_height", "gaussian": "sigma"}.get(self.type)
+        need = {"exponential": "scale_height", "gaussian": "sigma", "grid": "file"}.get(self.type)
         if need is not None and getattr(self, need) is None:
-            raise ValueError(f"a {self.type} profile needs '{need}' [m]")
-        for other in ("scale_height", "sigma"):
+            raise ValueError(f"a {self.type} profile needs '{need}'")
+        for other in ("scale_height", "sigma", "file"):
             if other != need and getattr(self, other) is not None:
                 raise ValueError(f"'{other}' does not belong to a {self.type} profile")
         return self
