@@ -94,7 +94,8 @@ def test_render_shadows_from_packets_equal_the_checked_queries(tracer):
     sun /= np.linalg.norm(sun)
     single = RayTracer(tracer.meshes, packets=False)
     for trace in (True, False):
-        got = [_shadows(SimpleNamespace(tracer=t, sun=SimpleNamespace(zenith=36.0), epsilon=1e-3),
+        got = [_shadows(SimpleNamespace(shadow_tracer=t, sun=SimpleNamespace(zenith=36.0),
+                                        epsilon=1e-3),
                         hits, hits.hit, down, sun, trace) for t in (tracer, single)]
         np.testing.assert_array_equal(got[0], got[1])
         assert set(np.unique(got[0])) == {0.0, 1.0}
@@ -121,7 +122,7 @@ def test_render_shadows_with_a_sun_per_hit(tracer):
     sun = np.array([0.5, -0.3, 0.81]) + rng.normal(scale=0.15, size=(n_hit, 3))
     sun /= np.linalg.norm(sun, axis=1, keepdims=True)
     single = RayTracer(tracer.meshes, packets=False)
-    tables = [SimpleNamespace(tracer=t, epsilon=1e-3) for t in (tracer, single)]
+    tables = [SimpleNamespace(shadow_tracer=t, epsilon=1e-3) for t in (tracer, single)]
     got = [_shadows(tb, hits, hits.hit, down, sun, True) for tb in tables]
     np.testing.assert_array_equal(got[0], got[1])
     assert 0.0 < got[0].mean() < 1.0

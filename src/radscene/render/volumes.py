@@ -236,8 +236,12 @@ def optical_path_reference(volume: Volume, origin, direction, t_max=math.inf,
 def band_transmittance(extinction, weights, path) -> np.ndarray:
     """Response-weighted band transmittance Σ w e^{−k X} / Σ w of paths X (N,) [m] through a
     medium of extinction ``extinction`` (q,) [m-1] at quadrature nodes of weights (q,) [um]."""
-    tau = np.asarray(path, dtype=float)[:, None] * np.asarray(extinction, dtype=float)[None, :]
-    return np.exp(-tau) @ weights / weights.sum()
+    path = np.asarray(path, dtype=float)
+    k = np.asarray(extinction, dtype=float)
+    out = np.empty(len(path))
+    for at in _chunks(len(path), k.size):
+        out[at] = np.exp(-path[at, None] * k[None, :]) @ weights
+    return out / weights.sum()
 
 
 def band_emission(extinction, weights, path, planck, albedo=0.0,
@@ -245,9 +249,27 @@ def band_emission(extinction, weights, path, planck, albedo=0.0,
     """Band emission Σ w τ_a (1 − ω)(1 − e^{−k X}) B [W m-2 sr-1] of paths X (N,) [m]
     through an isothermal medium; ``planck`` (q,) B(λ, T) [W m-2 sr-1 um-1] at the nodes,
     ``transmittance`` (q,) or scalar, that of the atmosphere to the sensor [-]."""
-    tau = np.asarray(path, dtype=float)[:, None] * np.asarray(extinction, dtype=float)[None, :]
+    path = np.asarray(path, dtype=float)
+    k = np.asarray(extinction, dtype=float)
     source = weights * (1.0 - albedo) * np.asarray(planck, dtype=float) * transmittance
-    return -np.expm1(-tau) @ source
+    out = np.empty(len(path))
+    for at in _chunks(len(path), k.size):
+        out[at] = -np.expm1(-path[at, None] * k[None, :]) @ source
+    return out
+
+
+def _grouping(group, n):
+    """``sums(values)``: the sums of (q,) values over each of ``n`` groups (q,)."""
+    def sums(values):
+        return np.bincount(group, np.broadcast_to(values, group.shape), n)
+    return sums
+
+
+def _chunks(n, width, budget=1 << 22):
+    """Slices of ``n`` rows such that each slice times ``width`` columns stays within
+    ``budget`` values."""
+    step = max(1, budget // max(int(width), 1))
+    return [slice(i, min(i + step, n)) for i in range(0, n, step)]
 
 
 def phase_function(cos_scattering, asymmetry=0.0):
@@ -284,7 +306,7 @@ def single_scattering(volume, extinction, weights, source, origins, directions, 
     cross = np.flatnonzero(length > 0.0)
     k = np.asarray(extinction, dtype=float)
     factor = weights * np.asarray(source, dtype=float) * k * volume.albedo / (4.0 * np.pi)
-    chunk = max(1, (1 << 18) // steps)
+    chunk = max(1, (1 << 22) // (steps * max(k.size, 1)))
     for start in range(0, len(cross), chunk):
         idx = cross[start:start + chunk]
         dt = length[idx] / steps
@@ -371,18 +393,21 @@ def _per_volume(volumes, bands, origins, directions, t_max, atmosphere=None, alt
         entry[v, cross] = np.maximum(entry_exit(vol, origins[cross], directions[cross])[0], 0.0)
         for b, band in enumerate(bands):
             nodes, weights = _quadrature(vol, band, breakpoints)
-            k = vol.extinction(nodes)
-            trans[v, cross, b] = band_transmittance(k, weights, x[cross])
+            # the sums over the band's nodes grouped by extinction (exact): one group for a
+            # grey medium, however many nodes the sun's spectrum asks for
+            k, group = np.unique(np.asarray(vol.extinction(nodes), float), return_inverse=True)
+            grouped = _grouping(group.ravel(), k.size)
+            trans[v, cross, b] = band_transmittance(k, grouped(weights), x[cross])
             if not emission:
                 continue
             tau_a = _atmosphere_transmittance(atmosphere, altitude, origins[cross], vol, nodes)
             light[0, v, cross, b] = band_emission(
-                k, weights, x[cross], spectral_radiance(nodes, vol.temperature), vol.albedo,
-                tau_a)
+                k, grouped(weights * spectral_radiance(nodes, vol.temperature) * tau_a),
+                x[cross], 1.0, vol.albedo)
             if sun is not None and vol.albedo > 0.0:
                 source = sun[1](nodes, float(vol.center[2]) + altitude) * tau_a
                 light[1, v, cross, b] = single_scattering(
-                    vol, k, weights, source, origins[cross], directions[cross],
+                    vol, k, grouped(weights * source), 1.0, origins[cross], directions[cross],
                     np.asarray(t_max, float)[cross], sun[0])
     return entry, trans, light
 
