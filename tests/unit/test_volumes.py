@@ -10,7 +10,7 @@ import pytest
 
 from radscene import load_scene, render
 from radscene.errors import ConfigError
-from radscene.render import volumes
+from radscene.render import volume_scattering, volumes
 from radscene.render.volumes import Volume
 
 #: The vectorised and the per-ray paths add the same terms in another order.
@@ -210,10 +210,10 @@ def test_single_scattering_equals_the_reference(shape, profile):
     t_max = np.where(np.arange(200) % 4 == 0, 3.0, np.inf)
     k, weight, source = 0.45, 1.0, 1.7
     steps = 16  # the reference marches the sun path of every step: keep it short
-    fast = volumes.single_scattering(vol, np.array([k]), np.array([weight]),
+    fast = volume_scattering.single_scattering(vol, np.array([k]), np.array([weight]),
                                      np.array([source]), origins, directions, t_max, sun,
                                      steps=steps, sun_steps=8)
-    slow = [volumes.single_scattering_reference(vol, k, source, o, d, t, sun, steps=steps,
+    slow = [volume_scattering.single_scattering_reference(vol, k, source, o, d, t, sun, steps=steps,
                                                 sun_steps=8)
             for o, d, t in zip(origins, directions, t_max, strict=True)]
     assert np.count_nonzero(fast) > 15
@@ -223,7 +223,7 @@ def test_single_scattering_equals_the_reference(shape, profile):
 def test_henyey_greenstein_is_normalised():
     mu = np.linspace(-1.0, 1.0, 200001)
     for g in (0.0, 0.3, -0.5, 0.8):
-        p = volumes.phase_function(mu, g)
+        p = volume_scattering.phase_function(mu, g)
         integral = 2.0 * np.pi * np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(mu))
         assert integral == pytest.approx(4.0 * np.pi, rel=1e-6), g
 

@@ -2,7 +2,8 @@
 
 A volume is an axis-aligned box or ellipsoid filled with a medium of extinction coefficient
 k(λ) [m-1] at relative density 1, scaled by a density profile ρ(x) [-] (uniform, exponential
-in height, or Gaussian about the centre), single-scattering albedo ω and one temperature T.
+in height, Gaussian about the centre, or a 3-D grid), single-scattering albedo ω and one
+temperature T.
 Along a ray the medium's optical depth is τ(λ) = k(λ) X with the density-weighted path
 X = ∫ ρ ds [m] through the volume (the chord length for a uniform medium, ray marching
 otherwise). A ray's radiance leaving the volume towards the sensor is
@@ -12,9 +13,10 @@ otherwise). A ray's radiance leaving the volume towards the sensor is
     L = t(λ) L_{behind} + (1 − ω) (1 − t(λ)) B(λ, T),  \\qquad t(λ) = e^{−τ(λ)}
 
 (the seeds' transmitted term, seed 000 eq. 1, and an isothermal slab's emission, exact for
-ω = 0; the medium's in-scattering is left out, so for ω > 0 the emission is that of the
-absorbed share only). Sun rays crossing a volume are attenuated by the same t(λ) along
-their own path, which makes the shadows volumes cast partial.
+ω = 0; for ω > 0 the absorbed share emits, and the direct sun scattered once is added as
+``volume_scattered`` by :mod:`radscene.render.volume_scattering`; multiple scattering and
+scattered sky and surface light are left out). Sun rays crossing a volume are attenuated by
+the same t(λ) along their own path, which makes the shadows volumes cast partial.
 
 The pass runs after the surface passes of a render, on its per-pixel layers: the layers of
 the light from behind (every surface term; the path radiance only of pixels that see no
@@ -39,8 +41,7 @@ import numpy as np
 
 __all__ = ["Volume", "VOLUME_TERMS", "VOLUME_LONG_NAMES", "MARCH_STEPS", "entry_exit",
            "density", "optical_path", "optical_path_reference", "band_transmittance",
-           "band_emission", "phase_function", "single_scattering",
-           "single_scattering_reference", "line_of_sight", "sun_transmittance", "apply"]
+           "band_emission", "line_of_sight", "sun_transmittance", "apply"]
 
 #: Output layers of the volume pass, summed into the radiance after the other layers.
 VOLUME_TERMS = ("transmitted", "volume_emission", "volume_scattered")
@@ -272,83 +273,6 @@ def _chunks(n, width, budget=1 << 22):
     return [slice(i, min(i + step, n)) for i in range(0, n, step)]
 
 
-def phase_function(cos_scattering, asymmetry=0.0):
-    """Henyey–Greenstein phase function P(Θ) normalised to ∫ P dΩ = 4π [-] (1 for isotropic
-    scattering, ``asymmetry`` g = 0); Henyey & Greenstein 1941, ApJ 93, 70,
-    doi:10.1086/144246."""
-    g = float(asymmetry)
-    return (1.0 - g * g) / (1.0 + g * g - 2.0 * g * np.asarray(cos_scattering)) ** 1.5
-
-
-def single_scattering(volume, extinction, weights, source, origins, directions, t_max,
-                      sun_dir, steps: int = MARCH_STEPS, sun_steps: int = 16) -> np.ndarray:
-    """Band radiance of sunlight scattered once by a volume towards each ray's origin (N,)
-    [W m-2 sr-1].
-
-    .. math::
-
-        L = Σ_q w_q S_q \\frac{ω P(Θ)}{4π} k_q ∫ ρ(s) e^{−k_q (X(s) + Y(s))} ds
-
-    with X(s) the density-weighted path from the ray's entry to s, Y(s) that from s to the
-    sun out of the volume, Θ the scattering angle (cos Θ = sun · direction) and ``source``
-    S_q = E_sun τ_so τ_a (q,) [W m-2 um-1]: the midpoint rule in ``steps`` steps over the
-    chord, Y by :func:`optical_path` (``sun_steps`` steps where the profile is not uniform).
-    Shadows of other volumes and surfaces on the sun's path inside it are left out.
-    """
-    origins = np.asarray(origins, dtype=float)
-    directions = np.asarray(directions, dtype=float)
-    sun = np.reshape(np.asarray(sun_dir, dtype=float), (3,))
-    near, far = entry_exit(volume, origins, directions)
-    t0 = np.maximum(near, 0.0)
-    t1 = np.minimum(far, np.asarray(t_max, dtype=float))
-    length = np.where(t1 > t0, t1 - t0, 0.0)
-    out = np.zeros(len(origins))
-    cross = np.flatnonzero(length > 0.0)
-    k = np.asarray(extinction, dtype=float)
-    factor = weights * np.asarray(source, dtype=float) * k * volume.albedo / (4.0 * np.pi)
-    chunk = max(1, (1 << 22) // (steps * max(k.size, 1)))
-    for start in range(0, len(cross), chunk):
-        idx = cross[start:start + chunk]
-        dt = length[idx] / steps
-        t = t0[idx, None] + (np.arange(steps) + 0.5)[None, :] * dt[:, None]
-        pts = (origins[idx, None, :] + t[..., None] * directions[idx, None, :]).reshape(-1, 3)
-        rho = density(volume, pts).reshape(len(idx), steps) * dt[:, None]  # ρ Δ
-        view = np.cumsum(rho, axis=1) - 0.5 * rho  # X at the step's midpoint
-        to_sun = optical_path(volume, pts, np.broadcast_to(sun, pts.shape),
-                              steps=sun_steps).reshape(len(idx), steps)
-        phase = phase_function(directions[idx] @ sun, volume.asymmetry)
-        depth = (view + to_sun)[..., None] * k  # (n, steps, q)
-        out[idx] = phase * np.einsum("ns,nsq,q->n", rho, np.exp(-depth), factor)
-    return out
-
-
-def single_scattering_reference(volume, wavelength_extinction, source, origin, direction,
-                                t_max, sun_dir, steps: int = MARCH_STEPS,
-                                sun_steps: int = 16) -> float:
-    """:func:`single_scattering` of one ray at one wavelength of weight 1, step by step."""
-    d = [float(v) for v in direction]
-    o = [float(v) for v in origin]
-    sun = [float(v) for v in np.reshape(sun_dir, (3,))]
-    near, far = (float(v[0]) for v in entry_exit(volume, [o], [d]))
-    t0, t1 = max(near, 0.0), min(far, float(t_max))
-    if t1 <= t0:
-        return 0.0
-    k = float(wavelength_extinction)
-    dt = (t1 - t0) / steps
-    cos_theta = sum(a * b for a, b in zip(d, sun, strict=True))
-    g = volume.asymmetry
-    phase = (1.0 - g * g) / (1.0 + g * g - 2.0 * g * cos_theta) ** 1.5
-    total, view = 0.0, 0.0
-    for i in range(steps):
-        t = t0 + (i + 0.5) * dt
-        p = [o[c] + t * d[c] for c in range(3)]
-        rho = float(density(volume, [p])[0])
-        to_sun = optical_path_reference(volume, p, sun, steps=sun_steps)
-        total += rho * dt * math.exp(-k * (view + 0.5 * rho * dt + to_sun))
-        view += rho * dt
-    return float(source) * volume.albedo * phase / (4.0 * math.pi) * k * total
-
-
 def _quadrature(volume, band, breakpoints=()):
     from radscene.render.spectral import band_quadrature
 
@@ -380,6 +304,7 @@ def _per_volume(volumes, bands, origins, directions, t_max, atmosphere=None, alt
     ``breakpoints`` [um]: the kinks of the other spectra (sun, atmosphere) for the band
     quadrature."""
     from radscene.radiometry import spectral_radiance
+    from radscene.render import volume_scattering
 
     n, n_b = len(origins), len(bands)
     entry = np.full((len(volumes), n), np.inf)
@@ -406,7 +331,7 @@ def _per_volume(volumes, bands, origins, directions, t_max, atmosphere=None, alt
                 x[cross], 1.0, vol.albedo)
             if sun is not None and vol.albedo > 0.0:
                 source = sun[1](nodes, float(vol.center[2]) + altitude) * tau_a
-                light[1, v, cross, b] = single_scattering(
+                light[1, v, cross, b] = volume_scattering.single_scattering(
                     vol, k, grouped(weights * source), 1.0, origins[cross], directions[cross],
                     np.asarray(t_max, float)[cross], sun[0])
     return entry, trans, light
