@@ -246,9 +246,10 @@ class RayTracer:
         self.dynamic = bool(dynamic)
 
         filled = [k for k, m in enumerate(meshes) if len(m.faces)]
+        self._mesh_bounds = {k: meshes[k].bounds for k in filled}  # kept: update() is O(moved)
         if filled:
-            lo = np.min([meshes[k].bounds[0] for k in filled], axis=0)
-            hi = np.max([meshes[k].bounds[1] for k in filled], axis=0)
+            lo = np.min([self._mesh_bounds[k][0] for k in filled], axis=0)
+            hi = np.max([self._mesh_bounds[k][1] for k in filled], axis=0)
         else:
             lo = hi = np.zeros(3)
         self._bounds = (lo, hi)
@@ -329,9 +330,9 @@ class RayTracer:
             return
         start = self._face_offset[index]
         self._normals[start:start + len(mesh.faces)] = mesh.face_normals
-        filled = [m for m in self.meshes if len(m.faces)]
-        self._bounds = (np.min([m.bounds[0] for m in filled], axis=0),
-                        np.max([m.bounds[1] for m in filled], axis=0))
+        self._mesh_bounds[index] = mesh.bounds
+        self._bounds = (np.min([b[0] for b in self._mesh_bounds.values()], axis=0),
+                        np.max([b[1] for b in self._mesh_bounds.values()], axis=0))
         reach = np.maximum(np.abs(self._bounds[0] - self._center),
                            np.abs(self._bounds[1] - self._center))
         margin = 1e-5 * float(np.linalg.norm(2 * reach)) + 1e-3
