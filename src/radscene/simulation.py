@@ -28,8 +28,12 @@ import xarray as xr
 from radscene.errors import ConfigError
 from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
 
-__all__ = ["Frame", "Simulation", "parse_duration"]
+__all__ = ["Frame", "Simulation", "frame_times", "parse_duration", "render_sequence"]
 
+#: Attributes of a render that change from frame to frame: carried along ``time`` as variables
+#: (``frame_<name>``) in a sequence, not as the file's attributes.
+FRAME_ATTRS = ("time", "sun_zenith_deg", "sun_azimuth_deg", "earth_sun_distance_au", "render_seconds",
+               "frame", "elapsed_s", "history")
 #: How far past the clock the heat balance is solved when it must be (again) [s].
 THERMAL_HORIZON = 3600.0
 
@@ -327,3 +331,111 @@ def _to_body(mesh, position, attitude):
     rot = rotation_matrix(*attitude)
     # world = R body + t  ->  body = R^T (world - t), row-wise (world - t) R
     return Mesh((mesh.vertices - position) @ rot, mesh.faces, name=mesh.name)
+
+
+# -- sequences ------------------------------------------------------------------------------
+
+
+def frame_times(start: _dt.datetime, end: _dt.datetime, step) -> list[_dt.datetime]:
+    """The instants of a sequence: ``start + k step`` up to ``end`` inclusive.
+
+    Parameters
+    ----------
+    start, end : datetime
+        Timezone-aware; ``end`` not before ``start``.
+    step : float or str
+        [s] > 0, or a duration string.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``time.start``, ``time.end`` or ``time.step``.
+    """
+    seconds = parse_duration(step, key="time.step")
+    for value, key in ((start, "time.start"), (end, "time.end")):
+        if not isinstance(value, _dt.datetime) or value.tzinfo is None:
+            raise ConfigError(f"a timezone-aware time, e.g. '2026-06-21T10:30:00Z', not {value!r}", key=key)
+    if end < start:
+        raise ConfigError(f"{end.isoformat()} lies before the start {start.isoformat()}", key="time.end")
+    # whole steps that fit, with a microsecond's grace for steps such as 1/3 s
+    count = int(np.floor((end - start).total_seconds() / seconds + 1e-6 / seconds)) + 1
+    return [start + _dt.timedelta(seconds=k * seconds) for k in range(count)]
+
+
+def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
+                    progress=None) -> dict[str, xr.Dataset]:
+    """Render a sequence of frames: every observer at every instant, stacked along ``time``.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene, dict or path
+        As for :class:`Simulation`.
+    start, end : datetime, optional
+        Timezone-aware; default the scene file's ``time.start`` and ``time.end``.
+    step : float or str, optional
+        [s] or a duration string; default ``time.step``.
+    observers : list of str, optional
+        Only these (all by default).
+    progress : callable(done, total), optional
+        Called after each frame.
+
+    Returns
+    -------
+    dict of str to xarray.Dataset
+        Per observer every variable of a render (radiance, terms, truth maps) with a leading
+        ``time`` dimension (UTC), and ``elapsed(time)`` [s] and the frame attributes that change
+        (``frame_sun_zenith_deg(time)`` ...) as variables.
+
+    Raises
+    ------
+    ConfigError
+        No sequence given (neither arguments nor ``time`` in the scene file), a bad span.
+    """
+    scene = as_scene(scene)
+    span = scene.spec.time
+    start = start or (span.start if span else None)
+    end = end or (span.end if span else None)
+    step = step if step is not None else (span.step if span else None)
+    if start is None or end is None or step is None:
+        raise ConfigError("a sequence needs time.start, time.end and time.step (or --start, --end "
+                          "and --step)", key="time")
+    times = frame_times(start, end, step)
+    names = [o.name for o in scene.observers] if observers is None else list(observers)
+    for name in names:
+        scene.observer(name)
+    scene.time = times[0]
+    sim = Simulation(scene)
+    frames = {name: [] for name in names}
+    for k, instant in enumerate(times):
+        frame = sim.render() if k == 0 else sim.step((instant - sim.time).total_seconds())
+        for name in names:
+            frames[name].append(_frame_layer(frame.radiance[name], frame))
+        if progress is not None:
+            progress(k + 1, len(times))
+    return {name: _stack(layers) for name, layers in frames.items()}
+
+
+def _frame_layer(ds: xr.Dataset, frame: Frame) -> xr.Dataset:
+    """One frame of a sequence: the frame's attributes that change as variables, a time."""
+    ds = ds.copy()
+    for key in FRAME_ATTRS:
+        value = ds.attrs.pop(key, None)
+        if key in ("time", "history", "frame", "elapsed_s") or value is None:
+            continue
+        ds[f"frame_{key}"] = ((), value)
+    ds["elapsed"] = ((), frame.elapsed, {"units": "s", "long_name": "time since the first frame"})
+    when = frame.time.astimezone(_dt.UTC).replace(tzinfo=None) if frame.time is not None else None
+    return ds.expand_dims(time=[np.datetime64(when, "ns")] if when else [frame.elapsed])
+
+
+def _stack(layers: list[xr.Dataset]) -> xr.Dataset:
+    out = xr.concat(layers, dim="time", data_vars="minimal", coords="minimal", compat="override",
+                    combine_attrs="override")
+    out["elapsed"] = out["elapsed"] - float(out["elapsed"].values[0])
+    out["elapsed"].attrs.update({"units": "s", "long_name": "time since the first frame"})
+    out["time"].attrs.update({"long_name": "frame time (UTC)", "standard_name": "time"})
+    for name in out.data_vars:
+        if name.startswith("frame_"):
+            out[name].attrs["long_name"] = f"{name.removeprefix('frame_')} of each frame"
+    out.attrs["frames"] = len(layers)
+    return out

@@ -81,15 +81,64 @@ def main(
     """radscene: radiometric EO/IR scene and sensor simulation."""
 
 
+def _instant(value, key):
+    """A timezone-aware datetime from an ISO 8601 string (None stays None)."""
+    import datetime as _dt
+
+    if value is None:
+        return None
+    try:
+        when = _dt.datetime.fromisoformat(value)
+    except ValueError:
+        raise ConfigError(f"an ISO 8601 time such as 2026-06-21T10:00:00Z, not {value!r}", key=key) from None
+    if when.tzinfo is None:
+        raise ConfigError(f"a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z', not {value!r}",
+                          key=key)
+    return when
+
+
+def _render_sequence(scene, names, output, start, end, step):
+    """``radscene render`` of a sequence: every frame rendered, then one file per observer."""
+    from radscene.io import write_netcdf
+    from radscene.simulation import render_sequence
+
+    started = time.perf_counter()
+    try:
+        span = scene.spec.time
+        start = _instant(start, "--start") or (span.start if span else None)
+        end = _instant(end, "--end") or (span.end if span else None)
+        step = step if step is not None else (span.step if span else None)
+        with Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                      TimeElapsedColumn(), TimeRemainingColumn(), console=err_console, transient=False) as bar:
+            task = bar.add_task("frames", total=None)
+
+            def progress(done, total):
+                bar.update(task, completed=done, total=total)
+
+            sequences = render_sequence(scene, start=start, end=end, step=step, observers=names,
+                                        progress=progress)
+    except (ConfigError, EngineError) as err:
+        _fail(err)
+    for name, ds in sequences.items():
+        path = write_netcdf(ds, output / f"{name}_sequence.nc")
+        console.print(f"{name}: {ds.sizes['time']} frames -> {path}")
+    console.print(f"{scene.name}: {len(sequences)} observer(s) in {time.perf_counter() - started:.1f} s")
+
+
 @app.command()
 def render(
     scene_file: Path = typer.Argument(..., help="Scene YAML file."),
     output: Path = typer.Option(Path("out"), "-o", "--output", help="Output folder."),
     observer: list[str] = typer.Option(None, "--observer", help="Render only these observers."),
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
+    start: str = typer.Option(None, "--start", help="A sequence's first frame, e.g. 2026-06-21T10:00:00Z."),
+    end: str = typer.Option(None, "--end", help="A sequence's last instant."),
+    step: str = typer.Option(None, "--step", help="A sequence's step, e.g. '40 ms' or '10 min'."),
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
-    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr."""
+    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. With a
+    sequence (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per
+    observer with a time axis."""
     from radscene.io import (
         band_quicklooks,
         signal_quicklooks,
@@ -105,6 +154,8 @@ def render(
         names = observer or [o.name for o in scene.observers]
         for name in names:
             scene.observer(name)
+        if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
+            return _render_sequence(scene, names, output, start, end, step)
         started = time.perf_counter()
         results, signals, spectral = {}, {}, {}
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),

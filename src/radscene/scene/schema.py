@@ -515,6 +515,28 @@ class ThermalSpec(_Model):
         return value
 
 
+class TimeSpan(_Model):
+    """A sequence of frames: every ``step`` from ``start`` to ``end`` (both included when the
+    steps land on it)."""
+
+    start: _dt.datetime
+    end: _dt.datetime
+    step: Duration
+
+    @field_validator("start", "end")
+    @classmethod
+    def _aware(cls, value):
+        if value.tzinfo is None:
+            raise ValueError("a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z'")
+        return value
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.end < self.start:
+            raise ValueError(f"end {self.end.isoformat()} lies before start {self.start.isoformat()}")
+        return self
+
+
 class SceneSpec(_Model):
     """The whole scene file."""
 
@@ -536,6 +558,7 @@ class SceneSpec(_Model):
     observers: list[Observer] = Field(min_length=1)
     render: RenderSettings = RenderSettings()
     thermal: ThermalSpec = ThermalSpec()
+    time: TimeSpan | None = Field(None, description="a frame sequence: {start, end, step}")
 
     @model_validator(mode="after")
     def _unique_names(self):
