@@ -12,6 +12,11 @@ The ray tracer is built once, for moving geometry (``RayTracer(dynamic=True)``):
 object writes its new vertices into the tracer and refits that object's acceleration structure
 alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved, not the scene.
 
+Objects with ``trajectory: {waypoints: [[t, x, y, z], ...]}`` in the scene file move in
+straight lines between their waypoints, ``t`` [s] counted from the simulation's start; the
+clock may not leave the waypoints' span (an error names the object), and ``set_pose`` of such
+an object holds only until the next frame.
+
 Limits. The heat balance is solved for the objects where they stood when it was solved
 (once for a span, and again when the clock runs past it): a moved object keeps the solved
 temperatures of its faces, not those of where it went. Terrain does not move.
@@ -143,7 +148,11 @@ class Simulation:
             attitude = np.array(spec.rotation, float)
             self._poses[obj.name] = (position, attitude)
             self._body[obj.name] = (k, _to_body(obj.mesh, position, attitude))
+        # objects with waypoints: (their index in the scene file, their spec)
+        self._trajectories = {o.name: (i, o) for i, o in enumerate(self.scene.spec.objects)
+                              if o.trajectory is not None and o.name in self._body}
         self.tracer = RayTracer([obj.mesh for obj in self.scene.objects], dynamic=True)
+        self._follow_trajectories()
         scene_tables(self.scene, self.tracer)
 
     # -- the clock --------------------------------------------------------------------------
@@ -185,6 +194,7 @@ class Simulation:
         from radscene.render.integrator import scene_tables
 
         scene = self.scene
+        self._follow_trajectories()
         self._rebuild_scanners()
         if self._thermal:
             self._apply_thermal()
@@ -202,6 +212,24 @@ class Simulation:
                 seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
                 frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
         return frame
+
+    def _follow_trajectories(self):
+        """Objects with waypoints where they are at the clock's time (straight lines between)."""
+        for name, (i, spec) in self._trajectories.items():
+            points = np.array(spec.trajectory.waypoints, float)
+            t = self._elapsed
+            if not points[0, 0] <= t <= points[-1, 0]:
+                raise ConfigError(f"the clock at {t:g} s lies outside the waypoints' {points[0, 0]:g} - "
+                                  f"{points[-1, 0]:g} s", key=f"objects[{i}].trajectory")
+            position = np.array([np.interp(t, points[:, 0], points[:, c]) for c in (1, 2, 3)])
+            if spec.on_ground and self.scene.heightfield is not None:
+                hf = self.scene.heightfield
+                xmin, xmax, ymin, ymax = hf.extent
+                if not (xmin <= position[0] <= xmax and ymin <= position[1] <= ymax):
+                    raise ConfigError(f"at {t:g} s ({position[0]:g}, {position[1]:g}) m lies outside the terrain "
+                                      f"{hf.extent} m", key=f"objects[{i}].trajectory")
+                position[2] += float(hf.height_at(position[0], position[1]))
+            self._move_object(name, position, None)
 
     def _apply_thermal(self):
         scene = self.scene

@@ -98,3 +98,28 @@ def test_the_cli_renders_a_sequence_into_one_netcdf_per_observer(tmp_path):
     assert bad.exit_code == 2
     assert "time.end" in bad.output
     assert not (tmp_path / "bad").exists()
+
+
+def test_an_object_on_waypoints_is_where_the_straight_line_puts_it_in_every_frame():
+    """5 m/s east in 2 s frames over 1 m pixels: the roof's 10 x 10 pixels, their centre on
+    the straight line within 0.1 pixel in every frame."""
+    scene = _scene()
+    scene["observers"][0].update(gsd=1.0, shape=[24, 64])
+    scene["objects"][1]["trajectory"] = {"waypoints": [[0, -20, 0, 0], [4, 0, 0, 0], [8, 20, 0, 0]]}
+    scene["time"] = {"start": START, "end": "2026-06-21T07:00:08+00:00", "step": "2 s"}
+    ds = render_sequence(scene)["map"]
+    for k in range(ds.sizes["time"]):
+        box = ds.object_id.isel(time=k).values == 1
+        x = np.broadcast_to(ds.x.values, box.shape)[box]
+        assert x.mean() == pytest.approx(-20.0 + 10.0 * k, abs=0.1)  # 1 m pixels: 0.1 pixel
+        assert box.sum() == 100
+
+
+def test_waypoints_out_of_order_or_outrun_are_refused_naming_the_object():
+    scene = _scene()
+    scene["objects"][1]["trajectory"] = {"waypoints": [[0, 0, 0, 0], [5, 1, 0, 0], [5, 2, 0, 0]]}
+    with pytest.raises(ConfigError, match=r"objects\[1\].trajectory: waypoints\[2\]: t = 5 s does not follow"):
+        render_sequence(scene)
+    scene["objects"][1]["trajectory"] = {"waypoints": [[0, 0, 0, 0], [3600, 10, 0, 0]]}
+    with pytest.raises(ConfigError, match=r"objects\[1\].trajectory: the clock at 7200 s lies outside"):
+        render_sequence(scene)
