@@ -160,3 +160,23 @@ def test_the_heat_balance_gives_each_frame_the_temperatures_of_its_instant():
                                    rtol=0, atol=SPAN_TOLERANCE)
     morning, noon = (float(f.radiance["map"].surface_temperature.values[0, 0]) for f in frames)
     assert noon - morning > 2.0  # asphalt in the June sun warms by more than 2 K from 10 to 13 h
+
+
+def test_a_moved_box_takes_its_shadow_along():
+    """The box's shadow on the ground (lit fraction < 0.5, the box itself excluded) moves the
+    same 10 m / GSD columns as the box, and keeps its area."""
+    sim = radscene.Simulation(_scene())
+    frames = [sim.step(1.0)]
+    sim.set_pose("box", position=(-10.0, 0.0, 0.0))
+    frames.append(sim.step(1.0))
+    cols, areas = [], []
+    for frame in frames:
+        ds = frame.radiance["map"]
+        shade = (ds.shadow_fraction.values > 0.5) & (ds.object_id.values == 0)
+        cols.append(np.nonzero(shade)[1])
+        areas.append(int(shade.sum()))
+    assert areas[0] > 0
+    # the sun moves by a few thousandths of a degree in 1 s: the same shadow, shifted
+    assert areas[1] == areas[0]
+    assert cols[1].min() - cols[0].min() == 10.0 / GSD
+    assert cols[1].max() - cols[0].max() == 10.0 / GSD
