@@ -93,6 +93,15 @@ def test_the_cli_renders_a_sequence_into_one_netcdf_per_observer(tmp_path):
     ds = xr.open_dataset(out / "map_sequence.nc", engine="h5netcdf")
     assert ds.sizes["time"] == 3
     assert ds.radiance.attrs["units"] == "W m-2 sr-1"
+    from PIL import Image
+
+    with Image.open(out / "map_sequence" / "vis.gif") as gif:
+        assert gif.size == (16, 16)
+        total = 0  # Pillow merges identical frames, adding their durations [ms]
+        for k in range(gif.n_frames):
+            gif.seek(k)
+            total += gif.info["duration"]
+        assert total == 3 * 100  # three frames at the default 10 per second
     bad = CliRunner().invoke(app, ["render", str(path), "-o", str(tmp_path / "bad"), "--start", START,
                                    "--end", "2026-06-21T06:00:00+00:00", "--step", "1 s"])
     assert bad.exit_code == 2
@@ -100,7 +109,7 @@ def test_the_cli_renders_a_sequence_into_one_netcdf_per_observer(tmp_path):
     assert not (tmp_path / "bad").exists()
 
 
-def test_an_object_on_waypoints_is_where_the_straight_line_puts_it_in_every_frame():
+def test_an_object_on_waypoints_is_where_the_straight_line_puts_it_in_every_frame(tmp_path):
     """5 m/s east in 2 s frames over 1 m pixels: the roof's 10 x 10 pixels, their centre on
     the straight line within 0.1 pixel in every frame."""
     scene = _scene()
@@ -113,6 +122,14 @@ def test_an_object_on_waypoints_is_where_the_straight_line_puts_it_in_every_fram
         x = np.broadcast_to(ds.x.values, box.shape)[box]
         assert x.mean() == pytest.approx(-20.0 + 10.0 * k, abs=0.1)  # 1 m pixels: 0.1 pixel
         assert box.sum() == 100
+    from PIL import Image
+
+    from radscene.io import band_animations
+
+    (path,) = band_animations(ds, tmp_path, fps=25)
+    with Image.open(path) as gif:
+        assert gif.n_frames == 5  # the box moves: no two frames alike
+        assert gif.info["duration"] == 40
 
 
 def test_waypoints_out_of_order_or_outrun_are_refused_naming_the_object():
@@ -123,3 +140,13 @@ def test_waypoints_out_of_order_or_outrun_are_refused_naming_the_object():
     scene["objects"][1]["trajectory"] = {"waypoints": [[0, 0, 0, 0], [3600, 10, 0, 0]]}
     with pytest.raises(ConfigError, match=r"objects\[1\].trajectory: the clock at 7200 s lies outside"):
         render_sequence(scene)
+
+
+def test_animations_refuse_a_frame_rate_gif_cannot_play(tmp_path):
+    from radscene.io import band_animations
+
+    ds = render_sequence(_scene())["map"]
+    for fps in (0.0, -1.0, 60.0, float("nan")):
+        with pytest.raises(ConfigError, match="fps: must lie in"):
+            band_animations(ds, tmp_path, fps=fps)
+    assert not list(tmp_path.iterdir())

@@ -97,9 +97,10 @@ def _instant(value, key):
     return when
 
 
-def _render_sequence(scene, names, output, start, end, step):
-    """``radscene render`` of a sequence: every frame rendered, then one file per observer."""
-    from radscene.io import write_netcdf
+def _render_sequence(scene, names, output, start, end, step, quicklooks):
+    """``radscene render`` of a sequence: every frame rendered, then one file per observer (and
+    with quicklooks a GIF per band)."""
+    from radscene.io import band_animations, write_netcdf
     from radscene.simulation import render_sequence
 
     started = time.perf_counter()
@@ -122,6 +123,9 @@ def _render_sequence(scene, names, output, start, end, step):
     for name, ds in sequences.items():
         path = write_netcdf(ds, output / f"{name}_sequence.nc")
         console.print(f"{name}: {ds.sizes['time']} frames -> {path}")
+        if quicklooks and "band" in ds.dims:
+            for gif in band_animations(ds, output / f"{name}_sequence"):
+                console.print(f"{name}: {gif}")
     console.print(f"{scene.name}: {len(sequences)} observer(s) in {time.perf_counter() - started:.1f} s")
 
 
@@ -138,7 +142,7 @@ def render(
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
     with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. With a
     sequence (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per
-    observer with a time axis."""
+    observer with a time axis, and with quicklooks NAME_sequence/BAND.gif."""
     from radscene.io import (
         band_quicklooks,
         signal_quicklooks,
@@ -155,7 +159,7 @@ def render(
         for name in names:
             scene.observer(name)
         if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
-            return _render_sequence(scene, names, output, start, end, step)
+            return _render_sequence(scene, names, output, start, end, step, quicklooks)
         started = time.perf_counter()
         results, signals, spectral = {}, {}, {}
         with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
