@@ -33,7 +33,7 @@ import xarray as xr
 from radscene.errors import ConfigError
 from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
 
-__all__ = ["Frame", "Simulation", "frame_times", "parse_duration", "render_sequence"]
+__all__ = ["Frame", "FrameSequence", "Simulation", "frame_times", "parse_duration", "render_sequence"]
 
 #: Attributes of a render that change from frame to frame: carried along ``time`` as variables
 #: (``frame_<name>``) in a sequence, not as the file's attributes.
@@ -100,6 +100,24 @@ class Frame:
     index: int
     elapsed: float
     time: _dt.datetime | None
+    radiance: dict[str, xr.Dataset] = field(default_factory=dict)
+    signal: dict[str, xr.Dataset] = field(default_factory=dict)
+
+
+@dataclass
+class FrameSequence:
+    """The frames of a sequence, stacked along ``time`` per observer.
+
+    Attributes
+    ----------
+    radiance : dict of str to xarray.Dataset
+        Per observer every variable of a render (radiance, terms, truth maps) with a leading
+        ``time`` dimension (UTC), ``elapsed(time)`` [s] and the frame attributes that change
+        (``frame_sun_zenith_deg(time)`` ...) as variables.
+    signal : dict of str to xarray.Dataset
+        Per observer with a sensor its signal (``dn(time, frame, band, y, x)`` [DN] ...).
+    """
+
     radiance: dict[str, xr.Dataset] = field(default_factory=dict)
     signal: dict[str, xr.Dataset] = field(default_factory=dict)
 
@@ -391,7 +409,7 @@ def frame_times(start: _dt.datetime, end: _dt.datetime, step) -> list[_dt.dateti
 
 
 def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
-                    progress=None) -> dict[str, xr.Dataset]:
+                    progress=None) -> FrameSequence:
     """Render a sequence of frames: every observer at every instant, stacked along ``time``.
 
     Parameters
@@ -409,10 +427,8 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
 
     Returns
     -------
-    dict of str to xarray.Dataset
-        Per observer every variable of a render (radiance, terms, truth maps) with a leading
-        ``time`` dimension (UTC), and ``elapsed(time)`` [s] and the frame attributes that change
-        (``frame_sun_zenith_deg(time)`` ...) as variables.
+    FrameSequence
+        Per observer the renders and, with a sensor, the signals, along ``time``.
 
     Raises
     ------
@@ -434,13 +450,17 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     scene.time = times[0]
     sim = Simulation(scene)
     frames = {name: [] for name in names}
+    signals = {name: [] for name in names}
     for k, instant in enumerate(times):
         frame = sim.render() if k == 0 else sim.step((instant - sim.time).total_seconds())
         for name in names:
             frames[name].append(_frame_layer(frame.radiance[name], frame))
+            if name in frame.signal:
+                signals[name].append(_frame_layer(frame.signal[name], frame))
         if progress is not None:
             progress(k + 1, len(times))
-    return {name: _stack(layers) for name, layers in frames.items()}
+    return FrameSequence({name: _stack(layers) for name, layers in frames.items()},
+                         {name: _stack(layers) for name, layers in signals.items() if layers})
 
 
 def _frame_layer(ds: xr.Dataset, frame: Frame) -> xr.Dataset:

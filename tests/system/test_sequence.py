@@ -43,7 +43,8 @@ def _scene():
 def test_a_sequence_stacks_frames_that_equal_single_renders_at_their_instants():
     seen = []
     out = render_sequence(_scene(), progress=lambda done, total: seen.append((done, total)))
-    ds = out["map"]
+    ds = out.radiance["map"]
+    assert out.signal == {}  # no sensor
     assert seen == [(1, 3), (2, 3), (3, 3)]
     assert ds.radiance.dims == ("time", "band", "y", "x")
     assert ds.object_id.dims == ("time", "y", "x")
@@ -116,7 +117,7 @@ def test_an_object_on_waypoints_is_where_the_straight_line_puts_it_in_every_fram
     scene["observers"][0].update(gsd=1.0, shape=[24, 64])
     scene["objects"][1]["trajectory"] = {"waypoints": [[0, -20, 0, 0], [4, 0, 0, 0], [8, 20, 0, 0]]}
     scene["time"] = {"start": START, "end": "2026-06-21T07:00:08+00:00", "step": "2 s"}
-    ds = render_sequence(scene)["map"]
+    ds = render_sequence(scene).radiance["map"]
     for k in range(ds.sizes["time"]):
         box = ds.object_id.isel(time=k).values == 1
         x = np.broadcast_to(ds.x.values, box.shape)[box]
@@ -145,7 +146,7 @@ def test_waypoints_out_of_order_or_outrun_are_refused_naming_the_object():
 def test_animations_refuse_a_frame_rate_gif_cannot_play(tmp_path):
     from radscene.io import band_animations
 
-    ds = render_sequence(_scene())["map"]
+    ds = render_sequence(_scene()).radiance["map"]
     for fps in (0.0, -1.0, 60.0, float("nan")):
         with pytest.raises(ConfigError, match="fps: must lie in"):
             band_animations(ds, tmp_path, fps=fps)

@@ -180,3 +180,40 @@ def test_a_moved_box_takes_its_shadow_along():
     assert areas[1] == areas[0]
     assert cols[1].min() - cols[0].min() == 10.0 / GSD
     assert cols[1].max() - cols[0].max() == 10.0 / GSD
+
+
+def _sensor_scene():
+    return {
+        "name": "thermal",
+        "environment": {"time": START, "location": {"latitude": LATITUDE, "longitude": LONGITUDE},
+                        "atmosphere": {"type": "none"}},
+        "objects": [
+            {"name": "ground", "shape": {"type": "plate", "width": 2000, "length": 2000},
+             "material": "dry_grass", "temperature": "295 K"},
+            {"name": "truck", "shape": {"type": "box", "size": [3, 8, 3]}, "position": [0, 0, 0],
+             "material": "painted_metal", "temperature": "330 K"},
+        ],
+        "bands": [{"name": "lwir", "min": "8 um", "max": "14 um"}],
+        "sensors": {"bolometer": {"example": "lwir_microbolometer", "detector": {"shape": [16, 16]}}},
+        "observers": [{"name": "ir", "type": "perspective", "position": [0, -300, 60], "look_at": [0, 0, 0],
+                       "sensor": "bolometer"}],
+        "render": {"sky_samples": 4, "seed": 5},
+    }
+
+
+def test_a_sensor_records_every_frame_with_its_own_noise():
+    from radscene.simulation import render_sequence
+
+    sim = radscene.Simulation(_sensor_scene())
+    first, second = sim.step(0.04), sim.step(0.04)
+    dn = [f.signal["ir"]["dn"].isel(frame=0, band=0).values for f in (first, second)]
+    assert dn[0].shape == (16, 16)
+    assert dn[0][8, 8] > dn[0][8, 0]  # the hot truck in the middle
+    assert not np.array_equal(dn[0], dn[1])  # the same scene, a new noise draw
+    # the same seed and frame numbers: the same signal again
+    again = radscene.Simulation(_sensor_scene())
+    np.testing.assert_array_equal(again.step(0.04).signal["ir"]["dn"].isel(frame=0, band=0).values, dn[0])
+    scene = dict(_sensor_scene(), time={"start": START, "end": "2026-06-21T09:00:00.08+00:00", "step": "40 ms"})
+    out = render_sequence(scene)
+    assert out.signal["ir"]["dn"].dims[:2] == ("time", "frame")
+    assert out.signal["ir"].sizes["time"] == 3

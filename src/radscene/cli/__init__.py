@@ -120,13 +120,15 @@ def _render_sequence(scene, names, output, start, end, step, quicklooks):
                                         progress=progress)
     except (ConfigError, EngineError) as err:
         _fail(err)
-    for name, ds in sequences.items():
+    for name, ds in sequences.radiance.items():
         path = write_netcdf(ds, output / f"{name}_sequence.nc")
         console.print(f"{name}: {ds.sizes['time']} frames -> {path}")
+        if name in sequences.signal:
+            console.print(f"{name}: {write_netcdf(sequences.signal[name], output / f'{name}_signal_sequence.nc')}")
         if quicklooks and "band" in ds.dims:
             for gif in band_animations(ds, output / f"{name}_sequence"):
                 console.print(f"{name}: {gif}")
-    console.print(f"{scene.name}: {len(sequences)} observer(s) in {time.perf_counter() - started:.1f} s")
+    console.print(f"{scene.name}: {len(sequences.radiance)} observer(s) in {time.perf_counter() - started:.1f} s")
 
 
 @app.command()
@@ -142,7 +144,8 @@ def render(
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
     with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. With a
     sequence (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per
-    observer with a time axis, and with quicklooks NAME_sequence/BAND.gif."""
+    observer with a time axis (NAME_signal_sequence.nc for a sensor's), and with quicklooks
+    NAME_sequence/BAND.gif."""
     from radscene.io import (
         band_quicklooks,
         signal_quicklooks,
