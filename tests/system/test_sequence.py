@@ -106,7 +106,7 @@ def test_the_cli_renders_a_sequence_into_one_netcdf_per_observer(tmp_path):
     bad = CliRunner().invoke(app, ["render", str(path), "-o", str(tmp_path / "bad"), "--start", START,
                                    "--end", "2026-06-21T06:00:00+00:00", "--step", "1 s"])
     assert bad.exit_code == 2
-    assert "time.end" in bad.output
+    assert "--end: 2026-06-21T06:00:00+00:00 lies before the start" in bad.output
     assert not (tmp_path / "bad").exists()
 
 

@@ -104,6 +104,7 @@ def _render_sequence(scene, names, output, start, end, step, quicklooks):
     from radscene.simulation import render_sequence
 
     started = time.perf_counter()
+    given = {"time.start": start, "time.end": end, "time.step": step}
     try:
         span = scene.spec.time
         start = _instant(start, "--start") or (span.start if span else None)
@@ -119,6 +120,8 @@ def _render_sequence(scene, names, output, start, end, step, quicklooks):
             sequences = render_sequence(scene, start=start, end=end, step=step, observers=names,
                                         progress=progress)
     except (ConfigError, EngineError) as err:
+        if isinstance(err, ConfigError) and given.get(err.key) is not None:  # the command line's
+            err = ConfigError(err.message, key=err.key.replace("time.", "--"))
         _fail(err)
     for name, ds in sequences.radiance.items():
         path = write_netcdf(ds, output / f"{name}_sequence.nc")
