@@ -13,7 +13,7 @@ $(STAMP): pyproject.toml
 	@touch $(STAMP)
 
 demo: $(STAMP)  ## render the bundled demo scene into out/demo
-	$(BIN)/radscene render src/radscene/examples/demo.yaml -o out/demo
+	$(BIN)/radscene render src/radscene/examples/demo.yaml -o out/demo --overwrite
 
 test: $(STAMP)  ## the test suite (unit, system, regression, validation), minus slow cases
 	$(BIN)/python -m pytest -q -n 2 -m "not slow"

@@ -103,6 +103,11 @@ def test_the_cli_renders_a_sequence_into_one_netcdf_per_observer(tmp_path):
             gif.seek(k)
             total += gif.info["duration"]
         assert total == 3 * 100  # three frames at the default 10 per second
+    args = ["render", str(path), "-o", str(out), "--start", START, "--end", "2026-06-21T07:00:01+00:00",
+            "--step", "500 ms", "--no-quicklooks"]
+    again = CliRunner().invoke(app, args)
+    assert again.exit_code == 2 and "map_sequence.nc" in again.output  # earlier results kept
+    assert CliRunner().invoke(app, [*args, "--overwrite"]).exit_code == 0
     bad = CliRunner().invoke(app, ["render", str(path), "-o", str(tmp_path / "bad"), "--start", START,
                                    "--end", "2026-06-21T06:00:00+00:00", "--step", "1 s"])
     assert bad.exit_code == 2

@@ -133,9 +133,16 @@ def _angle_weights(values, nodes, spline: bool) -> np.ndarray:
         w[rows, i] += 1 - f
         w[rows, np.minimum(i + 1, nodes.size - 1)] += f
         return w
+    return _spline_basis(tuple(nodes.tolist()))(v)
+
+
+@lru_cache(maxsize=16)
+def _spline_basis(nodes: tuple):
+    """The natural cubic spline through the unit vectors on ``nodes``: its value at x is the
+    weights of the nodes' values."""
     from scipy.interpolate import CubicSpline
 
-    return CubicSpline(nodes, np.eye(nodes.size), bc_type="natural")(v)
+    return CubicSpline(np.asarray(nodes), np.eye(len(nodes)), bc_type="natural")
 #: The largest scale factor of a profile's water-vapour or ozone column.
 _MAX_SCALE = 3.0
 
@@ -727,9 +734,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             acc = 0.0
             for hi_, hw in ((ih, 1 - fh), (np.minimum(ih + 1, nh - 1), fh)):
                 for xi_, xw in ((ix, 1 - fx), (np.minimum(ix + 1, nx - 1), fx)):
-                    wv = np.where((xi_ == nx - 1)[:, None], w_top, w_line)
-                    for k in range(nv):
-                        acc = acc + (hw * xw * wv[:, k])[None, :, None] * q[:, hi_, xi_, k]
+                    wv = np.where((xi_ == nx - 1)[:, None], w_top, w_line) * (hw * xw)[:, None]
+                    acc = acc + np.einsum("lnvp,nv->lnp", q[:, hi_, xi_], wv)
             return acc
 
         for name, ray in (("rho_mixture", False), ("rho_rayleigh", True)):

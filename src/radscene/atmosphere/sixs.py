@@ -52,6 +52,8 @@ name                     unit         default           meaning
 ``spectral``             -            ``interpolated``  ``interpolated`` or ``direct`` (see above)
 ``multiple_scattering``  -            true              6S always scatters multiply; false is refused
 ``workers``              -            CPUs              parallel 6S processes
+``timeout``              s            120               limit of one 6S run (a hung run is
+                                                        stopped and named)
 ``cache``                path         user cache        on-disk cache folder, or false
 =======================  ===========  ================  ==============================================
 
@@ -218,7 +220,8 @@ class SixSAtmosphere(SunDependentAtmosphere):
     def __init__(self, profile="us_standard", aerosol="rural", visibility=None, aot550=None,
                  water=None, ozone=None, surface_albedo=0.0, sun_zenith=None, sun_azimuth=0.0,
                  view_azimuth=None, earth_sun_distance=1.0, solar_spectrum="radscene",
-                 spectral="interpolated", multiple_scattering=True, workers=None, cache=None):
+                 spectral="interpolated", multiple_scattering=True, workers=None, cache=None,
+                 timeout=120.0):
         self.conditions = sixs_conditions(profile, aerosol, visibility, aot550, water, ozone)
         if multiple_scattering is not True:
             raise ConfigError("6S always computes multiple scattering; only true is accepted",
@@ -228,7 +231,7 @@ class SixSAtmosphere(SunDependentAtmosphere):
         self.spectral = _choice(spectral, ("interpolated", "direct"), "atmosphere.spectral")
         self._set_geometry(surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
                            view_azimuth)
-        self.runner = SixSRunner(workers=workers, cache_dir=cache)
+        self.runner = SixSRunner(workers=workers, cache_dir=cache, timeout=timeout)
 
     # -- settings ---------------------------------------------------------------------------
     def _case(self, wavelength, **kw) -> SixSCase:

@@ -479,9 +479,16 @@ class SixSRunner:
         Wall-clock seconds spent in those executions, summed over workers.
     """
 
-    def __init__(self, workers: int | None = None, cache_dir=None):
+    def __init__(self, workers: int | None = None, cache_dir=None, timeout: float = _TIMEOUT_S):
         if workers is not None and (not isinstance(workers, int) or workers < 1):
             raise ConfigError(f"a positive integer; got {workers!r}", key="workers")
+        if isinstance(timeout, str):
+            from radscene.radiometry.units import parse_quantity
+
+            timeout = parse_quantity(timeout, "time", key="timeout")
+        if not isinstance(timeout, (int, float)) or not timeout > 0:
+            raise ConfigError(f"a time > 0 [s]; got {timeout!r}", key="timeout")
+        self.timeout = float(timeout)
         self.workers = workers or os.cpu_count() or 1
         self.cache = _cache_root(cache_dir)
         self.runs = 0
@@ -545,11 +552,11 @@ class SixSRunner:
         started = time.perf_counter()
         try:
             proc = subprocess.run([_binary()], input=deck.encode(), capture_output=True,
-                                  cwd=self._workdir(), env=_environment(), timeout=_TIMEOUT_S,
+                                  cwd=self._workdir(), env=_environment(), timeout=self.timeout,
                                   check=False)
         except subprocess.TimeoutExpired:
-            raise EngineError(f"6S ran past {_TIMEOUT_S:g} s for the case {case.label()}") \
-                from None
+            raise EngineError(f"6S ran past its timeout of {self.timeout:g} s for the case "
+                              f"{case.label()} (atmosphere.timeout)") from None
         except OSError as err:
             raise EngineError(f"6S could not start ({err}); is libgfortran5 installed? "
                               f"case: {case.label()}") from None

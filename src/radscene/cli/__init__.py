@@ -140,15 +140,90 @@ def render(
     output: Path = typer.Option(Path("out"), "-o", "--output", help="Output folder."),
     observer: list[str] = typer.Option(None, "--observer", help="Render only these observers."),
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
+    overwrite: bool = typer.Option(False, "--overwrite",
+                                   help="Replace results of an earlier run in OUTPUT."),
+    max_memory: str = typer.Option(None, "--max-memory",
+                                   help="Refuse a scene whose render needs more, e.g. 8GB "
+                                        "(default: render.max_memory, else the machine's "
+                                        "memory)."),
+    confine: bool = typer.Option(False, "--confine",
+                                 help="Read no file outside the scene file's folder."),
+    resume: bool = typer.Option(False, "--resume",
+                                help="Finish a run that stopped midway in OUTPUT: render only "
+                                     "the observers it had not written."),
     start: str = typer.Option(None, "--start", help="A sequence's first frame, e.g. 2026-06-21T10:00:00Z."),
     end: str = typer.Option(None, "--end", help="A sequence's last instant."),
     step: str = typer.Option(None, "--step", help="A sequence's step, e.g. '40 ms' or '10 min'."),
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
-    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. With a
-    sequence (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per
-    observer with a time axis (NAME_signal_sequence.nc for a sensor's), and with quicklooks
-    NAME_sequence/BAND.gif."""
+    with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. OUTPUT is
+    checked before any work: a file, a folder under a file or one that cannot be written is
+    refused, and so are earlier results in it unless --overwrite. While the run lasts OUTPUT
+    holds a marker (.radscene-incomplete.json) listing the observers finished; a complete run
+    replaces it with manifest.json (every file, its size and SHA-256). With a sequence
+    (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per observer
+    with a time axis (NAME_signal_sequence.nc for a sensor's), and with quicklooks
+    NAME_sequence/BAND.gif, written after the last frame."""
+    from radscene.io import run_record
+    from radscene.io.files import check_output_folder
+    from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
+    from radscene.scene import load_scene
+
+    try:
+        scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
+        names = observer or [o.name for o in scene.observers]
+        for name in names:
+            scene.observer(name)
+        if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
+            check_output_folder(output, _sequence_files(scene, names), overwrite)
+            sequence = True
+        else:
+            sequence = False
+            done = run_record.finished(output, scene_file) if resume else []
+            todo = [n for n in names if n not in done]
+            check_output_folder(output, _result_files(scene, todo), overwrite or resume)
+    except (ConfigError, EngineError) as err:
+        _fail(err)
+    if sequence:
+        return _render_sequence(scene, names, output, start, end, step, quicklooks)
+    started = time.perf_counter()
+    results, spectral, written = {}, {}, []
+    with run_record.RunRecord(output, scene_file, names, done) as record:
+        try:
+            with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                          TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
+                          TimeRemainingColumn(), console=err_console, transient=False) as bar:
+                if todo and thermal_active(scene):  # the heat balance first, its own progress
+                    stages = {}
+
+                    def thermal_progress(stage, done, total):
+                        if stage not in stages:
+                            stages[stage] = bar.add_task(f"heat balance: {stage}", total=total)
+                        bar.update(stages[stage], completed=done, total=total)
+
+                    apply_thermal(scene, solve_thermal(scene, progress=thermal_progress))
+                for name in todo:
+                    task = bar.add_task(f"render {name}", total=1)
+
+                    def progress(done, total, task=task):
+                        bar.update(task, completed=done, total=total)
+
+                    if scene.observer(name).spectral is not None:  # written pass by pass
+                        spectral[name], files = _write_spectral(scene, name, output, progress)
+                    else:
+                        results[name], files = _render_and_write(scene, name, output,
+                                                                 quicklooks, progress)
+                    written.extend(files)
+                    record.finish(name, files)
+        except (ConfigError, EngineError) as err:
+            _fail(err)
+    if done:
+        console.print(f"resumed: {', '.join(done)} already written")
+    _summary(scene, results, spectral, written, output, started)
+
+
+def _render_and_write(scene, name, output, quicklooks, progress):
+    """Render one observer (and its sensor) and write its files; returns (Dataset, files)."""
     from radscene.io import (
         band_quicklooks,
         signal_quicklooks,
@@ -157,63 +232,28 @@ def render(
         write_netcdf,
     )
     from radscene.pipeline import simulate
-    from radscene.scene import load_scene
 
-    try:
-        scene = load_scene(scene_file)
-        names = observer or [o.name for o in scene.observers]
-        for name in names:
-            scene.observer(name)
-        if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
-            return _render_sequence(scene, names, output, start, end, step, quicklooks)
-        started = time.perf_counter()
-        results, signals, spectral = {}, {}, {}
-        with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
-                      TextColumn("{task.percentage:>3.0f}%"), TimeElapsedColumn(),
-                      TimeRemainingColumn(), console=err_console, transient=False) as bar:
-            from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
+    ds, signal = simulate(scene, name, progress=progress)
+    written = [write_netcdf(ds, output / f"{name}.nc")]
+    if ds["x"].attrs.get("units") == "m":  # a map product: also a GeoTIFF
+        from radscene.io.geotiff import write_geotiff
+        from radscene.platform.geolocation import LocalFrame
 
-            if thermal_active(scene):  # the heat balance first, with its own progress
-                stages = {}
-
-                def thermal_progress(stage, done, total):
-                    if stage not in stages:
-                        stages[stage] = bar.add_task(f"heat balance: {stage}", total=total)
-                    bar.update(stages[stage], completed=done, total=total)
-
-                apply_thermal(scene, solve_thermal(scene, progress=thermal_progress))
-            written = []
-            for name in names:
-                task = bar.add_task(f"render {name}", total=1)
-
-                def progress(done, total, task=task):
-                    bar.update(task, completed=done, total=total)
-
-                if scene.observer(name).spectral is not None:  # written pass by pass
-                    spectral[name], files = _write_spectral(scene, name, output, progress)
-                    written.extend(files)
-                    continue
-                results[name], signals[name] = simulate(scene, name, progress=progress)
-    except (ConfigError, EngineError) as err:
-        _fail(err)
-    for name, ds in results.items():
-        written.append(write_netcdf(ds, output / f"{name}.nc"))
-        if ds["x"].attrs.get("units") == "m":  # a map product: also a GeoTIFF
-            from radscene.io.geotiff import write_geotiff
-            from radscene.platform.geolocation import LocalFrame
-
-            loc = scene.location
-            written.append(write_geotiff(ds["radiance"], output / f"{name}_radiance.tif",
-                                         crs=LocalFrame(loc.latitude, loc.longitude,
-                                                        loc.altitude)))
-        if signals[name] is not None:
-            written.append(write_netcdf(signals[name], output / f"{name}_signal.nc"))
-            if quicklooks:
-                written.extend(signal_quicklooks(signals[name], output / f"{name}_signal"))
+        loc = scene.location
+        written.append(write_geotiff(ds["radiance"], output / f"{name}_radiance.tif",
+                                     crs=LocalFrame(loc.latitude, loc.longitude, loc.altitude)))
+    if signal is not None:
+        written.append(write_netcdf(signal, output / f"{name}_signal.nc"))
         if quicklooks:
-            written.extend(band_quicklooks(ds, output / name))
-            written.append(terms_figure(ds, output / f"{name}_terms.png"))
-            written.append(truth_figure(ds, output / f"{name}_truth.png"))
+            written.extend(signal_quicklooks(signal, output / f"{name}_signal"))
+    if quicklooks:
+        written.extend(band_quicklooks(ds, output / name))
+        written.append(terms_figure(ds, output / f"{name}_terms.png"))
+        written.append(truth_figure(ds, output / f"{name}_truth.png"))
+    return ds, written
+
+
+def _summary(scene, results, spectral, written, output, started):
     table = Table(title=f"{scene.name}: {len(results)} observer(s) in "
                         f"{time.perf_counter() - started:.1f} s")
     for col in ("observer", "band", "λ [um]", "mean L [W m-2 sr-1]", "min", "max", "mean BT [K]"):
@@ -231,6 +271,22 @@ def render(
     for name, text in spectral.items():
         console.print(f"{name}: {text}")
     console.print(f"wrote {len(written)} files under {output}/")
+
+
+def _sequence_files(scene, names) -> list[str]:
+    """The data files ``radscene render`` writes for a sequence of these observers."""
+    return [f for name in names for f in (f"{name}_sequence.nc", f"{name}_signal_sequence.nc")]
+
+
+def _result_files(scene, names) -> list[str]:
+    """The data files ``radscene render`` writes for these observers (not the quicklooks)."""
+    files = []
+    for name in names:
+        if scene.observer(name).spectral is not None:
+            files += [f"{name}_spectral.nc", f"{name}_spectral.img", f"{name}_spectral.hdr"]
+        else:
+            files += [f"{name}.nc", f"{name}_signal.nc", f"{name}_radiance.tif"]
+    return files
 
 
 def _write_spectral(scene, name, output, progress):
@@ -263,13 +319,19 @@ def _write_spectral(scene, name, output, progress):
 
 
 @app.command()
-def check(scene_file: Path = typer.Argument(..., help="Scene YAML file.")):
+def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
+          max_memory: str = typer.Option(None, "--max-memory",
+                                         help="Refuse a scene whose render needs more, e.g. "
+                                              "8GB (default: render.max_memory, else the "
+                                              "machine's memory)."),
+          confine: bool = typer.Option(False, "--confine",
+                                       help="Read no file outside the scene file's folder.")):
     """Validate a scene file and summarise what it holds, without rendering."""
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
 
     try:
-        scene = load_scene(scene_file)
+        scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         sun = sun_geometry(scene)
     except ConfigError as err:
         _fail(err)
@@ -284,6 +346,11 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file.")):
             f"{obs.spectral.wavelength[-1]:.4g} um every {obs.spectral.step:.4g} um")
         console.print(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
                       f" px, supersample {obs.supersample}{grid}")
+    from radscene.scene.memory import estimate
+
+    need = max((b for b, _, _ in estimate(scene.spec)["observers"]), default=0.0)
+    if need:
+        console.print(f"  memory: about {need / 1e9:.1f} GB for the largest render (estimate)")
     console.print(f"  atmosphere: {scene.atmosphere.name}")
     console.print(f"  sun: zenith {sun.zenith:.2f}°, azimuth {sun.azimuth:.2f}°, "
                   f"{sun.distance:.5f} AU")

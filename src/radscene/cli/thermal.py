@@ -34,6 +34,7 @@ def thermal(
                             "scene's time."),
     step: str = typer.Option(None, "--step", help="Time step, e.g. 60s or 10 min; default thermal.step."),
     plots: bool = typer.Option(True, help="Write the diurnal curves and temperature maps beside the file."),
+    overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing OUTPUT."),
 ):
     """Solve the heat balance of SCENE_FILE and write the temperatures and flux terms per element
     and time (CF NetCDF), with PNGs of the diurnal curves and of the terrain's temperature."""
@@ -51,6 +52,9 @@ def thermal(
         raise ConfigError(f"must be > 0; got {step!r}", key="--step")
     if output.suffix.lower() != ".nc":
         raise ConfigError(f"give a .nc file; got {output}", key="--output")
+    from radscene.io.files import check_output_file
+
+    check_output_file(output, overwrite)
     scene = load_scene(scene_file)
     with Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
                   TimeElapsedColumn(), console=err_console, transient=True) as bar:

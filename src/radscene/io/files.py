@@ -7,7 +7,9 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_output"]
+from radscene.errors import ConfigError
+
+__all__ = ["atomic_output", "check_output_folder", "check_output_file"]
 
 
 def _umask() -> int:
@@ -36,3 +38,63 @@ def atomic_output(path, suffix=".tmp"):
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def _writable_parent(path: Path, key: str) -> None:
+    """Refuse ``path`` when a parent is a file or the nearest existing folder is not writable."""
+    for parent in path.absolute().parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise ConfigError(f"{parent} is a file, so {path} cannot be created under it",
+                                  key=key)
+            if not os.access(parent, os.W_OK | os.X_OK):
+                raise ConfigError(f"cannot write {path}: {parent} is not writable", key=key)
+            return
+
+
+def check_output_folder(folder, files=(), overwrite: bool = False, key: str = "--output") -> None:
+    """Check before any work that results can be written into ``folder``.
+
+    Parameters
+    ----------
+    folder : path
+        The output folder; it may not exist yet.
+    files : iterable of str
+        Names of the files the run will write there; any that exists is refused unless
+        ``overwrite``.
+    overwrite : bool
+    key : str
+        What the error names (the command-line option).
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        When ``folder`` is a file, lies under a file, cannot be created or written, or holds
+        one of ``files`` and ``overwrite`` is false.
+    """
+    folder = Path(folder)
+    if folder.exists():
+        if not folder.is_dir():
+            raise ConfigError(f"{folder} is a file; give a folder", key=key)
+        if not os.access(folder, os.W_OK | os.X_OK):
+            raise ConfigError(f"cannot write into {folder}: not writable", key=key)
+    else:
+        _writable_parent(folder, key)
+    existing = sorted(name for name in files if (folder / name).exists())
+    if existing and not overwrite:
+        raise ConfigError(f"{folder} already holds {', '.join(existing)}; give --overwrite to "
+                          "replace them or another folder", key=key)
+
+
+def check_output_file(path, overwrite: bool = False, key: str = "--output") -> None:
+    """As :func:`check_output_folder` for a single output file ``path``."""
+    path = Path(path)
+    if path.exists():
+        if path.is_dir():
+            raise ConfigError(f"{path} is a folder; give a file name", key=key)
+        if not overwrite:
+            raise ConfigError(f"{path} exists; give --overwrite to replace it", key=key)
+        if not os.access(path.parent, os.W_OK | os.X_OK):
+            raise ConfigError(f"cannot write {path}: {path.parent} is not writable", key=key)
+    else:
+        _writable_parent(path, key)

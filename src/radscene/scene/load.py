@@ -180,7 +180,8 @@ def read_scene_file(path: str | Path) -> dict:
     return data
 
 
-def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) -> Scene:
+def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
+               max_memory=None, confine: bool = False) -> Scene:
     """Load and validate a scene.
 
     Parameters
@@ -190,6 +191,13 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) ->
     base_dir : str or pathlib.Path, optional
         Folder that relative file names are resolved against; by default the scene file's
         folder (or the working directory for a dict).
+    max_memory : float or str, optional
+        The memory a render may need [bytes, or e.g. ``"8 GB"``]: a scene whose estimate
+        (:mod:`radscene.scene.memory`) exceeds it is refused before anything is built; default
+        ``render.max_memory``, else the machine's memory.
+    confine : bool
+        Read no file outside the scene's folder (``base_dir``): for scene files of unknown
+        origin (:mod:`radscene.scene.confine`).
 
     Returns
     -------
@@ -211,10 +219,17 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None) ->
             f"a scene is a file path or a mapping, not a {type(source).__name__}", key="scene"
         )
     base = Path(base_dir) if base_dir is not None else (path.parent if path else Path.cwd())
+    if confine and isinstance(data, dict):
+        from radscene.scene.confine import check_confined
+
+        check_confined(data, base)
     try:
         spec = schema.SceneSpec.model_validate(data)
     except ValidationError as err:
         raise _validation_error(err) from None
+    from radscene.scene.memory import check_memory, parse_memory
+
+    check_memory(spec, None if max_memory is None else parse_memory(max_memory, "--max-memory"))
     return _Resolver(spec, base, path).resolve()
 
 

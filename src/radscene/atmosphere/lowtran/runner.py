@@ -171,6 +171,12 @@ def find_executable(executable: str | Path | None = None) -> Path:
         if not (path.is_file() and os.access(path, os.X_OK)):
             raise ConfigError(f"not an executable file: {path}", key="executable")
         return path
+    env = os.environ.get("RADSCENE_LOWTRAN")
+    if env:  # a path the user named is used or refused, never passed over for another build
+        path = Path(env).expanduser()
+        if not (path.is_file() and os.access(path, os.X_OK)):
+            raise ConfigError(f"not an executable file: {path}", key="RADSCENE_LOWTRAN")
+        return path
     tried = candidate_executable_paths()
     for path in tried:
         if path.is_file() and os.access(path, os.X_OK):

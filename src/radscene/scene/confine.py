@@ -1,0 +1,59 @@
+"""Confinement of an untrusted scene file to its own folder.
+
+With ``confine`` (``load_scene(..., confine=True)``, ``radscene render/check --confine``)
+every file a scene names — under a ``file`` or ``temperature_map`` key, or any string that
+ends in a data file's extension — must resolve, symbolic links followed, inside the scene's
+folder; anything else is refused before a byte of it is read, naming the key.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from radscene.errors import ConfigError
+
+__all__ = ["check_confined", "FILE_KEYS", "FILE_SUFFIXES"]
+
+#: Keys whose string value is a file path.
+FILE_KEYS = frozenset({"file", "temperature_map"})
+#: Extensions of the files a scene may name under other keys.
+FILE_SUFFIXES = (".csv", ".txt", ".dat", ".npy", ".npz", ".tif", ".tiff", ".png", ".jpg",
+                 ".jpeg", ".nc", ".nc4", ".h5", ".obj", ".ply", ".stl", ".glb", ".gltf", ".off",
+                 ".yaml", ".yml", ".json", ".wth", ".hdr", ".img", ".sli", ".srf")
+
+
+def _walk(node, key):
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _walk(v, f"{key}.{k}" if key else str(k))
+            if isinstance(v, str) and str(k) in FILE_KEYS:
+                yield f"{key}.{k}" if key else str(k), v
+    elif isinstance(node, (list, tuple)):
+        for i, v in enumerate(node):
+            yield from _walk(v, f"{key}[{i}]")
+    elif isinstance(node, str) and node.lower().endswith(FILE_SUFFIXES):
+        yield key, node
+
+
+def check_confined(data: dict, base: Path) -> None:
+    """Refuse any file named in the raw scene ``data`` that lies outside ``base``.
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        Naming the key of the first such file.
+    """
+    root = Path(os.path.realpath(base))
+    seen = set()
+    for key, value in _walk(data, ""):
+        if (key, value) in seen:
+            continue
+        seen.add((key, value))
+        path = Path(os.path.expanduser(value))
+        if not path.is_absolute():
+            path = root / path
+        real = Path(os.path.realpath(path))
+        if real != root and root not in real.parents:
+            raise ConfigError(f"{value!r} lies outside the scene's folder {root}, which "
+                              "--confine does not allow", key=key)

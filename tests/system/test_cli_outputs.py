@@ -1,0 +1,100 @@
+"""The output of ``radscene render`` and ``radscene thermal`` is checked before any work: a
+file, a folder under a file, a folder that cannot be written and earlier results (without
+--overwrite) are refused with one line naming --output, exit code 2."""
+
+from __future__ import annotations
+
+import os
+import textwrap
+import time
+
+import pytest
+from typer.testing import CliRunner
+
+from radscene.cli import app
+
+GOOD = textwrap.dedent("""
+    name: tiny
+    environment:
+      sun: {zenith: 30 deg, azimuth: 180 deg}
+      atmosphere: {type: none}
+    materials:
+      paint: {reflectance: 0.4}
+    objects:
+      - {name: plate, shape: {type: plate, width: 50 m, length: 50 m}, material: paint,
+         temperature: 300 K}
+    bands:
+      - {name: vis, min: 0.5 um, max: 0.6 um}
+    observers:
+      - {name: nadir, type: orthographic, center: [0, 0], gsd: 1 m, shape: [4, 4]}
+""")
+
+runner = CliRunner()
+
+
+def _render(tmp_path, out, *extra):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(GOOD)
+    return runner.invoke(app, ["render", str(scene), "-o", str(out), *extra])
+
+
+def _refused(result, words):
+    assert result.exit_code == 2, result.output
+    lines = [ln for ln in result.output.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "--output" in lines[0] and words in lines[0], result.output
+
+
+def test_an_output_that_is_a_file_is_refused(tmp_path):
+    target = tmp_path / "taken"
+    target.write_text("x")
+    _refused(_render(tmp_path, target), "is a file")
+    assert target.read_text() == "x"
+
+
+def test_an_output_under_a_file_is_refused(tmp_path):
+    (tmp_path / "taken").write_text("x")
+    _refused(_render(tmp_path, tmp_path / "taken" / "out"), "is a file")
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
+def test_an_output_that_cannot_be_written_is_refused(tmp_path):
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        _refused(_render(tmp_path, locked / "out"), "not writable")
+    finally:
+        locked.chmod(0o700)
+
+
+def test_earlier_results_are_kept_unless_overwrite(tmp_path):
+    out = tmp_path / "out"
+    assert _render(tmp_path, out).exit_code == 0
+    first = (out / "nadir.nc").stat().st_mtime_ns
+    started = time.perf_counter()
+    _refused(_render(tmp_path, out), "nadir.nc")
+    assert time.perf_counter() - started < 5.0  # refused before rendering
+    assert (out / "nadir.nc").stat().st_mtime_ns == first
+    again = _render(tmp_path, out, "--overwrite")
+    assert again.exit_code == 0, again.output
+    assert (out / "nadir.nc").stat().st_mtime_ns != first
+
+
+def test_another_observer_into_the_same_folder_is_not_an_overwrite(tmp_path):
+    out = tmp_path / "out"
+    (out).mkdir()
+    (out / "other.nc").write_text("x")
+    assert _render(tmp_path, out).exit_code == 0
+
+
+def test_thermal_output_checked_before_work(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(GOOD)
+    folder = tmp_path / "a_folder.nc"
+    folder.mkdir()
+    result = runner.invoke(app, ["thermal", str(scene), "-o", str(folder)])
+    _refused(result, "is a folder")
+    existing = tmp_path / "t.nc"
+    existing.write_text("x")
+    _refused(runner.invoke(app, ["thermal", str(scene), "-o", str(existing)]), "exists")
+    assert existing.read_text() == "x"
