@@ -22,9 +22,10 @@ from radscene.pipeline import (  # noqa: E402
     solve_thermal,
 )
 from radscene.scene import load_scene  # noqa: E402
+from radscene.simulation import Simulation, render_sequence  # noqa: E402
 
 __all__ = ["__version__", "load_scene", "render", "render_all", "render_hyperspectral", "simulate", "solve_thermal",
-           "example_path", "write_netcdf"]
+           "Simulation", "render_sequence", "example_path", "write_netcdf"]
 
 
 def example_path(name: str) -> Path:

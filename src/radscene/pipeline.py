@@ -12,7 +12,7 @@ from radscene.render import render as _render_observer
 from radscene.render import render_all as _render_all
 
 __all__ = ["as_scene", "render", "render_all", "render_hyperspectral", "spectral_passes", "simulate",
-           "solve_thermal", "thermal_active", "apply_thermal"]
+           "solve_thermal", "thermal_active", "apply_thermal", "record_signal"]
 
 #: Bands whose response reaches beyond this wavelength make the heat balance run by default [um].
 THERMAL_FROM = 2.5
@@ -443,8 +443,14 @@ def simulate(scene, observer: str | None = None, *, progress=None
     images = render(scene, setup.name, progress=progress)
     if setup.sensor is None or setup.spectral is not None:
         return images, None
+    return images, record_signal(scene, setup, images)
+
+
+def record_signal(scene, setup, images, seed=None) -> xr.Dataset:
+    """The signal of an observer's sensor (``setup.sensor``) recording a render ``images``,
+    with the scene's seed unless ``seed`` is given."""
     responses = {b.name: b.response for b in scene.bands if b.name in setup.bands}
-    signal = setup.sensor.apply(images, frames=setup.frames, seed=scene.settings.seed,
-                                responses=responses)
+    signal = setup.sensor.apply(images, frames=setup.frames,
+                                seed=scene.settings.seed if seed is None else seed, responses=responses)
     signal.attrs.update({"scene": scene.name, "observer": setup.name})
-    return images, signal
+    return signal

@@ -81,6 +81,59 @@ def main(
     """radscene: radiometric EO/IR scene and sensor simulation."""
 
 
+def _instant(value, key):
+    """A timezone-aware datetime from an ISO 8601 string (None stays None)."""
+    import datetime as _dt
+
+    if value is None:
+        return None
+    try:
+        when = _dt.datetime.fromisoformat(value)
+    except ValueError:
+        raise ConfigError(f"an ISO 8601 time such as 2026-06-21T10:00:00Z, not {value!r}", key=key) from None
+    if when.tzinfo is None:
+        raise ConfigError(f"a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z', not {value!r}",
+                          key=key)
+    return when
+
+
+def _render_sequence(scene, names, output, start, end, step, quicklooks):
+    """``radscene render`` of a sequence: every frame rendered, then one file per observer (and
+    with quicklooks a GIF per band)."""
+    from radscene.io import band_animations, write_netcdf
+    from radscene.simulation import render_sequence
+
+    started = time.perf_counter()
+    given = {"time.start": start, "time.end": end, "time.step": step}
+    try:
+        span = scene.spec.time
+        start = _instant(start, "--start") or (span.start if span else None)
+        end = _instant(end, "--end") or (span.end if span else None)
+        step = step if step is not None else (span.step if span else None)
+        with Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
+                      TimeElapsedColumn(), TimeRemainingColumn(), console=err_console, transient=False) as bar:
+            task = bar.add_task("frames", total=None)
+
+            def progress(done, total):
+                bar.update(task, completed=done, total=total)
+
+            sequences = render_sequence(scene, start=start, end=end, step=step, observers=names,
+                                        progress=progress)
+    except (ConfigError, EngineError) as err:
+        if isinstance(err, ConfigError) and given.get(err.key) is not None:  # the command line's
+            err = ConfigError(err.message, key=err.key.replace("time.", "--"))
+        _fail(err)
+    for name, ds in sequences.radiance.items():
+        path = write_netcdf(ds, output / f"{name}_sequence.nc")
+        console.print(f"{name}: {ds.sizes['time']} frames -> {path}")
+        if name in sequences.signal:
+            console.print(f"{name}: {write_netcdf(sequences.signal[name], output / f'{name}_signal_sequence.nc')}")
+        if quicklooks and "band" in ds.dims:
+            for gif in band_animations(ds, output / f"{name}_sequence"):
+                console.print(f"{name}: {gif}")
+    console.print(f"{scene.name}: {len(sequences.radiance)} observer(s) in {time.perf_counter() - started:.1f} s")
+
+
 @app.command()
 def render(
     scene_file: Path = typer.Argument(..., help="Scene YAML file."),
@@ -98,13 +151,19 @@ def render(
     resume: bool = typer.Option(False, "--resume",
                                 help="Finish a run that stopped midway in OUTPUT: render only "
                                      "the observers it had not written."),
+    start: str = typer.Option(None, "--start", help="A sequence's first frame, e.g. 2026-06-21T10:00:00Z."),
+    end: str = typer.Option(None, "--end", help="A sequence's last instant."),
+    step: str = typer.Option(None, "--step", help="A sequence's step, e.g. '40 ms' or '10 min'."),
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
     with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. OUTPUT is
     checked before any work: a file, a folder under a file or one that cannot be written is
     refused, and so are earlier results in it unless --overwrite. While the run lasts OUTPUT
     holds a marker (.radscene-incomplete.json) listing the observers finished; a complete run
-    replaces it with manifest.json (every file, its size and SHA-256)."""
+    replaces it with manifest.json (every file, its size and SHA-256). With a sequence
+    (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per observer
+    with a time axis (NAME_signal_sequence.nc for a sensor's), and with quicklooks
+    NAME_sequence/BAND.gif, written after the last frame."""
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
     from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
@@ -115,11 +174,18 @@ def render(
         names = observer or [o.name for o in scene.observers]
         for name in names:
             scene.observer(name)
-        done = run_record.finished(output, scene_file) if resume else []
-        todo = [n for n in names if n not in done]
-        check_output_folder(output, _result_files(scene, todo), overwrite or resume)
+        if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
+            check_output_folder(output, _sequence_files(scene, names), overwrite)
+            sequence = True
+        else:
+            sequence = False
+            done = run_record.finished(output, scene_file) if resume else []
+            todo = [n for n in names if n not in done]
+            check_output_folder(output, _result_files(scene, todo), overwrite or resume)
     except (ConfigError, EngineError) as err:
         _fail(err)
+    if sequence:
+        return _render_sequence(scene, names, output, start, end, step, quicklooks)
     started = time.perf_counter()
     results, spectral, written = {}, {}, []
     with run_record.RunRecord(output, scene_file, names, done) as record:
@@ -205,6 +271,11 @@ def _summary(scene, results, spectral, written, output, started):
     for name, text in spectral.items():
         console.print(f"{name}: {text}")
     console.print(f"wrote {len(written)} files under {output}/")
+
+
+def _sequence_files(scene, names) -> list[str]:
+    """The data files ``radscene render`` writes for a sequence of these observers."""
+    return [f for name in names for f in (f"{name}_sequence.nc", f"{name}_signal_sequence.nc")]
 
 
 def _result_files(scene, names) -> list[str]:

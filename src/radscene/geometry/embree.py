@@ -44,7 +44,10 @@ _RTC_BUFFER_TYPE_INDEX = 0
 _RTC_BUFFER_TYPE_VERTEX = 1
 _RTC_FORMAT_UINT3 = 0x5003
 _RTC_FORMAT_FLOAT3 = 0x9003
+_RTC_SCENE_FLAG_DYNAMIC = 1 << 0
 _RTC_SCENE_FLAG_ROBUST = 1 << 2
+_RTC_BUILD_QUALITY_LOW = 0
+_RTC_BUILD_QUALITY_REFIT = 3
 _RTC_ERROR_NONE = 0
 
 _PTR = ctypes.c_size_t  # pointers and handles travel as 64-bit integers
@@ -80,12 +83,15 @@ def _library():
                 "rtcNewScene": (_PTR, [_PTR]),
                 "rtcSetSceneFlags": (None, [_PTR, ctypes.c_int]),
                 "rtcCommitScene": (None, [_PTR]),
+                "rtcSetSceneBuildQuality": (None, [_PTR, ctypes.c_int]),
                 "rtcReleaseScene": (None, [_PTR]),
                 "rtcNewGeometry": (_PTR, [_PTR, ctypes.c_int]),
                 "rtcSetSharedGeometryBuffer": (None, [_PTR, ctypes.c_int, ctypes.c_uint,
                                                       ctypes.c_int, _PTR, ctypes.c_size_t,
                                                       ctypes.c_size_t, ctypes.c_size_t]),
                 "rtcCommitGeometry": (None, [_PTR]),
+                "rtcUpdateGeometryBuffer": (None, [_PTR, ctypes.c_int, ctypes.c_uint]),
+                "rtcSetGeometryBuildQuality": (None, [_PTR, ctypes.c_int]),
                 "rtcAttachGeometry": (ctypes.c_uint, [_PTR, _PTR]),
                 "rtcReleaseGeometry": (None, [_PTR]),
                 "rtcOccluded8": (None, [_PTR, _PTR, _PTR, _PTR]),
@@ -122,6 +128,15 @@ class PacketScene:
         Each mesh's triangles; geometry ``k`` is mesh ``k``.
     robust : bool
         Embree's watertight ray-triangle test.
+    dynamic : bool
+        Build for geometry that moves, so that moving one mesh does not rebuild the others;
+        default False. The scene gets the dynamic flag and the low build quality, under which
+        Embree builds a BVH per mesh and a top-level one over them (its two-level builder),
+        and each mesh the refit quality, so that :meth:`update` refits the moved mesh and
+        rebuilds the top level only. The flag alone does not select that builder: on a
+        977 202-triangle terrain and a 12-triangle box, moving the box cost 0.28 s (a full
+        rebuild) with it and 0.2 ms with the low quality added, and 2 M rays took the same
+        time (1.01 s against 1.07 s static) — Embree 4 from the embreex wheel, 2 cores.
 
     Attributes
     ----------
@@ -132,11 +147,14 @@ class PacketScene:
         rayhit, args)``.
     """
 
-    def __init__(self, vertices, faces, robust: bool = True):
+    def __init__(self, vertices, faces, robust: bool = True, dynamic: bool = False):
         found = _library()
         if found is None:
             raise RuntimeError("Embree's packet queries are not available here")
         lib, self.occluded8, self.intersect8 = found
+        self._lib = lib
+        self._vertices = []  # per mesh: the float32 vertex buffer Embree reads (None: no faces)
+        self._geometries = []  # per mesh: the attached RTCGeometry (0: no faces)
         device = lib.rtcNewDevice(None)
         if not device:
             raise RuntimeError("Embree could not make a device")
@@ -144,26 +162,75 @@ class PacketScene:
         self._buffers = []  # Embree reads the arrays in place: they live as long as the scene
         self._finalizer = weakref.finalize(self, _release, lib, scene, device, self._buffers)
         for v, f in zip(vertices, faces, strict=True):
-            v = np.ascontiguousarray(v, dtype=np.float32)
+            v = np.array(v, dtype=np.float32, order="C")  # a copy: update() writes into it
             f = np.ascontiguousarray(f, dtype=np.uint32)
             if len(f) == 0:
+                self._vertices.append(None)
+                self._geometries.append(0)
                 continue
             self._buffers += [v, f]
             geometry = lib.rtcNewGeometry(device, _RTC_GEOMETRY_TYPE_TRIANGLE)
+            if dynamic:
+                lib.rtcSetGeometryBuildQuality(geometry, _RTC_BUILD_QUALITY_REFIT)
             lib.rtcSetSharedGeometryBuffer(geometry, _RTC_BUFFER_TYPE_VERTEX, 0,
                                            _RTC_FORMAT_FLOAT3, v.ctypes.data, 0, 12, len(v))
             lib.rtcSetSharedGeometryBuffer(geometry, _RTC_BUFFER_TYPE_INDEX, 0,
                                            _RTC_FORMAT_UINT3, f.ctypes.data, 0, 12, len(f))
             lib.rtcCommitGeometry(geometry)
             lib.rtcAttachGeometry(scene, geometry)
-            lib.rtcReleaseGeometry(geometry)
-        lib.rtcSetSceneFlags(scene, _RTC_SCENE_FLAG_ROBUST if robust else 0)
+            lib.rtcReleaseGeometry(geometry)  # the scene holds it while attached
+            self._vertices.append(v)
+            self._geometries.append(geometry)
+        self._device = device
+        lib.rtcSetSceneFlags(scene, (_RTC_SCENE_FLAG_ROBUST if robust else 0)
+                             | (_RTC_SCENE_FLAG_DYNAMIC if dynamic else 0))
+        if dynamic:
+            lib.rtcSetSceneBuildQuality(scene, _RTC_BUILD_QUALITY_LOW)
         lib.rtcCommitScene(scene)
         error = lib.rtcGetDeviceError(device)
         if error != _RTC_ERROR_NONE:
             self._finalizer()
             raise RuntimeError(f"Embree failed to build the scene (error code {error})")
         self.handle = int(scene)
+
+    def update(self, index: int, vertices) -> None:
+        """Move the vertices of mesh ``index`` (same count, same triangles) and commit.
+
+        Only that mesh's BVH is refitted, and the top level rebuilt, when the scene was built
+        ``dynamic``; otherwise Embree rebuilds the whole scene's. Not to be called during a query.
+
+        Parameters
+        ----------
+        index : int
+            The mesh, in the order given to the constructor.
+        vertices : (V, 3) array_like
+            The new vertices in the scene's frame [m].
+        """
+        buffer = self._vertices[index]
+        if buffer is None:
+            raise ValueError(f"mesh {index} has no faces: there is nothing to move")
+        new = np.asarray(vertices, dtype=np.float32)
+        if new.shape != buffer.shape:
+            raise ValueError(f"mesh {index} has {buffer.shape[0]} vertices; got an array of "
+                             f"shape {new.shape}")
+        buffer[...] = new
+        geometry = self._geometries[index]
+        self._lib.rtcUpdateGeometryBuffer(geometry, _RTC_BUFFER_TYPE_VERTEX, 0)
+        self._lib.rtcCommitGeometry(geometry)
+        self._lib.rtcCommitScene(self.handle)
+        error = self._lib.rtcGetDeviceError(self._device)
+        if error != _RTC_ERROR_NONE:
+            raise RuntimeError(f"Embree failed to update mesh {index} (error code {error})")
+
+    def occluded_within(self, origins, directions, t_max) -> np.ndarray:
+        """As :meth:`occluded`, looking along each ray only up to ``t_max`` (N,) float32 [m]."""
+        o = np.ascontiguousarray(origins, dtype=np.float32)
+        d = np.ascontiguousarray(directions, dtype=np.float32)
+        t = np.ascontiguousarray(t_max, dtype=np.float32)
+        out = np.zeros(len(o), dtype=bool)
+        if len(o):
+            _occluded_rays_within(self.occluded8, self.handle, o, d, t, out)
+        return out
 
     def close(self) -> None:
         """Release the Embree scene now (also done when the object is garbage-collected)."""
@@ -267,10 +334,32 @@ def _occluded_rays(occluded8, scene, origins, directions, out):
                     out[start + lane] = ray[8 * LANES + lane] < 0.0
 
 
+@numba.njit(parallel=True, cache=True)
+def _occluded_rays_within(occluded8, scene, origins, directions, t_max, out):
+    n = origins.shape[0]
+    for c in numba.prange((n + _RAY_CHUNK - 1) // _RAY_CHUNK):
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
+        for start in range(c * _RAY_CHUNK, min(n, (c + 1) * _RAY_CHUNK), LANES):
+            for lane in range(LANES):
+                k = start + lane
+                if k >= n:
+                    valid[lane] = 0
+                    continue
+                valid[lane] = -1
+                set_lane(ray, words, lane, origins[k, 0], origins[k, 1], origins[k, 2],
+                         directions[k, 0], directions[k, 1], directions[k, 2])
+                ray[8 * LANES + lane] = t_max[k]
+            occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
+            for lane in range(LANES):
+                if valid[lane] != 0:
+                    out[start + lane] = ray[8 * LANES + lane] < 0.0
+
+
 _lock = threading.Lock()
 
 
-def packet_scene(owner, vertices, faces, robust: bool = True) -> PacketScene | None:
+def packet_scene(owner, vertices, faces, robust: bool = True,
+                 dynamic: bool = False) -> PacketScene | None:
     """``owner``'s packet scene, built on first use and kept on it (as ``_packet_scene``);
     None where packets are not available here."""
     if not packets_available():
@@ -278,7 +367,7 @@ def packet_scene(owner, vertices, faces, robust: bool = True) -> PacketScene | N
     with _lock:
         scene = getattr(owner, "_packet_scene", None)
         if scene is None:
-            scene = PacketScene(vertices(), faces(), robust)
+            scene = PacketScene(vertices(), faces(), robust, dynamic)
             owner._packet_scene = scene
     return scene
 

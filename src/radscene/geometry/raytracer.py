@@ -216,6 +216,10 @@ class RayTracer:
         Trace intersections, occlusion queries and secondary-ray fans as Embree packets of
         eight where the library allows it (:mod:`radscene.geometry.embree`; same answers);
         default True.
+    dynamic : bool
+        Geometry that will move (:meth:`update`): where packets are available every query
+        goes to one Embree scene built for motion, a BVH per mesh under a top-level one, so
+        that moving a mesh refits that mesh's alone; default False.
 
     Examples
     --------
@@ -226,9 +230,7 @@ class RayTracer:
     """
 
     def __init__(self, meshes: Sequence[Mesh], robust: bool = True, chunk_size: int = 65536,
-                 threads: int | None = None, packets: bool = True):
-        from embreex import mesh_construction, rtcore_scene
-
+                 threads: int | None = None, packets: bool = True, dynamic: bool = False):
         meshes = list(meshes)
         for k, m in enumerate(meshes):
             if not isinstance(m, Mesh):
@@ -241,11 +243,13 @@ class RayTracer:
         self.threads = int(threads) if threads else (os.cpu_count() or 1)
         self.robust = bool(robust)
         self.use_packets = bool(packets)
+        self.dynamic = bool(dynamic)
 
         filled = [k for k, m in enumerate(meshes) if len(m.faces)]
+        self._mesh_bounds = {k: meshes[k].bounds for k in filled}  # kept: update() is O(moved)
         if filled:
-            lo = np.min([meshes[k].bounds[0] for k in filled], axis=0)
-            hi = np.max([meshes[k].bounds[1] for k in filled], axis=0)
+            lo = np.min([self._mesh_bounds[k][0] for k in filled], axis=0)
+            hi = np.max([self._mesh_bounds[k][1] for k in filled], axis=0)
         else:
             lo = hi = np.zeros(3)
         self._bounds = (lo, hi)
@@ -255,19 +259,89 @@ class RayTracer:
         margin = 1e-5 * float(np.linalg.norm(hi - lo)) + 1e-3
         self._half = 0.5 * (hi - lo) + margin
 
-        self._scene = rtcore_scene.EmbreeScene(robust=self.robust)
         # geomID -> object index, and object -> offset of its faces in the stacked normals.
         self._object_of_geom = np.array(filled, dtype=np.int32)
         face_counts = np.array([len(m.faces) for m in meshes], dtype=np.int64)
         self._face_offset = np.concatenate([[0], np.cumsum(face_counts)[:-1]]).astype(np.int64)
         normals = [m.face_normals for m in meshes]
         self._normals = np.concatenate(normals) if normals else np.zeros((0, 3))
-        for k in filled:
-            local = (meshes[k].vertices - self._center).astype(np.float32)
-            mesh_construction.TriangleMesh(self._scene, local, meshes[k].faces.astype(np.int32))
         self._empty = not filled
+        self._embreex = None
+        if not (self.dynamic and self.packets is not None):
+            self._embreex = self._build_embreex()
+
+    def _build_embreex(self):
+        """The embreex scene of the meshes as they are now, committed."""
+        from embreex import mesh_construction, rtcore_scene
+
+        scene = rtcore_scene.EmbreeScene(robust=self.robust)
+        for m in self.meshes:
+            if len(m.faces):
+                local = (m.vertices - self._center).astype(np.float32)
+                mesh_construction.TriangleMesh(scene, local, m.faces.astype(np.int32))
         if not self._empty:  # embreex commits the scene on its first query: do it here, once
-            self._scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32))
+            scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32))
+        return scene
+
+    @property
+    def _scene(self):
+        """The embreex scene (built on first use after :meth:`update` moved a mesh)."""
+        if self._embreex is None:
+            self._embreex = self._build_embreex()
+        return self._embreex
+
+    def update(self, index: int, mesh: Mesh) -> None:
+        """Replace mesh ``index`` by a moved copy of it: the same faces, new vertices.
+
+        The other meshes are not touched: in a ``dynamic`` tracer with packets, Embree refits
+        the moved mesh's BVH and the top level only; otherwise the embreex scene is rebuilt
+        on its next query. The box rays are clipped to grows (about the same centre) to hold
+        the moved mesh.
+
+        Parameters
+        ----------
+        index : int
+            The mesh, its place in the list given to the constructor.
+        mesh : Mesh
+            Its new geometry, world frame [m]; same number of vertices and the same faces.
+
+        Raises
+        ------
+        ConfigError
+            An unknown index, or a mesh whose vertices or faces differ in number or order.
+        """
+        if not 0 <= int(index) < len(self.meshes):
+            raise ConfigError(f"no mesh {index}; the tracer holds {len(self.meshes)}",
+                              key="index")
+        index = int(index)
+        old = self.meshes[index]
+        if not isinstance(mesh, Mesh):
+            raise ConfigError(f"must be a radscene Mesh, got {type(mesh).__name__}", key="mesh")
+        if mesh.vertices.shape != old.vertices.shape or not np.array_equal(mesh.faces, old.faces):
+            raise ConfigError(f"mesh {index} must keep its {len(old.vertices)} vertices and "
+                              f"{len(old.faces)} faces to be moved; got {len(mesh.vertices)} and "
+                              f"{len(mesh.faces)}", key="mesh")
+        if not np.isfinite(mesh.vertices).all():
+            raise ConfigError("vertices must be finite", key="mesh")
+        meshes = list(self.meshes)
+        meshes[index] = mesh
+        self.meshes = tuple(meshes)
+        if not len(mesh.faces):
+            return
+        start = self._face_offset[index]
+        self._normals[start:start + len(mesh.faces)] = mesh.face_normals
+        self._mesh_bounds[index] = mesh.bounds
+        self._bounds = (np.min([b[0] for b in self._mesh_bounds.values()], axis=0),
+                        np.max([b[1] for b in self._mesh_bounds.values()], axis=0))
+        reach = np.maximum(np.abs(self._bounds[0] - self._center),
+                           np.abs(self._bounds[1] - self._center))
+        margin = 1e-5 * float(np.linalg.norm(2 * reach)) + 1e-3
+        self._half = np.maximum(self._half, reach + margin)
+        packets = getattr(self, "_packet_scene", None)
+        if packets is not None:
+            geometry = int(np.searchsorted(self._object_of_geom, index))
+            packets.update(geometry, mesh.vertices - self._center)
+        self._embreex = None
 
     @property
     def packets(self):
@@ -281,7 +355,7 @@ class RayTracer:
         filled = [m for m in self.meshes if len(m.faces)]
         return embree.packet_scene(
             self, lambda: [(m.vertices - self._center).astype(np.float32) for m in filled],
-            lambda: [m.faces for m in filled], self.robust)
+            lambda: [m.faces for m in filled], self.robust, self.dynamic)
 
     def __repr__(self) -> str:
         return (f"RayTracer({len(self.meshes)} meshes, "
@@ -458,6 +532,12 @@ class RayTracer:
                 raise ConfigError(f"must be >= 0 (inf allowed) [m], {int(bad.sum())} are not, "
                                   f"first is ray {int(np.argmax(bad))}", key="t_max")
         out = np.zeros(n, dtype=bool)
+        packets = self.packets if self._embreex is None else None
+        if packets is not None:  # a dynamic scene: packets on numba's threads, no embreex copy
+            traced, t_in, t_end, start, direction = self._starts(o, d, t_max)
+            if len(traced):
+                out[traced] = packets.occluded_within(start, direction, t_end - t_in)
+            return out
 
         def work(sl):
             traced, t_in, t_end, start, direction = self._starts(o[sl], d[sl], t_max[sl])

@@ -70,13 +70,14 @@ THERMAL_BAND_START = 2.5
 
 
 class _SceneTables:
-    """Per-scene data shared by all observers: the ray tracer and per-face lookups."""
+    """Per-scene data shared by all observers: the ray tracer and per-face lookups (``tracer``:
+    one already built of the objects' meshes, kept)."""
 
-    def __init__(self, scene):
+    def __init__(self, scene, tracer=None):
         from radscene.geometry import RayTracer
 
         self.scene = scene
-        self.tracer = RayTracer([obj.mesh for obj in scene.objects])
+        self.tracer = RayTracer([obj.mesh for obj in scene.objects]) if tracer is None else tracer
         sizes = [len(obj.face_material) for obj in scene.objects]
         self.face_offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
         self.face_material = np.concatenate([obj.face_material for obj in scene.objects])
@@ -784,11 +785,12 @@ def _coupling_pass(scene, bset, acc, coverage, rays, hits, labelled, hit_rank, p
     return out
 
 
-def scene_tables(scene) -> _SceneTables:
-    """The ray tracer and per-face tables of a scene, built once and kept with the scene."""
+def scene_tables(scene, tracer=None) -> _SceneTables:
+    """The ray tracer and per-face tables of a scene, built once and kept with the scene;
+    given a ``tracer`` (of the objects' meshes as they are), built anew around it."""
     cached = scene.render_cache.get("tables")
-    if cached is None:
-        cached = scene.render_cache["tables"] = _SceneTables(scene)
+    if cached is None or tracer is not None:
+        cached = scene.render_cache["tables"] = _SceneTables(scene, tracer)
     return cached
 
 

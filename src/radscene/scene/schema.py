@@ -284,6 +284,22 @@ class MeshShape(_Model):
 Shape = Annotated[BoxShape | CylinderShape | PlateShape | MeshShape, Field(discriminator="type")]
 
 
+class TrajectorySpec(_Model):
+    """Waypoints ``[t, x, y, z]`` (t [s] from the start of the simulation or sequence; x, y, z
+    [m] as ``position``, z above the terrain when ``on_ground``), followed in straight lines."""
+
+    waypoints: list[tuple[Annotated[float, _quantity("time")], Length, Length, Length]] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _increasing(self):
+        times = [w[0] for w in self.waypoints]
+        for k in range(1, len(times)):
+            if not times[k] > times[k - 1]:
+                raise ValueError(f"waypoints[{k}]: t = {times[k]:g} s does not follow t = {times[k - 1]:g} s "
+                                 "of the waypoint before; times must increase")
+        return self
+
+
 class ObjectSpec(_Model):
     """An object placed in the scene."""
 
@@ -294,6 +310,7 @@ class ObjectSpec(_Model):
         True, description="z of position is height above the terrain at (x, y), not altitude"
     )
     rotation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
+    trajectory: TrajectorySpec | None = Field(None, description="waypoints the object follows in time")
     material: str
     temperature: Temperature | None = Field(
         None, description="a fixed surface temperature [K]; default: solved by the heat balance "
@@ -575,6 +592,28 @@ class ThermalSpec(_Model):
         return value
 
 
+class TimeSpan(_Model):
+    """A sequence of frames: every ``step`` from ``start`` to ``end`` (both included when the
+    steps land on it)."""
+
+    start: _dt.datetime
+    end: _dt.datetime
+    step: Duration
+
+    @field_validator("start", "end")
+    @classmethod
+    def _aware(cls, value):
+        if value.tzinfo is None:
+            raise ValueError("a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z'")
+        return value
+
+    @model_validator(mode="after")
+    def _ordered(self):
+        if self.end < self.start:
+            raise ValueError(f"end {self.end.isoformat()} lies before start {self.start.isoformat()}")
+        return self
+
+
 class SceneSpec(_Model):
     """The whole scene file."""
 
@@ -598,6 +637,7 @@ class SceneSpec(_Model):
     observers: list[Observer] = Field(min_length=1)
     render: RenderSettings = RenderSettings()
     thermal: ThermalSpec = ThermalSpec()
+    time: TimeSpan | None = Field(None, description="a frame sequence: {start, end, step}")
 
     @model_validator(mode="after")
     def _unique_names(self):

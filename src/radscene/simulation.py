@@ -1,0 +1,489 @@
+"""A scene stepped through time: the step API for closed loops, and frame sequences.
+
+:class:`Simulation` holds a loaded scene and its clock. :meth:`Simulation.step` advances the
+clock, then renders every observer at the new instant — the sun from the ephemeris at that
+time, the atmosphere set up for that sun, the surfaces at the heat balance's temperatures of
+that instant when the heat balance runs, scanners on their trajectories from that instant — and
+returns a :class:`Frame`. Between steps the caller moves objects and observers with
+:meth:`Simulation.set_pose`; a tracker, a gimbal or a guidance law written by the user closes
+the loop (none is part of radscene).
+
+The ray tracer is built once, for moving geometry (``RayTracer(dynamic=True)``): moving an
+object writes its new vertices into the tracer and refits that object's acceleration structure
+alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved, not the scene.
+
+Objects with ``trajectory: {waypoints: [[t, x, y, z], ...]}`` in the scene file move in
+straight lines between their waypoints, ``t`` [s] counted from the simulation's start; the
+clock may not leave the waypoints' span (an error names the object), and ``set_pose`` of such
+an object holds only until the next frame.
+
+Limits. The heat balance is solved for the objects where they stood when it was solved
+(once for a span, and again when the clock runs past it): a moved object keeps the solved
+temperatures of its faces, not those of where it went. Terrain does not move.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from radscene.errors import ConfigError
+from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
+
+__all__ = ["Frame", "FrameSequence", "Simulation", "frame_times", "parse_duration", "render_sequence"]
+
+#: Attributes of a render that change from frame to frame: carried along ``time`` as variables
+#: (``frame_<name>``) in a sequence, not as the file's attributes.
+FRAME_ATTRS = ("time", "sun_zenith_deg", "sun_azimuth_deg", "earth_sun_distance_au", "render_seconds",
+               "frame", "elapsed_s", "history")
+#: How far past the clock the heat balance is solved when it must be (again) [s].
+THERMAL_HORIZON = 3600.0
+
+
+def parse_duration(value, key: str = "dt") -> float:
+    """A positive duration in seconds from a number [s] or a string such as ``"40 ms"``.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key``: not a number or a time with a unit, not finite, or not > 0.
+
+    Examples
+    --------
+    >>> parse_duration("40 ms")
+    0.04
+    """
+    from radscene.radiometry.units import parse_quantity
+
+    if isinstance(value, bool) or not isinstance(value, (int, float, str, np.number)):
+        raise ConfigError(f"a duration is a number of seconds or a string such as '40 ms', not "
+                          f"{value!r}", key=key)
+    seconds = float(parse_quantity(value, "time", key=key))
+    if not np.isfinite(seconds) or seconds <= 0:
+        raise ConfigError(f"must be a positive finite duration, got {value!r}", key=key)
+    return seconds
+
+
+def _vector(value, kind: str, key: str) -> np.ndarray:
+    """Three numbers in the canonical unit of ``kind`` (each a number or a string with a unit)."""
+    from radscene.radiometry.units import parse_quantity
+
+    if isinstance(value, (str, bytes)) or np.ndim(value) != 1 or len(value) != 3:
+        raise ConfigError(f"three values, e.g. [x, y, z] or [yaw, pitch, roll]; got {value!r}", key=key)
+    out = np.array([parse_quantity(v, kind, key=f"{key}[{i}]") for i, v in enumerate(value)], float)
+    if not np.isfinite(out).all():
+        raise ConfigError(f"must be finite, got {value!r}", key=key)
+    return out
+
+
+@dataclass
+class Frame:
+    """The images of every observer at one instant.
+
+    Attributes
+    ----------
+    index : int
+        The frame's number, from 1 for the first step.
+    elapsed : float
+        Time since the simulation's start [s].
+    time : datetime or None
+        The instant, timezone-aware (UTC); None for a scene with a fixed sun and no time.
+    radiance : dict of str to xarray.Dataset
+        Per observer the render (:func:`radscene.render`): radiance, terms and truth maps.
+    signal : dict of str to xarray.Dataset
+        Per observer with a sensor its output (:meth:`radscene.sensor.Sensor.apply`).
+    """
+
+    index: int
+    elapsed: float
+    time: _dt.datetime | None
+    radiance: dict[str, xr.Dataset] = field(default_factory=dict)
+    signal: dict[str, xr.Dataset] = field(default_factory=dict)
+
+
+@dataclass
+class FrameSequence:
+    """The frames of a sequence, stacked along ``time`` per observer.
+
+    Attributes
+    ----------
+    radiance : dict of str to xarray.Dataset
+        Per observer every variable of a render (radiance, terms, truth maps) with a leading
+        ``time`` dimension (UTC), ``elapsed(time)`` [s] and the frame attributes that change
+        (``frame_sun_zenith_deg(time)`` ...) as variables.
+    signal : dict of str to xarray.Dataset
+        Per observer with a sensor its signal (``dn(time, frame, band, y, x)`` [DN] ...).
+    """
+
+    radiance: dict[str, xr.Dataset] = field(default_factory=dict)
+    signal: dict[str, xr.Dataset] = field(default_factory=dict)
+
+
+class Simulation:
+    """A scene and its clock, stepped frame by frame.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene, dict or path
+        What :func:`radscene.pipeline.as_scene` takes. A loaded Scene is changed in place (its
+        time, object meshes, cameras and temperatures).
+    thermal_horizon : float or str
+        How far past the clock the heat balance is solved, when it runs and the clock passes
+        the end of its solution [s] (or a duration string); default 1 h.
+
+    Examples
+    --------
+    >>> import radscene
+    >>> sim = radscene.Simulation(radscene.example_path("demo"))          # doctest: +SKIP
+    >>> sim.set_pose("vehicle", position=(10.0, 0.0, 2.0))               # doctest: +SKIP
+    >>> frame = sim.step("40 ms")                                       # doctest: +SKIP
+    >>> frame.radiance["map"].object_id                                  # doctest: +SKIP
+    """
+
+    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON):
+        from radscene.geometry import RayTracer
+        from radscene.render.integrator import scene_tables
+
+        self.scene = as_scene(scene)
+        self.thermal_horizon = parse_duration(thermal_horizon, key="thermal_horizon")
+        self._start = self.scene.time
+        self._elapsed = 0.0
+        self._index = 0
+        self._thermal = thermal_active(self.scene)
+        self._poses = {}
+        self._body = {}
+        specs = {o.name: o for o in self.scene.spec.objects}
+        for k, obj in enumerate(self.scene.objects):
+            spec = specs.get(obj.name)
+            if obj.is_terrain or spec is None:
+                continue
+            position = np.array(spec.position, float)
+            if spec.on_ground and self.scene.heightfield is not None:
+                position[2] += float(self.scene.heightfield.height_at(position[0], position[1]))
+            attitude = np.array(spec.rotation, float)
+            self._poses[obj.name] = (position, attitude)
+            self._body[obj.name] = (k, _to_body(obj.mesh, position, attitude))
+        # objects with waypoints: (their index in the scene file, their spec)
+        self._trajectories = {o.name: (i, o) for i, o in enumerate(self.scene.spec.objects)
+                              if o.trajectory is not None and o.name in self._body}
+        self.tracer = RayTracer([obj.mesh for obj in self.scene.objects], dynamic=True)
+        self._follow_trajectories()
+        scene_tables(self.scene, self.tracer)
+
+    # -- the clock --------------------------------------------------------------------------
+
+    @property
+    def time(self) -> _dt.datetime | None:
+        """The scene's instant, timezone-aware (UTC); None for a fixed sun without a time."""
+        return None if self.scene.time is None else self.scene.time.astimezone(_dt.UTC)
+
+    @property
+    def elapsed(self) -> float:
+        """Time since the simulation's start [s]."""
+        return self._elapsed
+
+    def step(self, dt, *, progress=None) -> Frame:
+        """Advance the clock by ``dt`` and render every observer at the new instant.
+
+        Parameters
+        ----------
+        dt : float or str
+            [s], > 0, or a duration string such as ``"40 ms"``.
+        progress : callable(done, total), optional
+            As for :func:`radscene.render`, per observer.
+
+        Returns
+        -------
+        Frame
+        """
+        seconds = parse_duration(dt, key="dt")
+        self._elapsed += seconds
+        if self._start is not None:
+            self.scene.time = self._start + _dt.timedelta(seconds=self._elapsed)
+        return self.render(progress=progress)
+
+    def render(self, *, progress=None) -> Frame:
+        """Render every observer at the clock's instant, as it is (no step)."""
+        from radscene.render import render as render_observer
+        from radscene.render.hyperspectral import render_hyperspectral
+        from radscene.render.integrator import scene_tables
+
+        scene = self.scene
+        self._follow_trajectories()
+        self._rebuild_scanners()
+        if self._thermal:
+            self._apply_thermal()
+        tables = scene_tables(scene, self.tracer)  # the sun and temperatures of this instant
+        self._index += 1
+        frame = Frame(self._index, self._elapsed, self.time)
+        for setup in scene.observers:
+            if setup.spectral is not None:
+                images = render_hyperspectral(scene, setup.name, progress=progress)
+            else:
+                images = render_observer(scene, setup.name, progress=progress, _tables=tables)
+            images.attrs.update({"frame": self._index, "elapsed_s": self._elapsed})
+            frame.radiance[setup.name] = images
+            if setup.sensor is not None and setup.spectral is None:
+                seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
+                frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
+        return frame
+
+    def _follow_trajectories(self):
+        """Objects with waypoints where they are at the clock's time (straight lines between)."""
+        for name, (i, spec) in self._trajectories.items():
+            points = np.array(spec.trajectory.waypoints, float)
+            t = self._elapsed
+            if not points[0, 0] <= t <= points[-1, 0]:
+                raise ConfigError(f"the clock at {t:g} s lies outside the waypoints' {points[0, 0]:g} - "
+                                  f"{points[-1, 0]:g} s", key=f"objects[{i}].trajectory")
+            position = np.array([np.interp(t, points[:, 0], points[:, c]) for c in (1, 2, 3)])
+            if spec.on_ground and self.scene.heightfield is not None:
+                hf = self.scene.heightfield
+                xmin, xmax, ymin, ymax = hf.extent
+                if not (xmin <= position[0] <= xmax and ymin <= position[1] <= ymax):
+                    raise ConfigError(f"at {t:g} s ({position[0]:g}, {position[1]:g}) m lies outside the terrain "
+                                      f"{hf.extent} m", key=f"objects[{i}].trajectory")
+                position[2] += float(hf.height_at(position[0], position[1]))
+            self._move_object(name, position, None)
+
+    def _apply_thermal(self):
+        scene = self.scene
+        solution = scene.render_cache.get("thermal")
+        now = np.datetime64(scene.time.astimezone(_dt.UTC).replace(tzinfo=None), "ns")
+        if solution is None or now > solution.time.values[-1]:
+            spec = scene.spec.thermal
+            start = spec.start or (self._start - _dt.timedelta(days=1))
+            end = scene.time + _dt.timedelta(seconds=self.thermal_horizon)
+            if spec.end is not None and spec.end > end:
+                end = spec.end
+            solution = solve_thermal(scene, start=start, end=end)
+        apply_thermal(scene, solution, scene.time)
+
+    def _rebuild_scanners(self):
+        """Scanners fly their trajectories from the clock's instant."""
+        if self.scene.time is None:
+            return
+        from radscene.platform.config import build_observer
+        from radscene.platform.geolocation import LocalFrame
+
+        loc = self.scene.location
+        for i, (setup, spec) in enumerate(zip(self.scene.observers, self.scene.spec.observers, strict=True)):
+            if setup.kind in ("pushbroom", "whiskbroom"):
+                setup.camera = build_observer(spec, LocalFrame(loc.latitude, loc.longitude, loc.altitude),
+                                              self.scene.time, key=f"observers[{i}]")
+
+    # -- poses ------------------------------------------------------------------------------
+
+    def pose(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """``(position (3,) [m], attitude (yaw, pitch, roll) [deg])`` of an object or a
+        perspective observer (an orthographic one: its centre and altitude, and zenith,
+        azimuth, 0)."""
+        kind, target = self._find(name)
+        if kind == "object":
+            position, attitude = self._poses[name]
+            return position.copy(), attitude.copy()
+        cam = target.camera
+        if target.kind == "perspective":
+            return np.array(cam.position, float), np.array(cam.attitude, float)
+        if target.kind == "orthographic":
+            return np.array([*cam.center, cam.altitude]), np.array([cam.azimuth, cam.zenith, 0.0])
+        raise ConfigError(f"observer {name!r} is a {target.kind} scanner: it flies its trajectory",
+                          key="name")
+
+    def set_pose(self, name: str, position=None, attitude=None) -> None:
+        """Move an object or an observer; what is left out stays as it is.
+
+        Parameters
+        ----------
+        name : str
+            An object (not the terrain) or an observer of the scene.
+        position : array_like, optional
+            ``(x, y, z)`` in the scene frame (east, north, up) [m] — z an altitude, not a height
+            above the terrain; for an orthographic observer ``(centre x, centre y, altitude)``.
+        attitude : array_like, optional
+            ``(yaw, pitch, roll)`` [deg] as ``rotation`` of an object and ``attitude`` of a
+            perspective observer in the scene file (:func:`radscene.geometry.rotation_matrix`):
+            yaw the heading of the body's +y axis clockwise from north. An orthographic observer
+            takes none.
+
+        Raises
+        ------
+        ConfigError
+            An unknown name (the message lists the known ones), the terrain, a scanner, or a
+            position or attitude that is not three finite values.
+        """
+        kind, target = self._find(name)
+        if position is not None:
+            position = _vector(position, "length", "set_pose.position")
+        if attitude is not None:
+            attitude = _vector(attitude, "angle", "set_pose.attitude")
+        if kind == "object":
+            self._move_object(name, position, attitude)
+        else:
+            self._move_observer(target, position, attitude)
+
+    def _find(self, name):
+        objects = {o.name: o for o in self.scene.objects}
+        observers = {o.name: o for o in self.scene.observers}
+        if name in objects and name in observers:
+            raise ConfigError(f"{name!r} names both an object and an observer", key="set_pose.name")
+        if name in observers:
+            return "observer", observers[name]
+        if name in objects and objects[name].is_terrain:
+            raise ConfigError(f"{name!r} is the terrain, which does not move", key="set_pose.name")
+        if name in self._body:
+            return "object", objects[name]
+        movable = [n for n in objects if n in self._body]
+        raise ConfigError(f"unknown name {name!r}; objects: {', '.join(movable) or 'none'}; "
+                          f"observers: {', '.join(observers)}", key="set_pose.name")
+
+    def _move_object(self, name, position, attitude):
+        old_position, old_attitude = self._poses[name]
+        position = old_position if position is None else position
+        attitude = old_attitude if attitude is None else attitude
+        k, body = self._body[name]
+        moved = body.transformed(translation=position, rotation=attitude)
+        moved.name = name
+        self.tracer.update(k, moved)
+        self.scene.objects[k].mesh = moved
+        self._poses[name] = (position, attitude)
+
+    def _move_observer(self, setup, position, attitude):
+        from radscene.platform import OrthographicCamera, PerspectiveCamera
+
+        cam = setup.camera
+        if setup.kind == "perspective":
+            setup.camera = PerspectiveCamera(cam.position if position is None else position, cam.shape,
+                                             fov=cam.fov, attitude=cam.attitude if attitude is None else attitude)
+        elif setup.kind == "orthographic":
+            if attitude is not None:
+                raise ConfigError(f"observer {setup.name!r} is orthographic: it takes a position "
+                                  "(centre x, centre y, altitude) and no attitude", key="set_pose.attitude")
+            if position is not None:
+                setup.camera = OrthographicCamera(center=position[:2], shape=cam.shape, gsd=cam.gsd,
+                                                  altitude=position[2], zenith=cam.zenith, azimuth=cam.azimuth)
+        else:
+            raise ConfigError(f"observer {setup.name!r} is a {setup.kind} scanner: it flies its "
+                              "trajectory and takes no pose", key="set_pose.name")
+
+
+def _to_body(mesh, position, attitude):
+    """The mesh in its own frame: the inverse of ``transformed(translation, rotation)``."""
+    from radscene.geometry import Mesh, rotation_matrix
+
+    rot = rotation_matrix(*attitude)
+    # world = R body + t  ->  body = R^T (world - t), row-wise (world - t) R
+    return Mesh((mesh.vertices - position) @ rot, mesh.faces, name=mesh.name)
+
+
+# -- sequences ------------------------------------------------------------------------------
+
+
+def frame_times(start: _dt.datetime, end: _dt.datetime, step) -> list[_dt.datetime]:
+    """The instants of a sequence: ``start + k step`` up to ``end`` inclusive.
+
+    Parameters
+    ----------
+    start, end : datetime
+        Timezone-aware; ``end`` not before ``start``.
+    step : float or str
+        [s] > 0, or a duration string.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``time.start``, ``time.end`` or ``time.step``.
+    """
+    seconds = parse_duration(step, key="time.step")
+    for value, key in ((start, "time.start"), (end, "time.end")):
+        if not isinstance(value, _dt.datetime) or value.tzinfo is None:
+            raise ConfigError(f"a timezone-aware time, e.g. '2026-06-21T10:30:00Z', not {value!r}", key=key)
+    if end < start:
+        raise ConfigError(f"{end.isoformat()} lies before the start {start.isoformat()}", key="time.end")
+    # whole steps that fit, with a microsecond's grace for steps such as 1/3 s
+    count = int(np.floor((end - start).total_seconds() / seconds + 1e-6 / seconds)) + 1
+    return [start + _dt.timedelta(seconds=k * seconds) for k in range(count)]
+
+
+def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
+                    progress=None) -> FrameSequence:
+    """Render a sequence of frames: every observer at every instant, stacked along ``time``.
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene, dict or path
+        As for :class:`Simulation`.
+    start, end : datetime, optional
+        Timezone-aware; default the scene file's ``time.start`` and ``time.end``.
+    step : float or str, optional
+        [s] or a duration string; default ``time.step``.
+    observers : list of str, optional
+        Only these (all by default).
+    progress : callable(done, total), optional
+        Called after each frame.
+
+    Returns
+    -------
+    FrameSequence
+        Per observer the renders and, with a sensor, the signals, along ``time``.
+
+    Raises
+    ------
+    ConfigError
+        No sequence given (neither arguments nor ``time`` in the scene file), a bad span.
+    """
+    scene = as_scene(scene)
+    span = scene.spec.time
+    start = start or (span.start if span else None)
+    end = end or (span.end if span else None)
+    step = step if step is not None else (span.step if span else None)
+    if start is None or end is None or step is None:
+        raise ConfigError("a sequence needs time.start, time.end and time.step (or --start, --end "
+                          "and --step)", key="time")
+    times = frame_times(start, end, step)
+    names = [o.name for o in scene.observers] if observers is None else list(observers)
+    for name in names:
+        scene.observer(name)
+    scene.time = times[0]
+    sim = Simulation(scene)
+    frames = {name: [] for name in names}
+    signals = {name: [] for name in names}
+    for k, instant in enumerate(times):
+        frame = sim.render() if k == 0 else sim.step((instant - sim.time).total_seconds())
+        for name in names:
+            frames[name].append(_frame_layer(frame.radiance[name], frame))
+            if name in frame.signal:
+                signals[name].append(_frame_layer(frame.signal[name], frame))
+        if progress is not None:
+            progress(k + 1, len(times))
+    return FrameSequence({name: _stack(layers) for name, layers in frames.items()},
+                         {name: _stack(layers) for name, layers in signals.items() if layers})
+
+
+def _frame_layer(ds: xr.Dataset, frame: Frame) -> xr.Dataset:
+    """One frame of a sequence: the frame's attributes that change as variables, a time."""
+    ds = ds.copy()
+    for key in FRAME_ATTRS:
+        value = ds.attrs.pop(key, None)
+        if key in ("time", "history", "frame", "elapsed_s") or value is None:
+            continue
+        ds[f"frame_{key}"] = ((), value)
+    ds["elapsed"] = ((), frame.elapsed, {"units": "s", "long_name": "time since the first frame"})
+    when = frame.time.astimezone(_dt.UTC).replace(tzinfo=None) if frame.time is not None else None
+    return ds.expand_dims(time=[np.datetime64(when, "ns")] if when else [frame.elapsed])
+
+
+def _stack(layers: list[xr.Dataset]) -> xr.Dataset:
+    out = xr.concat(layers, dim="time", data_vars="minimal", coords="minimal", compat="override",
+                    combine_attrs="override")
+    out["elapsed"] = out["elapsed"] - float(out["elapsed"].values[0])
+    out["elapsed"].attrs.update({"units": "s", "long_name": "time since the first frame"})
+    out["time"].attrs.update({"long_name": "frame time (UTC)", "standard_name": "time"})
+    for name in out.data_vars:
+        if name.startswith("frame_"):
+            out[name].attrs["long_name"] = f"{name.removeprefix('frame_')} of each frame"
+    out.attrs["frames"] = len(layers)
+    return out
