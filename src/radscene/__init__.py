@@ -21,8 +21,8 @@ from radscene.pipeline import (  # noqa: E402
     simulate,
     solve_thermal,
 )
+from radscene.pipeline.simulation import Simulation, render_sequence  # noqa: E402
 from radscene.scene import load_scene  # noqa: E402
-from radscene.simulation import Simulation, render_sequence  # noqa: E402
 
 __all__ = ["__version__", "load_scene", "render", "render_all", "render_hyperspectral", "simulate", "solve_thermal",
            "Simulation", "render_sequence", "example_path", "write_netcdf"]

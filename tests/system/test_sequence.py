@@ -1,4 +1,4 @@
-"""Frame sequences (radscene.simulation.render_sequence, ``time: {start, end, step}``,
+"""Frame sequences (radscene.pipeline.simulation.render_sequence, ``time: {start, end, step}``,
 ``radscene render --start --end --step``)."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 import radscene
 from radscene.cli import app
 from radscene.errors import ConfigError
-from radscene.simulation import frame_times, render_sequence
+from radscene.pipeline.simulation import frame_times, render_sequence
 
 START = "2026-06-21T07:00:00+00:00"
 #: Frames and single renders trace the same rays through Embree scenes built differently

@@ -202,7 +202,7 @@ def _sensor_scene():
 
 
 def test_a_sensor_records_every_frame_with_its_own_noise():
-    from radscene.simulation import render_sequence
+    from radscene.pipeline.simulation import render_sequence
 
     sim = radscene.Simulation(_sensor_scene())
     first, second = sim.step(0.04), sim.step(0.04)

@@ -101,7 +101,7 @@ def _render_sequence(scene, names, output, start, end, step, quicklooks):
     """``radscene render`` of a sequence: every frame rendered, then one file per observer (and
     with quicklooks a GIF per band)."""
     from radscene.io import band_animations, write_netcdf
-    from radscene.simulation import render_sequence
+    from radscene.pipeline.simulation import render_sequence
 
     started = time.perf_counter()
     given = {"time.start": start, "time.end": end, "time.step": step}

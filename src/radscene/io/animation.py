@@ -27,7 +27,7 @@ def band_animations(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
     Parameters
     ----------
     ds : xarray.Dataset
-        A sequence (:func:`radscene.simulation.render_sequence`): ``radiance(time, band, y, x)``.
+        A sequence (:func:`radscene.pipeline.simulation.render_sequence`): ``radiance(time, band, y, x)``.
     folder : path-like
         Written as ``folder/<prefix><band>.gif``.
     fps : float
