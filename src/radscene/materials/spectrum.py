@@ -238,6 +238,8 @@ class Spectrum:
             text = path.read_text(encoding="utf-8")
         except OSError as exc:
             raise ConfigError(f"cannot read spectrum file: {exc.strerror or exc}", key=key) from exc
+        except UnicodeDecodeError:
+            raise ConfigError(f"{path.name} is not a text file of spectrum rows", key=key) from None
         header, rows = _parse_table(text, str(path))
         if not rows:
             raise ConfigError(f"spectrum file {path} has no data rows", key=key)

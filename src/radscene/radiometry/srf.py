@@ -425,6 +425,9 @@ class TabulatedResponse(SpectralResponse):
             text = path.read_text(encoding="utf-8-sig")
         except OSError as exc:
             raise ConfigError(f"cannot read spectral response file: {exc}", key=str(path)) from None
+        except UnicodeDecodeError:
+            raise ConfigError(f"{path.name} is not a text file of (wavelength, response) rows",
+                              key=str(path)) from None
         rows = []
         for lineno, line in enumerate(text.splitlines(), start=1):
             stripped = line.strip()

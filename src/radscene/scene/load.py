@@ -370,7 +370,8 @@ class _Resolver:
                     if fpath.suffix.lower() == ".npy":
                         if tspec.spacing is None:
                             raise ConfigError("a .npy DEM needs 'spacing' [m, m]", key="terrain.spacing")
-                        hf = Heightfield(np.load(fpath), origin=tspec.origin, spacing=tspec.spacing)
+                        hf = Heightfield(_load_npy(fpath, "terrain.file"), origin=tspec.origin,
+                                         spacing=tspec.spacing)
                     else:
                         hf = Heightfield.from_geotiff(fpath)
                 else:
@@ -477,7 +478,10 @@ class _Resolver:
             elif shape.type == "plate":
                 mesh = plate(shape.width, shape.length)
             else:
-                mesh = load_mesh(self.file(shape.file, f"{key}.shape.file"), name=ospec.name)
+                try:
+                    mesh = load_mesh(self.file(shape.file, f"{key}.shape.file"), name=ospec.name)
+                except ConfigError as err:
+                    raise ConfigError(err.message, key=f"{key}.shape.file") from None
                 mesh = mesh.transformed(scale=shape.scale)
             x, y, z = ospec.position
             if ospec.on_ground and hf is not None:
@@ -516,7 +520,7 @@ class _Resolver:
         dims (z, y, x): finite, >= 0, at least two nodes along each axis."""
         path = self.file(profile.file, f"{key}.file")
         if path.suffix.lower() == ".npy":
-            grid = np.load(path)
+            grid = _load_npy(path, f"{key}.file")
         else:
             import xarray as xr
 
@@ -835,12 +839,25 @@ def _resample_nearest(image: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     return image[np.ix_(rows, cols)]
 
 
+def _load_npy(path: Path, key: str) -> np.ndarray:
+    """A numeric .npy array, or one line naming ``key`` (pickled objects are never loaded)."""
+    try:
+        array = np.load(path, allow_pickle=False)
+    except (ValueError, OSError, EOFError) as err:
+        reason = ("not a .npy array (reading it would need unpickling, which is never done)"
+                  if "pickle" in str(err) else "not a readable .npy array")
+        raise ConfigError(f"{path.name}: {reason}", key=key) from None
+    if not isinstance(array, np.ndarray) or not np.issubdtype(array.dtype, np.number):
+        raise ConfigError(f"{path.name}: not a numeric array", key=key)
+    return array
+
+
 def _read_image(path: Path, key: str) -> np.ndarray:
     """Read a single-band image (.npy, GeoTIFF, PNG/JPEG: first channel)."""
     suffix = path.suffix.lower()
     try:
         if suffix == ".npy":
-            image = np.load(path)
+            image = _load_npy(path, key)
         elif suffix in (".tif", ".tiff"):
             import rioxarray
 

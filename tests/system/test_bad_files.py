@@ -1,0 +1,63 @@
+"""Bad files a scene names: one line naming the scene key, exit code 2, never a traceback."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pytest
+import yaml
+from typer.testing import CliRunner
+
+from radscene.cli import app
+
+BASE = {
+    "name": "files",
+    "environment": {"sun": {"zenith": 30, "azimuth": 180}, "atmosphere": {"type": "none"}},
+    "materials": {"paint": {"reflectance": 0.4}},
+    "objects": [{"name": "plate", "shape": {"type": "plate", "width": 50, "length": 50},
+                 "material": "paint", "temperature": "300 K"}],
+    "bands": [{"name": "vis", "min": "0.5 um", "max": "0.6 um"}],
+    "observers": [{"name": "nadir", "type": "orthographic", "center": [0, 0], "gsd": 1,
+                   "shape": [4, 4], "altitude": 1000}],
+}
+
+
+def _binary(path):
+    path.write_bytes(bytes(range(256)) * 2)
+
+
+def _pickled(path):
+    np.save(path, np.array([{"a": 1}], dtype=object), allow_pickle=True)
+
+
+CASES = {
+    "binary DEM": ("junk.npy", _binary, lambda s, f: s.update(
+        terrain={"type": "dem", "file": f, "spacing": [1, 1], "material": "paint"}),
+        "terrain.file"),
+    "pickled DEM": ("obj.npy", _pickled, lambda s, f: s.update(
+        terrain={"type": "dem", "file": f, "spacing": [1, 1], "material": "paint"}),
+        "terrain.file"),
+    "binary mesh": ("junk.obj", _binary, lambda s, f: s["objects"].append(
+        {"name": "m", "shape": {"type": "mesh", "file": f}, "material": "paint",
+         "temperature": "300 K"}), "objects[1].shape.file"),
+    "binary band response": ("junk.csv", _binary, lambda s, f: s["bands"].append(
+        {"name": "j", "file": f}), "bands[1]"),
+    "binary reflectance": ("junk.csv", _binary, lambda s, f: s["materials"].update(
+        paint={"reflectance": {"file": f}}), "materials.paint.reflectance"),
+}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_a_bad_file_is_one_line_naming_its_key(tmp_path, case):
+    name, make, put, key = CASES[case]
+    make(tmp_path / name)
+    scene = copy.deepcopy(BASE)
+    put(scene, name)
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    result = CliRunner().invoke(app, ["check", str(path)])
+    lines = [ln for ln in result.output.splitlines() if ln.strip()]
+    assert result.exit_code == 2, result.output
+    assert len(lines) == 1 and key in lines[0], result.output
+    assert "Traceback" not in result.output
