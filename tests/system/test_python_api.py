@@ -47,3 +47,15 @@ def test_a_bad_dict_gives_the_command_lines_error():
 def test_something_else_is_refused_by_name():
     with pytest.raises(TypeError, match="not int"):
         radscene.render(3)
+
+
+def test_a_misspelt_key_gets_a_suggestion():
+    bad = _scene()
+    bad["observers"][0]["supersampel"] = 2
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.supersampel: unknown key; did you "
+                                          r"mean 'supersample'\?"):
+        radscene.render(bad)
+    bad["observers"][0].pop("supersampel")
+    bad["observers"][0]["zzz"] = 1
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.zzz: unknown key$"):
+        radscene.render(bad)

@@ -143,12 +143,32 @@ def _key(loc: tuple) -> str:
     return out
 
 
+def _schema_keys() -> list[str]:
+    """Every key the scene schema knows, for "did you mean" suggestions."""
+    import inspect
+
+    from pydantic import BaseModel
+
+    keys = set()
+    for _, cls in inspect.getmembers(schema, inspect.isclass):
+        if issubclass(cls, BaseModel) and cls.__module__ == schema.__name__:
+            keys.update(cls.model_fields)
+    return sorted(keys)
+
+
 def _validation_error(err: ValidationError) -> ConfigError:
     first = err.errors()[0]
     msg = first.get("msg", "invalid value")
     msg = msg.removeprefix("Value error, ")
     if first.get("type") == "extra_forbidden":
         msg = "unknown key"
+        loc = first.get("loc", ())
+        if loc and isinstance(loc[-1], str):
+            import difflib
+
+            close = difflib.get_close_matches(loc[-1], _schema_keys(), n=1, cutoff=0.75)
+            if close:
+                msg += f"; did you mean {close[0]!r}?"
     elif first.get("type") == "missing":
         msg = "required key is missing"
     elif first.get("type") == "union_tag_invalid":
