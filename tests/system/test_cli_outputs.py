@@ -98,3 +98,17 @@ def test_thermal_output_checked_before_work(tmp_path):
     existing.write_text("x")
     _refused(runner.invoke(app, ["thermal", str(scene), "-o", str(existing)]), "exists")
     assert existing.read_text() == "x"
+
+
+def test_check_reports_what_each_observer_sees_and_warns_about_nothing(tmp_path):
+    path = tmp_path / "s.yaml"
+    path.write_text(GOOD)
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 0, result.output
+    assert "GSD 1 m; 100 % of pixels on the scene, their centres spanning 3 × 3 m" in (
+        " ".join(result.output.split()))
+    # the same camera beside the plate sees nothing
+    path.write_text(GOOD.replace("center: [0, 0]", "center: [500, 500]"))
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 0, result.output
+    assert "warning: observer nadir looks at nothing" in result.output

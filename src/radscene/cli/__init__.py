@@ -273,6 +273,47 @@ def _summary(scene, results, spectral, written, output, started):
     console.print(f"wrote {len(written)} files under {output}/")
 
 
+def _coverage(scene, obs) -> None:
+    """Print what an observer sees: field of view or GSD, the share of its pixels that meet the
+    scene, their ground footprint and range; warn when it sees nothing."""
+    import numpy as np
+
+    from radscene.geometry import RayTracer
+
+    camera = obs.camera
+    optics = []
+    if getattr(camera, "gsd", None) is not None:
+        optics.append(f"GSD {camera.gsd:.4g} m")
+    if getattr(camera, "fov", None) is not None:
+        optics.append(f"field of view {camera.fov:.4g}°")
+    try:
+        rays = camera.rays(supersample=1)
+    except Exception:  # scanners need their own time axis; the render checks them
+        return
+    tracer = scene.render_cache.get("check_tracer")
+    if tracer is None:
+        tracer = RayTracer([o.mesh for o in scene.objects])
+        scene.render_cache["check_tracer"] = tracer
+    hits = tracer.intersect(rays.origins, rays.directions)
+    share = float(np.mean(hits.hit)) if hits.hit.size else 0.0
+    if share == 0.0:
+        err_console.print(f"warning: observer {obs.name} looks at nothing: none of its pixels' "
+                          "rays meets the scene (check its position, attitude or look-at)",
+                          highlight=False)
+        return
+    pos = hits.position[hits.hit]
+    span = np.ptp(pos[:, :2], axis=0)
+    dist = hits.distance[hits.hit]
+
+    def metres(value):
+        return f"{value:,.0f}" if value >= 100 else f"{value:.3g}"
+
+    optics.append(f"{100 * share:.0f} % of pixels on the scene, their centres spanning "
+                  f"{metres(span[0])} × {metres(span[1])} m on the ground, range "
+                  f"{metres(dist.min())}–{metres(dist.max())} m")
+    console.print("    " + "; ".join(optics))
+
+
 def _sequence_files(scene, names) -> list[str]:
     """The data files ``radscene render`` writes for a sequence of these observers."""
     return [f for name in names for f in (f"{name}_sequence.nc", f"{name}_signal_sequence.nc")]
@@ -346,6 +387,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
             f"{obs.spectral.wavelength[-1]:.4g} um every {obs.spectral.step:.4g} um")
         console.print(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
                       f" px, supersample {obs.supersample}{grid}")
+        _coverage(scene, obs)
     from radscene.scene.memory import estimate
 
     need = max((b for b, _, _ in estimate(scene.spec)["observers"]), default=0.0)
