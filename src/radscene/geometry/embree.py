@@ -249,12 +249,8 @@ class PacketScene:
         numpy.ndarray
             (N,) bool.
         """
-        o = np.ascontiguousarray(origins, dtype=np.float32)
-        d = np.ascontiguousarray(directions, dtype=np.float32)
-        out = np.zeros(len(o), dtype=bool)
-        if len(o):
-            _occluded_rays(self.occluded8, self.handle, o, d, out)
-        return out
+        n = len(origins)
+        return self.occluded_within(origins, directions, np.full(n, np.inf, dtype=np.float32))
 
     def intersect(self, origins, directions):
         """First hits of rays in the scene's frame, traced as packets on numba's threads.
@@ -312,26 +308,6 @@ def set_lane(ray, words, lane, ox, oy, oz, dx, dy, dz):
     words[9 * LANES + lane] = 0xFFFFFFFF
     words[10 * LANES + lane] = 0
     words[11 * LANES + lane] = 0
-
-
-@numba.njit(parallel=True, cache=True)
-def _occluded_rays(occluded8, scene, origins, directions, out):
-    n = origins.shape[0]
-    for c in numba.prange((n + _RAY_CHUNK - 1) // _RAY_CHUNK):
-        ray, words, valid = packet_buffers(RAY8_FLOATS)
-        for start in range(c * _RAY_CHUNK, min(n, (c + 1) * _RAY_CHUNK), LANES):
-            for lane in range(LANES):
-                k = start + lane
-                if k >= n:
-                    valid[lane] = 0
-                    continue
-                valid[lane] = -1
-                set_lane(ray, words, lane, origins[k, 0], origins[k, 1], origins[k, 2],
-                         directions[k, 0], directions[k, 1], directions[k, 2])
-            occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
-            for lane in range(LANES):
-                if valid[lane] != 0:
-                    out[start + lane] = ray[8 * LANES + lane] < 0.0
 
 
 @numba.njit(parallel=True, cache=True)
