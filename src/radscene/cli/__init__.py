@@ -136,7 +136,7 @@ def _render_sequence(scene, names, output, start, end, step, quicklooks):
 
 @app.command()
 def render(
-    scene_file: Path = typer.Argument(..., help="Scene YAML file."),
+    scene_file: Path = typer.Argument(None, help="Scene YAML file (or --from)."),
     output: Path = typer.Option(Path("out"), "-o", "--output", help="Output folder."),
     observer: list[str] = typer.Option(None, "--observer", help="Render only these observers."),
     quicklooks: bool = typer.Option(True, help="Write PNG quicklooks beside the NetCDF files."),
@@ -154,6 +154,10 @@ def render(
     start: str = typer.Option(None, "--start", help="A sequence's first frame, e.g. 2026-06-21T10:00:00Z."),
     end: str = typer.Option(None, "--end", help="A sequence's last instant."),
     step: str = typer.Option(None, "--step", help="A sequence's step, e.g. '40 ms' or '10 min'."),
+    from_file: Path = typer.Option(None, "--from",
+                                   help="Render again what an output NetCDF file of radscene "
+                                        "holds, from its provenance (the scene, its files "
+                                        "checked by SHA-256), instead of SCENE_FILE."),
 ):
     """Render every observer of a scene to NetCDF (and PNG quicklooks) in OUTPUT; an observer
     with a spectral grid to NAME_spectral.nc and the ENVI NAME_spectral.img/.hdr. OUTPUT is
@@ -163,14 +167,29 @@ def render(
     replaces it with manifest.json (every file, its size and SHA-256). With a sequence
     (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per observer
     with a time axis (NAME_signal_sequence.nc for a sensor's), and with quicklooks
-    NAME_sequence/BAND.gif, written after the last frame."""
+    NAME_sequence/BAND.gif, written after the last frame. With --from out/NAME.nc, the scene
+    that file was rendered from is rendered again (its observer, unless --observer), to the
+    same numbers."""
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
     from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
     from radscene.scene import load_scene
 
     try:
-        scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
+        if (scene_file is None) == (from_file is None):
+            raise ConfigError("give a scene file or --from FILE.nc (one of the two)",
+                              key="scene" if scene_file is None else "--from")
+        if from_file is not None:
+            from radscene.pipeline.provenance import scene_from_output
+
+            recorded = scene_from_output(from_file)
+            scene = load_scene(recorded.document, base_dir=recorded.base_dir,
+                               max_memory=max_memory, confine=confine)
+            scene.source = recorded.scene_file
+            scene_file = from_file
+            observer = observer or ([recorded.observer] if recorded.observer else None)
+        else:
+            scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         names = observer or [o.name for o in scene.observers]
         for name in names:
             scene.observer(name)

@@ -8,6 +8,7 @@ import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
+from radscene.pipeline.provenance import stamp
 from radscene.render import render as _render_observer
 from radscene.render import render_all as _render_all
 
@@ -287,6 +288,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
                         progress=progress, sun_transmittance=_volume_sun_transmittance(
                             scene, table.wavelength, table.daily_spectrum(zenith)))
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
+    stamp(ds, scene)
     scene.render_cache["thermal_elements"] = elements
     return ds
 
@@ -376,7 +378,7 @@ def render(scene, observer=None, **kwargs):
         return render_hyperspectral(scene, setup.name, progress=kwargs.get("progress"))
     if thermal_active(scene):
         apply_thermal(scene)
-    return _render_observer(scene, observer, **kwargs)
+    return stamp(_render_observer(scene, observer, **kwargs), scene, setup.name)
 
 
 def render_all(scene, **kwargs):
@@ -387,7 +389,7 @@ def render_all(scene, **kwargs):
         return {o.name: render(scene, o.name, **kwargs) for o in scene.observers}
     if thermal_active(scene):
         apply_thermal(scene)
-    return _render_all(scene, **kwargs)
+    return {name: stamp(ds, scene, name) for name, ds in _render_all(scene, **kwargs).items()}
 
 
 def render_hyperspectral(scene, observer=None, **kwargs):
@@ -399,7 +401,8 @@ def render_hyperspectral(scene, observer=None, **kwargs):
     scene = as_scene(scene)
     if thermal_active(scene):
         apply_thermal(scene)
-    return _render_cube(scene, observer, **kwargs)
+    name = scene.observers[0].name if observer is None else observer
+    return stamp(_render_cube(scene, observer, **kwargs), scene, name)
 
 
 def spectral_passes(scene, observer=None, **kwargs):
@@ -410,7 +413,8 @@ def spectral_passes(scene, observer=None, **kwargs):
     scene = as_scene(scene)
     if thermal_active(scene):
         apply_thermal(scene)
-    return render_passes(scene, observer, **kwargs)
+    name = scene.observers[0].name if observer is None else observer
+    return (stamp(part, scene, name) for part in render_passes(scene, observer, **kwargs))
 
 
 def simulate(scene, observer: str | None = None, *, progress=None
@@ -453,4 +457,4 @@ def record_signal(scene, setup, images, seed=None) -> xr.Dataset:
     signal = setup.sensor.apply(images, frames=setup.frames,
                                 seed=scene.settings.seed if seed is None else seed, responses=responses)
     signal.attrs.update({"scene": scene.name, "observer": setup.name})
-    return signal
+    return stamp(signal, scene, setup.name)

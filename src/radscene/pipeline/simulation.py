@@ -32,6 +32,7 @@ import xarray as xr
 
 from radscene.errors import ConfigError
 from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
+from radscene.pipeline.provenance import stamp
 
 __all__ = ["Frame", "FrameSequence", "Simulation", "frame_times", "parse_duration", "render_sequence"]
 
@@ -225,6 +226,7 @@ class Simulation:
             else:
                 images = render_observer(scene, setup.name, progress=progress, _tables=tables)
             images.attrs.update({"frame": self._index, "elapsed_s": self._elapsed})
+            stamp(images, scene, setup.name)
             frame.radiance[setup.name] = images
             if setup.sensor is not None and setup.spectral is None:
                 seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
@@ -448,6 +450,10 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     for name in names:
         scene.observer(name)
     scene.time = times[0]
+    if scene.document is not None:  # the provenance records the span rendered
+        scene.document = {**scene.document, "time": {
+            "start": start.isoformat(), "end": end.isoformat(),
+            "step": parse_duration(step, key="time.step")}}
     sim = Simulation(scene)
     frames = {name: [] for name in names}
     signals = {name: [] for name in names}

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from radscene.errors import ConfigError
 
-__all__ = ["check_confined", "FILE_KEYS", "FILE_SUFFIXES"]
+__all__ = ["check_confined", "named_files", "FILE_KEYS", "FILE_SUFFIXES"]
 
 #: Keys whose string value is a file path.
 FILE_KEYS = frozenset({"file", "temperature_map"})
@@ -36,6 +36,15 @@ def _walk(node, key):
         yield key, node
 
 
+def named_files(data: dict) -> list[tuple[str, str]]:
+    """Every ``(key, value)`` of the raw scene ``data`` that names a file (the keys of
+    :data:`FILE_KEYS`, and strings ending in one of :data:`FILE_SUFFIXES`), each once."""
+    seen: dict[tuple[str, str], None] = {}
+    for item in _walk(data, ""):
+        seen.setdefault(item)
+    return list(seen)
+
+
 def check_confined(data: dict, base: Path) -> None:
     """Refuse any file named in the raw scene ``data`` that lies outside ``base``.
 
@@ -45,11 +54,7 @@ def check_confined(data: dict, base: Path) -> None:
         Naming the key of the first such file.
     """
     root = Path(os.path.realpath(base))
-    seen = set()
-    for key, value in _walk(data, ""):
-        if (key, value) in seen:
-            continue
-        seen.add((key, value))
+    for key, value in named_files(data):
         path = Path(os.path.expanduser(value))
         if not path.is_absolute():
             path = root / path

@@ -6,7 +6,9 @@ Every problem is raised as one :class:`~radscene.errors.ConfigError` naming the 
 
 from __future__ import annotations
 
+import copy
 import datetime as _dt
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -103,6 +105,10 @@ class Scene:
     settings: schema.RenderSettings
     heightfield: Any = None
     source: Path | None = None
+    #: The scene as given (the file's mapping or the dict), and the folder its relative file
+    #: names resolve against: the provenance written into every output.
+    document: dict | None = None
+    base_dir: Path | None = None
     #: BRDF models of materials that have one, by material index (else Lambert + Phong).
     brdfs: dict = field(default_factory=dict)
     #: Participating volumes (radscene.render.volumes.Volume).
@@ -254,7 +260,10 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
     from radscene.scene.memory import check_memory, parse_memory
 
     check_memory(spec, None if max_memory is None else parse_memory(max_memory, "--max-memory"))
-    return _Resolver(spec, base, path).resolve()
+    scene = _Resolver(spec, base, path).resolve()
+    scene.document = copy.deepcopy(data)
+    scene.base_dir = Path(os.path.realpath(base))
+    return scene
 
 
 class _Resolver:

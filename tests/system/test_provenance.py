@@ -1,0 +1,154 @@
+"""Provenance in every output, and ``radscene render --from`` rendering it again bit-identically."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+from typer.testing import CliRunner
+
+import radscene
+from radscene.cli import app
+from radscene.pipeline.provenance import PROVENANCE_ATTRS
+
+runner = CliRunner()
+
+
+def _scene(tmp_path):
+    """A DEM from a file, a reflectance spectrum from a file, the shipped atmosphere database,
+    sampled sky and background light, a sensor with noise: everything that could differ."""
+    yy, xx = np.mgrid[0:24, 0:24]
+    np.save(tmp_path / "dem.npy", 3.0 * np.sin(xx / 4.0) * np.cos(yy / 5.0))
+    (tmp_path / "paint.csv").write_text("wavelength_um,reflectance\n0.4,0.1\n0.7,0.5\n2.5,0.3\n14,0.05\n")
+    scene = {
+        "name": "provenance",
+        "environment": {"time": "2026-06-21T10:00:00Z",
+                        "location": {"latitude": 45.0, "longitude": 5.0},
+                        "atmosphere": {"type": "database", "aerosol": "maritime",
+                                       "aot550": 0.2}},
+        "materials": {"paint": {"reflectance": {"file": "paint.csv"}}},
+        "terrain": {"type": "dem", "file": "dem.npy", "spacing": [2, 2], "material": "paint",
+                    "temperature": "295 K"},
+        "objects": [{"name": "box", "shape": {"type": "box", "size": [6, 6, 4]},
+                     "material": "paint", "temperature": "300 K"}],
+        "bands": [{"name": "red", "min": "0.6 um", "max": "0.7 um"},
+                  {"name": "lwir", "min": "8 um", "max": "14 um"}],
+        "sensors": {"bolometer": {"example": "lwir_microbolometer",
+                                  "detector": {"shape": [6, 6]}}},
+        "observers": [{"name": "cam", "type": "perspective", "position": [0, -40, 30],
+                       "look_at": [0, 0, 0], "bands": ["lwir"], "sensor": "bolometer"},
+                      {"name": "vis", "type": "perspective", "position": [10, -40, 30],
+                       "look_at": [0, 0, 0], "fov": 40, "shape": [12, 12]}],
+        "render": {"sky_samples": 4, "background_samples": 4, "seed": 7},
+    }
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene, sort_keys=False))
+    return path
+
+
+def _render(args):
+    result = runner.invoke(app, ["render", *map(str, args), "--no-quicklooks"])
+    assert result.exit_code == 0, result.output
+    return result
+
+
+def _same_numbers(a: xr.Dataset, b: xr.Dataset):
+    assert sorted(a.data_vars) == sorted(b.data_vars)
+    for name in a.data_vars:
+        assert np.array_equal(a[name].values, b[name].values, equal_nan=a[name].dtype.kind == "f"), name
+
+
+def test_every_output_carries_its_provenance(tmp_path):
+    path = _scene(tmp_path)
+    _render([path, "-o", tmp_path / "out"])
+    for name in ("cam.nc", "cam_signal.nc", "vis.nc"):
+        with xr.open_dataset(tmp_path / "out" / name) as ds:
+            attrs = dict(ds.attrs)
+        missing = [k for k in PROVENANCE_ATTRS if k not in attrs]
+        assert not missing, (name, missing)
+        text = attrs["scene_document"]
+        assert hashlib.sha256(text.encode()).hexdigest() == attrs["scene_sha256"]
+        assert yaml.safe_load(text) == yaml.safe_load(path.read_text())
+        assert attrs["scene_file"] == str(path.resolve())
+        files = {f["key"]: f for f in json.loads(attrs["scene_files"])}
+        assert set(files) == {"terrain.file", "materials.paint.reflectance.file"}
+        dem = files["terrain.file"]
+        assert dem["sha256"] == hashlib.sha256((tmp_path / "dem.npy").read_bytes()).hexdigest()
+        engine = json.loads(attrs["atmosphere_engine"])
+        assert engine["type"] == "database" and engine["settings"]["aerosol"] == "maritime"
+        assert len(engine["database"]["sha256"]) == 64
+        assert "maritime" in engine["description"]["aerosol_condition"]
+        geometry = json.loads(attrs["observer_geometry"])
+        assert geometry["settings"]["look_at"] == [0.0, 0.0, 0.0]
+        if name.startswith("cam"):
+            assert geometry["shape"] == [24, 24] and 0.0 < geometry["fov_deg"] < 90.0  # sensor's
+        else:
+            assert geometry["shape"] == [12, 12] and geometry["fov_deg"] == 40.0
+        assert attrs["random_seed"] == 7
+        versions = json.loads(attrs["library_versions"])
+        assert versions["numpy"] == np.__version__ and "embreex" in versions
+        assert attrs["radscene_version"] == radscene.__version__
+
+
+def test_render_from_an_output_gives_the_same_numbers(tmp_path):
+    path = _scene(tmp_path)
+    _render([path, "-o", tmp_path / "out"])
+    _render(["--from", tmp_path / "out" / "cam.nc", "-o", tmp_path / "again"])
+    _render(["--from", tmp_path / "out" / "vis.nc", "-o", tmp_path / "again", "--overwrite"])
+    for name in ("cam.nc", "cam_signal.nc", "vis.nc"):
+        with xr.open_dataset(tmp_path / "out" / name) as a, \
+                xr.open_dataset(tmp_path / "again" / name) as b:
+            _same_numbers(a, b)
+            for key in PROVENANCE_ATTRS:
+                assert a.attrs[key] == b.attrs[key], key
+
+
+def test_render_from_refuses_a_changed_file(tmp_path):
+    path = _scene(tmp_path)
+    _render([path, "-o", tmp_path / "out"])
+    np.save(tmp_path / "dem.npy", np.zeros((24, 24)))
+    result = runner.invoke(app, ["render", "--from", str(tmp_path / "out" / "cam.nc"),
+                                 "-o", str(tmp_path / "again")])
+    assert result.exit_code == 2
+    assert "terrain.file" in result.output and "changed since cam.nc" in result.output
+    assert not (tmp_path / "again" / "cam.nc").exists()
+
+
+@pytest.mark.parametrize("case", ["both", "neither", "not netcdf", "no provenance", "edited"])
+def test_render_from_bad_input_is_one_line(tmp_path, case):
+    out = tmp_path / "out"
+    if case == "both":
+        args = [str(_scene(tmp_path)), "--from", "x.nc"]
+    elif case == "neither":
+        args = []
+    elif case == "not netcdf":
+        (tmp_path / "x.nc").write_text("hello")
+        args = ["--from", str(tmp_path / "x.nc")]
+    else:
+        ds = xr.Dataset({"a": ("x", [1.0])})
+        if case == "edited":
+            ds.attrs = {"scene_document": "name: x\n", "scene_sha256": "0" * 64,
+                        "scene_base_dir": str(tmp_path), "scene_files": "[]"}
+        ds.to_netcdf(tmp_path / "x.nc", engine="h5netcdf")
+        args = ["--from", str(tmp_path / "x.nc")]
+    result = runner.invoke(app, ["render", *args, "-o", str(out)])
+    lines = [ln for ln in result.output.splitlines() if ln.strip()]
+    assert result.exit_code == 2, result.output
+    assert len(lines) == 1 and "Traceback" not in result.output, result.output
+    assert not out.exists()
+
+
+def test_python_api_outputs_carry_it_too(tmp_path, monkeypatch):
+    scene = yaml.safe_load(_scene(tmp_path).read_text())
+    monkeypatch.chdir(tmp_path)
+    scene["environment"]["atmosphere"] = {"type": "none"}
+    scene["materials"]["paint"] = {"reflectance": 0.3}
+    ds = radscene.render(scene, "cam")
+    assert ds.attrs["scene_file"] == ""
+    assert yaml.safe_load(ds.attrs["scene_document"]) == scene
+    assert ds.attrs["scene_base_dir"] == str(tmp_path.resolve())  # a dict's files: from here
+    assert {f["key"] for f in json.loads(ds.attrs["scene_files"])} == {"terrain.file"}
