@@ -16,7 +16,7 @@ __all__ = ["write_netcdf", "read_netcdf"]
 def _encoding(ds: xr.Dataset, compress: bool) -> dict:
     enc = {}
     for name, var in ds.data_vars.items():
-        e = {}
+        e = {k: var.encoding[k] for k in ("grid_mapping", "coordinates") if k in var.encoding}
         if var.dtype.kind == "f" and var.ndim >= 2:
             e["dtype"] = "float32"
         if compress and var.ndim >= 2:

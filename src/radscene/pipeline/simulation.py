@@ -33,6 +33,7 @@ import xarray as xr
 from radscene.errors import ConfigError
 from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
 from radscene.pipeline.provenance import stamp
+from radscene.render.integrator import CONSTANT_ANGLES, GEOLOCATION_COORDS
 
 __all__ = ["Frame", "FrameSequence", "Simulation", "frame_times", "parse_duration", "render_sequence"]
 
@@ -472,6 +473,9 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
 def _frame_layer(ds: xr.Dataset, frame: Frame) -> xr.Dataset:
     """One frame of a sequence: the frame's attributes that change as variables, a time."""
     ds = ds.copy()
+    # per frame: the geolocation of a moving observer changes (coordinates would not take the
+    # time axis)
+    ds = ds.reset_coords([n for n in GEOLOCATION_COORDS if n in ds.coords])
     for key in FRAME_ATTRS:
         value = ds.attrs.pop(key, None)
         if key in ("time", "history", "frame", "elapsed_s") or value is None:
@@ -483,6 +487,11 @@ def _frame_layer(ds: xr.Dataset, frame: Frame) -> xr.Dataset:
 
 
 def _stack(layers: list[xr.Dataset]) -> xr.Dataset:
+    for name in CONSTANT_ANGLES:  # one value in some frames, a map in others: maps in all
+        shaped = [ds[name] for ds in layers if name in ds and ds[name].ndim > 1]
+        if shaped and len(shaped) < sum(name in ds for ds in layers):
+            layers = [ds.assign({name: xr.full_like(shaped[0], float(ds[name].values.ravel()[0]))})
+                      if name in ds and ds[name].ndim == 1 else ds for ds in layers]
     out = xr.concat(layers, dim="time", data_vars="minimal", coords="minimal", compat="override",
                     combine_attrs="override")
     out["elapsed"] = out["elapsed"] - float(out["elapsed"].values[0])
@@ -492,4 +501,4 @@ def _stack(layers: list[xr.Dataset]) -> xr.Dataset:
         if name.startswith("frame_"):
             out[name].attrs["long_name"] = f"{name.removeprefix('frame_')} of each frame"
     out.attrs["frames"] = len(layers)
-    return out
+    return out.set_coords([n for n in GEOLOCATION_COORDS if n in out.data_vars])

@@ -723,7 +723,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
                   brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, hits, rays, labelled, track)
-    return ds.assign(geolocation)
+    return cf_conventions(ds.assign(geolocation), scene)
 
 
 def _adjacency_on(scene, height) -> bool:
@@ -1139,6 +1139,37 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
         "band_radiance_definition": "integral of S(lambda) L(lambda) d lambda with the band "
                                     "response S (peak 1 for rectangular and Gaussian bands)",
     }
+    return ds
+
+
+#: Per-pixel geolocation stored as CF auxiliary coordinates of the image.
+GEOLOCATION_COORDS = ("latitude", "longitude", "height")
+#: Angle maps stored as scalars when they are one value over the image [deg].
+CONSTANT_ANGLES = ("sun_zenith", "sun_azimuth", "view_zenith", "view_azimuth")
+
+
+def cf_conventions(ds: xr.Dataset, scene) -> xr.Dataset:
+    """A render's Dataset in CF form: latitude, longitude and height as auxiliary coordinates
+    (each image variable's ``coordinates`` on writing); an angle map that holds one value
+    (within 1e-9 deg) where the image sees the scene as a scalar; a map product (``x``/``y``
+    in metres of the scene frame) with the ``crs`` grid-mapping variable of the frame's
+    projection (rioxarray: ``ds.rio.crs``)."""
+    ds = ds.set_coords([n for n in GEOLOCATION_COORDS if n in ds.data_vars])
+    for name in CONSTANT_ANGLES:
+        if name not in ds.data_vars or ds[name].ndim == 0:
+            continue
+        values = ds[name].values
+        seen = values[np.isfinite(values)]
+        if seen.size and float(seen.max() - seen.min()) <= 1e-9:
+            ds[name] = ((), float(seen[0]), {**ds[name].attrs, "comment": "one value over the image"})
+    if "x" in ds.coords and ds["x"].attrs.get("units") == "m":
+        import rioxarray  # noqa: F401  (the .rio accessor)
+
+        from radscene.platform.geolocation import LocalFrame
+
+        loc = scene.location
+        ds = ds.rio.write_crs(LocalFrame(loc.latitude, loc.longitude, loc.altitude).crs(),
+                              grid_mapping_name="crs")
     return ds
 
 

@@ -489,6 +489,7 @@ def _signal_dataset(sensor, ds, bands, per_band, k, frames, seed) -> xr.Dataset:
             coords[name] = ("band", ds[name].values, dict(ds[name].attrs))
     coords.update(_grid_coords(ds, k, per_band[0]["dn"].shape[-2:]))
     out = xr.Dataset({**truth, **data}, coords=coords)
+    out = out.set_coords([n for n in _GEOLOCATION if n in out.data_vars])
     opt = base.optics
     out.attrs = {
         "Conventions": "CF-1.10",
@@ -516,9 +517,14 @@ def _signal_dataset(sensor, ds, bands, per_band, k, frames, seed) -> xr.Dataset:
     return out
 
 
+#: The render's auxiliary coordinates carried to the detector grid (as coordinates there too).
+_GEOLOCATION = ("latitude", "longitude", "height")
+
+
 def _carry_truth(ds: xr.Dataset, k: int) -> dict:
     out = {}
-    for name, var in ds.data_vars.items():
+    carried = [*ds.data_vars.items(), *((n, ds.coords[n]) for n in _GEOLOCATION if n in ds.coords)]
+    for name, var in carried:
         if var.dims[-2:] != ("y", "x"):
             out[name] = var.variable.copy()
             continue

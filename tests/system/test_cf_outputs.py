@@ -1,0 +1,86 @@
+"""CF form of the written outputs: geolocation as auxiliary coordinates, a grid mapping for map
+products that rioxarray reads back, constant angles as scalars."""
+
+from __future__ import annotations
+
+import h5netcdf
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+from typer.testing import CliRunner
+
+from radscene.cli import app
+from radscene.platform.geolocation import LocalFrame
+
+SCENE = {
+    "name": "cf",
+    "environment": {"time": "2026-06-21T10:00:00Z",
+                    "location": {"latitude": 45.0, "longitude": 5.0, "altitude": 200.0},
+                    "atmosphere": {"type": "none"}},
+    "materials": {"grey": {"reflectance": 0.3}},
+    "objects": [{"name": "ground", "shape": {"type": "plate", "width": 400, "length": 400},
+                 "material": "grey", "temperature": "290 K"}],
+    "bands": [{"name": "vis", "min": "0.5 um", "max": "0.6 um"}],
+    "observers": [
+        {"name": "map", "type": "orthographic", "center": [0, 0], "gsd": 20, "shape": [8, 10],
+         "altitude": 1000},
+        {"name": "cam", "type": "perspective", "position": [0, -150, 80], "look_at": [0, 0, 0],
+         "fov": 30, "shape": [8, 8]},
+    ],
+}
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("cf")
+    (folder / "scene.yaml").write_text(yaml.safe_dump(SCENE))
+    result = CliRunner().invoke(app, ["render", str(folder / "scene.yaml"), "-o",
+                                      str(folder / "out"), "--no-quicklooks"])
+    assert result.exit_code == 0, result.output
+    return folder / "out"
+
+
+def test_map_product_has_a_grid_mapping_rioxarray_reads(written):
+    import rioxarray  # noqa: F401
+
+    with xr.open_dataset(written / "map.nc", decode_coords="all") as ds:
+        assert ds.rio.crs is not None
+        assert ds.rio.crs == LocalFrame(45.0, 5.0, 200.0).crs()
+        assert ds["radiance"].encoding.get("grid_mapping") == "crs"
+        # the grid's centres are the scene frame's easting and northing
+        assert ds.rio.resolution() == pytest.approx((20.0, -20.0))
+        assert ds.rio.bounds() == pytest.approx((-100.0, -80.0, 100.0, 80.0))
+
+
+@pytest.mark.parametrize("name", ["map", "cam"])
+def test_geolocation_is_auxiliary_coordinates(written, name):
+    with xr.open_dataset(written / f"{name}.nc") as ds:
+        for coord in ("latitude", "longitude", "height"):
+            assert coord in ds.coords and coord not in ds.data_vars, coord
+        assert ds["latitude"].attrs["standard_name"] == "latitude"
+        lat = ds["latitude"].values
+        assert np.nanmin(lat) > 44.99 and np.nanmax(lat) < 45.01
+    with h5netcdf.File(written / f"{name}.nc", "r") as raw:  # what another CF reader sees
+        assert set(raw["radiance"].attrs["coordinates"].split()) >= {"latitude", "longitude"}
+
+
+def test_cf_xarray_finds_the_coordinates(written):
+    cfxr = pytest.importorskip("cf_xarray", reason="cf_xarray is in the dev extra")
+    assert cfxr is not None
+    with xr.open_dataset(written / "cam.nc") as ds:
+        assert ds.cf["latitude"].name == "latitude"
+        assert ds.cf["longitude"].name == "longitude"
+        assert set(ds.cf.coordinates["latitude"]) == {"latitude"}
+
+
+@pytest.mark.parametrize("name", ["map", "cam"])
+def test_constant_angles_are_scalars(written, name):
+    with xr.open_dataset(written / f"{name}.nc") as ds:
+        for angle in ("sun_zenith", "sun_azimuth"):
+            assert ds[angle].ndim == 0, angle
+        assert float(ds["sun_zenith"]) == pytest.approx(ds.attrs["sun_zenith_deg"], abs=1e-9)
+        if name == "map":  # a nadir map looks straight down everywhere
+            assert ds["view_zenith"].ndim == 0 and float(ds["view_zenith"]) == pytest.approx(0.0, abs=1e-9)
+        else:  # a perspective camera's lines of sight spread
+            assert ds["view_zenith"].dims == ("y", "x")
