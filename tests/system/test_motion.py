@@ -261,3 +261,51 @@ def test_a_loop_of_parents_is_refused():
     scene["objects"][1]["parent"] = "blade"
     with pytest.raises(ConfigError, match=r"objects\[\d\]\.parent: .* is a loop"):
         radscene.load_scene(scene)
+
+
+def _sequence_file(tmp_path, video=None):
+    scene = _rotor_scene()
+    scene["environment"] = {"time": "2026-06-21T07:00:00Z", "location": {"latitude": 45.0, "longitude": 5.0},
+                            "atmosphere": {"type": "none"}}
+    scene["observers"][0]["shape"] = [31, 32]  # an odd height: padded for H.264
+    if video is not None:
+        scene["render"]["video"] = video
+    path = tmp_path / "rotor.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    return path
+
+
+SPAN = ["--start", "2026-06-21T07:00:00Z", "--end", "2026-06-21T07:00:00.5Z", "--step", "250 ms"]
+
+
+def test_a_sequence_writes_a_3_frame_mp4_per_band(tmp_path):
+    pytest.importorskip("imageio_ffmpeg", reason="MP4 needs imageio-ffmpeg (pip install radscene[video])")
+    import imageio.v3 as iio
+
+    out = tmp_path / "out"
+    result = CliRunner().invoke(app, ["render", str(_sequence_file(tmp_path, "mp4")), "-o", str(out), *SPAN])
+    assert result.exit_code == 0, result.output
+    frames = iio.imread(out / "map_sequence" / "vis.mp4", plugin="FFMPEG", index=None)
+    assert frames.shape[:3] == (3, 32, 32)
+    assert not (out / "map_sequence" / "vis.gif").exists()
+    # the blade turns a quarter between frames: the frames differ
+    assert np.abs(frames[1].astype(int) - frames[0].astype(int)).max() > 100
+
+
+def test_a_sequence_with_video_both_writes_gif_and_mp4_and_none_writes_neither(tmp_path):
+    from radscene.io.animation import mp4_available
+
+    if not mp4_available():
+        result = CliRunner().invoke(app, ["render", str(_sequence_file(tmp_path, "both")), "-o",
+                                          str(tmp_path / "out"), *SPAN])
+        assert result.exit_code == 2 and "render.video: both needs imageio and imageio-ffmpeg" in result.output
+        pytest.skip("imageio-ffmpeg is not installed: the refusal is what can be tested")
+    out = tmp_path / "out"
+    assert CliRunner().invoke(app, ["render", str(_sequence_file(tmp_path, "both")), "-o", str(out), *SPAN]).exit_code == 0
+    assert sorted(p.name for p in (out / "map_sequence").iterdir()) == ["vis.gif", "vis.mp4"]
+    none = tmp_path / "none"
+    result = CliRunner().invoke(app, ["render", str(_sequence_file(tmp_path)), "-o", str(none), "--video", "none", *SPAN])
+    assert result.exit_code == 0 and not (none / "map_sequence").exists()
+    bad = CliRunner().invoke(app, ["render", str(_sequence_file(tmp_path)), "-o", str(tmp_path / "bad"), "--video",
+                                   "avi", *SPAN])
+    assert bad.exit_code == 2 and "--video: unknown choice 'avi'; known: auto, gif, mp4, both, none" in bad.output
