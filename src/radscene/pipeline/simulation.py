@@ -12,10 +12,14 @@ The ray tracer is built once, for moving geometry (``RayTracer(dynamic=True)``):
 object writes its new vertices into the tracer and refits that object's acceleration structure
 alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved, not the scene.
 
-Objects with ``trajectory: {waypoints: [[t, x, y, z], ...]}`` in the scene file move in
-straight lines between their waypoints, ``t`` [s] counted from the simulation's start; the
-clock may not leave the waypoints' span (an error names the object), and ``set_pose`` of such
-an object holds only until the next frame.
+Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
+``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
+(straight or a cubic spline; attitude fixed, along the path or the terrain's slope, or
+tabulated), spinning (``spin``), or carried by a parent (``parent``); ``t`` [s] counted from
+the simulation's start. The clock may not leave a trajectory's span (an error names the
+object), and ``set_pose`` of a moving object holds only until the next frame; ``set_pose`` of a
+parent carries its parts along at once. Each frame writes to the ray tracer only the objects
+whose pose changed.
 
 Limits. The heat balance is solved for the objects where they stood when it was solved
 (once for a span, and again when the clock runs past it): a moved object keeps the solved
