@@ -97,15 +97,18 @@ def _instant(value, key):
     return when
 
 
-def _render_sequence(scene, names, output, start, end, step, quicklooks):
+def _render_sequence(scene, names, output, start, end, step, quicklooks, video):
     """``radscene render`` of a sequence: every frame rendered, then one file per observer (and
-    with quicklooks a GIF per band)."""
-    from radscene.io import band_animations, write_netcdf
+    with quicklooks a GIF and/or an MP4 per band, as ``render.video`` or --video says)."""
+    from radscene.io import band_animations, band_videos, write_netcdf
+    from radscene.io.animation import video_formats
     from radscene.pipeline.simulation import render_sequence
 
     started = time.perf_counter()
     given = {"time.start": start, "time.end": end, "time.step": step}
     try:
+        formats = video_formats(video or scene.spec.render.video,
+                                "--video" if video else "render.video") if quicklooks else ()
         span = scene.spec.time
         start = _instant(start, "--start") or (span.start if span else None)
         end = _instant(end, "--end") or (span.end if span else None)
@@ -128,9 +131,11 @@ def _render_sequence(scene, names, output, start, end, step, quicklooks):
         console.print(f"{name}: {ds.sizes['time']} frames -> {path}")
         if name in sequences.signal:
             console.print(f"{name}: {write_netcdf(sequences.signal[name], output / f'{name}_signal_sequence.nc')}")
-        if quicklooks and "band" in ds.dims:
-            for gif in band_animations(ds, output / f"{name}_sequence"):
-                console.print(f"{name}: {gif}")
+        if "band" in ds.dims:
+            written = band_animations(ds, output / f"{name}_sequence") if "gif" in formats else []
+            written += band_videos(ds, output / f"{name}_sequence") if "mp4" in formats else []
+            for animation in written:
+                console.print(f"{name}: {animation}")
     console.print(f"{scene.name}: {len(sequences.radiance)} observer(s) in {time.perf_counter() - started:.1f} s")
 
 
@@ -154,6 +159,9 @@ def render(
     start: str = typer.Option(None, "--start", help="A sequence's first frame, e.g. 2026-06-21T10:00:00Z."),
     end: str = typer.Option(None, "--end", help="A sequence's last instant."),
     step: str = typer.Option(None, "--step", help="A sequence's step, e.g. '40 ms' or '10 min'."),
+    video: str = typer.Option(None, "--video",
+                              help="A sequence's animations per band: auto, gif, mp4, both or none "
+                                   "(default render.video, auto: GIF, and MP4 with imageio-ffmpeg)."),
     from_file: Path = typer.Option(None, "--from",
                                    help="Render again what an output NetCDF file of radscene "
                                         "holds, from its provenance (the scene, its files "
@@ -167,9 +175,9 @@ def render(
     replaces it with manifest.json (every file, its size and SHA-256). With a sequence
     (--start/--end/--step, or ``time`` in the scene file) one NAME_sequence.nc per observer
     with a time axis (NAME_signal_sequence.nc for a sensor's), and with quicklooks
-    NAME_sequence/BAND.gif, written after the last frame. With --from out/NAME.nc, the scene
-    that file was rendered from is rendered again (its observer, unless --observer), to the
-    same numbers."""
+    NAME_sequence/BAND.gif and/or BAND.mp4 (--video), written after the last frame. With
+    --from out/NAME.nc, the scene that file was rendered from is rendered again (its observer,
+    unless --observer), to the same numbers."""
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
     from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
@@ -204,7 +212,7 @@ def render(
     except (ConfigError, EngineError) as err:
         _fail(err)
     if sequence:
-        return _render_sequence(scene, names, output, start, end, step, quicklooks)
+        return _render_sequence(scene, names, output, start, end, step, quicklooks, video)
     started = time.perf_counter()
     results, spectral, written = {}, {}, []
     with run_record.RunRecord(output, scene_file, names, done) as record:

@@ -1,4 +1,19 @@
-"""Animated GIFs of a frame sequence, one per band (Pillow, which matplotlib already needs)."""
+"""Animations of a frame sequence, one per band: looping GIFs (Pillow, which matplotlib already
+needs) and MP4 videos (H.264 through imageio and imageio-ffmpeg, the optional extra
+``radscene[video]``).
+
+``render.video`` in a scene file chooses (:func:`video_formats`):
+
+=======  =====================================================================================
+value    writes
+=======  =====================================================================================
+auto     a GIF per band, and an MP4 too when imageio-ffmpeg is installed (the default)
+gif      GIFs only
+mp4      MP4s only (needs imageio-ffmpeg: an error before any frame is rendered otherwise)
+both     both (idem)
+none     neither
+=======  =====================================================================================
+"""
 
 from __future__ import annotations
 
@@ -12,7 +27,9 @@ from radscene.errors import ConfigError
 from radscene.io.files import atomic_output
 from radscene.io.quicklook import stretch_limits
 
-__all__ = ["band_animations"]
+__all__ = ["VIDEO_CHOICES", "band_animations", "band_videos", "mp4_available", "video_formats"]
+
+VIDEO_CHOICES = ("auto", "gif", "mp4", "both", "none")
 
 #: GIF frame durations are whole hundredths of a second; browsers play shorter ones slowly [s].
 GIF_MIN_FRAME = 0.02
@@ -43,20 +60,99 @@ def band_animations(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
     if not (np.isfinite(fps) and 0 < fps <= 1.0 / GIF_MIN_FRAME):
         raise ConfigError(f"must lie in (0, {1.0 / GIF_MIN_FRAME:g}] frames per second (GIF durations "
                           f"are whole hundredths of a second), got {fps!r}", key="fps")
-    if "time" not in ds.dims:
-        raise ConfigError("a sequence has a time dimension; this Dataset has none", key="ds")
     folder = Path(folder)
     written = []
+    for band, grey in _grey_frames(ds):
+        images = [Image.fromarray(g, mode="L") for g in grey]
+        path = folder / f"{prefix}{band}.gif"
+        with atomic_output(path, suffix=".gif") as tmp:
+            images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
+                           duration=round(1000.0 / fps), loop=0)
+        written.append(path)
+    return written
+
+
+def _grey_frames(ds: xr.Dataset):
+    """Per band its frames as 8-bit grey ``(time, y, x)`` on one stretch (display only)."""
+    if "time" not in ds.dims:
+        raise ConfigError("a sequence has a time dimension; this Dataset has none", key="ds")
     for band in ds["band"].values:
         sel = ds.sel(band=band)
         bt = sel["brightness_temperature"].values if "brightness_temperature" in sel else None
         stack = bt if bt is not None and np.isfinite(bt).any() else sel["radiance"].values
         lo, hi = stretch_limits(stack)
-        grey = np.clip((np.nan_to_num(stack, nan=lo) - lo) / (hi - lo), 0.0, 1.0)  # display only
-        images = [Image.fromarray(np.round(255 * g).astype(np.uint8), mode="L") for g in grey]
-        path = folder / f"{prefix}{band}.gif"
-        with atomic_output(path, suffix=".gif") as tmp:
-            images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
-                           duration=round(1000.0 / fps), loop=0)
+        grey = np.clip((np.nan_to_num(stack, nan=lo) - lo) / (hi - lo), 0.0, 1.0)
+        yield band, np.round(255 * grey).astype(np.uint8)
+
+
+def mp4_available() -> bool:
+    """Whether MP4s can be written: imageio and imageio-ffmpeg importable."""
+    import importlib.util
+
+    return all(importlib.util.find_spec(m) is not None for m in ("imageio", "imageio_ffmpeg"))
+
+
+def video_formats(choice: str = "auto", key: str = "render.video") -> tuple[str, ...]:
+    """The animation formats a sequence writes for a ``render.video`` choice.
+
+    Returns
+    -------
+    tuple of str
+        Some of ``("gif", "mp4")``.
+
+    Raises
+    ------
+    ConfigError
+        An unknown choice, or mp4/both without imageio-ffmpeg (naming the extra to install).
+    """
+    if choice not in VIDEO_CHOICES:
+        raise ConfigError(f"unknown choice {choice!r}; known: {', '.join(VIDEO_CHOICES)}", key=key)
+    have_mp4 = mp4_available()
+    if choice in ("mp4", "both") and not have_mp4:
+        raise ConfigError(f"{choice} needs imageio and imageio-ffmpeg (pip install 'radscene[video]'); "
+                          "or choose gif", key=key)
+    return {"auto": ("gif", "mp4") if have_mp4 else ("gif",), "gif": ("gif",), "mp4": ("mp4",),
+            "both": ("gif", "mp4"), "none": ()}[choice]
+
+
+def band_videos(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
+                fps: float = 10.0) -> list[Path]:
+    """One MP4 (H.264, yuv420p) per band of a sequence, the frames of :func:`band_animations`.
+
+    Odd image sizes are padded by repeating the last row or column (H.264 in yuv420p needs even
+    ones); nothing is scaled.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sequence: ``radiance(time, band, y, x)``.
+    folder : path-like
+        Written as ``folder/<prefix><band>.mp4``.
+    fps : float
+        Playback frames per second [s-1], > 0.
+
+    Returns
+    -------
+    list of pathlib.Path
+    """
+    fps = float(fps)
+    if not (np.isfinite(fps) and fps > 0):
+        raise ConfigError(f"must be > 0 frames per second, got {fps!r}", key="fps")
+    if not mp4_available():
+        raise ConfigError("MP4 needs imageio and imageio-ffmpeg (pip install 'radscene[video]')", key="video")
+    import imageio.v2 as imageio
+
+    folder = Path(folder)
+    written = []
+    for band, grey in _grey_frames(ds):
+        _, ny, nx = grey.shape
+        grey = np.pad(grey, ((0, 0), (0, ny % 2), (0, nx % 2)), mode="edge")
+        path = folder / f"{prefix}{band}.mp4"
+        with atomic_output(path, suffix=".mp4") as tmp:
+            with imageio.get_writer(tmp, format="FFMPEG", mode="I", fps=fps, codec="libx264",
+                                    pixelformat="yuv420p", macro_block_size=1,
+                                    ffmpeg_log_level="error") as writer:
+                for frame in grey:
+                    writer.append_data(frame)
         written.append(path)
     return written

@@ -12,10 +12,14 @@ The ray tracer is built once, for moving geometry (``RayTracer(dynamic=True)``):
 object writes its new vertices into the tracer and refits that object's acceleration structure
 alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved, not the scene.
 
-Objects with ``trajectory: {waypoints: [[t, x, y, z], ...]}`` in the scene file move in
-straight lines between their waypoints, ``t`` [s] counted from the simulation's start; the
-clock may not leave the waypoints' span (an error names the object), and ``set_pose`` of such
-an object holds only until the next frame.
+Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
+``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
+(straight or a cubic spline; attitude fixed, along the path or the terrain's slope, or
+tabulated), spinning (``spin``), or carried by a parent (``parent``); ``t`` [s] counted from
+the simulation's start. The clock may not leave a trajectory's span (an error names the
+object), and ``set_pose`` of a moving object holds only until the next frame; ``set_pose`` of a
+parent carries its parts along at once. Each frame writes to the ray tracer only the objects
+whose pose changed.
 
 Limits. The heat balance is solved for the objects where they stood when it was solved
 (once for a span, and again when the clock runs past it): a moved object keeps the solved
@@ -31,6 +35,7 @@ import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
+from radscene.geometry import Mesh
 from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
 from radscene.pipeline.provenance import stamp
 from radscene.render.integrator import CONSTANT_ANGLES, GEOLOCATION_COORDS
@@ -155,24 +160,28 @@ class Simulation:
         self._elapsed = 0.0
         self._index = 0
         self._thermal = thermal_active(self.scene)
+        from radscene.platform.motion import compose
+
+        # every object but the terrain: its motion, its world pose and its mesh in its own frame
+        self._motions = {o.name: self.scene.motions[o.name] for o in self.scene.objects
+                         if not o.is_terrain and o.name in self.scene.motions}
+        self._parents = {n: m.parent for n, m in self._motions.items()}
+        rest = compose({n: m.rest_pose() for n, m in self._motions.items()}, self._parents)
+        specs = {o.name: o for o in self.scene.spec.objects}
         self._poses = {}
         self._body = {}
-        specs = {o.name: o for o in self.scene.spec.objects}
         for k, obj in enumerate(self.scene.objects):
-            spec = specs.get(obj.name)
-            if obj.is_terrain or spec is None:
+            if obj.name not in self._motions:
                 continue
-            position = np.array(spec.position, float)
-            if spec.on_ground and self.scene.heightfield is not None:
-                position[2] += float(self.scene.heightfield.height_at(position[0], position[1]))
-            attitude = np.array(spec.rotation, float)
-            self._poses[obj.name] = (position, attitude)
-            self._body[obj.name] = (k, _to_body(obj.mesh, position, attitude))
-        # objects with waypoints: (their index in the scene file, their spec)
-        self._trajectories = {o.name: (i, o) for i, o in enumerate(self.scene.spec.objects)
-                              if o.trajectory is not None and o.name in self._body}
+            position, rot = rest[obj.name]
+            attitude = (np.array(specs[obj.name].rotation, float) if self._parents[obj.name] is None
+                        else _attitude(rot))
+            self._poses[obj.name] = (position, attitude, rot)
+            self._body[obj.name] = (k, _to_body(obj.mesh, position, rot))
+        # what moves by itself (a trajectory, a spin) and what a moving parent carries
+        self._moving = {n for n in self._motions if self._carried(n)}
         self.tracer = RayTracer([obj.mesh for obj in self.scene.objects], dynamic=True)
-        self._follow_trajectories()
+        self._follow_motions()
         scene_tables(self.scene, self.tracer)
 
     # -- the clock --------------------------------------------------------------------------
@@ -214,7 +223,7 @@ class Simulation:
         from radscene.render.integrator import scene_tables
 
         scene = self.scene
-        self._follow_trajectories()
+        self._follow_motions()
         self._rebuild_scanners()
         if self._thermal:
             self._apply_thermal()
@@ -234,23 +243,42 @@ class Simulation:
                 frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
         return frame
 
-    def _follow_trajectories(self):
-        """Objects with waypoints where they are at the clock's time (straight lines between)."""
-        for name, (i, spec) in self._trajectories.items():
-            points = np.array(spec.trajectory.waypoints, float)
-            t = self._elapsed
-            if not points[0, 0] <= t <= points[-1, 0]:
-                raise ConfigError(f"the clock at {t:g} s lies outside the waypoints' {points[0, 0]:g} - "
-                                  f"{points[-1, 0]:g} s", key=f"objects[{i}].trajectory")
-            position = np.array([np.interp(t, points[:, 0], points[:, c]) for c in (1, 2, 3)])
-            if spec.on_ground and self.scene.heightfield is not None:
-                hf = self.scene.heightfield
-                xmin, xmax, ymin, ymax = hf.extent
-                if not (xmin <= position[0] <= xmax and ymin <= position[1] <= ymax):
-                    raise ConfigError(f"at {t:g} s ({position[0]:g}, {position[1]:g}) m lies outside the terrain "
-                                      f"{hf.extent} m", key=f"objects[{i}].trajectory")
-                position[2] += float(hf.height_at(position[0], position[1]))
-            self._move_object(name, position, None)
+    def _carried(self, name) -> bool:
+        """Whether an object moves with time: by its own motion or a moving ancestor's."""
+        while name is not None:
+            if self._motions[name].moves:
+                return True
+            name = self._parents[name]
+        return False
+
+    def _follow_motions(self):
+        """Objects that move (trajectories, spins, parts of moving parents) where they are at the
+        clock's time; only those whose pose changed are written to the ray tracer."""
+        from radscene.platform.motion import compose
+
+        if not self._moving:
+            return
+        t = self._elapsed
+        local = {n: self._motions[n].pose(t) for n in self._moving}
+        # what does not move stands where it is (set_pose included), a root of the family
+        local.update({n: self._poses[n][::2] for n in self._motions if n not in self._moving})
+        parents = {n: self._parents[n] if n in self._moving else None for n in local}
+        world = compose(local, parents)
+        for name in self._moving:
+            self._place(name, *world[name])
+
+    def _place(self, name, position, rotation, attitude=None):
+        """Write an object's world pose into its mesh and the ray tracer (when it changed)."""
+        old_position, _, old_rotation = self._poses[name]
+        if attitude is None:
+            if np.array_equal(position, old_position) and np.array_equal(rotation, old_rotation):
+                return
+            attitude = _attitude(rotation)
+        k, body = self._body[name]
+        moved = Mesh(body.vertices @ rotation.T + position, body.faces, name=name)
+        self.tracer.update(k, moved)
+        self.scene.objects[k].mesh = moved
+        self._poses[name] = (np.asarray(position, float), np.asarray(attitude, float), rotation)
 
     def _apply_thermal(self):
         scene = self.scene
@@ -286,7 +314,7 @@ class Simulation:
         azimuth, 0)."""
         kind, target = self._find(name)
         if kind == "object":
-            position, attitude = self._poses[name]
+            position, attitude, _ = self._poses[name]
             return position.copy(), attitude.copy()
         cam = target.camera
         if target.kind == "perspective":
@@ -344,15 +372,23 @@ class Simulation:
                           f"observers: {', '.join(observers)}", key="set_pose.name")
 
     def _move_object(self, name, position, attitude):
-        old_position, old_attitude = self._poses[name]
+        """set_pose of an object: it, and the parts it carries, move now."""
+        from radscene.geometry import rotation_matrix
+
+        old_position, old_attitude, _ = self._poses[name]
         position = old_position if position is None else position
         attitude = old_attitude if attitude is None else attitude
-        k, body = self._body[name]
-        moved = body.transformed(translation=position, rotation=attitude)
-        moved.name = name
-        self.tracer.update(k, moved)
-        self.scene.objects[k].mesh = moved
-        self._poses[name] = (position, attitude)
+        self._place(name, position, rotation_matrix(*attitude), attitude)
+        self._place_parts(name)
+
+    def _place_parts(self, name):
+        """The parts carried by ``name`` where its pose and theirs at the clock's time put them."""
+        parent_position, _, parent_rotation = self._poses[name]
+        for child, parent in self._parents.items():
+            if parent == name:
+                p, rot = self._motions[child].pose(self._elapsed)
+                self._place(child, parent_position + parent_rotation @ p, parent_rotation @ rot)
+                self._place_parts(child)
 
     def _move_observer(self, setup, position, attitude):
         from radscene.platform import OrthographicCamera, PerspectiveCamera
@@ -373,13 +409,18 @@ class Simulation:
                               "trajectory and takes no pose", key="set_pose.name")
 
 
-def _to_body(mesh, position, attitude):
-    """The mesh in its own frame: the inverse of ``transformed(translation, rotation)``."""
-    from radscene.geometry import Mesh, rotation_matrix
-
-    rot = rotation_matrix(*attitude)
+def _to_body(mesh, position, rotation):
+    """The mesh in its own frame: the inverse of placing it at ``position`` turned by
+    ``rotation`` (3, 3)."""
     # world = R body + t  ->  body = R^T (world - t), row-wise (world - t) R
-    return Mesh((mesh.vertices - position) @ rot, mesh.faces, name=mesh.name)
+    return Mesh((mesh.vertices - position) @ rotation, mesh.faces, name=mesh.name)
+
+
+def _attitude(rotation) -> np.ndarray:
+    """(yaw, pitch, roll) [deg] of a rotation matrix."""
+    from radscene.platform.trajectory import attitude_from_matrix
+
+    return np.array([float(a) for a in attitude_from_matrix(rotation)])
 
 
 # -- sequences ------------------------------------------------------------------------------

@@ -14,6 +14,7 @@ time            s              ms, min, h, hr, hour(s), d, day(s)
 irradiance      W m-2          W/m2, kW m-2, W cm-2, mW cm-2, uW cm-2
 radiance        W m-2 sr-1     W/m2/sr, W cm-2 sr-1, mW cm-2 sr-1, uW cm-2 sr-1
 speed           m/s            m s-1, km/h, kn, knots, mph
+angular_speed   deg/s          deg s-1, rad/s, rad s-1, rpm, rev/s, Hz (revolutions)
 pressure        Pa             hPa, mbar, kPa, bar, atm
 power           W              kW, MW
 dimensionless   1              %, percent, ppm
@@ -165,6 +166,15 @@ UNITS: dict[str, dict[str, tuple[float, float]]] = {
         "knots": (1852.0 / 3600.0, 0.0),
         "mph": (0.44704, 0.0),
     },
+    "angular_speed": {
+        "deg/s": (1.0, 0.0),
+        "deg s-1": (1.0, 0.0),
+        "rad/s": (180.0 / math.pi, 0.0),
+        "rad s-1": (180.0 / math.pi, 0.0),
+        "rpm": (6.0, 0.0),  # 360 deg / 60 s
+        "rev/s": (360.0, 0.0),
+        "Hz": (360.0, 0.0),
+    },
     "pressure": {
         "Pa": (1.0, 0.0),
         "hPa": (100.0, 0.0),
@@ -196,6 +206,7 @@ CANONICAL_UNITS: dict[str, str] = {
     "irradiance": "W m-2",
     "radiance": "W m-2 sr-1",
     "speed": "m/s",
+    "angular_speed": "deg/s",
     "pressure": "Pa",
     "power": "W",
     "dimensionless": "1",

@@ -113,6 +113,8 @@ class Scene:
     brdfs: dict = field(default_factory=dict)
     #: Participating volumes (radscene.render.volumes.Volume).
     volumes: list = field(default_factory=list)
+    #: How each object (not the terrain) moves, by name (radscene.platform.motion.Motion).
+    motions: dict = field(default_factory=dict)
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
     render_cache: dict = field(default_factory=dict, repr=False)
 
@@ -274,6 +276,7 @@ class _Resolver:
         self.materials: list = []
         self.material_names: list[str] = []
         self.brdfs: dict = {}
+        self.motions: dict = {}
 
     # -- helpers ---------------------------------------------------------------------------
     def file(self, name: str, key: str) -> Path:
@@ -494,9 +497,13 @@ class _Resolver:
         return np.asarray(grid_values)[row, col]
 
     def objects(self, hf) -> list:
-        from radscene.geometry import box, cylinder, load_mesh, plate
+        from radscene.geometry import Mesh, box, cylinder, load_mesh, plate
+        from radscene.platform.motion import compose
 
         out = []
+        self.motions = {o.name: self.motion(i, o, hf) for i, o in enumerate(self.spec.objects)}
+        rest = compose({n: m.rest_pose() for n, m in self.motions.items()},
+                       {n: m.parent for n, m in self.motions.items()})
         for i, ospec in enumerate(self.spec.objects):
             key = f"objects[{i}]"
             shape = ospec.shape
@@ -512,17 +519,14 @@ class _Resolver:
                 except ConfigError as err:
                     raise ConfigError(err.message, key=f"{key}.shape.file") from None
                 mesh = mesh.transformed(scale=shape.scale)
-            x, y, z = ospec.position
-            if ospec.on_ground and hf is not None:
-                xmin, xmax, ymin, ymax = hf.extent
-                if not (xmin <= x <= xmax and ymin <= y <= ymax):
-                    raise ConfigError(
-                        f"({x:g}, {y:g}) m lies outside the terrain {hf.extent} m; "
-                        "place it inside or set on_ground: false",
-                        key=f"{key}.position",
-                    )
-                z = z + float(hf.height_at(x, y))
-            mesh = mesh.transformed(translation=(x, y, z), rotation=ospec.rotation)
+            if ospec.parent is None:
+                x, y, z = ospec.position
+                if self.motions[ospec.name].terrain is not None:
+                    z = z + float(hf.height_at(x, y))
+                mesh = mesh.transformed(translation=(x, y, z), rotation=ospec.rotation)
+            else:  # a part: placed in its parent's frame, where the parent rests
+                p, rot = rest[ospec.name]
+                mesh = Mesh(mesh.vertices @ rot.T + p, mesh.faces, name=mesh.name)
             mesh.name = ospec.name
             midx = self.material_index(ospec.material, f"{key}.material")
             if ospec.transmissive and not np.any(
@@ -543,6 +547,59 @@ class _Resolver:
                 )
             )
         return out
+
+    def motion(self, i: int, ospec, hf):
+        """How ``objects[i]`` moves (radscene.platform.motion.Motion): its trajectory, from
+        waypoints, a route or a track file, its attitude mode, the terrain under it, its spin
+        and its parent. An object that does not move gets one too (its rest pose)."""
+        from radscene.platform.motion import Motion, path_trajectory, route_times
+        from radscene.platform.track_file import read_track
+
+        key = f"objects[{i}]"
+        tspec = ospec.trajectory
+        on_ground = ospec.on_ground if tspec is None or tspec.on_ground is None else tspec.on_ground
+        terrain = hf if on_ground and hf is not None and ospec.parent is None else None
+        if terrain is not None:
+            x, y = ospec.position[:2]
+            xmin, xmax, ymin, ymax = hf.extent
+            if not (xmin <= x <= xmax and ymin <= y <= ymax):
+                raise ConfigError(f"({x:g}, {y:g}) m lies outside the terrain {hf.extent} m; "
+                                  "place it inside or set on_ground: false", key=f"{key}.position")
+        trajectory, attitude, source = None, "fixed", "waypoints"
+        if tspec is not None:
+            attitudes = quaternions = None
+            if tspec.waypoints is not None:
+                rows = np.array(tspec.waypoints, float)
+                times, positions = rows[:, 0], rows[:, 1:4]
+                attitudes = rows[:, 4:7] if rows.shape[1] == 7 else None
+            elif tspec.route is not None:
+                source = "route"
+                positions = np.array(tspec.route, float)
+                try:
+                    times = route_times(positions, tspec.speed, tspec.start)
+                except ConfigError as err:
+                    raise ConfigError(err.message, key=f"{key}.trajectory.{err.key}") from None
+            else:
+                source = "track"
+                fkey = f"{key}.trajectory.file"
+                track = read_track(self.file(tspec.file, fkey), key=fkey)
+                times, positions = track.times, track.positions
+                attitudes, quaternions = track.attitudes, track.quaternions
+            tabulated = attitudes is not None or quaternions is not None
+            attitude = tspec.attitude or ("tabulated" if tabulated else "fixed")
+            if attitude == "tabulated" and not tabulated:
+                raise ConfigError(f"{tspec.file}: the track has no attitude columns (yaw, pitch, roll "
+                                  "or qw, qx, qy, qz)", key=f"{key}.trajectory.attitude")
+            if attitude != "tabulated" and tabulated:
+                raise ConfigError(f"{tspec.file}: the track's attitudes would be ignored by attitude "
+                                  f"{attitude!r}; remove the columns or the attitude",
+                                  key=f"{key}.trajectory.attitude")
+            trajectory = path_trajectory(times, positions, attitudes, quaternions=quaternions,
+                                         interpolation=tspec.interpolation)
+        spin = ospec.spin
+        return Motion(key, np.array(ospec.position, float), tuple(ospec.rotation), trajectory, attitude,
+                      terrain, None if spin is None else np.array(spin.axis, float),
+                      0.0 if spin is None else spin.rate, ospec.parent, source)
 
     def density_grid(self, profile, key) -> np.ndarray:
         """A volume's density grid (n_z, n_y, n_x) from a .npy file or a NetCDF variable with
@@ -806,6 +863,7 @@ class _Resolver:
             source=self.path,
             brdfs=self.brdfs,
             volumes=volumes,
+            motions=self.motions,
         )
 
 

@@ -10,6 +10,7 @@ resolves materials, files and meshes.
 from __future__ import annotations
 
 import datetime as _dt
+import math
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
@@ -285,19 +286,102 @@ Shape = Annotated[BoxShape | CylinderShape | PlateShape | MeshShape, Field(discr
 
 
 class TrajectorySpec(_Model):
-    """Waypoints ``[t, x, y, z]`` (t [s] from the start of the simulation or sequence; x, y, z
-    [m] as ``position``, z above the terrain when ``on_ground``), followed in straight lines."""
+    """How an object moves: exactly one of ``waypoints`` (``[t, x, y, z]`` or ``[t, x, y, z, yaw,
+    pitch, roll]``; t [s] from the start of the simulation or sequence), ``route`` (``[x, y]``
+    or ``[x, y, z]`` driven at ``speed`` from ``start``) or ``file`` (a tabulated 6-DOF track,
+    CSV or NetCDF: ``time [s], x [m], y [m], z [m]`` and optionally ``yaw, pitch, roll [deg]``
+    or ``qw, qx, qy, qz``). z is a height above the terrain when the object is on the ground."""
 
-    waypoints: list[tuple[Annotated[float, _quantity("time")], Length, Length, Length]] = Field(min_length=2)
+    waypoints: list[list[Any]] | None = Field(
+        None, description="[t, x, y, z] or [t, x, y, z, yaw, pitch, roll] rows, t increasing")
+    route: list[list[Any]] | None = Field(
+        None, description="[x, y] or [x, y, z] points driven at 'speed' (over the map, x and y)")
+    speed: Annotated[Speed, Field(gt=0)] | None = Field(None, description="a route's speed, e.g. '36 km/h'")
+    start: Annotated[float, _quantity("time")] = Field(0.0, description="when a route begins [s]")
+    file: str | None = Field(None, description="a track file (.csv or .nc), see docs/simulation.md")
+    interpolation: Literal["linear", "spline"] = Field(
+        "linear", description="positions between samples: straight lines, or the C2 cubic spline "
+        "through them (not-a-knot ends); attitudes are always slerped")
+    attitude: Literal["fixed", "path", "tabulated"] | None = Field(
+        None, description="fixed: the object's rotation; path: forward along the velocity (heading "
+        "and climb; on the ground pitch and roll from the terrain's slope), rotation on top; "
+        "tabulated: the waypoints' or file's attitudes, rotation on top. Default: tabulated when "
+        "the samples have attitudes, else fixed")
+    on_ground: bool | None = Field(
+        None, description="z is a height above the terrain under the object; default the object's on_ground")
+
+    @field_validator("waypoints")
+    @classmethod
+    def _waypoints(cls, value):
+        if value is None:
+            return value
+        if len(value) < 2:
+            raise ValueError(f"give at least two waypoints; got {len(value)}")
+        width = len(value[0])
+        kinds = ("time", "length", "length", "length", "angle", "angle", "angle")
+        rows = []
+        for k, row in enumerate(value):
+            if len(row) not in (4, 7) or len(row) != width:
+                raise ValueError(f"waypoints[{k}]: every waypoint is [t, x, y, z] or every one "
+                                 f"[t, x, y, z, yaw, pitch, roll]; got {len(row)} values")
+            rows.append([float(parse_quantity(v, kind, key=f"waypoints[{k}][{c}]"))
+                         for c, (v, kind) in enumerate(zip(row, kinds, strict=False))])
+        return rows
+
+    @field_validator("route")
+    @classmethod
+    def _route(cls, value):
+        if value is None:
+            return value
+        if len(value) < 2:
+            raise ValueError(f"give at least two route points; got {len(value)}")
+        rows = []
+        for k, row in enumerate(value):
+            if len(row) not in (2, 3):
+                raise ValueError(f"route[{k}]: [x, y] or [x, y, z]; got {len(row)} values")
+            rows.append([float(parse_quantity(v, "length", key=f"route[{k}][{c}]")) for c, v in enumerate(row)]
+                        + [0.0] * (3 - len(row)))
+        return rows
 
     @model_validator(mode="after")
-    def _increasing(self):
-        times = [w[0] for w in self.waypoints]
-        for k in range(1, len(times)):
-            if not times[k] > times[k - 1]:
-                raise ValueError(f"waypoints[{k}]: t = {times[k]:g} s does not follow t = {times[k - 1]:g} s "
+    def _one_source(self):
+        given = [k for k in ("waypoints", "route", "file") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of 'waypoints', 'route' (with 'speed') or 'file'"
+                             + (f"; got {', '.join(given)}" if given else ""))
+        rows = self.waypoints or []
+        for k in range(1, len(rows)):
+            if not rows[k][0] > rows[k - 1][0]:
+                raise ValueError(f"waypoints[{k}]: t = {rows[k][0]:g} s does not follow t = {rows[k - 1][0]:g} s "
                                  "of the waypoint before; times must increase")
+        if (self.route is None) != (self.speed is None):
+            raise ValueError("'speed' goes with a 'route', and a route needs a 'speed'")
+        if "start" in self.model_fields_set and self.route is None:
+            raise ValueError("'start' belongs to a 'route' (waypoints and files carry their times)")
+        tabulated = self.waypoints is not None and len(self.waypoints[0]) == 7
+        if self.attitude == "tabulated" and (self.route is not None or (self.waypoints is not None
+                                                                         and not tabulated)):
+            raise ValueError("attitude 'tabulated' needs attitudes in the samples: waypoints "
+                             "[t, x, y, z, yaw, pitch, roll] or a file with them")
+        if tabulated and self.attitude in ("fixed", "path"):
+            raise ValueError(f"the waypoints carry attitudes, which attitude {self.attitude!r} would "
+                             "ignore; drop them or the attitude")
         return self
+
+
+class SpinSpec(_Model):
+    """A part turning at a constant rate about an axis through its origin (a rotor, a radar)."""
+
+    axis: tuple[float, float, float] = Field(description="in the object's own (model) frame")
+    rate: Annotated[float, _quantity("angular_speed")] = Field(
+        description="e.g. '300 rpm', '30 deg/s', '2 rad/s'; right-handed about the axis")
+
+    @field_validator("axis")
+    @classmethod
+    def _nonzero(cls, value):
+        if not any(value) or not all(math.isfinite(v) for v in value):
+            raise ValueError(f"must be a finite, non-zero vector; got {list(value)}")
+        return value
 
 
 class ObjectSpec(_Model):
@@ -305,12 +389,18 @@ class ObjectSpec(_Model):
 
     name: str
     shape: Shape
-    position: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
+    position: tuple[Length, Length, Length] = Field(
+        (0.0, 0.0, 0.0), description="[m]; relative to the parent's body frame for a part (parent)")
     on_ground: bool = Field(
         True, description="z of position is height above the terrain at (x, y), not altitude"
     )
-    rotation: tuple[Angle, Angle, Angle] = (0.0, 0.0, 0.0)
-    trajectory: TrajectorySpec | None = Field(None, description="waypoints the object follows in time")
+    rotation: tuple[Angle, Angle, Angle] = Field(
+        (0.0, 0.0, 0.0), description="(yaw, pitch, roll) [deg]; relative to the parent for a part, "
+        "on top of the path's or track's attitude with trajectory.attitude path or tabulated")
+    trajectory: TrajectorySpec | None = Field(None, description="how the object moves in time")
+    parent: str | None = Field(None, description="another object that carries this one: position and "
+                               "rotation are in its body frame, and the part moves with it")
+    spin: SpinSpec | None = Field(None, description="turn at a constant rate about an axis")
     material: str
     temperature: Temperature | None = Field(
         None, description="a fixed surface temperature [K]; default: solved by the heat balance "
@@ -497,6 +587,10 @@ class RenderSettings(_Model):
     specular_samples: Annotated[int, Field(ge=1, le=4096)] = 16
     shadows: bool = True
     seed: int = 0
+    video: Literal["auto", "gif", "mp4", "both", "none"] = Field(
+        "auto", description="a sequence's animations per band: auto writes a GIF, and an MP4 too "
+        "when imageio and imageio-ffmpeg are installed (pip install radscene[video]); mp4 and both "
+        "need them")
     coupling: bool = Field(True, description="surface-atmosphere coupling: multiple reflection "
                            "and the diffusely transmitted surface radiance")
     adjacency: Literal["auto"] | bool = Field(
@@ -648,6 +742,24 @@ class SceneSpec(_Model):
                 if item.name in seen:
                     raise ValueError(f"{label}: the name {item.name!r} is used twice")
                 seen.add(item.name)
+        names = [o.name for o in self.objects]
+        for i, obj in enumerate(self.objects):
+            if obj.parent is None:
+                continue
+            if obj.parent not in names:
+                raise ValueError(f"objects[{i}].parent: unknown object {obj.parent!r}; known: {', '.join(names)}")
+            if obj.trajectory is not None:
+                raise ValueError(f"objects[{i}].trajectory: a part moves with its parent {obj.parent!r}; "
+                                 "give the trajectory to the parent")
+            if "on_ground" in obj.model_fields_set and obj.on_ground:
+                raise ValueError(f"objects[{i}].on_ground: a part's position is in its parent's frame, "
+                                 "not above the terrain; remove on_ground")
+            chain, name = [obj.name], obj.parent
+            while name is not None:
+                if name in chain:
+                    raise ValueError(f"objects[{i}].parent: {' -> '.join([*chain, name])} is a loop")
+                chain.append(name)
+                name = self.objects[names.index(name)].parent
         if self.terrain is None and not self.objects:
             raise ValueError("the scene has neither terrain nor objects")
         for i, obs in enumerate(self.observers):
