@@ -29,6 +29,8 @@ def _quantity(kind: str, minimum: float | None = None, exclusive: bool = False):
             raise ValueError(f"must be {op} {minimum:g} (canonical unit), got {value!r}")
         return number
 
+    # read by the scene-file reference and the JSON schema (radscene.scene.reference)
+    parse.quantity_kind, parse.quantity_minimum, parse.quantity_exclusive = kind, minimum, exclusive
     return BeforeValidator(parse)
 
 
@@ -433,7 +435,8 @@ class SpectralGridSpec(_Model):
 
     min: Wavelength
     max: Wavelength
-    step: float = Field(description="spacing of the channel centres, e.g. '10 nm'")
+    step: float = Field(description="spacing of the channel centres, e.g. '10 nm'",
+                        json_schema_extra={"x-quantity": "wavelength", "gt": 0.0})
 
     @field_validator("step", mode="before")
     @classmethod
