@@ -154,7 +154,7 @@ def scene_json_schema() -> dict:
     """
     raw = SceneSpec.model_json_schema(schema_generator=_Generator)
     defs = raw.pop("$defs", {})
-    doc = {"$schema": DRAFT_07, "$id": "https://radscene.invalid/scene.schema.json", **raw,
+    doc = {"$schema": DRAFT_07, **raw,
            "definitions": defs}
     doc["title"] = "radscene scene file"
     doc = _walk_json(doc, _to_draft_07)
