@@ -81,6 +81,10 @@ def _to_draft_07(node: dict) -> dict:
     node = dict(node)
     if "$ref" in node:
         node["$ref"] = node["$ref"].replace("#/$defs/", "#/definitions/")
+    mapping = node.get("discriminator", {}).get("mapping")
+    if mapping:  # OpenAPI's discriminator, which editors use to pick a tagged type
+        node["discriminator"] = {**node["discriminator"], "mapping": {
+            k: v.replace("#/$defs/", "#/definitions/") for k, v in mapping.items()}}
     if "prefixItems" in node:  # a tuple: draft-07 writes it as a list of item schemas
         node["items"] = node.pop("prefixItems")
         node["additionalItems"] = False
