@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: demo test validate bench lint clean lowtran atmosphere-db
+.PHONY: demo test validate bench lint clean lowtran atmosphere-db docs schema
 
 $(STAMP): pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
@@ -37,8 +37,18 @@ lowtran: $(STAMP)  ## build LOWTRAN7 for the `lowtran` atmosphere engine (needs 
 atmosphere-db: $(STAMP)  ## rebuild the shipped atmospheric database (6S; LOWTRAN after `make lowtran`)
 	$(BIN)/radscene atmosphere build default -o src/radscene/data/atmosphere/default.nc
 
+$(VENV)/.docs-stamp: $(STAMP) pyproject.toml
+	$(BIN)/python -m pip install -q -e '.[dev,docs]'
+	@touch $@
+
+docs: $(VENV)/.docs-stamp  ## the documentation site into site/ (MkDocs, strict: any warning fails)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
+
+schema: $(STAMP)  ## the JSON schema of scene files, for editors (see docs/editor.md)
+	$(BIN)/radscene schema -o scene.schema.json
+
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
 
 clean:
-	rm -rf out build dist .pytest_cache .ruff_cache
+	rm -rf out build dist site .pytest_cache .ruff_cache

@@ -335,6 +335,9 @@ class Atmosphere(abc.ABC):
                    relative_azimuth=None) -> PathNodes:
         """Nodes at which path spectra are evaluated, and each pixel's weights on them.
 
+        The default, for engines whose path does not depend on geometry, is one node at the
+        mean geometry.
+
         Parameters
         ----------
         observer_altitude, target_altitude : array_like
@@ -346,8 +349,9 @@ class Atmosphere(abc.ABC):
             :attr:`azimuth_dependent`, the nodes get a relative-azimuth axis
             (:meth:`PathNodes.with_azimuth`).
 
-        The default, for engines whose path does not depend on geometry, is one node at the
-        mean geometry.
+        Returns
+        -------
+        PathNodes
         """
         n = np.size(view_zenith)
         nodes = PathNodes(

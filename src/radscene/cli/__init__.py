@@ -463,6 +463,34 @@ def examples(
     console.print(f"copied {name} to {dest / src.name}")
 
 
+@app.command()
+def schema(
+    output: Path = typer.Option(None, "-o", "--output",
+                                help="File to write (default: standard output)."),
+):
+    """Print the JSON schema of a scene file, for completion and checking in editors.
+
+    VS Code (YAML extension): put `# yaml-language-server: $schema=scene.schema.json` on the
+    first line of a scene file.
+    """
+    import json
+
+    from radscene.scene.reference import scene_json_schema
+
+    text = json.dumps(scene_json_schema(), indent=2, ensure_ascii=False) + "\n"
+    if output is None:
+        sys.stdout.write(text)
+        return
+    if output.is_dir():
+        _fail(ConfigError(f"{output} is a folder; give a file name, e.g. scene.schema.json",
+                          key="output"))
+    try:
+        output.write_text(text, encoding="utf-8")
+    except OSError as err:
+        _fail(ConfigError(f"cannot write {output}: {err.strerror}", key="output"))
+    console.print(f"wrote {output}")
+
+
 def _register_subcommands() -> None:
     from radscene.cli.atmosphere import app as atmosphere_app
     from radscene.cli.materials import app as materials_app

@@ -72,6 +72,8 @@ def _quantity(kind: str, minimum: float | None = None, exclusive: bool = False):
                              f"(canonical unit), got {value!r}")
         return number
 
+    # read by the scene-file reference and the JSON schema (radscene.scene.reference)
+    parse.quantity_kind, parse.quantity_minimum, parse.quantity_exclusive = kind, minimum, exclusive
     return BeforeValidator(parse)
 
 

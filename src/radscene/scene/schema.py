@@ -30,6 +30,8 @@ def _quantity(kind: str, minimum: float | None = None, exclusive: bool = False):
             raise ValueError(f"must be {op} {minimum:g} (canonical unit), got {value!r}")
         return number
 
+    # read by the scene-file reference and the JSON schema (radscene.scene.reference)
+    parse.quantity_kind, parse.quantity_minimum, parse.quantity_exclusive = kind, minimum, exclusive
     return BeforeValidator(parse)
 
 
@@ -57,24 +59,24 @@ class _Model(BaseModel):
 class Location(_Model):
     """A place on the Earth: WGS84 latitude and longitude [deg], altitude of the scene origin [m]."""
 
-    latitude: Annotated[float, Field(ge=-90, le=90)]
-    longitude: Annotated[float, Field(ge=-180, le=360)]
-    altitude: Length = 0.0
+    latitude: Annotated[float, Field(ge=-90, le=90, description="WGS84 latitude of the scene origin [deg], north positive")]
+    longitude: Annotated[float, Field(ge=-180, le=360, description="WGS84 longitude of the scene origin [deg], east positive")]
+    altitude: Length = Field(0.0, description="altitude of the scene origin (z = 0) above sea level [m]")
 
 
 class SunOverride(_Model):
     """A sun placed by hand instead of by ephemeris."""
 
-    zenith: Annotated[Angle, Field(ge=0, le=180)]
-    azimuth: Angle = 180.0
+    zenith: Annotated[Angle, Field(ge=0, le=180, description="solar zenith angle at the scene [deg]")]
+    azimuth: Angle = Field(180.0, description="solar azimuth, clockwise from north [deg]")
     distance: Annotated[float, Field(gt=0.9, lt=1.1, description="Earth–Sun distance [AU]")] = 1.0
 
 
 class Environment(_Model):
-    location: Location = Location(latitude=0.0, longitude=0.0)
-    time: _dt.datetime | None = None
-    sun: SunOverride | None = None
-    atmosphere: dict[str, Any] = Field(default_factory=lambda: {"type": "none"})
+    location: Location = Field(Location(latitude=0.0, longitude=0.0), description="where the scene origin is on the Earth")
+    time: _dt.datetime | None = Field(None, description="the instant of the scene, with its UTC offset; the sun follows from it and the place")
+    sun: SunOverride | None = Field(None, description="a sun placed by hand instead of by ephemeris")
+    atmosphere: dict[str, Any] = Field(default_factory=lambda: {"type": "none"}, description="the atmosphere engine: {type: none|uniform|database|sixs|lowtran, ...}")
 
     @field_validator("time")
     @classmethod
@@ -387,25 +389,27 @@ class SpinSpec(_Model):
 class ObjectSpec(_Model):
     """An object placed in the scene."""
 
-    name: str
-    shape: Shape
+    name: str = Field(description="unique name; the object_id truth map lists it")
+    shape: Shape = Field(description="the geometry: a box, cylinder, plate or mesh file")
     position: tuple[Length, Length, Length] = Field(
-        (0.0, 0.0, 0.0), description="[m]; relative to the parent's body frame for a part (parent)")
+        (0.0, 0.0, 0.0), description="x east, y north [m] of the shape's base centre, z [m] (see "
+        "on_ground); relative to the parent's body frame for a part (parent)")
     on_ground: bool = Field(
         True, description="z of position is height above the terrain at (x, y), not altitude"
     )
     rotation: tuple[Angle, Angle, Angle] = Field(
-        (0.0, 0.0, 0.0), description="(yaw, pitch, roll) [deg]; relative to the parent for a part, "
-        "on top of the path's or track's attitude with trajectory.attitude path or tabulated")
+        (0.0, 0.0, 0.0), description="attitude (yaw, pitch, roll) [deg]: yaw clockwise from north, "
+        "then pitch nose up, then roll right side down; relative to the parent for a part, on top "
+        "of the path's or track's attitude with trajectory.attitude path or tabulated")
     trajectory: TrajectorySpec | None = Field(None, description="how the object moves in time")
     parent: str | None = Field(None, description="another object that carries this one: position and "
                                "rotation are in its body frame, and the part moves with it")
     spin: SpinSpec | None = Field(None, description="turn at a constant rate about an axis")
-    material: str
+    material: str = Field(description="a built-in material (radscene materials list) or a key of `materials`")
     temperature: Temperature | None = Field(
         None, description="a fixed surface temperature [K]; default: solved by the heat balance "
         "(293.15 K with thermal off)")
-    textures: TextureSet = TextureSet()
+    textures: TextureSet = Field(TextureSet(), description="multipliers of reflectance, emissivity and transmittance over the surface")
     transmissive: bool = Field(
         False, description="a semi-transparent sheet (camouflage net, foliage layer): rays "
         "and sun rays pass through it with its material's transmittance (times the Δτ texture)")
@@ -523,7 +527,8 @@ class SpectralGridSpec(_Model):
 
     min: Wavelength
     max: Wavelength
-    step: float = Field(description="spacing of the channel centres, e.g. '10 nm'")
+    step: float = Field(description="spacing of the channel centres, e.g. '10 nm'",
+                        json_schema_extra={"x-quantity": "wavelength", "gt": 0.0})
 
     @field_validator("step", mode="before")
     @classmethod
@@ -711,15 +716,15 @@ class TimeSpan(_Model):
 class SceneSpec(_Model):
     """The whole scene file."""
 
-    name: str = "scene"
-    description: str = ""
-    environment: Environment
+    name: str = Field("scene", description="the scene's name, recorded in the outputs")
+    description: str = Field("", description="free text")
+    environment: Environment = Field(description="place, time, sun and atmosphere")
     materials: dict[str, dict[str, Any]] = Field(
         default_factory=dict,
         description="user materials: {type: custom|library|file|earthlib|leaf|canopy|water|"
                     "mixture, ...}; without 'type' a custom material (reflectance, emissivity, ...)")
-    terrain: Terrain | None = None
-    objects: list[ObjectSpec] = Field(default_factory=list)
+    terrain: Terrain | None = Field(None, description="the ground: procedural hills or a DEM")
+    objects: list[ObjectSpec] = Field(default_factory=list, description="buildings, vehicles, panels placed in the scene")
     volumes: list[VolumeSpec] = Field(default_factory=list,
                                       description="participating media (smoke, dust, cloud, gas)")
     bands: list[BandSpec] = Field(default_factory=list,
@@ -728,9 +733,9 @@ class SceneSpec(_Model):
         default_factory=dict,
         description="sensor models by name: a mapping (radscene.sensor.make_sensor), "
                     "{file: path} or {example: name}")
-    observers: list[Observer] = Field(min_length=1)
-    render: RenderSettings = RenderSettings()
-    thermal: ThermalSpec = ThermalSpec()
+    observers: list[Observer] = Field(min_length=1, description="the cameras and scanners that record the scene")
+    render: RenderSettings = Field(RenderSettings(), description="sampling and the terms of the renderer")
+    thermal: ThermalSpec = Field(ThermalSpec(), description="the heat balance of surfaces without a fixed temperature")
     time: TimeSpan | None = Field(None, description="a frame sequence: {start, end, step}")
 
     @model_validator(mode="after")

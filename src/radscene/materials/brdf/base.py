@@ -437,7 +437,7 @@ class BRDF:
         wo : array_like
             Unit directions towards the viewer ``(..., 3)`` [-].
         u1, u2 : array_like
-            Uniform numbers in [0, 1] [-], broadcastable with ``wo[..., 0]``.
+            Uniform numbers [-] in [0, 1], broadcastable with ``wo[..., 0]``.
         wavelength : array_like, optional
             [um]; sets the mixture weights of multi-lobe models.
         normal : array_like, optional

@@ -1,0 +1,160 @@
+"""The scene-file reference and the JSON schema cover every key of the schema models, and the
+JSON schema accepts the bundled example scenes and refuses what the loader refuses."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+
+import pytest
+
+from radscene.scene.reference import (
+    example_scenes,
+    quantity_pattern,
+    scene_json_schema,
+    scene_reference,
+    schema_models,
+)
+from radscene.scene.schema import SceneSpec
+
+jsonschema = pytest.importorskip("jsonschema", reason="the JSON schema checks need jsonschema "
+                                 "(the dev extra)")
+
+
+@pytest.fixture(scope="module")
+def schema():
+    return scene_json_schema()
+
+
+@pytest.fixture(scope="module")
+def reference():
+    return scene_reference()
+
+
+@pytest.fixture(scope="module")
+def validator(schema):
+    return jsonschema.Draft7Validator(schema)
+
+
+def _sections(markdown: str) -> dict[str, set[str]]:
+    """Model name -> the keys listed in its table."""
+    out: dict[str, set[str]] = {}
+    current = None
+    for line in markdown.splitlines():
+        if line.startswith("## "):
+            current = out.setdefault(line[3:].strip(), set())
+        elif current is not None and line.startswith("| `"):
+            current.add(line.split("`")[1])
+    return out
+
+
+def test_schema_models_reach_every_nested_model():
+    models = schema_models()
+    assert next(iter(models)) == "SceneSpec"
+    for expected in ("ObjectSpec", "BoxShape", "PerspectiveSpec", "PushbroomSpec", "OrbitSpec",
+                     "WeatherSpec", "TimeSpan", "DensityProfile", "NoiseTextureSpec"):
+        assert expected in models
+
+
+def test_reference_lists_every_key_of_every_model(reference):
+    sections = _sections(reference)
+    for name, model in schema_models().items():
+        assert name in sections, f"no section for {name}"
+        assert sections[name] == set(model.model_fields), name
+
+
+def test_reference_rows_have_type_unit_default_description_example(reference):
+    rows = [line for line in reference.splitlines() if line.startswith("| `")]
+    assert len(rows) > 200
+    for row in rows:
+        cells = [c.strip() for c in re.split(r"(?<!\\)\|", row)[1:-1]]
+        assert len(cells) == 6, row
+        assert all(cells[i] for i in (1, 2, 3, 5)), row
+
+
+def test_reference_units_and_defaults(reference):
+    rows = {line.split("`")[1] + "@" + str(i): line
+            for i, line in enumerate(reference.splitlines()) if line.startswith("| `t_min`")}
+    (row,) = rows.values()
+    assert "| temperature" in row and "| K |" in row and "285.15" in row
+    objects = _row(reference, "ObjectSpec", "position")
+    assert "[length, length, length]" in objects and "| m |" in objects
+
+
+def _row(reference: str, model: str, key: str) -> str:
+    section = reference.split(f"\n## {model}\n", 1)[1].split("\n## ", 1)[0]
+    return next(line for line in section.splitlines() if line.startswith(f"| `{key}`"))
+
+
+def test_examples_come_from_the_bundled_scenes(reference):
+    assert '"2026-03-15T09:30:00+02:00"' in _row(reference, "Environment", "time")
+    assert '"1200 m"' in _row(reference, "ProceduralTerrain", "size")
+
+
+def test_json_schema_is_valid_draft_07(schema):
+    jsonschema.Draft7Validator.check_schema(schema)
+    assert schema["$schema"] == "http://json-schema.org/draft-07/schema#"
+    assert "$defs" not in json.dumps(schema) and "prefixItems" not in json.dumps(schema)
+
+
+def test_json_schema_covers_every_key(schema):
+    defs = schema["definitions"]
+    for name, model in schema_models().items():
+        target = schema if name == "SceneSpec" else defs[name]
+        assert set(target["properties"]) == set(model.model_fields), name
+        assert target.get("additionalProperties") is False, name
+
+
+@pytest.mark.parametrize("name", sorted(example_scenes()))
+def test_json_schema_accepts_the_example_scenes(name, validator):
+    errors = [f"{list(e.absolute_path)}: {e.message}"
+              for e in validator.iter_errors(example_scenes()[name])]
+    assert not errors
+
+
+def _demo():
+    return json.loads(json.dumps(example_scenes()["demo"]))
+
+
+@pytest.mark.parametrize("edit, path", [
+    (lambda s: s["objects"][0].__setitem__("colour", "red"), ["objects", 0]),
+    (lambda s: s["objects"][0].__setitem__("position", ["1 m", "2 m", "3 degC"]),
+     ["objects", 0, "position", 2]),
+    (lambda s: s["objects"][0]["shape"].__setitem__("type", "sphere"), ["objects", 0, "shape"]),
+    (lambda s: s["thermal"]["weather"].__setitem__("relative_humidity", 1.5),
+     ["thermal", "weather", "relative_humidity"]),
+    (lambda s: s.pop("observers"), []),
+])
+def test_json_schema_refuses_what_the_loader_refuses(edit, path, validator):
+    scene = _demo()
+    edit(scene)
+    errors = list(validator.iter_errors(scene))
+    assert errors, "the schema accepted a broken scene"
+    assert any(list(e.absolute_path)[:len(path)] == path for e in errors)
+    with pytest.raises(ValueError):  # pydantic's ValidationError is a ValueError
+        SceneSpec.model_validate(scene)
+
+
+@pytest.mark.parametrize("kind, good, bad", [
+    ("temperature", ["300", "300 K", "25 degC", "-3.5e1 °C", " 77 kelvin "], ["300 m", "K", "hot"]),
+    ("length", ["2 km", "1.5e3 m", "12 ft", "0.5"], ["2 deg", "2 km/h"]),
+    ("wavelength", ["550 nm", "10 um", "10 µm", "1 micron"], ["10 K", "nm"]),
+    ("irradiance", ["50 W m-2", "50 W  m-2", "1 kW/m2"], ["50 W"]),
+])
+def test_quantity_pattern(kind, good, bad):
+    pattern = re.compile(quantity_pattern(kind))
+    assert all(pattern.match(v) for v in good)
+    assert not any(pattern.match(v) for v in bad)
+
+
+def test_schema_command_writes_the_schema(tmp_path):
+    out = tmp_path / "scene.schema.json"
+    run = subprocess.run([sys.executable, "-m", "radscene", "schema", "-o", str(out)],
+                         capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert json.loads(out.read_text(encoding="utf-8")) == scene_json_schema()
+    refused = subprocess.run([sys.executable, "-m", "radscene", "schema", "-o", str(tmp_path)],
+                             capture_output=True, text=True, timeout=120)
+    assert refused.returncode == 2 and "output" in refused.stderr
