@@ -59,3 +59,15 @@ def test_a_misspelt_key_gets_a_suggestion():
     bad["observers"][0]["zzz"] = 1
     with pytest.raises(ConfigError, match=r"observers\[0\]\.zzz: unknown key$"):
         radscene.render(bad)
+
+
+def test_importing_radscene_leaves_matplotlib_alone():
+    """A notebook keeps its backend: radscene's pictures are drawn outside pyplot."""
+    import subprocess
+    import sys
+
+    code = ("import matplotlib; matplotlib.use('svg'); import radscene, radscene.io.quicklook, "
+            "radscene.io.thermal_plots; assert matplotlib.get_backend() == 'svg', "
+            "matplotlib.get_backend(); import sys; assert 'matplotlib.pyplot' not in sys.modules")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr

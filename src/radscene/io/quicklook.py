@@ -5,14 +5,11 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from radscene.io.files import atomic_output  # noqa: E402
+from radscene.io.files import atomic_output
 
 __all__ = ["band_quicklooks", "signal_quicklooks", "terms_figure", "truth_figure",
            "stretch_limits"]
@@ -30,13 +27,18 @@ def stretch_limits(image, low: float = 1.0, high: float = 99.0) -> tuple[float, 
     return float(lo), float(hi)
 
 
+def subplots(*args, **kwargs):
+    """A figure and its axes, as ``pyplot.subplots`` but outside pyplot: no global figure
+    state and no backend switched, so importing radscene leaves a notebook's plotting alone."""
+    figure_keys = ("figsize", "dpi", "layout", "constrained_layout")
+    fig = Figure(**{k: kwargs.pop(k) for k in figure_keys if k in kwargs})
+    return fig, fig.subplots(*args, **kwargs)
+
+
 def _save(fig, path: Path) -> Path:
     path = Path(path)
-    try:
-        with atomic_output(path, suffix=".png") as tmp:
-            fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
-    finally:
-        plt.close(fig)
+    with atomic_output(path, suffix=".png") as tmp:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight", format="png")
     return path
 
 
@@ -66,7 +68,7 @@ def band_quicklooks(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "")
         use_bt = np.isfinite(bt).any()
         image = bt if use_bt else sel["radiance"].values
         lo, hi = stretch_limits(image)
-        fig, ax = plt.subplots(figsize=(6, 5))
+        fig, ax = subplots(figsize=(6, 5))
         im = ax.imshow(image, cmap="inferno" if use_bt else "gray", vmin=lo, vmax=hi,
                        extent=extent, interpolation="nearest")
         label = "brightness temperature [K]" if use_bt else "radiance [W m-2 sr-1]"
@@ -89,7 +91,7 @@ def terms_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
 
     names = list(TERMS) + ["radiance"]
     n_b = ds.sizes["band"]
-    fig, axes = plt.subplots(n_b, len(names), figsize=(2.2 * len(names), 2.0 * n_b + 0.6),
+    fig, axes = subplots(n_b, len(names), figsize=(2.2 * len(names), 2.0 * n_b + 0.6),
                              squeeze=False)
     for i, band in enumerate(ds["band"].values):
         lo, hi = stretch_limits(ds["radiance"].sel(band=band).values, 0.5, 99.5)
@@ -119,7 +121,7 @@ def truth_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     layers = [("object_id", "tab20"), ("material_id", "tab20"), ("range", "viridis"),
               ("cos_incidence", "gray"), ("shadow_fraction", "gray_r"),
               ("sky_view_fraction", "gray"), ("surface_temperature", "inferno")]
-    fig, axes = plt.subplots(2, 4, figsize=(12, 6))
+    fig, axes = subplots(2, 4, figsize=(12, 6))
     for ax, (name, cmap) in zip(axes.ravel(), layers, strict=False):
         image = ds[name].values.astype(float)
         if name.endswith("_id"):
@@ -151,7 +153,7 @@ def signal_quicklooks(signal: xr.Dataset, folder: str | os.PathLike) -> list[Pat
     for band in dn["band"].values:
         image = dn.sel(band=band).values
         lo, hi = stretch_limits(image)
-        fig, ax = plt.subplots(figsize=(6, 5))
+        fig, ax = subplots(figsize=(6, 5))
         im = ax.imshow(image, cmap="gray", vmin=lo, vmax=hi, interpolation="nearest")
         fig.colorbar(im, ax=ax, label="signal [DN]", shrink=0.85)
         ax.set_title(f"{signal.attrs.get('observer', '')}: {band}, sensor output")

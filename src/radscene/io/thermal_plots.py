@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from radscene.io.quicklook import _save, plt, stretch_limits
+from radscene.io.quicklook import _save, stretch_limits, subplots
 
 __all__ = ["diurnal_figure", "temperature_maps"]
 
@@ -39,7 +39,7 @@ def diurnal_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     pathlib.Path
     """
     hours = _local_hours(ds)
-    fig, axes = plt.subplots(1, 2, figsize=(13, 4.8), sharey=True)
+    fig, axes = subplots(1, 2, figsize=(13, 4.8), sharey=True)
     up = ds.normal_z > 0.7
     for name in np.unique(ds.material.values):
         mask = (ds.material == name) & up
@@ -82,7 +82,7 @@ def temperature_maps(ds: xr.Dataset, folder: str | os.PathLike, times=None, obje
     lo, hi = stretch_limits(sub.surface_temperature.values - 273.15)
     written = []
     for k in times:
-        fig, ax = plt.subplots(figsize=(6.2, 5.4))
+        fig, ax = subplots(figsize=(6.2, 5.4))
         art = ax.scatter(sub.x, sub.y, c=sub.surface_temperature.isel(time=k) - 273.15, s=4, marker="s",
                          cmap="inferno", vmin=lo, vmax=hi, linewidths=0)
         fig.colorbar(art, ax=ax, label="surface temperature [°C]")
