@@ -21,6 +21,10 @@ object), and ``set_pose`` of a moving object holds only until the next frame; ``
 parent carries its parts along at once. Each frame writes to the ray tracer only the objects
 whose pose changed.
 
+With ``render.motion_blur`` a frame is the mean of renders at sub-frame instants of its
+exposure, what moves placed at each (:mod:`radscene.pipeline.motion_blur`); the sun and the
+tables stay the frame's.
+
 Limits. The heat balance is solved for the objects where they stood when it was solved
 (once for a span, and again when the clock runs past it): a moved object keeps the solved
 temperatures of its faces, not those of where it went. Terrain does not move.
