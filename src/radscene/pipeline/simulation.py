@@ -21,6 +21,10 @@ object), and ``set_pose`` of a moving object holds only until the next frame; ``
 parent carries its parts along at once. Each frame writes to the ray tracer only the objects
 whose pose changed.
 
+With ``render.motion_blur`` a frame is the mean of renders at sub-frame instants of its
+exposure, what moves placed at each (:mod:`radscene.pipeline.motion_blur`); the sun and the
+tables stay the frame's.
+
 Limits. The heat balance is solved for the objects where they stood when it was solved
 (once for a span, and again when the clock runs past it): a moved object keeps the solved
 temperatures of its faces, not those of where it went. Terrain does not move.
@@ -181,6 +185,7 @@ class Simulation:
         # what moves by itself (a trajectory, a spin) and what a moving parent carries
         self._moving = {n for n in self._motions if self._carried(n)}
         self.tracer = RayTracer([obj.mesh for obj in self.scene.objects], dynamic=True)
+        self._exposures = self._blur_exposures()
         self._follow_motions()
         scene_tables(self.scene, self.tracer)
 
@@ -231,10 +236,11 @@ class Simulation:
         self._index += 1
         frame = Frame(self._index, self._elapsed, self.time)
         for setup in scene.observers:
-            if setup.spectral is not None:
-                images = render_hyperspectral(scene, setup.name, progress=progress)
-            else:
-                images = render_observer(scene, setup.name, progress=progress, _tables=tables)
+            def one(setup=setup, tables=tables):
+                if setup.spectral is not None:
+                    return render_hyperspectral(scene, setup.name, progress=progress)
+                return render_observer(scene, setup.name, progress=progress, _tables=tables)
+            images = self._expose(setup, one, tables)
             images.attrs.update({"frame": self._index, "elapsed_s": self._elapsed})
             stamp(images, scene, setup.name)
             frame.radiance[setup.name] = images
@@ -251,14 +257,59 @@ class Simulation:
             name = self._parents[name]
         return False
 
-    def _follow_motions(self):
-        """Objects that move (trajectories, spins, parts of moving parents) where they are at the
-        clock's time; only those whose pose changed are written to the ray tracer."""
+    def _blur_exposures(self) -> dict[str, float]:
+        """Per observer its exposure [s] when motion blur is on (``render.motion_blur``)."""
+        from radscene.pipeline.motion_blur import observer_exposure
+
+        blur = self.scene.settings.motion_blur
+        if blur is None:
+            return {}
+        return {setup.name: observer_exposure(setup, blur.exposure) for setup in self.scene.observers}
+
+    def _expose(self, setup, render_once, tables):
+        """The image of an observer over its exposure: ``render_once()`` at each sub-frame
+        instant (what moves placed there, the sun and the tables of the frame's instant kept),
+        averaged (:mod:`radscene.pipeline.motion_blur`); one render when nothing moves."""
+        from radscene.pipeline.motion_blur import exposure_offsets, mean_frame
+
+        scanners = self.scene.time is not None and any(
+            o.kind in ("pushbroom", "whiskbroom") for o in self.scene.observers)
+        if setup.name not in self._exposures or not (self._moving or scanners):
+            return render_once()
+        offsets = exposure_offsets(self.scene.settings.motion_blur.samples, self._exposures[setup.name])
+        if len(offsets) == 1:
+            return render_once()
+        sheets = [self._body[n][0] for n in self._moving
+                  if getattr(self.scene.objects[self._body[n][0]], "transmissive", False)]
+        layers = []
+        try:
+            for offset in offsets:
+                self._follow_motions(self._elapsed + offset)
+                self._rebuild_scanners(offset)
+                if sheets:  # the sheets' own tracers follow them (the sun stays the frame's)
+                    from radscene.render.integrator import scene_tables
+
+                    tables = scene_tables(self.scene, self.tracer)
+                layers.append(render_once(tables=tables))
+        finally:  # back at the frame's instant
+            self._follow_motions()
+            self._rebuild_scanners()
+            if sheets:
+                from radscene.render.integrator import scene_tables
+
+                scene_tables(self.scene, self.tracer)
+        bands = None if setup.spectral is not None else [self.scene.band(b) for b in setup.bands]
+        return mean_frame(layers, bands)
+
+    def _follow_motions(self, t=None):
+        """Objects that move (trajectories, spins, parts of moving parents) where they are at
+        ``t`` [s] since the start (default the clock's time); only those whose pose changed
+        are written to the ray tracer."""
         from radscene.platform.motion import compose
 
         if not self._moving:
             return
-        t = self._elapsed
+        t = self._elapsed if t is None else t
         local = {n: self._motions[n].pose(t) for n in self._moving}
         # what does not move stands where it is (set_pose included), a root of the family
         local.update({n: self._poses[n][::2] for n in self._motions if n not in self._moving})
@@ -293,8 +344,8 @@ class Simulation:
             solution = solve_thermal(scene, start=start, end=end)
         apply_thermal(scene, solution, scene.time)
 
-    def _rebuild_scanners(self):
-        """Scanners fly their trajectories from the clock's instant."""
+    def _rebuild_scanners(self, offset=0.0):
+        """Scanners fly their trajectories from the clock's instant (plus ``offset`` [s])."""
         if self.scene.time is None:
             return
         from radscene.platform.config import build_observer
@@ -303,8 +354,9 @@ class Simulation:
         loc = self.scene.location
         for i, (setup, spec) in enumerate(zip(self.scene.observers, self.scene.spec.observers, strict=True)):
             if setup.kind in ("pushbroom", "whiskbroom"):
+                instant = self.scene.time + _dt.timedelta(seconds=float(offset))
                 setup.camera = build_observer(spec, LocalFrame(loc.latitude, loc.longitude, loc.altitude),
-                                              self.scene.time, key=f"observers[{i}]")
+                                              instant, key=f"observers[{i}]")
 
     # -- poses ------------------------------------------------------------------------------
 

@@ -587,6 +587,19 @@ Observer = Annotated[OrthographicSpec | PerspectiveSpec | PushbroomSpec | Whiskb
                      Field(discriminator="type")]
 
 
+class MotionBlurSpec(_Model):
+    """Motion within a frame: the image is the mean of renders at sub-frame instants."""
+
+    samples: Annotated[int, Field(ge=1, le=1024)] = Field(
+        8, description="renders per frame, at the centres of equal parts of the exposure (centred "
+        "on the frame's instant); 1: the unblurred frame. Moving features are spread into "
+        "samples copies over speed x exposure: a smooth streak when speed x exposure / samples "
+        "is at most a pixel")
+    exposure: Duration | None = Field(
+        None, description="the time the frame integrates, e.g. '10 ms'; default each observer's "
+        "sensor integration time (required for observers without a sensor)")
+
+
 class RenderSettings(_Model):
     sky_samples: Annotated[int, Field(ge=1, le=4096)] = 16
     specular_samples: Annotated[int, Field(ge=1, le=4096)] = 16
@@ -611,6 +624,11 @@ class RenderSettings(_Model):
     max_memory: float | str | None = Field(
         None, description="the memory a render may need, e.g. '8 GB': a scene estimated above "
         "it is refused before work; default the machine's memory")
+    motion_blur: MotionBlurSpec | None = Field(
+        None, description="motion blur in frame sequences and radscene.Simulation: {samples, "
+        "exposure}; objects on trajectories, spinning parts and scanners are placed at each "
+        "sub-frame instant, the sun and the atmosphere stay those of the frame. A single render "
+        "moves nothing, so it is unchanged; default off")
 
 
 # ---------------------------------------------------------------------------------------------
