@@ -9,7 +9,7 @@ import xarray as xr
 
 from radscene.io import write_netcdf
 from radscene.io.files import atomic_output
-from radscene.io.quicklook import _save, plt
+from radscene.io.quicklook import _save, subplots
 
 
 def _mode(path):
@@ -26,7 +26,7 @@ def umask_022():
 def test_netcdf_and_png_get_the_permissions_of_a_new_file(tmp_path, umask_022):
     nc = write_netcdf(xr.Dataset({"a": (("y", "x"), np.zeros((2, 2)))}), tmp_path / "a.nc")
     assert _mode(nc) == 0o644  # not mkstemp's 0600
-    fig, _ = plt.subplots()
+    fig, _ = subplots()
     png = _save(fig, tmp_path / "a.png")
     assert _mode(png) == 0o644
 
