@@ -395,13 +395,15 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
           confine: bool = typer.Option(False, "--confine",
                                        help="Read no file outside the scene file's folder.")):
     """Validate a scene file and summarise what it holds, without rendering."""
+    from radscene.pipeline import check_thermal_inputs
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
 
     try:
         scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         sun = sun_geometry(scene)
-    except ConfigError as err:
+        check_thermal_inputs(scene)
+    except (ConfigError, EngineError) as err:
         _fail(err)
     n_tri = sum(len(o.mesh.faces) for o in scene.objects)
     console.print(f"[bold]{scene.name}[/]: valid")
