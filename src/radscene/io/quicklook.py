@@ -173,10 +173,27 @@ def _axes_for(ax, ds, extent, shape) -> None:
 # ----------------------------------------------------------------------------- band pictures
 
 
+def _display_limits(image, low: float, high: float) -> tuple[float, float]:
+    """:func:`stretch_limits`, widened to ±5 % (or ±0.05) about the value of an image that
+    is constant, so that it is drawn mid-scale and its colour bar reads without an offset."""
+    lo, hi = stretch_limits(image, low, high)
+    if hi - lo <= 1e-6 * max(1.0, abs(lo)):
+        pad = 0.05 * abs(lo) or 0.05
+        return lo - pad, lo + pad
+    return lo, hi
+
+
+def _colorbar(fig, im, ax, image, **kwargs):
+    lo, hi = im.get_clim()
+    bar = fig.colorbar(im, ax=ax, extend=colorbar_extend(image, lo, hi), **kwargs)
+    bar.formatter.set_useOffset(False)
+    return bar
+
+
 def _stretched(fig, ax, image, cmap, label, extent=None):
-    lo, hi = stretch_limits(image)
+    lo, hi = _display_limits(image, 1.0, 99.0)
     im = ax.imshow(image, cmap=cmap, vmin=lo, vmax=hi, extent=extent, interpolation="nearest")
-    fig.colorbar(im, ax=ax, label=label, shrink=0.85, extend=colorbar_extend(image, lo, hi))
+    _colorbar(fig, im, ax, image, label=label, shrink=0.85)
     return im
 
 
@@ -362,13 +379,12 @@ def truth_plot(ds: xr.Dataset) -> Figure:
         else:
             image = ds[name].values.astype(float)
             title = _bracketed(name.replace("_", " "), ds[name].attrs.get("units"))
-        lo, hi = stretch_limits(image, 0, 100)
+        lo, hi = _display_limits(image, 0, 100)
         im = ax.imshow(image, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
         ax.set_title(title, fontsize=8)
         ax.set_xticks([])
         ax.set_yticks([])
-        fig.colorbar(im, ax=ax, shrink=0.8, extend=colorbar_extend(image, lo, hi)
-                     ).ax.tick_params(labelsize=6)
+        _colorbar(fig, im, ax, image, shrink=0.8).ax.tick_params(labelsize=6)
     for ax in axes.ravel()[len(panels):]:
         fig.delaxes(ax)
     title = f"truth maps — {ds.attrs.get('observer', '')}"
