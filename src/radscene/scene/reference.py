@@ -483,6 +483,6 @@ def scene_reference() -> str:
                 example_text = _yaml_value(example)
             lines.append("| " + " | ".join([
                 f"`{key}`", _cell(type_text), _cell(unit), _cell(default),
-                _cell(description) or "–", example_text]) + " |")
+                _cell(description).replace("[", "\\[") or "–", example_text]) + " |")
         lines.append("")
     return "\n".join(lines)
