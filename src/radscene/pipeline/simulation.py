@@ -25,9 +25,14 @@ With ``render.motion_blur`` a frame is the mean of renders at sub-frame instants
 exposure, what moves placed at each (:mod:`radscene.pipeline.motion_blur`); the sun and the
 tables stay the frame's.
 
+A sea (``terrain: {type: sea}``, :mod:`radscene.geometry.sea`) moves too: at each instant
+(and each sub-instant of a blurred frame) its waves are synthesised for ``t`` and written into
+the tracer (:meth:`~radscene.geometry.RayTracer.update` of the sea's mesh alone).
+
 Limits. The heat balance is solved for the objects where they stood when it was solved
 (once for a span, and again when the clock runs past it): a moved object keeps the solved
-temperatures of its faces, not those of where it went. Terrain does not move.
+temperatures of its faces, not those of where it went. Terrain does not move, except a sea's
+waves.
 """
 
 from __future__ import annotations
@@ -184,6 +189,10 @@ class Simulation:
             self._body[obj.name] = (k, _to_body(obj.mesh, position, rot))
         # what moves by itself (a trajectory, a spin) and what a moving parent carries
         self._moving = {n for n in self._motions if self._carried(n)}
+        # a sea's waves move with the clock: its mesh is rewritten at each instant
+        self._sea = self.scene.sea if self.scene.sea is not None and self.scene.sea.moves else None
+        self._sea_index = next((k for k, o in enumerate(self.scene.objects) if o.is_terrain), None)
+        self._sea_time = 0.0
         self.tracer = RayTracer([obj.mesh for obj in self.scene.objects], dynamic=True)
         self._exposures = self._blur_exposures()
         self._follow_motions()
@@ -274,7 +283,7 @@ class Simulation:
 
         scanners = self.scene.time is not None and any(
             o.kind in ("pushbroom", "whiskbroom") for o in self.scene.observers)
-        if setup.name not in self._exposures or not (self._moving or scanners):
+        if setup.name not in self._exposures or not (self._moving or scanners or self._sea):
             return render_once()
         offsets = exposure_offsets(self.scene.settings.motion_blur.samples, self._exposures[setup.name])
         if len(offsets) == 1:
@@ -307,9 +316,10 @@ class Simulation:
         are written to the ray tracer."""
         from radscene.platform.motion import compose
 
+        t = self._elapsed if t is None else t
+        self._advance_sea(t)
         if not self._moving:
             return
-        t = self._elapsed if t is None else t
         local = {n: self._motions[n].pose(t) for n in self._moving}
         # what does not move stands where it is (set_pose included), a root of the family
         local.update({n: self._poses[n][::2] for n in self._motions if n not in self._moving})
@@ -317,6 +327,17 @@ class Simulation:
         world = compose(local, parents)
         for name in self._moving:
             self._place(name, *world[name])
+
+    def _advance_sea(self, t):
+        """The sea's waves at ``t`` [s] since the start, written into its mesh and the ray
+        tracer (the sea's BVH refitted alone); nothing when they are already there."""
+        if self._sea is None or t == self._sea_time:
+            return
+        k = self._sea_index
+        mesh = self._sea.mesh(t, name=self.scene.objects[k].mesh.name)
+        self.tracer.update(k, mesh)
+        self.scene.objects[k].mesh = mesh
+        self._sea_time = t
 
     def _place(self, name, position, rotation, attitude=None):
         """Write an object's world pose into its mesh and the ray tracer (when it changed)."""

@@ -115,6 +115,8 @@ class Scene:
     volumes: list = field(default_factory=list)
     #: How each object (not the terrain) moves, by name (radscene.platform.motion.Motion).
     motions: dict = field(default_factory=dict)
+    #: The sea when the terrain is one (radscene.geometry.sea.TiledSea): its mesh at any time.
+    sea: Any = None
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
     render_cache: dict = field(default_factory=dict, repr=False)
 
@@ -142,7 +144,7 @@ def _key(loc: tuple) -> str:
         if isinstance(part, int):
             out += f"[{part}]"
         elif isinstance(part, str) and part.endswith("]") is False and part in (
-            "procedural", "dem", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
+            "procedural", "dem", "sea", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
             "perspective", "file", "noise", "function-after", "function-before", "image", "tile",
         ):
             continue  # discriminator tags pydantic inserts into the path
@@ -277,6 +279,7 @@ class _Resolver:
         self.material_names: list[str] = []
         self.brdfs: dict = {}
         self.motions: dict = {}
+        self.sea_surface = None
 
     # -- helpers ---------------------------------------------------------------------------
     def file(self, name: str, key: str) -> Path:
@@ -379,6 +382,8 @@ class _Resolver:
 
         tspec = self.spec.terrain
         water = None
+        if isinstance(tspec, schema.SeaTerrain):
+            return self.sea(tspec)
         if isinstance(tspec, schema.ProceduralTerrain):
             # the generator centres its grid on (0, 0); the scene puts its south-west corner
             # at `origin`
@@ -445,6 +450,52 @@ class _Resolver:
             textures=self.textures(tspec.textures, "terrain"),
             is_terrain=True,
             face_fixed=face_fixed,
+        )
+
+    def sea(self, tspec):
+        """A sea as the terrain: its waves (``self.sea_surface``, a TiledSea), the mesh at
+        t = 0 and the facets' material, whose Cox-Munk BRDF carries the slope variance of the
+        waves shorter than the mesh resolves (docs/sea.md). Returns the mean sea level (for
+        objects on the ground) and the terrain object."""
+        import dataclasses
+
+        from radscene.geometry.sea import SeaSurface, TiledSea, wind_at_height
+        from radscene.materials.brdf import CoxMunk
+        from radscene.materials.brdf.coxmunk import mean_square_slope
+
+        total = float(mean_square_slope(wind_at_height(tspec.wind_speed, 12.5)))
+        surface = None
+        if not tspec.far_field and tspec.wind_speed > 0.0:
+            try:
+                surface = SeaSurface.from_spectrum(
+                    tspec.spectrum, tspec.wind_speed, tspec.wind_direction, tile=tspec.tile,
+                    resolution=tspec.resolution, fetch=tspec.fetch, gamma=tspec.gamma,
+                    spreading_exponent=tspec.spreading, seed=tspec.seed)
+            except ConfigError as err:
+                raise ConfigError(err.message, key=f"terrain.{err.key}") from None
+        sea = TiledSea(surface, tspec.size, tspec.origin)
+        resolved = 0.0 if surface is None else surface.mesh_slope_variance()
+        if resolved >= total:
+            raise ConfigError(
+                f"the mesh resolves a slope variance of {resolved:.4g}, more than Cox & Munk's "
+                f"{total:.4g} for the wind: nothing is left for the facets' roughness; use a "
+                "coarser resolution", key="terrain.resolution")
+        base = self.material_index(tspec.material, "terrain.material")
+        name = f"{self.material_names[base]} (sea facets)"
+        self.materials.append(dataclasses.replace(self.materials[base], name=name))
+        self.material_names.append(name)
+        midx = len(self.materials) - 1
+        self.brdfs[midx] = CoxMunk(mean_square_slope=total - resolved, key="terrain.material")
+        self.sea_surface = sea
+        mesh = sea.mesh(0.0)
+        n = len(mesh.faces)
+        return sea.mean_level(), SceneObject(
+            name="terrain",
+            mesh=mesh,
+            face_material=np.full(n, midx, dtype=np.int64),
+            face_temperature=np.full(n, tspec.temperature),
+            is_terrain=True,
+            face_fixed=np.ones(n, dtype=bool),
         )
 
     def _terrain_classes(self, tspec, hf) -> np.ndarray:
@@ -861,6 +912,7 @@ class _Resolver:
             brdfs=self.brdfs,
             volumes=volumes,
             motions=self.motions,
+            sea=self.sea_surface,
         )
 
 

@@ -68,6 +68,12 @@ def _terrain_cells(spec) -> tuple[float, str]:
         nx = terrain.size[0] / terrain.spacing + 1
         ny = terrain.size[1] / terrain.spacing + 1
         return nx * ny, "terrain.spacing"
+    if getattr(terrain, "type", None) == "sea":
+        if terrain.far_field or terrain.wind_speed == 0:
+            return 4.0, "terrain.resolution"
+        nx = terrain.size[0] / terrain.resolution + 1
+        ny = terrain.size[1] / terrain.resolution + 1
+        return nx * ny, "terrain.resolution"
     elevation = getattr(terrain, "elevation", None)
     if elevation is not None:
         return float(sum(len(row) for row in elevation)), "terrain.elevation"

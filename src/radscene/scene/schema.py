@@ -316,7 +316,51 @@ class DemTerrain(_TerrainCommon):
         return self
 
 
-Terrain = Annotated[ProceduralTerrain | DemTerrain, Field(discriminator="type")]
+class SeaTerrain(_Model):
+    """A wind-driven sea surface (docs/sea.md): waves drawn from a named spectrum by FFT on a
+    periodic tile, repeated over ``size``, moving with the clock in sequences and
+    radscene.Simulation; the waves shorter than ``resolution`` are the facets' Cox-Munk
+    roughness. Deterministic for a seed."""
+
+    type: Literal["sea"]
+    wind_speed: Speed = Field(description="U10, 10 m above the sea, e.g. '8 m/s'; 0: a calm sea "
+                              "(flat, with Cox & Munk's clean-surface roughness)")
+    wind_direction: Angle = Field(0.0, description="where the wind comes from, clockwise from "
+                                  "north [deg]; the waves travel downwind")
+    spectrum: Literal["pierson_moskowitz", "jonswap"] = Field(
+        "pierson_moskowitz", description="pierson_moskowitz (fully developed, 1964) or jonswap "
+        "(fetch-limited, Hasselmann et al. 1973, needs fetch)")
+    fetch: PositiveLength | None = Field(None, description="jonswap: the distance the wind has "
+                                         "blown over the water, e.g. '50 km'")
+    gamma: Annotated[float, Field(ge=1.0, le=10.0)] = Field(3.3, description="jonswap: peak "
+                                                            "enhancement factor")
+    spreading: Annotated[float, Field(ge=0.0, le=100.0)] = Field(
+        10.0, description="s of the cos-2s directional spreading (Longuet-Higgins et al. 1963); "
+        "larger is narrower, 0 isotropic")
+    tile: PositiveLength = Field(64.0, description="side of the periodic tile of waves [m]")
+    resolution: PositiveLength = Field(0.25, description="sample spacing of the tile and the "
+                                       "mesh [m]; the tile must hold a whole number of samples")
+    size: tuple[PositiveLength, PositiveLength] = Field(
+        (64.0, 64.0), description="extent east and north [m], the tile repeated over it")
+    origin: tuple[Length, Length] = Field((0.0, 0.0), description="south-west corner [m]")
+    seed: int = Field(0, description="the waves' random phases and amplitudes")
+    far_field: bool = Field(False, description="no waves in the geometry: a flat surface with "
+                            "the Cox-Munk BRDF of the whole wind (for seas seen from far away)")
+    material: str = Field("water", description="the name the faces carry in material_id; their "
+                          "optics are the Cox-Munk facets of liquid water (Hale & Querry 1973)")
+    temperature: Temperature = Field(description="the sea's surface temperature [K], e.g. '288 K'")
+
+    @model_validator(mode="after")
+    def _fetch(self):
+        if self.spectrum == "jonswap" and self.fetch is None:
+            raise ValueError("the jonswap spectrum needs a 'fetch', e.g. '50 km'")
+        if self.spectrum != "jonswap" and self.fetch is not None:
+            raise ValueError("'fetch' belongs to the jonswap spectrum (pierson_moskowitz is "
+                             "fully developed)")
+        return self
+
+
+Terrain = Annotated[ProceduralTerrain | DemTerrain | SeaTerrain, Field(discriminator="type")]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -899,7 +943,8 @@ class SceneSpec(_Model):
         default_factory=dict,
         description="user materials: {type: custom|library|file|earthlib|leaf|canopy|water|"
                     "mixture, ...}; without 'type' a custom material (reflectance, emissivity, ...)")
-    terrain: Terrain | None = Field(None, description="the ground: procedural hills or a DEM")
+    terrain: Terrain | None = Field(None, description="the ground: procedural hills, a DEM or a "
+                                    "wind-driven sea")
     objects: list[ObjectSpec] = Field(default_factory=list, description="buildings, vehicles, panels placed in the scene")
     volumes: list[VolumeSpec] = Field(default_factory=list,
                                       description="participating media (smoke, dust, cloud, gas)")

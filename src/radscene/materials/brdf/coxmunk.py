@@ -28,13 +28,16 @@ anisotropy and the Gram–Charlier skewness and peakedness terms are neglected.
 parameter                unit      default  meaning
 =======================  ========  =======  ==================================================
 wind_speed               [m s-1]   —        W ≥ 0 at 12.5 m above the surface
+mean_square_slope        [-]       —        σ² > 0 itself, instead of ``wind_speed``
 refractive_index         [-]       water    n (spectrum); default liquid water (below)
 extinction_coefficient   [-]       water    k (spectrum); default 0 if n is given, else water
 =======================  ========  =======  ==================================================
 
 Without ``refractive_index`` the surface is liquid water with Hale & Querry's (1973) n and k,
 0.4–20 µm (:func:`radscene.materials.water.water_refractive_index`); a wavelength is then
-needed at every evaluation. Config snippets: ``{type: coxmunk, wind_speed: 5}`` (water);
+needed at every evaluation. Exactly one of ``wind_speed`` and ``mean_square_slope`` is given:
+the latter sets σ² directly, e.g. the slope variance of the waves shorter than a resolved sea
+surface's mesh (:mod:`radscene.geometry.sea`). Config snippets: ``{type: coxmunk, wind_speed: 5}`` (water);
 ``{type: coxmunk, wind_speed: 5, refractive_index: 1.34}`` (grey, visible).
 
 References
@@ -99,7 +102,9 @@ class CoxMunk(Beckmann):
 
     name = "coxmunk"
     PARAMETERS = {
-        "wind_speed": Parameter("m s-1", "wind speed at 12.5 m", low=0.0),
+        "wind_speed": Parameter("m s-1", "wind speed at 12.5 m", None, low=0.0),
+        "mean_square_slope": Parameter("-", "sigma^2 itself, instead of wind_speed", None,
+                                       low=0.0, low_open=True),
         "refractive_index": Parameter("-", "n (default: liquid water, Hale & Querry 1973)",
                                       None, kind="spectrum", low=0.0, low_open=True),
         "extinction_coefficient": Parameter("-", "k (default: 0 if n is given, else water)",
@@ -107,13 +112,21 @@ class CoxMunk(Beckmann):
     }
 
     def _check(self):
+        given = [p for p in ("wind_speed", "mean_square_slope") if self.parameter(p) is not None]
+        if len(given) != 1:
+            raise ConfigError("give exactly one of wind_speed [m s-1] and mean_square_slope [-]"
+                              + (f"; got {' and '.join(given)}" if given else ""),
+                              key=f"{self.key}.wind_speed")
         if self.parameter("refractive_index") is None and (
                 self.parameter("extinction_coefficient") is not None):
             raise ConfigError("extinction_coefficient needs refractive_index (without both, "
                               "the surface is water)", key=f"{self.key}.extinction_coefficient")
 
     def _alpha(self) -> float:
-        return float(np.sqrt(mean_square_slope(self.parameter("wind_speed"))))
+        sigma2 = self.parameter("mean_square_slope")
+        if sigma2 is None:
+            sigma2 = mean_square_slope(self.parameter("wind_speed"))
+        return float(np.sqrt(sigma2))
 
     def fresnel(self, cos_d, wavelength=None):
         if self.parameter("refractive_index") is not None:
