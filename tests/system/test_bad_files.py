@@ -31,6 +31,37 @@ def _pickled(path):
     np.save(path, np.array([{"a": 1}], dtype=object), allow_pickle=True)
 
 
+def _empty(path):
+    path.write_bytes(b"")
+
+
+def _corrupt_png(path):
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(50))
+
+
+def _text(content):
+    return lambda path: path.write_text(content)
+
+
+def _texture(scene, name):
+    scene["objects"][0]["textures"] = {"reflectance": {"file": name, "size": [10, 10]}}
+
+
+def _sensor(scene, name):
+    scene["sensors"] = {"cam": {"file": name}}
+    scene["observers"][0]["sensor"] = "cam"
+
+
+def _weather(scene, name):
+    """The heat balance runs (a thermal band, a surface without a fixed temperature) and reads
+    the weather file: `radscene check` reads it too."""
+    scene["environment"] = {**scene["environment"], "time": "2026-06-21T10:00:00Z",
+                            "location": {"latitude": 45.0, "longitude": 5.0}}
+    scene["objects"][0].pop("temperature")
+    scene["bands"].append({"name": "lwir", "min": "8 um", "max": "12 um"})
+    scene["thermal"] = {"weather": {"file": name}}
+
+
 CASES = {
     "binary DEM": ("junk.npy", _binary, lambda s, f: s.update(
         terrain={"type": "dem", "file": f, "spacing": [1, 1], "material": "paint"}),
@@ -45,13 +76,31 @@ CASES = {
         {"name": "j", "file": f}), "bands[1]"),
     "binary reflectance": ("junk.csv", _binary, lambda s, f: s["materials"].update(
         paint={"reflectance": {"file": f}}), "materials.paint.reflectance"),
+    "corrupt texture PNG": ("junk.png", _corrupt_png, lambda s, f: _texture(s, f),
+                            "objects[0].textures.reflectance"),
+    "empty texture .npy": ("empty.npy", _empty, lambda s, f: _texture(s, f),
+                           "objects[0].textures.reflectance"),
+    "empty sensor file": ("cam.yaml", _empty, lambda s, f: _sensor(s, f), "sensors.cam.file"),
+    "binary sensor file": ("cam.yaml", _binary, lambda s, f: _sensor(s, f), "sensors.cam.file"),
+    "sensor file of a list": ("cam.yaml", _text("- 1\n- 2\n"), lambda s, f: _sensor(s, f),
+                              "sensors.cam.file"),
+    "malformed sensor YAML": ("cam.yaml", _text("a: [1, 2\n"), lambda s, f: _sensor(s, f),
+                              "sensors.cam.file"),
+    "binary weather CSV": ("wx.csv", _binary, lambda s, f: _weather(s, f), "thermal.weather.file"),
+    "empty weather CSV": ("wx.csv", _empty, lambda s, f: _weather(s, f), "thermal.weather.file"),
+    "weather CSV of other columns": ("wx.csv", _text("a,b\n1,2\n"), lambda s, f: _weather(s, f),
+                                     "thermal.weather.file"),
+    "weather NetCDF of text": ("wx.nc", _text("hello"), lambda s, f: _weather(s, f),
+                               "thermal.weather.file"),
+    "missing weather file": ("wx.csv", None, lambda s, f: _weather(s, f), "thermal.weather.file"),
 }
 
 
 @pytest.mark.parametrize("case", CASES)
 def test_a_bad_file_is_one_line_naming_its_key(tmp_path, case):
     name, make, put, key = CASES[case]
-    make(tmp_path / name)
+    if make is not None:
+        make(tmp_path / name)
     scene = copy.deepcopy(BASE)
     put(scene, name)
     path = tmp_path / "scene.yaml"

@@ -74,6 +74,15 @@ def test_reference_rows_have_type_unit_default_description_example(reference):
         assert all(cells[i] for i in (1, 2, 3, 5)), row
 
 
+def test_every_key_is_described(reference):
+    empty = [f"{name}.{key}" for name, model in schema_models().items()
+             for key, field in model.model_fields.items() if not (field.description or "").strip()]
+    assert not empty, f"keys without a description: {', '.join(empty)}"
+    for row in (line for line in reference.splitlines() if line.startswith("| `")):
+        description = [c.strip() for c in re.split(r"(?<!\\)\|", row)[1:-1]][4]
+        assert description not in ("", "–"), row
+
+
 def test_reference_units_and_defaults(reference):
     rows = {line.split("`")[1] + "@" + str(i): line
             for i, line in enumerate(reference.splitlines()) if line.startswith("| `t_min`")}

@@ -203,6 +203,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
                                        help="Also print each stage on standard error: what it "
                                             "does and its time.")):
     """Validate a scene file and summarise what it holds, without rendering."""
+    from radscene.pipeline import check_thermal_inputs
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
 
@@ -214,7 +215,10 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
         t = time.perf_counter()
         sun = sun_geometry(scene)
         report.stage("sun position", time.perf_counter() - t)
-    except ConfigError as err:
+        t = time.perf_counter()
+        check_thermal_inputs(scene)
+        report.stage("heat-balance inputs checked", time.perf_counter() - t)
+    except (ConfigError, EngineError) as err:
         _fail(err)
     if quiet:
         return

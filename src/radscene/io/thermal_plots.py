@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from radscene.io.quicklook import _save, stretch_limits, subplots
+from radscene.io.quicklook import _save, colorbar_extend, stretch_limits, subplots
 
 __all__ = ["diurnal_figure", "temperature_maps"]
 
@@ -53,7 +53,8 @@ def diurnal_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
         ax.set_xlabel(f"hours from {start} UTC")
         ax.set_title(title)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
+        ax.legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.14),
+                  frameon=False)
     axes[0].set_ylabel("surface temperature [°C]")
     return _save(fig, path)
 
@@ -83,9 +84,11 @@ def temperature_maps(ds: xr.Dataset, folder: str | os.PathLike, times=None, obje
     written = []
     for k in times:
         fig, ax = subplots(figsize=(6.2, 5.4))
-        art = ax.scatter(sub.x, sub.y, c=sub.surface_temperature.isel(time=k) - 273.15, s=4, marker="s",
+        celsius = sub.surface_temperature.isel(time=k).values - 273.15
+        art = ax.scatter(sub.x, sub.y, c=celsius, s=4, marker="s",
                          cmap="inferno", vmin=lo, vmax=hi, linewidths=0)
-        fig.colorbar(art, ax=ax, label="surface temperature [°C]")
+        fig.colorbar(art, ax=ax, label="surface temperature [°C]",
+                     extend=colorbar_extend(celsius, lo, hi))
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")

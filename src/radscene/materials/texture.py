@@ -153,8 +153,9 @@ class Texture:
                 )
         except ConfigError:
             raise
-        except (OSError, ValueError) as exc:
-            raise ConfigError(f"cannot read texture image: {exc}", key=key) from exc
+        except Exception as exc:  # noqa: BLE001 - any reader failure (PIL raises SyntaxError) is a bad file
+            raise ConfigError(f"cannot read texture image {path.name}: not a readable image "
+                              f"({type(exc).__name__})", key=key) from None
         image = np.asarray(image)
         if np.issubdtype(image.dtype, np.integer):
             image = image.astype(float) / float(np.iinfo(image.dtype).max)

@@ -13,7 +13,7 @@ from radscene.render import render as _render_observer
 from radscene.render import render_all as _render_all
 
 __all__ = ["as_scene", "render", "render_all", "render_hyperspectral", "spectral_passes", "simulate",
-           "solve_thermal", "thermal_active", "apply_thermal", "record_signal"]
+           "solve_thermal", "thermal_active", "apply_thermal", "record_signal", "check_thermal_inputs"]
 
 #: Bands whose response reaches beyond this wavelength make the heat balance run by default [um].
 THERMAL_FROM = 2.5
@@ -71,6 +71,33 @@ def _span(scene, start=None, end=None):
     return start, end
 
 
+def check_thermal_inputs(scene) -> None:
+    """Read what the heat balance will read — its span and its weather file — when it runs
+    (:func:`thermal_active`), so that ``radscene check`` refuses a bad weather file before any
+    render; raises :class:`~radscene.errors.ConfigError` naming the key."""
+    if thermal_active(scene):
+        _weather(scene, *_span(scene))
+
+
+def _read_weather_file(scene, spec, path, start, end):
+    from radscene.thermal import weather as wx
+
+    loc = scene.location
+    if path.suffix.lower() == ".wth":
+        if spec.start is None:
+            raise ConfigError("a THERM .wth file has no date: give thermal.weather.start, the instant of its "
+                              "hour 0 with its UTC offset", key="thermal.weather.start")
+        cloud = spec.cloud_cover if "cloud_cover" in spec.model_fields_set else None
+        weather = wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=spec.start,
+                                  cloud_cover=cloud, fields=spec.fields)
+        if not weather.covers(start, end):
+            raise ConfigError(f"{path} covers {weather.span_text()}, not the heat balance's {start} – {end}",
+                              key="thermal.weather.file")
+        return weather
+    return wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=start, end=end,
+                           fields=spec.fields)
+
+
 def _weather(scene, start, end):
     from radscene.thermal import weather as wx
 
@@ -80,20 +107,24 @@ def _weather(scene, start, end):
         from pathlib import Path
 
         path = Path(spec.file)
-        if not path.is_absolute() and scene.source is not None:
-            path = Path(scene.source).parent / path
-        if path.suffix.lower() == ".wth":
-            if spec.start is None:
-                raise ConfigError("a THERM .wth file has no date: give thermal.weather.start, the instant of its "
-                                  "hour 0 with its UTC offset", key="thermal.weather.start")
-            cloud = spec.cloud_cover if "cloud_cover" in spec.model_fields_set else None
-            weather = wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=spec.start,
-                                      cloud_cover=cloud, fields=spec.fields)
-            if not weather.covers(start, end):
-                raise ConfigError(f"{path} covers {weather.span_text()}, not the heat balance's {start} – {end}",
-                                  key="thermal.weather.file")
-            return weather
-        return wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=start, end=end, fields=spec.fields)
+        base = scene.base_dir or (Path(scene.source).parent if scene.source is not None else None)
+        if not path.is_absolute() and base is not None:
+            path = Path(base) / path
+        if not path.is_file():
+            raise ConfigError(f"no such weather file: {path}", key="thermal.weather.file")
+        try:
+            return _read_weather_file(scene, spec, path, start, end)
+        except ConfigError as err:
+            if err.key and err.key.startswith("thermal."):
+                raise
+            first = str(err.message).strip().splitlines()[0] if str(err.message).strip() else "unreadable"
+            raise ConfigError(first if str(path) in first else f"{path}: {first}",
+                              key="thermal.weather.file") from None
+        except (OSError, UnicodeDecodeError, ValueError) as err:
+            what = ("not a text file" if isinstance(err, UnicodeDecodeError)
+                    else str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__)
+            raise ConfigError(f"cannot read weather file {path.name}: {what}",
+                              key="thermal.weather.file") from None
     pressure = spec.pressure
     if pressure is None:
         import pvlib

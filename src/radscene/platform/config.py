@@ -92,23 +92,32 @@ class _Model(BaseModel):
 class TLESpec(_Model):
     """A two-line element set: the lines (a list or one string), an optional name, UT1-UTC."""
 
-    lines: list[str] | str
-    name: str | None = None
-    dut1: float = 0.0
+    lines: list[str] | str = Field(description="the two element lines, as a list or one string")
+    name: str | None = Field(
+        None, description="the satellite's name; default the TLE's name line, if any")
+    dut1: float = Field(0.0, description="UT1 - UTC [s], for the Earth's rotation angle")
 
 
 class ElementsSpec(_Model):
     """Keplerian elements at an epoch (two-body + secular J2)."""
 
-    epoch: _dt.datetime
-    altitude: PositiveLength | None = None
-    semi_major_axis: PositiveLength | None = None
-    eccentricity: Annotated[float, Field(ge=0.0, lt=1.0)] = 0.0
-    inclination: Annotated[Angle, Field(ge=0.0, le=180.0)]
-    raan: Angle = 0.0
-    argument_of_perigee: Angle = 0.0
-    mean_anomaly: Angle = 0.0
-    j2: bool = True
+    epoch: _dt.datetime = Field(description="instant of the elements, with its UTC offset")
+    altitude: PositiveLength | None = Field(
+        None, description="semi-major axis minus the Earth's equatorial radius [m]; exactly one "
+        "of altitude and semi_major_axis")
+    semi_major_axis: PositiveLength | None = Field(None, description="semi-major axis [m]")
+    eccentricity: Annotated[float, Field(ge=0.0, lt=1.0)] = Field(
+        0.0, description="orbital eccentricity [-]; 0: circular")
+    inclination: Annotated[Angle, Field(ge=0.0, le=180.0)] = Field(
+        description="inclination to the equator [deg]")
+    raan: Angle = Field(
+        0.0, description="right ascension of the ascending node [deg] (equator of date, mean "
+        "equinox)")
+    argument_of_perigee: Angle = Field(0.0, description="argument of perigee [deg]")
+    mean_anomaly: Angle = Field(0.0, description="mean anomaly at the epoch [deg]")
+    j2: bool = Field(
+        True, description="add the secular J2 drift of the node, perigee and mean anomaly; false: "
+        "two-body motion")
 
     @model_validator(mode="after")
     def _size(self):
@@ -122,22 +131,35 @@ class ElementsSpec(_Model):
 class OverpassSpec(_Model):
     """A circular orbit over a ground point (default the scene origin) at the scene time."""
 
-    altitude: PositiveLength
-    inclination: Annotated[Angle, Field(ge=0.0, le=180.0)] | None = None
-    descending: bool = True
-    latitude: Annotated[float, Field(ge=-90.0, le=90.0)] | None = None
-    longitude: float | None = None
+    altitude: PositiveLength = Field(
+        description="height of the satellite above the ground point [m]")
+    inclination: Annotated[Angle, Field(ge=0.0, le=180.0)] | None = Field(
+        None, description="orbit inclination [deg]; default sun-synchronous at that altitude")
+    descending: bool = Field(
+        True, description="cross the point southbound (true) or northbound (false)")
+    latitude: Annotated[float, Field(ge=-90.0, le=90.0)] | None = Field(
+        None, description="latitude of the ground point [deg]; default the scene origin's")
+    longitude: float | None = Field(
+        None, description="longitude of the ground point [deg]; default the scene origin's")
 
 
 class OrbitSpec(_Model):
     """A satellite platform: exactly one of ``tle``, ``elements``, ``overpass``."""
 
-    tle: TLESpec | list[str] | str | None = None
-    elements: ElementsSpec | None = None
-    overpass: OverpassSpec | None = None
-    yaw_steering: bool = False
-    earth_rotation: bool = True
-    step: PositiveDuration = 1.0
+    tle: TLESpec | list[str] | str | None = Field(
+        None, description="a two-line element set: {lines, name, dut1}, or the lines alone")
+    elements: ElementsSpec | None = Field(None, description="Keplerian elements at an epoch")
+    overpass: OverpassSpec | None = Field(
+        None, description="a circular orbit over a ground point at the scene time")
+    yaw_steering: bool = Field(
+        False, description="turn the platform so that its forward axis follows the Earth-relative "
+        "velocity (no skew of the image by the Earth's rotation)")
+    earth_rotation: bool = Field(
+        True, description="false freezes the Earth at its orientation at the start, to show what "
+        "the rotation does to an image")
+    step: PositiveDuration = Field(
+        1.0, description="spacing of the orbit's samples [s]; positions are interpolated between "
+        "them")
 
     @model_validator(mode="after")
     def _one(self):
@@ -151,18 +173,27 @@ class OrbitSpec(_Model):
 class LinearPlatformSpec(_Model):
     """A straight line at constant velocity; ``position`` is where the platform is at t = 0."""
 
-    position: tuple[Length, Length, Length]
-    velocity: tuple[float, float, float]
-    attitude: tuple[Angle, Angle, Angle] | None = None
-    earth_rotation: bool = False
+    position: tuple[Length, Length, Length] = Field(
+        description="(x, y, z) of the platform at t = 0, the scene time [m]")
+    velocity: tuple[float, float, float] = Field(
+        description="(east, north, up) velocity [m/s], a bare number in m/s per component")
+    attitude: tuple[Angle, Angle, Angle] | None = Field(
+        None, description="(yaw, pitch, roll) [deg]; default level, heading along the velocity's "
+        "horizontal part (north when it has none)")
+    earth_rotation: bool = Field(
+        False, description="true: position, velocity and attitude are inertial and the Earth "
+        "turns under them (as for a satellite)")
 
 
 class WaypointsSpec(_Model):
     """Sampled positions (and attitudes) at times [s after the scene time]."""
 
-    times: list[Duration] = Field(min_length=1)
-    positions: list[tuple[Length, Length, Length]] = Field(min_length=1)
-    attitudes: list[tuple[Angle, Angle, Angle]] | None = None
+    times: list[Duration] = Field(
+        min_length=1, description="sample times after the scene time [s], increasing")
+    positions: list[tuple[Length, Length, Length]] = Field(
+        min_length=1, description="(x, y, z) of the platform at each time [m]")
+    attitudes: list[tuple[Angle, Angle, Angle]] | None = Field(
+        None, description="(yaw, pitch, roll) at each time [deg]; default level, heading north")
 
     @model_validator(mode="after")
     def _lengths(self):
@@ -174,20 +205,37 @@ class WaypointsSpec(_Model):
 
 
 class _ScannerCommon(_Model):
-    name: str
-    shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]]
-    supersample: Annotated[int, Field(ge=1, le=16)] = 1
-    bands: list[str] | None = None
+    name: str = Field(
+        description="unique name of the observer; its output files are named after it")
+    shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = Field(
+        description="rendered samples (lines, columns)")
+    supersample: Annotated[int, Field(ge=1, le=16)] = Field(
+        1, description="rays per sample along each axis: supersample² averaged into each sample")
+    bands: list[str] | None = Field(
+        None, description="names of the scene's bands this observer renders; default all of them")
     sensor: str | None = Field(None, description="name of an entry of the scene's `sensors`")
-    frames: Annotated[int, Field(ge=1, le=1000)] = 1
-    orbit: OrbitSpec | None = None
-    platform: LinearPlatformSpec | None = None
-    waypoints: WaypointsSpec | None = None
-    ifov: PositiveAngle | None = None
-    gsd: PositiveLength | None = None
-    start: Duration | None = None
-    off_nadir: Annotated[Angle, Field(gt=-90.0, lt=90.0)] = 0.0
-    forward_tilt: Annotated[Angle, Field(gt=-90.0, lt=90.0)] = 0.0
+    frames: Annotated[int, Field(ge=1, le=1000)] = Field(
+        1, description="frames the observer's sensor records from one render, each with its own "
+        "temporal noise; unused without a sensor")
+    orbit: OrbitSpec | None = Field(
+        None, description="a satellite platform; exactly one of orbit, platform and waypoints")
+    platform: LinearPlatformSpec | None = Field(
+        None, description="a straight line at constant velocity (an aircraft)")
+    waypoints: WaypointsSpec | None = Field(
+        None, description="sampled positions and attitudes, interpolated")
+    ifov: PositiveAngle | None = Field(
+        None, description="angle of one sample [deg]; exactly one of ifov and gsd")
+    gsd: PositiveLength | None = Field(
+        None, description="ground sample distance on z = 0 at the boresight at the start [m], "
+        "perpendicular to the line of sight")
+    start: Duration | None = Field(
+        None, description="when line 0 begins [s after the scene time]; default the acquisition "
+        "centred on the scene time")
+    off_nadir: Annotated[Angle, Field(gt=-90.0, lt=90.0)] = Field(
+        0.0, description="roll of the line of sight towards the right of the flight direction "
+        "[deg]")
+    forward_tilt: Annotated[Angle, Field(gt=-90.0, lt=90.0)] = Field(
+        0.0, description="then its pitch towards the front [deg]")
 
     @model_validator(mode="after")
     def _platform(self):
@@ -203,19 +251,31 @@ class _ScannerCommon(_Model):
 class PushbroomSpec(_ScannerCommon):
     """A pushbroom scanner (``type: pushbroom``)."""
 
-    type: Literal["pushbroom"]
-    line_time: PositiveDuration | None = None
+    type: Literal["pushbroom"] = Field(
+        description="`pushbroom`: a line of detectors across the track")
+    line_time: PositiveDuration | None = Field(
+        None, description="line period [s]; default the time the boresight's footprint takes to "
+        "move one sample (square samples)")
 
 
 class WhiskbroomSpec(_ScannerCommon):
     """A whiskbroom / line scanner (``type: whiskbroom``)."""
 
-    type: Literal["whiskbroom"]
-    scan_period: PositiveDuration | None = None
-    detectors: Annotated[int, Field(ge=1)] = 1
-    sample_time: PositiveDuration | None = None
-    bidirectional: bool = False
-    mirror_profile: list[tuple[float, Angle]] | None = None
+    type: Literal["whiskbroom"] = Field(
+        description="`whiskbroom`: a scanning mirror sweeping across the track")
+    scan_period: PositiveDuration | None = Field(
+        None, description="time from one sweep to the next [s]; default contiguous sweeps at the "
+        "scan centre")
+    detectors: Annotated[int, Field(ge=1)] = Field(
+        1, description="detectors along the track, i.e. lines per sweep; the shape's lines are a "
+        "multiple of it")
+    sample_time: PositiveDuration | None = Field(
+        None, description="dwell per sample [s]; default scan_period / columns (no dead time)")
+    bidirectional: bool = Field(
+        False, description="odd sweeps run from the last column to the first")
+    mirror_profile: list[tuple[float, Angle]] | None = Field(
+        None, description="(sweep phase in [0, 1], mirror angle [deg], positive to the right) "
+        "rows of a forward sweep, angles decreasing; default linear")
 
 
 def build_trajectory(spec, frame, time: _dt.datetime | None, t0: float, t1: float):

@@ -1091,7 +1091,7 @@ def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_
     data["material_id"] = (("y", "x"), material_id.reshape(ny, nx), {
         "long_name": "material index (-1: no material)",
         "flag_values": np.arange(len(scene.materials), dtype=np.int32),
-        "flag_meanings": " ".join(scene.material_names)})
+        "flag_meanings": " ".join(m.replace(" ", "_") for m in scene.material_names)})
     data["range"] = (("y", "x"), mean["range"], {"units": "m", "long_name": "distance from the observer to the surface"})
     data["surface_normal"] = (("vector", "y", "x"), normal_map.reshape(3, ny, nx), {
         "units": "1", "long_name": "unit surface normal facing the observer (east, north, up)"})

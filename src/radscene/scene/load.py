@@ -703,9 +703,8 @@ class _Resolver:
     def sensors(self) -> dict:
         """Sensor models by name: inline, ``{file: path}`` or ``{example: name}``, the last two
         with optional overrides deep-merged into the file's mapping (e.g. a smaller array)."""
-        import yaml
-
         from radscene.sensor import example_sensor_path, example_sensors, make_sensor
+        from radscene.sensor.config import read_sensor_file
 
         out = {}
         for name, spec in self.spec.sensors.items():
@@ -725,11 +724,9 @@ class _Resolver:
                                           f"{', '.join(example_sensors())}", key=f"{key}.example")
                     path = example_sensor_path(example)
                 try:
-                    base = yaml.safe_load(Path(path).read_text())
-                except yaml.YAMLError as err:
-                    raise ConfigError(f"malformed YAML in {path}: {err}", key=key) from None
-                if isinstance(base, dict) and isinstance(base.get("sensor"), dict):  # sensor file parts
-                    base = base["sensor"]
+                    base = read_sensor_file(path)["sensor"]  # the mapping, or a file's parts
+                except ConfigError as err:
+                    raise ConfigError(f"{path}: {err.message}", key=f"{key}.file") from None
                 spec = _deep_merge(base, spec)
             out[name] = make_sensor(spec, key=key)
         return out

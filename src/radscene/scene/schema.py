@@ -104,23 +104,38 @@ class ImageTextureSpec(_Model):
     """A multiplier image (Δρ, Δε or Δτ) laid on a ``size`` rectangle of the ground plane, tiled
     beyond it. The default type: a texture without ``type`` is an image."""
 
-    type: Literal["image"] = "image"
-    file: str
-    size: tuple[PositiveLength, PositiveLength]
-    origin: tuple[Length, Length] = (0.0, 0.0)
-    contrast: Annotated[float, Field(ge=0)] | None = None
+    type: Literal["image"] = Field(
+        "image", description="`image` (the default when `type` is omitted)")
+    file: str = Field(
+        description="PNG/JPEG (colour taken as luminance, integers scaled to [0, 1]) or .npy "
+        "array of multipliers, row 0 north")
+    size: tuple[PositiveLength, PositiveLength] = Field(
+        description="(width, height) the image covers on the ground [m]; tiled beyond it")
+    origin: tuple[Length, Length] = Field(
+        (0.0, 0.0), description="(x, y) of the image's south-west corner [m]")
+    contrast: Annotated[float, Field(ge=0)] | None = Field(
+        None, description="none: the pixel values are the multipliers (>= 0); a number c: the "
+        "multiplier is 1 + c (v - mean) / (max - min), of mean 1 and peak-to-peak range c")
 
 
 class TileTextureSpec(_Model):
     """A small multiplier pattern repeated over the whole ground plane at a stated scale: each
     texel covers ``texel_size`` (e.g. ``"2 m"``), or the whole pattern ``tile_size``."""
 
-    type: Literal["tile"]
-    values: list[list[Annotated[float, Field(ge=0)]]] | None = None
-    file: str | None = None
-    texel_size: PositiveLength | tuple[PositiveLength, PositiveLength] | None = None
-    tile_size: tuple[PositiveLength, PositiveLength] | None = None
-    origin: tuple[Length, Length] = (0.0, 0.0)
+    type: Literal["tile"] = Field(
+        description="`tile`: a pattern repeated over the whole ground plane")
+    values: list[list[Annotated[float, Field(ge=0)]]] | None = Field(
+        None, description="the pattern's multipliers as rows of numbers (row 0 north); exactly "
+        "one of values and file")
+    file: str | None = Field(
+        None, description="an image (PNG/JPEG/.npy) of the pattern's multipliers")
+    texel_size: PositiveLength | tuple[PositiveLength, PositiveLength] | None = Field(
+        None, description="ground size of one pattern pixel [m]: one number, or (dx, dy); exactly "
+        "one of texel_size and tile_size")
+    tile_size: tuple[PositiveLength, PositiveLength] | None = Field(
+        None, description="(width, height) of the whole pattern on the ground [m]")
+    origin: tuple[Length, Length] = Field(
+        (0.0, 0.0), description="(x, y) of a tile's south-west corner [m]")
 
     @model_validator(mode="after")
     def _one_each(self):
@@ -134,13 +149,19 @@ class TileTextureSpec(_Model):
 class NoiseTextureSpec(_Model):
     """Procedural fractal-noise multiplier ``1 + amplitude * noise`` (terrain detail)."""
 
-    type: Literal["noise"]
-    amplitude: Annotated[float, Field(ge=0, le=1)]
-    scale: PositiveLength
-    octaves: Annotated[int, Field(ge=1, le=16)] = 4
-    persistence: Annotated[float, Field(gt=0, le=1)] = 0.5
-    lacunarity: Annotated[float, Field(gt=1)] = 2.0
-    seed: Annotated[int, Field(ge=0)] = 0
+    type: Literal["noise"] = Field(description="`noise`: fractal gradient (Perlin) noise")
+    amplitude: Annotated[float, Field(ge=0, le=1)] = Field(
+        description="swing of the multiplier 1 + amplitude * noise, the noise lying in [-1, 1] "
+        "[-]")
+    scale: PositiveLength = Field(
+        description="wavelength of the first octave, the size of the largest features [m]")
+    octaves: Annotated[int, Field(ge=1, le=16)] = Field(4, description="number of octaves summed")
+    persistence: Annotated[float, Field(gt=0, le=1)] = Field(
+        0.5, description="amplitude ratio of successive octaves")
+    lacunarity: Annotated[float, Field(gt=1)] = Field(
+        2.0, description="frequency ratio of successive octaves")
+    seed: Annotated[int, Field(ge=0)] = Field(
+        0, description="seed of the noise lattice: the same seed gives the same pattern")
 
 
 def _image_by_default(value: Any) -> Any:
@@ -157,9 +178,13 @@ TextureSpec = Annotated[
 
 
 class TextureSet(_Model):
-    reflectance: TextureSpec | None = None
-    emissivity: TextureSpec | None = None
-    transmittance: TextureSpec | None = None
+    reflectance: TextureSpec | None = Field(
+        None, description="multiplier of the reflectance (Δρ) over the surface; default none (1)")
+    emissivity: TextureSpec | None = Field(
+        None, description="multiplier of the emissivity (Δε) over the surface; default none (1)")
+    transmittance: TextureSpec | None = Field(
+        None, description="multiplier of the transmittance (Δτ) of a transmissive object; default "
+        "none (1)")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -167,10 +192,12 @@ class TextureSet(_Model):
 
 
 class Lake(_Model):
-    x: Length
-    y: Length
-    radius: PositiveLength
-    depth: PositiveLength = 3.0
+    x: Length = Field(description="east coordinate of the lake's centre [m]")
+    y: Length = Field(description="north coordinate of the lake's centre [m]")
+    radius: PositiveLength = Field(description="radius of the lake's disc [m]")
+    depth: PositiveLength = Field(
+        3.0, description="depth of the water surface below the lowest ground within the disc and "
+        "its shore band [m]")
 
 
 class MaterialMapFile(_Model):
@@ -178,9 +205,13 @@ class MaterialMapFile(_Model):
     fractions of several materials in that class, ``{grass: 0.6, bare_soil: 0.4}`` (sub-pixel
     areal mixture: the spectra are mixed linearly)."""
 
-    type: Literal["file"] = "file"
-    file: str
-    classes: dict[int, str | dict[str, float]]
+    type: Literal["file"] = Field("file", description="`file`: a classified image")
+    file: str = Field(
+        description="classified image over the terrain extent (.npy, GeoTIFF or PNG/JPEG, first "
+        "channel), resampled by nearest neighbour onto the terrain grid")
+    classes: dict[int, str | dict[str, float]] = Field(
+        description="pixel value -> a material name, or the fractions of several materials that "
+        "sum to 1 (a linear areal mixture); every value in the image must be mapped")
 
     @field_validator("classes")
     @classmethod
@@ -204,45 +235,77 @@ class MaterialMapFile(_Model):
 class MaterialMapNoise(_Model):
     """Smooth random patches of the listed materials (procedural land cover)."""
 
-    type: Literal["noise"] = "noise"
-    materials: list[str] = Field(min_length=1)
-    scale: PositiveLength = 100.0
-    seed: int = 0
+    type: Literal["noise"] = Field("noise", description="`noise`: smooth random patches")
+    materials: list[str] = Field(
+        min_length=1, description="the materials of the patches, each taking an equal share of "
+        "the area (list a material twice for a double share)")
+    scale: PositiveLength = Field(
+        100.0, description="size of the patches [m] (the smoothing of the random field is scale / "
+        "2)")
+    seed: int = Field(
+        0, description="seed of the random field: the same seed gives the same patches")
 
 
 class _TerrainCommon(_Model):
-    origin: tuple[Length, Length] = (0.0, 0.0)
-    material: str = "dry_grass"
-    material_map: Annotated[MaterialMapFile | MaterialMapNoise, Field(discriminator="type")] | None = None
-    water_material: str = "water"
+    origin: tuple[Length, Length] = Field(
+        (0.0, 0.0), description="(x, y) of the grid's south-west sample in the scene frame [m]; "
+        "ignored for a GeoTIFF DEM, which carries its own coordinates")
+    material: str = Field(
+        "dry_grass", description="the material of the whole terrain when there is no "
+        "material_map: a built-in material or a key of `materials`")
+    material_map: Annotated[MaterialMapFile | MaterialMapNoise, Field(discriminator="type")] | None = Field(
+        None, description="land cover: a classified image (type file) or random patches of "
+        "several materials (type noise); default the one `material` everywhere")
+    water_material: str = Field(
+        "water", description="the material of the lakes' water surface (procedural terrain with "
+        "lakes)")
     temperature: Temperature | None = Field(
         None, description="a fixed surface temperature [K]; default: solved by the heat balance "
         "(293.15 K with thermal off)")
-    temperatures: dict[str, Temperature] = Field(default_factory=dict)
+    temperatures: dict[str, Temperature] = Field(
+        default_factory=dict, description="fixed surface temperatures [K] by material name: the "
+        "terrain faces of that material keep it instead of being solved; default none")
     temperature_map: str | None = Field(
         None, description="image of surface temperature [K] over the terrain extent"
     )
-    textures: TextureSet = TextureSet()
+    textures: TextureSet = Field(
+        TextureSet(), description="multipliers of the terrain's reflectance, emissivity and "
+        "transmittance laid on the ground plane; default none (every multiplier 1)")
 
 
 class ProceduralTerrain(_TerrainCommon):
     """Fractal hills with optional lakes, generated from a seed."""
 
-    type: Literal["procedural"]
-    size: tuple[PositiveLength, PositiveLength] = (1000.0, 1000.0)
-    spacing: PositiveLength = 5.0
-    relief: Annotated[Length, Field(ge=0)] = 40.0
-    seed: int = 0
-    lakes: list[Lake] = Field(default_factory=list)
+    type: Literal["procedural"] = Field(
+        description="`procedural`: fractal hills generated from `seed`")
+    size: tuple[PositiveLength, PositiveLength] = Field(
+        (1000.0, 1000.0), description="(east, north) extent of the grid [m]; it has round(size / "
+        "spacing) + 1 samples a side")
+    spacing: PositiveLength = Field(5.0, description="distance between grid samples, both axes [m]")
+    relief: Annotated[Length, Field(ge=0)] = Field(
+        40.0, description="peak-to-trough height of the hills before lakes are carved [m]; 0: "
+        "flat")
+    seed: int = Field(
+        0, description="seed of the hills' random generator: the same seed gives the same terrain")
+    lakes: list[Lake] = Field(
+        default_factory=list, description="flat lakes carved into the hills, each filled with "
+        "`water_material`; default none")
 
 
 class DemTerrain(_TerrainCommon):
     """A digital elevation model from a GeoTIFF/.npy file or an inline array."""
 
-    type: Literal["dem"]
-    file: str | None = None
-    elevation: list[list[float]] | None = None
-    spacing: tuple[PositiveLength, PositiveLength] | None = None
+    type: Literal["dem"] = Field(description="`dem`: a digital elevation model")
+    file: str | None = Field(
+        None, description="GeoTIFF (its own coordinates) or .npy array of heights [m], row 0 "
+        "north, column 0 west; relative paths from the scene file's folder; exactly one of file "
+        "and elevation")
+    elevation: list[list[float]] | None = Field(
+        None, description="inline heights [m] as rows of numbers, row 0 north, column 0 west; "
+        "needs `spacing`")
+    spacing: tuple[PositiveLength, PositiveLength] | None = Field(
+        None, description="(east, north) distance between samples [m] of an inline elevation or a "
+        ".npy file (a GeoTIFF carries its own)")
 
     @model_validator(mode="after")
     def _one_source(self):
@@ -261,27 +324,35 @@ Terrain = Annotated[ProceduralTerrain | DemTerrain, Field(discriminator="type")]
 
 
 class BoxShape(_Model):
-    type: Literal["box"]
-    size: tuple[PositiveLength, PositiveLength, PositiveLength]
+    type: Literal["box"] = Field(description="`box`")
+    size: tuple[PositiveLength, PositiveLength, PositiveLength] = Field(
+        description="edge lengths (east, north, up) before rotation [m]; the base is centred on "
+        "the object's position")
 
 
 class CylinderShape(_Model):
-    type: Literal["cylinder"]
-    radius: PositiveLength
-    height: PositiveLength
-    sections: Annotated[int, Field(ge=3)] = 32
+    type: Literal["cylinder"] = Field(description="`cylinder`: upright, capped")
+    radius: PositiveLength = Field(
+        description="radius of the circle through the polygon's vertices [m]")
+    height: PositiveLength = Field(description="height [m], from the base at the object's position")
+    sections: Annotated[int, Field(ge=3)] = Field(
+        32, description="vertices of the polygon that approximates the circle")
 
 
 class PlateShape(_Model):
-    type: Literal["plate"]
-    width: PositiveLength
-    length: PositiveLength
+    type: Literal["plate"] = Field(
+        description="`plate`: a flat rectangle facing up before rotation")
+    width: PositiveLength = Field(description="extent east before rotation [m]")
+    length: PositiveLength = Field(description="extent north before rotation [m]")
 
 
 class MeshShape(_Model):
-    type: Literal["mesh"]
-    file: str
-    scale: Annotated[float, Field(gt=0)] = 1.0
+    type: Literal["mesh"] = Field(description="`mesh`: a triangle mesh from a file")
+    file: str = Field(
+        description="OBJ, PLY, STL (z up) or glTF/GLB (y up, turned to z up) file, coordinates in "
+        "metres; relative paths from the scene file's folder")
+    scale: Annotated[float, Field(gt=0)] = Field(
+        1.0, description="factor applied to the mesh's coordinates [-]")
 
 
 Shape = Annotated[BoxShape | CylinderShape | PlateShape | MeshShape, Field(discriminator="type")]
@@ -416,8 +487,9 @@ class ObjectSpec(_Model):
 
 
 class EllipsoidShape(_Model):
-    type: Literal["ellipsoid"]
-    radii: tuple[PositiveLength, PositiveLength, PositiveLength]
+    type: Literal["ellipsoid"] = Field(description="`ellipsoid`")
+    radii: tuple[PositiveLength, PositiveLength, PositiveLength] = Field(
+        description="semi-axes along east, north and up [m]")
 
 
 class DensityProfile(_Model):
@@ -426,9 +498,14 @@ class DensityProfile(_Model):
     standard deviations ``sigma`` (one, or one per axis) [m]; ``grid``: a 3-D array from
     ``file``, trilinear between its nodes, which span the volume's bounding box."""
 
-    type: Literal["uniform", "exponential", "gaussian", "grid"] = "uniform"
-    scale_height: PositiveLength | None = None
-    sigma: PositiveLength | tuple[PositiveLength, PositiveLength, PositiveLength] | None = None
+    type: Literal["uniform", "exponential", "gaussian", "grid"] = Field(
+        "uniform", description="uniform, exponential (in height above the volume's base), "
+        "gaussian (about its centre) or grid (a 3-D array)")
+    scale_height: PositiveLength | None = Field(
+        None, description="exponential: height over which the density falls by a factor e [m]")
+    sigma: PositiveLength | tuple[PositiveLength, PositiveLength, PositiveLength] | None = Field(
+        None, description="gaussian: standard deviation about the centre [m], one or one per axis "
+        "(east, north, up)")
     file: str | None = Field(None, description="grid: a .npy array or a NetCDF variable of "
                              "relative density, dims (z, y, x), nodes spanning the volume's box")
     variable: str = Field("density", description="grid: the NetCDF variable")
@@ -450,17 +527,31 @@ class VolumeSpec(_Model):
     coefficient ``extinction`` [m-1] at density 1 (a number or a spectrum), or of vertical
     optical depth ``optical_depth`` through its centre; ``density`` scales the ``profile``."""
 
-    name: str
-    shape: Annotated[BoxShape | EllipsoidShape, Field(discriminator="type")]
-    position: tuple[Length, Length, Length] = (0.0, 0.0, 0.0)
-    density: Annotated[float, Field(ge=0.0)] = 1.0
-    profile: DensityProfile = DensityProfile()
-    extinction: float | dict[str, Any] | None = None
-    optical_depth: float | dict[str, Any] | None = None
-    single_scattering_albedo: Fraction = 0.0
+    name: str = Field(description="unique name of the volume")
+    shape: Annotated[BoxShape | EllipsoidShape, Field(discriminator="type")] = Field(
+        description="an axis-aligned box (size: full edge lengths) or ellipsoid (radii)")
+    position: tuple[Length, Length, Length] = Field(
+        (0.0, 0.0, 0.0), description="(x, y, z) of the volume's centre [m]; z above the scene "
+        "origin, not the terrain")
+    density: Annotated[float, Field(ge=0.0)] = Field(
+        1.0, description="relative density at the profile's reference (base or centre), "
+        "multiplying the extinction [-]")
+    profile: DensityProfile = Field(
+        DensityProfile(), description="how the relative density varies within the volume; default "
+        "uniform")
+    extinction: float | dict[str, Any] | None = Field(
+        None, description="extinction coefficient at density 1 [m-1]: a number, or a spectrum "
+        "{wavelength [um], values} or {file}; exactly one of extinction and optical_depth")
+    optical_depth: float | dict[str, Any] | None = Field(
+        None, description="vertical optical depth through the centre, from below [-]: a number or "
+        "a spectrum; the extinction follows from it")
+    single_scattering_albedo: Fraction = Field(
+        0.0, description="share of the extinction that scatters (ω) [-]: 0 a purely absorbing "
+        "medium; the absorbed share (1 - ω) emits")
     asymmetry: Annotated[float, Field(gt=-1.0, lt=1.0)] = Field(
         0.0, description="Henyey-Greenstein asymmetry parameter of the scattering (0: isotropic)")
-    temperature: Temperature
+    temperature: Temperature = Field(
+        description="temperature of the medium [K], for its thermal emission")
 
     @model_validator(mode="after")
     def _one_medium(self):
@@ -481,13 +572,18 @@ class BandSpec(_Model):
     (``radscene.sensor.srf_library.list_sensors()``).
     """
 
-    name: str
-    type: Literal["rectangular", "gaussian", "tabulated", "library"] | None = None
-    min: Wavelength | None = None
-    max: Wavelength | None = None
-    center: Wavelength | None = None
-    fwhm: Wavelength | None = None
-    file: str | None = None
+    name: str = Field(
+        description="unique name of the band, used by observers' `bands` and in the outputs")
+    type: Literal["rectangular", "gaussian", "tabulated", "library"] | None = Field(
+        None, description="the kind of response; default inferred from the keys given (min/max "
+        "rectangular, center/fwhm gaussian, file tabulated, sensor/band library)")
+    min: Wavelength | None = Field(None, description="rectangular: short-wave edge [um]")
+    max: Wavelength | None = Field(None, description="rectangular: long-wave edge [um], above min")
+    center: Wavelength | None = Field(None, description="gaussian: centre wavelength [um]")
+    fwhm: Wavelength | None = Field(None, description="gaussian: full width at half maximum [um]")
+    file: str | None = Field(
+        None, description="tabulated: a two-column text/CSV file of wavelength [um] and relative "
+        "response")
     sensor: str | None = Field(None, description="a bundled sensor, e.g. landsat8_oli")
     band: str | None = Field(None, description="that sensor's band, e.g. B4")
 
@@ -525,8 +621,10 @@ class SpectralGridSpec(_Model):
     triangular response (FWHM = step) reaching zero at its neighbours' centres
     (:mod:`radscene.radiometry.channels`)."""
 
-    min: Wavelength
-    max: Wavelength
+    min: Wavelength = Field(description="centre of the first channel [um]")
+    max: Wavelength = Field(
+        description="centre of the last channel [um], or the last centre below it when the steps "
+        "do not land on it")
     step: float = Field(description="spacing of the channel centres, e.g. '10 nm'",
                         json_schema_extra={"x-quantity": "wavelength", "gt": 0.0})
 
@@ -542,35 +640,53 @@ class SpectralGridSpec(_Model):
 
 
 class _ObserverCommon(_Model):
-    name: str
+    name: str = Field(
+        description="unique name of the observer; its output files are named after it")
     shape: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] | None = Field(
         None, description="rendered samples (rows, columns); from the sensor when omitted")
-    supersample: Annotated[int, Field(ge=1, le=16)] = 1
-    bands: list[str] | None = None
+    supersample: Annotated[int, Field(ge=1, le=16)] = Field(
+        1, description="rays per pixel along each axis: supersample² samples averaged into each "
+        "pixel")
+    bands: list[str] | None = Field(
+        None, description="names of the scene's bands this observer renders; default all of them")
     spectral: SpectralGridSpec | None = Field(
         None, description="hyperspectral mode: spectral radiance on this grid instead of bands")
     sensor: str | None = Field(None, description="name of an entry of `sensors`")
-    frames: Annotated[int, Field(ge=1, le=1000)] = 1
+    frames: Annotated[int, Field(ge=1, le=1000)] = Field(
+        1, description="frames the observer's sensor records from one render, each with its own "
+        "temporal noise; unused without a sensor")
 
 
 class OrthographicSpec(_ObserverCommon):
     """A map camera looking down (or along zenith/azimuth) with parallel rays."""
 
-    type: Literal["orthographic"]
-    center: tuple[Length, Length]
+    type: Literal["orthographic"] = Field(
+        description="`orthographic`: a map camera with parallel rays")
+    center: tuple[Length, Length] = Field(
+        description="(x, y) where the image centre's ray meets z = 0 [m]")
     gsd: PositiveLength | None = Field(None, description="from the sensor when omitted")
-    altitude: PositiveLength = 10000.0
-    zenith: Annotated[Angle, Field(ge=0, lt=90)] = 0.0
-    azimuth: Angle = 0.0
+    altitude: PositiveLength = Field(
+        10000.0, description="height of the image plane's centre above z = 0, where the rays "
+        "start [m]; must exceed the terrain")
+    zenith: Annotated[Angle, Field(ge=0, lt=90)] = Field(
+        0.0, description="zenith angle of the direction from the ground to the camera [deg]; 0: "
+        "looking straight down (a north-up map)")
+    azimuth: Angle = Field(0.0, description="azimuth of that direction, clockwise from north [deg]")
 
 
 class PerspectiveSpec(_ObserverCommon):
     """A pinhole frame camera."""
 
-    type: Literal["perspective"]
-    position: tuple[Length, Length, Length]
-    look_at: tuple[Length, Length, Length] | None = None
-    attitude: tuple[Angle, Angle, Angle] | None = None
+    type: Literal["perspective"] = Field(description="`perspective`: a pinhole frame camera")
+    position: tuple[Length, Length, Length] = Field(
+        description="(x, y, z) of the pinhole [m]; z above the scene origin, not the terrain")
+    look_at: tuple[Length, Length, Length] | None = Field(
+        None, description="a point (x, y, z) on the optical axis [m], with the horizon level "
+        "(roll 0); exactly one of look_at and attitude")
+    attitude: tuple[Angle, Angle, Angle] | None = Field(
+        None, description="(yaw, pitch, roll) [deg]: yaw the azimuth of the optical axis "
+        "clockwise from north, pitch its elevation (negative looking down), roll positive turning "
+        "the image's right side down")
     fov: Annotated[Angle, Field(gt=0, lt=180)] | None = Field(
         None, description="horizontal field of view; 45 deg, or from the sensor, when omitted")
 
@@ -601,10 +717,17 @@ class MotionBlurSpec(_Model):
 
 
 class RenderSettings(_Model):
-    sky_samples: Annotated[int, Field(ge=1, le=4096)] = 16
-    specular_samples: Annotated[int, Field(ge=1, le=4096)] = 16
-    shadows: bool = True
-    seed: int = 0
+    sky_samples: Annotated[int, Field(ge=1, le=4096)] = Field(
+        16, description="cosine-weighted hemisphere rays per surface hit that estimate the "
+        "visible sky (sky view and reflected sky radiance)")
+    specular_samples: Annotated[int, Field(ge=1, le=4096)] = Field(
+        16, description="rays per hit in the specular lobe of a glossy material, for the sky "
+        "reflected in it")
+    shadows: bool = Field(
+        True, description="trace rays towards the sun; false: every surface facing the sun is lit")
+    seed: int = Field(
+        0, description="seed of the random sampling (renders, the heat balance's rays, sensor "
+        "noise): the same seed gives the same outputs")
     video: Literal["auto", "gif", "mp4", "both", "none"] = Field(
         "auto", description="a sequence's animations per band: auto writes a GIF, and an MP4 too "
         "when imageio and imageio-ffmpeg are installed (pip install radscene[video]); mp4 and both "
@@ -643,11 +766,20 @@ class WeatherSpec(_Model):
     fields: dict[int, str] | None = Field(
         None, description="a .wth file's fields after the sixth, which its format leaves undocumented: "
         "field number -> 'name [unit]', e.g. {7: 'global_shortwave [W m-2]', 8: 'diffuse_shortwave [W m-2]'}")
-    t_min: Temperature = 285.15
-    t_max: Temperature = 298.15
-    relative_humidity: Fraction = 0.5
-    wind_speed: Speed = 2.0
-    cloud_cover: Fraction = 0.0
+    t_min: Temperature = Field(
+        285.15, description="daily minimum air temperature [K], shortly before sunrise (diurnal "
+        "cycle without a file)")
+    t_max: Temperature = Field(
+        298.15, description="daily maximum air temperature [K], in the early afternoon (local "
+        "solar time)")
+    relative_humidity: Fraction = Field(
+        0.5, description="relative humidity at the mean of t_min and t_max [0-1]; the dew point "
+        "it gives is kept through the day")
+    wind_speed: Speed = Field(
+        2.0, description="wind speed near the surface, constant [m/s]; drives convection")
+    cloud_cover: Fraction = Field(
+        0.0, description="cloud cover, constant [0-1]; with a .wth file, given only to override "
+        "the file")
     pressure: Pressure | None = Field(None, description="default: the standard atmosphere's at the scene's altitude")
 
     @model_validator(mode="after")
@@ -661,11 +793,20 @@ class ThermalMaterialSpec(_Model):
     """Overrides of a material's thermal description."""
 
     layers: list[dict[str, Any]] | None = Field(None, description="top first: thickness, conductivity, density, specific_heat")
-    bottom: str | dict[str, Any] | None = None
-    solar_absorptance: Fraction | None = None
-    longwave_emissivity: Fraction | None = None
-    moisture_availability: Fraction | None = None
-    internal_flux: Irradiance = 0.0
+    bottom: str | dict[str, Any] | None = Field(
+        None, description="below the last layer: semi-infinite, insulated, or {interior_air: T "
+        "[K], h [W m-2 K-1]}; default the material's")
+    solar_absorptance: Fraction | None = Field(
+        None, description="absorptance of sunlight [0-1]; default computed from the material's "
+        "reflectance against the sun's spectrum at the ground")
+    longwave_emissivity: Fraction | None = Field(
+        None, description="long-wave emissivity [0-1]; default the material's thermal data or its "
+        "spectral emissivity")
+    moisture_availability: Fraction | None = Field(
+        None, description="β of the evaporation flux [0-1]: 1 open water, 0 a dry surface; "
+        "default the material's (0 when it has none)")
+    internal_flux: Irradiance = Field(
+        0.0, description="heat flux from within into the surface [W m-2]; 0: none")
 
 
 class ThermalObjectSpec(_Model):
@@ -684,22 +825,39 @@ class ThermalSpec(_Model):
         "auto", description="auto: when a band lies beyond 2.5 um and a surface has no fixed temperature")
     start: _dt.datetime | None = Field(None, description="default: one day before the scene's time")
     end: _dt.datetime | None = Field(None, description="default: the scene's time")
-    step: Duration = 600.0
-    shadow_interval: Duration | None = None
-    spin_up: bool = True
-    spin_up_tolerance: Annotated[float, _quantity("temperature", 0.0, exclusive=True)] = 0.05
+    step: Duration = Field(600.0, description="time step of the heat balance [s]")
+    shadow_interval: Duration | None = Field(
+        None, description="time between shadow traces [s]; default every step")
+    spin_up: bool = Field(
+        True, description="repeat the first day until it repeats itself (runs of at least a day), "
+        "so the start's guess is forgotten")
+    spin_up_tolerance: Annotated[float, _quantity("temperature", 0.0, exclusive=True)] = Field(
+        0.05, description="largest day-to-day change of a surface temperature at which the "
+        "spin-up stops [K]")
     resolution: PositiveLength | None = Field(None, description="terrain thermal grid; default the terrain's spacing")
-    hemisphere_samples: Annotated[int, Field(ge=1, le=4096)] = 64
-    nodes: Annotated[int, Field(ge=3, le=200)] = 20
-    convection: str = "mcadams"
+    hemisphere_samples: Annotated[int, Field(ge=1, le=4096)] = Field(
+        64, description="hemisphere rays per element for its sky view and its view factors to the "
+        "other elements")
+    nodes: Annotated[int, Field(ge=3, le=200)] = Field(
+        20, description="conduction nodes through the depth of each element")
+    convection: str = Field(
+        "mcadams", description="wind correlation of the convection coefficient: mcadams (h = 5.7 "
+        "+ 3.8 u), watmuff (2.8 + 3.0 u) or none")
     lateral: bool = Field(False, description="lateral conduction between neighbouring elements")
     interpolate: bool = Field(True, description="render the terrain's temperature as a limited linear "
                               "reconstruction across its thermal cells (each cell's mean kept); false: "
                               "one temperature per cell")
-    exchange_reflections: Annotated[int, Field(ge=0, le=100)] = 1
-    weather: WeatherSpec = WeatherSpec()
-    materials: dict[str, ThermalMaterialSpec] = Field(default_factory=dict)
-    objects: dict[str, ThermalObjectSpec] = Field(default_factory=dict)
+    exchange_reflections: Annotated[int, Field(ge=0, le=100)] = Field(
+        1, description="reflections followed in the exchange between elements: 0 the neighbours' "
+        "emission only, 1 also what they reflect once")
+    weather: WeatherSpec = Field(
+        WeatherSpec(), description="air temperature, humidity, wind and cloud: a file or a "
+        "diurnal cycle")
+    materials: dict[str, ThermalMaterialSpec] = Field(
+        default_factory=dict, description="overrides of materials' thermal descriptions, by "
+        "material name")
+    objects: dict[str, ThermalObjectSpec] = Field(
+        default_factory=dict, description="heat sources of objects, by object name")
 
     @field_validator("start", "end")
     @classmethod
@@ -713,9 +871,9 @@ class TimeSpan(_Model):
     """A sequence of frames: every ``step`` from ``start`` to ``end`` (both included when the
     steps land on it)."""
 
-    start: _dt.datetime
-    end: _dt.datetime
-    step: Duration
+    start: _dt.datetime = Field(description="the first frame's instant, with its UTC offset")
+    end: _dt.datetime = Field(description="the last instant a frame may have, with its UTC offset")
+    step: Duration = Field(description="time between frames [s]")
 
     @field_validator("start", "end")
     @classmethod

@@ -94,14 +94,19 @@ def read_sensor_file(path) -> dict:
         p = example_sensor_path(str(path))
     try:
         text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ConfigError(f"cannot read sensor file: {exc}", key=str(path)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        what = "not a text (UTF-8) file" if isinstance(exc, UnicodeDecodeError) else str(exc)
+        raise ConfigError(f"cannot read sensor file: {what}", key=str(path)) from None
     try:
         spec = yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        raise ConfigError(f"not valid YAML: {exc}", key=str(path)) from None
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ConfigError(f"not valid YAML{where}: {problem}", key=str(path)) from None
     if not isinstance(spec, Mapping):
-        raise ConfigError(f"a sensor file holds a mapping; got {type(spec).__name__}",
+        got = "an empty file" if spec is None else f"a {type(spec).__name__}"
+        raise ConfigError(f"a sensor file holds a mapping (optics, detector, ...); got {got}",
                           key=str(path))
     if "sensor" not in spec:
         return {"sensor": dict(spec), "observer": None}
