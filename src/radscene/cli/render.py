@@ -283,7 +283,7 @@ def _render_and_write(scene, name, formats, progress, report):
     output = formats.output
     t = time.perf_counter()
     ds, signal = simulate(scene, name, progress=progress)
-    report.stage(f"{name}: rendered {ds.sizes.get('y')}×{ds.sizes.get('x')} px, "
+    report.stage(f"{name}: rendered {ds.sizes.get('x')}×{ds.sizes.get('y')} px, "
                  f"{ds.sizes.get('band', 0)} band(s)"
                  + (" and the sensor chain" if signal is not None else ""),
                  time.perf_counter() - t)

@@ -90,13 +90,15 @@ def write_zarr(ds: xr.Dataset, path: str | os.PathLike, compress: bool = True) -
 
 
 def read_zarr(path: str | os.PathLike) -> xr.Dataset:
-    """Open a radscene Zarr store (loaded into memory), auxiliary coordinates and grid mapping
-    decoded, IDs as int32 with −1 for none (as :func:`radscene.io.read_netcdf`)."""
+    """Open a radscene Zarr store (loaded into memory) as :func:`radscene.io.read_netcdf` opens
+    a NetCDF file: auxiliary coordinates decoded, the ``crs`` grid mapping a variable (open with
+    ``xr.open_zarr(path, decode_coords="all")`` to get it as a coordinate), IDs as int32 with −1
+    for none."""
     _zarr()
     path = Path(path)
     if not path.is_dir():
         raise ConfigError(f"no such Zarr store: {path}", key="path")
-    with xr.open_zarr(path, decode_coords="all") as ds:
+    with xr.open_zarr(path) as ds:
         out = ds.load()
     for name in ("object_id", "material_id"):
         if name in out and out[name].dtype.kind == "f":
