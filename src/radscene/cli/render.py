@@ -67,8 +67,11 @@ class Formats:
         return [f"{name}{part}{self.ext}" for name in names
                 for part in ("_sequence", "_signal_sequence")]
 
-    def describe(self) -> str:
+    def describe(self, sequence: bool = False) -> str:
+        """The formats in words (a sequence: its data files and animations only)."""
         kinds = ["Zarr" if self.ext == ".zarr" else "NetCDF"]
+        if sequence:
+            return ", ".join(kinds + (["animations"] if self.quicklooks else []))
         kinds += [f"COG ({self.geotiff})"] if self.geotiff != "none" else []
         kinds += ["ENVI"] if self.envi else []
         kinds += ["PNG quicklooks"] if self.quicklooks else []
@@ -118,7 +121,7 @@ def _render_sequence(scene, names, formats, start, end, step, video, report):
             path = report.wrote(formats.write(sequences.signal[name], f"{name}_signal_sequence"),
                                 t)
             report.say(f"{name}: {path}")
-        if "band" in ds.dims:
+        if "band" in ds.dims and kinds:
             t = time.perf_counter()
             written = band_animations(ds, output / f"{name}_sequence") if "gif" in kinds else []
             written += band_videos(ds, output / f"{name}_sequence") if "mp4" in kinds else []
@@ -221,7 +224,7 @@ def render(
             done = run_record.finished(output, scene_file) if resume else []
             todo = [n for n in names if n not in done]
             check_output_folder(output, formats.result_files(scene, todo), overwrite or resume)
-        report.stage(f"output {output}/ checked; writing {formats.describe()}")
+        report.stage(f"output {output}/ checked; writing {formats.describe(sequence)}")
     except (ConfigError, EngineError) as err:
         _fail(err)
     if sequence:
