@@ -13,7 +13,7 @@ from pathlib import Path
 __version__ = "0.1.0"
 
 # render and render_all apply the scene's heat balance first (the function shadows the package name)
-from radscene.io import write_netcdf  # noqa: E402
+from radscene.io import write_netcdf, write_zarr  # noqa: E402
 from radscene.pipeline import (  # noqa: E402
     render,
     render_all,
@@ -25,7 +25,7 @@ from radscene.pipeline.simulation import Simulation, render_sequence  # noqa: E4
 from radscene.scene import load_scene  # noqa: E402
 
 __all__ = ["__version__", "load_scene", "render", "render_all", "render_hyperspectral", "simulate", "solve_thermal",
-           "Simulation", "render_sequence", "example_path", "write_netcdf"]
+           "Simulation", "render_sequence", "example_path", "write_netcdf", "write_zarr"]
 
 
 def example_path(name: str) -> Path:

@@ -106,3 +106,24 @@ def test_bad_input_is_refused(tmp_path):
         write_geotiff_gcps(da, np.zeros((2, 2)), np.zeros((2, 2)), tmp_path / "b.tif")
     with pytest.raises(ConfigError, match="no such file"):
         read_geotiff(tmp_path / "missing.tif")
+
+
+def test_cog_refuses_a_layer_without_crs_and_an_unknown_level(tmp_path):
+    from radscene.io.cog import map_layers, write_cog
+
+    with pytest.raises(ConfigError, match="no CRS"):
+        write_cog(_map_product(), tmp_path / "a.tif")
+    with pytest.raises(ConfigError, match="--geotiff: unknown GeoTIFF level 'every'; known: "
+                                          "none, radiance, maps, all"):
+        map_layers(xr.Dataset(), "every")
+    assert not list(tmp_path.iterdir())
+
+
+def test_envi_refuses_what_is_not_band_radiance(tmp_path):
+    from radscene.io import write_envi
+
+    with pytest.raises(ConfigError, match=r"DataArray \(band, y, x\)"):
+        write_envi(_map_product().transpose("y", "x", "band"), tmp_path / "a.img")
+    with pytest.raises(ConfigError, match="wavelength_center, equivalent_width"):
+        write_envi(_map_product(), tmp_path / "a.img")
+    assert not list(tmp_path.iterdir())

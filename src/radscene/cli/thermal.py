@@ -35,17 +35,25 @@ def thermal(
     step: str = typer.Option(None, "--step", help="Time step, e.g. 60s or 10 min; default thermal.step."),
     plots: bool = typer.Option(True, help="Write the diurnal curves and temperature maps beside the file."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing OUTPUT."),
+    quiet: bool = typer.Option(False, "--quiet", "-q",
+                               help="Print only errors: no progress bars, no list of files."),
+    verbose: bool = typer.Option(False, "--verbose", "-v",
+                                 help="Also print each stage on standard error: what it does "
+                                      "and its time."),
 ):
     """Solve the heat balance of SCENE_FILE and write the temperatures and flux terms per element
     and time (CF NetCDF), with PNGs of the diurnal curves and of the terrain's temperature."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    import time
 
-    from radscene.cli import err_console
+    from rich.progress import BarColumn, TextColumn, TimeElapsedColumn
+
+    from radscene.cli import Report
     from radscene.io import write_netcdf
     from radscene.pipeline import solve_thermal
     from radscene.radiometry.units import parse_quantity
     from radscene.scene import load_scene
 
+    report = Report(quiet, verbose)
     t0, t1 = _when(start, "--start"), _when(end, "--end")
     dt = None if step is None else parse_quantity(step, "time", key="--step")
     if dt is not None and dt <= 0:
@@ -55,22 +63,33 @@ def thermal(
     from radscene.io.files import check_output_file
 
     check_output_file(output, overwrite)
+    t = time.perf_counter()
     scene = load_scene(scene_file)
-    with Progress(TextColumn("[bold]{task.description}"), BarColumn(), TextColumn("{task.completed}/{task.total}"),
-                  TimeElapsedColumn(), console=err_console, transient=True) as bar:
+    report.stage(f"loaded {scene_file}: {len(scene.objects)} object(s)", time.perf_counter() - t)
+    t = time.perf_counter()
+    with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                         TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                         transient=True) as bar:
         tasks = {}
 
         def progress(stage, done, total):
             if stage not in tasks:
                 tasks[stage] = bar.add_task(stage, total=total)
+                report.stage(f"heat balance: {stage}")
             bar.update(tasks[stage], completed=done, total=total)
 
         ds = solve_thermal(scene, start=t0, end=t1, step=dt, progress=progress)
-    written = [write_netcdf(ds, output)]
+    report.stage(f"heat balance solved: {ds.sizes.get('time', 1)} time step(s)",
+                 time.perf_counter() - t)
+    t = time.perf_counter()
+    written = [report.wrote(write_netcdf(ds, output), t)]
     if plots:
         from radscene.io.thermal_plots import diurnal_figure, temperature_maps
 
+        t = time.perf_counter()
         written.append(diurnal_figure(ds, output.with_name(output.stem + "_diurnal.png")))
         written.extend(temperature_maps(ds, output.parent / (output.stem + "_maps")))
-    for path in written:
-        typer.echo(str(path))
+        report.stage(f"{len(written) - 1} plot(s)", time.perf_counter() - t)
+    if not quiet:
+        for path in written:
+            typer.echo(str(path))

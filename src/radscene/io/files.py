@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
 from radscene.errors import ConfigError
 
-__all__ = ["atomic_output", "check_output_folder", "check_output_file"]
+__all__ = ["atomic_output", "atomic_output_dir", "check_output_folder", "check_output_file"]
 
 
 def _umask() -> int:
@@ -38,6 +39,41 @@ def atomic_output(path, suffix=".tmp"):
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+@contextlib.contextmanager
+def atomic_output_dir(path, suffix=".tmp"):
+    """As :func:`atomic_output` for an output that is a folder (a Zarr store): yield a unique
+    empty temporary folder beside ``path``; on success move it into place, on failure remove it.
+
+    An earlier ``path`` is first renamed aside and removed only once the new folder is in
+    place, so ``path`` is always either the old whole result, the new one, or (between the two
+    renames) absent — never a mixture. Folders and files get the permissions ordinary new ones
+    get (0777 and 0666 less the umask).
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+    old = None
+    try:
+        yield tmp
+        mask = _umask()
+        for root, _dirs, files in os.walk(tmp):
+            os.chmod(root, 0o777 & ~mask)
+            for name in files:
+                os.chmod(os.path.join(root, name), 0o666 & ~mask)
+        if path.exists() or path.is_symlink():
+            old = tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".old", dir=path.parent)
+            os.replace(path, os.path.join(old, path.name))
+        os.replace(tmp, path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        if old is not None and not path.exists():  # put the earlier result back
+            os.replace(os.path.join(old, path.name), path)
+        raise
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
 
 
 def _writable_parent(path: Path, key: str) -> None:

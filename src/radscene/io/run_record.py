@@ -29,11 +29,25 @@ MANIFEST = "manifest.json"
 
 
 def _sha256(path: Path) -> str:
+    """SHA-256 of a file's bytes; of a folder (a Zarr store given to --from), of the list of
+    its files' relative paths and SHA-256s."""
+    path = Path(path)
+    if path.is_dir():
+        listing = "".join(f"{p.relative_to(path).as_posix()}\0{_sha256(p)}\n"
+                          for p in _files_of(path))
+        return hashlib.sha256(listing.encode()).hexdigest()
     digest = hashlib.sha256()
     with open(path, "rb") as f:
         for block in iter(lambda: f.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def _files_of(path: Path) -> list[Path]:
+    """``path`` itself, or for a folder (a Zarr store) every file under it, sorted."""
+    if path.is_dir():
+        return sorted(p for p in path.rglob("*") if p.is_file())
+    return [path]
 
 
 def _write_json(path: Path, data: dict) -> None:
@@ -65,7 +79,7 @@ def finished(folder, scene_file) -> list[str]:
     if digest != _sha256(Path(scene_file)):
         raise ConfigError(f"the run in {folder} was of another scene file (or the file has "
                           "changed since); render into a new folder", key="--resume")
-    return [name for name in done if all((folder / f).is_file()
+    return [name for name in done if all((folder / f).exists()
                                          for f in record.get("files", {}).get(name, []))]
 
 
@@ -121,9 +135,10 @@ class RunRecord:
         entries = []
         for observer in self.record["finished"]:
             for name in self.record["files"].get(observer, []):
-                path = self.folder / name
-                entries.append({"file": name, "observer": observer,
-                                "bytes": path.stat().st_size, "sha256": _sha256(path)})
+                for path in _files_of(self.folder / name):  # a Zarr store: each of its files
+                    entries.append({"file": os.path.relpath(path, self.folder),
+                                    "observer": observer, "bytes": path.stat().st_size,
+                                    "sha256": _sha256(path)})
         manifest = {key: self.record[key] for key in ("scene", "scene_sha256", "observers",
                                                       "started")}
         manifest["finished"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")

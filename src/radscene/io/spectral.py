@@ -18,6 +18,7 @@ import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
+from radscene.io.envi import header_text
 from radscene.io.files import atomic_output
 from radscene.io.netcdf import _encoding
 
@@ -31,7 +32,8 @@ def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
     Parameters
     ----------
     ds_attrs : dict
-        Attributes of the cube's Dataset (scene and observer named in the description).
+        Attributes of the cube's Dataset (scene and observer named in the description; each
+        written as a field, :func:`radscene.io.envi.attribute_fields`).
     shape : (bands, lines, samples)
         Channels, rows, columns.
     wavelength, fwhm : array_like
@@ -43,30 +45,10 @@ def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
     -------
     str
     """
-    n, ny, nx = shape
-
-    def braces(values, fmt="{:.6f}"):
-        return "{" + ", ".join(fmt.format(float(v)) for v in values) + "}"
-
     text = (f"radscene spectral radiance [W m-2 sr-1 um-1] of scene {ds_attrs.get('scene', '')!r}, "
             f"observer {ds_attrs.get('observer', '')!r}. {description}").strip()
-    return "\n".join([
-        "ENVI",
-        "description = {" + text.replace("{", "(").replace("}", ")") + "}",
-        f"samples = {nx}",
-        f"lines = {ny}",
-        f"bands = {n}",
-        "header offset = 0",
-        "file type = ENVI Standard",
-        "data type = 4",
-        "interleave = bsq",
-        "byte order = 0",
-        "wavelength units = Micrometers",
-        "wavelength = " + braces(wavelength),
-        "fwhm = " + braces(fwhm),
-        "band names = {" + ", ".join(f"{float(v):.6f} um" for v in wavelength) + "}",
-        "",
-    ])
+    return header_text(shape, wavelength, fwhm, [f"{float(v):.6f} um" for v in wavelength],
+                       text, "W m-2 sr-1 um-1", ds_attrs)
 
 
 def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, *,

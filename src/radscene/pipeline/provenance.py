@@ -234,7 +234,8 @@ def scene_from_output(path) -> RecordedScene:
     Parameters
     ----------
     path : path-like
-        A NetCDF file written by radscene (any output with :func:`provenance`).
+        A NetCDF file or Zarr store (``*.zarr``) written by radscene (any output with
+        :func:`provenance`).
 
     Returns
     -------
@@ -254,13 +255,15 @@ def scene_from_output(path) -> RecordedScene:
     import xarray as xr
 
     path = Path(path)
-    if not path.is_file():
+    store = path.is_dir() and path.suffix.lower() == ".zarr"
+    if not path.is_file() and not store:
         raise ConfigError(f"no such file: {path}", key="--from")
     try:
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
+        with (xr.open_zarr(path) if store else xr.open_dataset(path, engine="h5netcdf")) as ds:
             attrs = dict(ds.attrs)
     except Exception as err:
-        raise ConfigError(f"{path} is not a NetCDF file radscene can read ({type(err).__name__})",
+        kind = "Zarr store" if store else "NetCDF file"
+        raise ConfigError(f"{path} is not a {kind} radscene can read ({type(err).__name__})",
                           key="--from") from None
     missing = [k for k in ("scene_document", "scene_sha256", "scene_base_dir", "scene_files")
                if k not in attrs]
