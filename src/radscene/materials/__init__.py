@@ -24,6 +24,9 @@ Public API
     Δρ/Δε/Δτ multiplier fields: images, tiles, procedural noise.
 :class:`MaterialMap`, :class:`MaterialFractions`, :func:`mix_materials`
     Classified images → materials, per-class fractions, areal mixtures.
+:mod:`~radscene.materials.gas`
+    Absorbing gases: Edwards's wide-band model of CO₂ and H₂O, :class:`~radscene.materials.gas.GasAbsorption`
+    (a gas plume's k(λ) and line overlap β(λ)).
 :func:`make_material`
     Any material from a type-tagged mapping (``library``, ``custom``, ``file``, ``earthlib``,
     ``leaf``, ``canopy``, ``water``, ``mixture``; registry ``MATERIAL_TYPES``).

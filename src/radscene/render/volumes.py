@@ -30,6 +30,11 @@ across the pixel's crossing samples).
 Band transmittances are the response-weighted means ``∫ S e^{−k X} dλ / ∫ S dλ`` (exact for
 a medium grey across the band); the emission is integrated spectrally with the band
 response, ``∫ S τ_a (1 − ω)(1 − e^{−k X}) B dλ``.
+
+A gas volume (:class:`radscene.materials.gas.GasAbsorption` as its ``extinction``) carries a
+line-overlap parameter β(λ) too: its lines saturate, and a path's mean transmittance is
+t = 1 − min(1, k X, √(k X β)) instead of e^{−k X} (:func:`path_transmittance`), in the same
+integrals; the band's spectral nodes come from the gas model.
 """
 
 from __future__ import annotations
@@ -40,7 +45,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["Volume", "VOLUME_TERMS", "VOLUME_LONG_NAMES", "MARCH_STEPS", "entry_exit",
-           "density", "optical_path", "optical_path_reference", "band_transmittance",
+           "density", "optical_path", "optical_path_reference", "path_transmittance",
+           "band_transmittance",
            "band_emission", "line_of_sight", "sun_transmittance", "apply"]
 
 #: Output layers of the volume pass, summed into the radiance after the other layers.
@@ -88,6 +94,9 @@ class Volume:
     grid : numpy.ndarray or None
         (n_z, n_y, n_x) relative density of the ``grid`` profile at nodes evenly spaced over
         the bounding box, corners included [-].
+    line_overlap : callable or None
+        β(λ): wavelength [um] → [-] of a gas's band model (``extinction`` then its weak-line
+        absorption coefficient); None: Beer–Lambert.
     """
 
     name: str
@@ -104,6 +113,7 @@ class Volume:
     wavelengths: np.ndarray = field(default_factory=lambda: np.zeros(0))
     asymmetry: float = 0.0
     grid: np.ndarray | None = None
+    line_overlap: object = None
 
 
 def entry_exit(volume: Volume, origins, directions) -> tuple[np.ndarray, np.ndarray]:
@@ -234,28 +244,48 @@ def optical_path_reference(volume: Volume, origin, direction, t_max=math.inf,
     return total
 
 
-def band_transmittance(extinction, weights, path) -> np.ndarray:
-    """Response-weighted band transmittance Σ w e^{−k X} / Σ w of paths X (N,) [m] through a
-    medium of extinction ``extinction`` (q,) [m-1] at quadrature nodes of weights (q,) [um]."""
+def path_transmittance(depth, line_overlap=None) -> np.ndarray:
+    """Mean transmittance [-] of paths of weak-line optical depth ``depth`` = k X [-]:
+    e^{−kX} where ``line_overlap`` β is None or ``inf``, else a gas band's
+    1 − min(1, kX, √(kX β)) (:func:`radscene.materials.gas.edwards.absorptance`)."""
+    depth = np.asarray(depth, dtype=float)
+    if line_overlap is None:
+        return np.exp(-depth)
+    from radscene.materials.gas.edwards import absorptance
+
+    beta = np.broadcast_to(np.asarray(line_overlap, dtype=float), depth.shape)
+    grey = np.isinf(beta)
+    with np.errstate(invalid="ignore"):
+        return np.where(grey, np.exp(-depth), 1.0 - absorptance(depth, np.where(grey, 1.0, beta)))
+
+
+def band_transmittance(extinction, weights, path, line_overlap=None) -> np.ndarray:
+    """Response-weighted band transmittance Σ w t(k X) / Σ w of paths X (N,) [m] through a
+    medium of extinction ``extinction`` (q,) [m-1] at quadrature nodes of weights (q,) [um];
+    t = e^{−kX}, or :func:`path_transmittance` with a gas's ``line_overlap`` β (q,) [-]."""
     path = np.asarray(path, dtype=float)
     k = np.asarray(extinction, dtype=float)
     out = np.empty(len(path))
     for at in _chunks(len(path), k.size):
-        out[at] = np.exp(-path[at, None] * k[None, :]) @ weights
+        out[at] = path_transmittance(path[at, None] * k[None, :], line_overlap) @ weights
     return out / weights.sum()
 
 
 def band_emission(extinction, weights, path, planck, albedo=0.0,
-                  transmittance=1.0) -> np.ndarray:
-    """Band emission Σ w τ_a (1 − ω)(1 − e^{−k X}) B [W m-2 sr-1] of paths X (N,) [m]
+                  transmittance=1.0, line_overlap=None) -> np.ndarray:
+    """Band emission Σ w τ_a (1 − ω)(1 − t(kX)) B [W m-2 sr-1] of paths X (N,) [m]
     through an isothermal medium; ``planck`` (q,) B(λ, T) [W m-2 sr-1 um-1] at the nodes,
-    ``transmittance`` (q,) or scalar, that of the atmosphere to the sensor [-]."""
+    ``transmittance`` (q,) or scalar, that of the atmosphere to the sensor [-];
+    t as in :func:`band_transmittance`."""
     path = np.asarray(path, dtype=float)
     k = np.asarray(extinction, dtype=float)
     source = weights * (1.0 - albedo) * np.asarray(planck, dtype=float) * transmittance
     out = np.empty(len(path))
     for at in _chunks(len(path), k.size):
-        out[at] = -np.expm1(-path[at, None] * k[None, :]) @ source
+        depth = path[at, None] * k[None, :]
+        absorbed = (-np.expm1(-depth) if line_overlap is None
+                    else 1.0 - path_transmittance(depth, line_overlap))
+        out[at] = absorbed @ source
     return out
 
 
@@ -318,17 +348,25 @@ def _per_volume(volumes, bands, origins, directions, t_max, atmosphere=None, alt
         entry[v, cross] = np.maximum(entry_exit(vol, origins[cross], directions[cross])[0], 0.0)
         for b, band in enumerate(bands):
             nodes, weights = _quadrature(vol, band, breakpoints)
-            # the sums over the band's nodes grouped by extinction (exact): one group for a
-            # grey medium, however many nodes the sun's spectrum asks for
-            k, group = np.unique(np.asarray(vol.extinction(nodes), float), return_inverse=True)
+            # the sums over the band's nodes grouped by extinction (and a gas's line overlap;
+            # exact): one group for a grey medium, however many nodes the sun's spectrum asks for
+            k_nodes = np.asarray(vol.extinction(nodes), float)
+            beta = None
+            if vol.line_overlap is None:
+                k, group = np.unique(k_nodes, return_inverse=True)
+            else:
+                pairs, group = np.unique(np.stack(
+                    [k_nodes, np.asarray(vol.line_overlap(nodes), float)], axis=1),
+                    axis=0, return_inverse=True)
+                k, beta = pairs[:, 0], pairs[:, 1]
             grouped = _grouping(group.ravel(), k.size)
-            trans[v, cross, b] = band_transmittance(k, grouped(weights), x[cross])
+            trans[v, cross, b] = band_transmittance(k, grouped(weights), x[cross], beta)
             if not emission:
                 continue
             tau_a = _atmosphere_transmittance(atmosphere, altitude, origins[cross], vol, nodes)
             light[0, v, cross, b] = band_emission(
                 k, grouped(weights * spectral_radiance(nodes, vol.temperature) * tau_a),
-                x[cross], 1.0, vol.albedo)
+                x[cross], 1.0, vol.albedo, line_overlap=beta)
             if sun is not None and vol.albedo > 0.0:
                 source = sun[1](nodes, float(vol.center[2]) + altitude) * tau_a
                 light[1, v, cross, b] = volume_scattering.single_scattering(

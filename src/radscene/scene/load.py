@@ -685,6 +685,20 @@ class _Resolver:
                               key=f"{key}.file")
         return grid
 
+    @staticmethod
+    def gas(vspec, key):
+        """A gas volume's band absorption (radscene.materials.gas.GasAbsorption); a state the
+        model does not cover names ``key.temperature`` or ``key.gas.<key>``."""
+        from radscene.materials.gas import GasAbsorption
+
+        spec = vspec.gas
+        fractions = (("co2", spec.co2), ("h2o", spec.h2o))
+        try:
+            return GasAbsorption(fractions, vspec.temperature, spec.pressure, spec.model)
+        except ConfigError as err:
+            where = f"{key}.temperature" if err.key == "temperature" else f"{key}.gas.{err.key}"
+            raise ConfigError(err.message, key=where) from None
+
     def volumes(self) -> list:
         from radscene.materials.spectrum import make_spectrum
         from radscene.render.volumes import Volume, optical_path
@@ -699,13 +713,19 @@ class _Resolver:
             profile = vspec.profile
             sigma = None if profile.sigma is None else np.broadcast_to(
                 np.asarray(profile.sigma, float), (3,)).copy()
-            given = "extinction" if vspec.extinction is not None else "optical_depth"
-            spectrum = make_spectrum(getattr(vspec, given), key=f"{key}.{given}",
-                                     base_dir=self.base)
-            values = np.asarray(spectrum.values, float)
-            if np.any(values < 0.0) or not np.all(np.isfinite(values)):
-                raise ConfigError(f"must be finite and >= 0 everywhere; got a minimum of "
-                                  f"{float(np.min(values)):g}", key=f"{key}.{given}")
+            given = ("gas" if vspec.gas is not None else
+                     "extinction" if vspec.extinction is not None else "optical_depth")
+            overlap = None
+            if given == "gas":
+                spectrum = self.gas(vspec, key)
+                overlap = spectrum.line_overlap
+            else:
+                spectrum = make_spectrum(getattr(vspec, given), key=f"{key}.{given}",
+                                         base_dir=self.base)
+                values = np.asarray(spectrum.values, float)
+                if np.any(values < 0.0) or not np.all(np.isfinite(values)):
+                    raise ConfigError(f"must be finite and >= 0 everywhere; got a minimum of "
+                                      f"{float(np.min(values)):g}", key=f"{key}.{given}")
             wavelengths = (np.zeros(0) if spectrum.wavelength is None
                            else np.asarray(spectrum.wavelength, float))
             volume = Volume(vspec.name, shape.type, np.asarray(vspec.position, float), half,
@@ -714,7 +734,7 @@ class _Resolver:
                             sigma, vspec.density, vspec.single_scattering_albedo,
                             vspec.temperature, wavelengths, vspec.asymmetry,
                             None if profile.type != "grid" else self.density_grid(
-                                profile, f"{key}.profile"))
+                                profile, f"{key}.profile"), overlap)
             if given == "optical_depth":
                 # k = τ / X along the vertical through the centre, from below
                 below = volume.center - np.array([0.0, 0.0, 2.0 * half[2] + 1.0])

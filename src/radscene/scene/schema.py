@@ -565,11 +565,43 @@ class DensityProfile(_Model):
         return self
 
 
+class GasSpec(_Model):
+    """A gas plume's composition: mole fractions of CO2 and H2O at a total ``pressure``, at the
+    volume's temperature; its absorption and emission in their bands come from a band model
+    (``model``: ``edwards``, the exponential wide-band model of Edwards 1976 with the parameters
+    tabulated by Modest, Radiative Heat Transfer, 3rd ed. 2013, Table 11.3; 300-2500 K,
+    0.1-10 atm; a band model, not line-by-line: meaningful over spectral intervals of
+    ~20-200 cm-1). The profile's density scales the amount of gas at the same pressure."""
+
+    model: str = Field("edwards", description="the band model (radscene.materials.gas.GAS_MODELS)")
+    co2: Fraction = Field(0.0, description="mole fraction of CO2 [-]")
+    h2o: Fraction = Field(0.0, description="mole fraction of H2O [-]")
+    pressure: Pressure = Field(101325.0, description="total pressure [Pa]; e.g. '1 atm'")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_gases(cls, data):
+        if isinstance(data, dict):
+            for key in data:
+                if key not in cls.model_fields:
+                    raise ValueError(f"unknown gas or key {key!r}; known gases: co2, h2o "
+                                     "(mole fractions), and model, pressure")
+        return data
+
+    @model_validator(mode="after")
+    def _fractions(self):
+        if self.co2 + self.h2o > 1.0:
+            raise ValueError(f"the mole fractions sum to {self.co2 + self.h2o:g} > 1")
+        return self
+
+
 class VolumeSpec(_Model):
     """A participating volume (smoke, dust, cloud, gas): an axis-aligned box or ellipsoid
     centred at ``position`` (z above the scene origin) filled with a medium of extinction
     coefficient ``extinction`` [m-1] at density 1 (a number or a spectrum), or of vertical
-    optical depth ``optical_depth`` through its centre; ``density`` scales the ``profile``."""
+    optical depth ``optical_depth`` through its centre, or a ``gas`` mixture of CO2 and H2O
+    absorbing and emitting in their bands at the volume's temperature (a band model; albedo
+    0); ``density`` scales the ``profile``."""
 
     name: str = Field(description="unique name of the volume")
     shape: Annotated[BoxShape | EllipsoidShape, Field(discriminator="type")] = Field(
@@ -596,11 +628,16 @@ class VolumeSpec(_Model):
         0.0, description="Henyey-Greenstein asymmetry parameter of the scattering (0: isotropic)")
     temperature: Temperature = Field(
         description="temperature of the medium [K], for its thermal emission")
+    gas: GasSpec | None = Field(None, description="CO2/H2O mole fractions and pressure: a gas "
+                                "plume from a band model instead of extinction")
 
     @model_validator(mode="after")
     def _one_medium(self):
-        if (self.extinction is None) == (self.optical_depth is None):
-            raise ValueError("give exactly one of 'extinction' [m-1] or 'optical_depth'")
+        given = [k for k in ("extinction", "optical_depth", "gas") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError("give exactly one of 'extinction' [m-1], 'optical_depth' or 'gas'")
+        if self.gas is not None and self.single_scattering_albedo != 0.0:
+            raise ValueError("a gas absorbs and emits only: remove single_scattering_albedo")
         return self
 
 
