@@ -1,16 +1,26 @@
-"""What a run has written into its output folder: a marker while it lasts, a manifest after.
+"""What runs have written into an output folder: a marker while any lasts, a manifest after.
 
 An output folder never looks complete when it is not: ``radscene render`` writes
-:data:`MARKER` before its first file and lists in it each observer as its files land; only a
-run that finishes replaces the marker with :data:`MANIFEST` (every file, its size and SHA-256).
-A run stopped by an error, Ctrl-C or SIGTERM leaves the marker (the files being written at that
-moment are temporaries, removed on the way out: :func:`radscene.io.files.atomic_output`), and
-``--resume`` renders only the observers the marker does not list.
+:data:`MARKER` before its first file and lists in it each observer as its files land; when the
+last run writing into the folder finishes, the marker is replaced by :data:`MANIFEST` (every
+file, its size and SHA-256, of every observer any run finished there). A run stopped by an
+error, Ctrl-C or SIGTERM leaves its part of the marker (the files being written at that moment
+are temporaries, removed on the way out: :func:`radscene.io.files.atomic_output`), and
+``--resume`` renders only the observers the stopped runs of the same scene had not finished.
+
+Several runs may write into one folder at once (say one per observer, on two machines of a
+cluster sharing the folder): each has its own entry under ``runs`` in the marker, and every
+read-modify-write of the marker and the manifest holds an exclusive lock on the folder
+(``flock``), so no run overwrites another's record, the folder stays marked incomplete until
+the last one ends, and the manifest lists the observers of all of them. The marker's top level
+(``finished``, ``files``, ``scene``, ``scene_sha256``) summarises its runs.
 """
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
+import fcntl
 import hashlib
 import json
 import os
@@ -55,42 +65,109 @@ def _write_json(path: Path, data: dict) -> None:
         Path(tmp).write_text(json.dumps(data, indent=1))
 
 
+@contextlib.contextmanager
+def _locked(folder: Path):
+    """An exclusive lock on ``folder`` (flock on the folder itself: no lock file is left)."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        fcntl.flock(fd, fcntl.LOCK_UN)
+        os.close(fd)
+
+
+def _read(path: Path) -> dict | None:
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+
+
+def _alive(pid) -> bool:
+    """Whether process ``pid`` runs on this machine (a run of another machine counts as alive)."""
+    try:
+        os.kill(int(pid), 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, TypeError, ValueError):
+        return True
+    return True
+
+
+def _summarise(marker: dict) -> dict:
+    """The marker with its top level summarising its runs and completed observers."""
+    runs = marker.get("runs", {})
+    files = {name: entry["files"] for name, entry in marker.get("completed", {}).items()}
+    for run in runs.values():
+        files.update({n: run["files"][n] for n in run["finished"] if n in run.get("files", {})})
+    latest = max(runs.values(), key=lambda r: r["started"], default=None)
+    marker["finished"] = list(files)
+    marker["files"] = files
+    if latest is not None:
+        marker["scene"], marker["scene_sha256"] = latest["scene"], latest["scene_sha256"]
+    return marker
+
+
+def _manifest_entries(folder: Path, observer: str, names) -> list[dict]:
+    entries = []
+    for name in names:
+        for path in _files_of(folder / name):  # a Zarr store: each of its files
+            entries.append({"file": os.path.relpath(path, folder), "observer": observer,
+                            "bytes": path.stat().st_size, "sha256": _sha256(path)})
+    return entries
+
+
+def _stopped_runs(marker: dict, digest: str) -> dict:
+    """The runs of the marker of the scene with SHA-256 ``digest`` that stopped midway."""
+    return {key: run for key, run in marker.get("runs", {}).items()
+            if run.get("scene_sha256") == digest and not _alive(run.get("pid"))}
+
+
 def finished(folder, scene_file) -> list[str]:
-    """Observers an interrupted run of ``scene_file`` finished in ``folder`` (for --resume).
+    """Observers that stopped runs of ``scene_file`` (and finished ones) completed in
+    ``folder``, with their files still there (for --resume).
 
     Raises
     ------
     radscene.errors.ConfigError
-        When the folder holds no interrupted run, or one of another scene file.
+        When the folder holds no interrupted run, or only runs of another scene file.
     """
     folder = Path(folder)
-    marker = folder / MARKER
-    if not marker.is_file():
+    marker_path = folder / MARKER
+    if not marker_path.is_file():
         if (folder / MANIFEST).is_file():
             raise ConfigError(f"{folder} holds a complete run ({MANIFEST}); nothing to resume",
                               key="--resume")
         raise ConfigError(f"{folder} holds no interrupted run to resume (no {MARKER})",
                           key="--resume")
-    try:
-        record = json.loads(marker.read_text())
-        digest, done = record["scene_sha256"], list(record["finished"])
-    except (OSError, ValueError, KeyError, TypeError):
-        raise ConfigError(f"{marker} is not a radscene run marker", key="--resume") from None
-    if digest != _sha256(Path(scene_file)):
+    marker = _read(marker_path)
+    if not isinstance(marker, dict) or not isinstance(marker.get("runs"), dict):
+        raise ConfigError(f"{marker_path} is not a radscene run marker", key="--resume")
+    digest = _sha256(Path(scene_file))
+    stopped = _stopped_runs(marker, digest)
+    if not stopped:
         raise ConfigError(f"the run in {folder} was of another scene file (or the file has "
-                          "changed since); render into a new folder", key="--resume")
-    return [name for name in done if all((folder / f).exists()
-                                         for f in record.get("files", {}).get(name, []))]
+                          "changed since, or it is still running); render into a new folder",
+                          key="--resume")
+    done = {}
+    for run in stopped.values():
+        done.update({n: run["files"].get(n, []) for n in run["finished"]})
+    done.update({n: c["files"] for n, c in marker.get("completed", {}).items()
+                 if c.get("scene_sha256") == digest})
+    return [name for name, names in done.items() if all((folder / f).exists() for f in names)]
 
 
 class RunRecord:
-    """Context manager of one run into ``folder``: the marker on entry, updated by
-    :meth:`finish`, the manifest on a clean exit; SIGTERM ends the run as Ctrl-C does, so the
-    temporaries of the files being written are removed."""
+    """Context manager of one run into ``folder``: its entry in the marker on entry, updated by
+    :meth:`finish`; on a clean exit its observers move to the completed ones, and the last run
+    out writes the manifest. SIGTERM ends the run as Ctrl-C does, so the temporaries of the
+    files being written are removed."""
 
     def __init__(self, folder, scene_file, observers, done=()):
         self.folder = Path(folder)
         self.scene_file = Path(scene_file)
+        self.id = f"{os.getpid()}-{_dt.datetime.now(_dt.UTC).strftime('%Y%m%dT%H%M%S.%f')}"
         self.record = {
             "scene": str(self.scene_file),
             "scene_sha256": _sha256(self.scene_file),
@@ -98,18 +175,48 @@ class RunRecord:
             "finished": [],
             "files": {},
             "started": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+            "pid": os.getpid(),
         }
-        self._previous = {}
-        if done:  # a resumed run keeps what the marker lists
-            old = json.loads((self.folder / MARKER).read_text())
-            self.record["finished"] = list(done)
-            self.record["files"] = {n: old["files"][n] for n in done if n in old.get("files", {})}
+        self.done = list(done)  # observers a stopped run of the same scene finished
         self._handler = None
+
+    def _update(self, change) -> None:
+        """Read the marker, apply ``change(marker)``, write it back, under the folder's lock."""
+        with _locked(self.folder):
+            marker = _read(self.folder / MARKER) or {}
+            marker.setdefault("runs", {})
+            marker.setdefault("completed", {})
+            change(marker)
+            _write_json(self.folder / MARKER, _summarise(marker))
 
     def __enter__(self):
         self.folder.mkdir(parents=True, exist_ok=True)
-        (self.folder / MANIFEST).unlink(missing_ok=True)  # no longer describes the folder
-        _write_json(self.folder / MARKER, self.record)
+
+        def enter(marker):
+            previous = _read(self.folder / MANIFEST)
+            if previous and not marker["runs"]:  # a finished folder that gets more results
+                for entry in previous.get("files", []):
+                    item = marker["completed"].setdefault(
+                        entry["observer"], {"files": [], "scene": previous.get("scene"),
+                                            "scene_sha256": previous.get("scene_sha256")})
+                    item["files"].append(entry["file"])
+            (self.folder / MANIFEST).unlink(missing_ok=True)  # no longer describes the folder
+            digest = self.record["scene_sha256"]
+            for key in list(_stopped_runs(marker, digest)) if self.done else ():
+                old = marker["runs"].pop(key)  # a resumed run takes over what it finished
+                for name in old["finished"]:
+                    if name in self.done:
+                        self.record["finished"].append(name)
+                        self.record["files"][name] = old["files"].get(name, [])
+            for key, run in list(marker["runs"].items()):  # stopped runs this one redoes
+                if not _alive(run.get("pid")) and set(run["observers"]) <= set(self.record["observers"]):
+                    marker["runs"].pop(key)
+            for name in self.record["observers"]:  # rendered again here
+                if name not in self.done:
+                    marker["completed"].pop(name, None)
+            marker["runs"][self.id] = self.record
+
+        self._update(enter)
 
         def terminate(signum, frame):
             raise KeyboardInterrupt(f"signal {signum}")
@@ -125,24 +232,39 @@ class RunRecord:
         names = [os.path.relpath(f, self.folder) for f in files]
         self.record["finished"].append(observer)
         self.record["files"][observer] = names
-        _write_json(self.folder / MARKER, self.record)
+
+        def change(marker):
+            marker["runs"][self.id] = self.record
+
+        self._update(change)
 
     def __exit__(self, kind, value, traceback):
         if self._handler is not None:
             signal.signal(signal.SIGTERM, self._handler)
         if kind is not None:
-            return False  # the marker stays: the folder is incomplete
-        entries = []
-        for observer in self.record["finished"]:
-            for name in self.record["files"].get(observer, []):
-                for path in _files_of(self.folder / name):  # a Zarr store: each of its files
-                    entries.append({"file": os.path.relpath(path, self.folder),
-                                    "observer": observer, "bytes": path.stat().st_size,
-                                    "sha256": _sha256(path)})
-        manifest = {key: self.record[key] for key in ("scene", "scene_sha256", "observers",
-                                                      "started")}
-        manifest["finished"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
-        manifest["files"] = entries
-        _write_json(self.folder / MANIFEST, manifest)
-        (self.folder / MARKER).unlink(missing_ok=True)
+            return False  # this run's entry stays: the folder is incomplete
+        with _locked(self.folder):
+            marker = _read(self.folder / MARKER) or {"runs": {}, "completed": {}}
+            marker.setdefault("completed", {})
+            marker.setdefault("runs", {}).pop(self.id, None)
+            for name in self.record["finished"]:
+                marker["completed"][name] = {"files": self.record["files"].get(name, []),
+                                             "scene": self.record["scene"],
+                                             "scene_sha256": self.record["scene_sha256"],
+                                             "started": self.record["started"]}
+            if marker["runs"]:  # other runs still write here (or stopped midway)
+                _write_json(self.folder / MARKER, _summarise(marker))
+                return False
+            entries = []
+            for name, item in marker["completed"].items():
+                entries += _manifest_entries(self.folder, name, item["files"])
+            scenes = {(c["scene"], c["scene_sha256"]) for c in marker["completed"].values()}
+            manifest = {key: self.record[key] for key in ("scene", "scene_sha256", "started")}
+            manifest["observers"] = list(marker["completed"])
+            if len(scenes) > 1:
+                manifest["scenes"] = [{"scene": a, "scene_sha256": b} for a, b in sorted(scenes)]
+            manifest["finished"] = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+            manifest["files"] = entries
+            _write_json(self.folder / MANIFEST, manifest)
+            (self.folder / MARKER).unlink(missing_ok=True)
         return False
