@@ -329,6 +329,9 @@ def get_thermal_properties(name: str) -> ThermalProperties:
         beta = moisture["value"]
         if isinstance(beta, bool) or not isinstance(beta, numbers.Real) or not 0.0 <= beta <= 1.0:
             raise ConfigError(f"must lie in [0, 1]; got {beta!r}", key=f"{key}.moisture_availability.value")
+    canopy = entry.get("canopy")
+    if canopy is not None:
+        canopy = _canopy(canopy, f"{key}.canopy")
     optics = _optics()
     if lowered not in optics:
         raise ConfigError(
@@ -342,10 +345,30 @@ def get_thermal_properties(name: str) -> ThermalProperties:
         bottom=bottom,
         solar_absorptance=alpha,
         longwave_emissivity=eps,
-        canopy=entry.get("canopy"),
+        canopy=canopy,
         notes=str(entry.get("notes", "")),
         moisture_availability=float(beta),
     )
+
+
+def _canopy(value, key):
+    """A ``canopy`` entry checked: ``lai`` [-], ``areal_heat_capacity`` [J m-2 K-1] and
+    ``source`` always; ``height`` [m] and ``leaf_width`` [m] together switch on the leaf layer of
+    the heat balance (``thermal.canopy``), with ``leaf_resistance`` r_l [s m-1] (default 100)."""
+    required, layer = {"lai", "areal_heat_capacity", "source"}, {"height", "leaf_width"}
+    accepted = required | layer | {"leaf_resistance"}
+    if not isinstance(value, dict) or not required <= set(value) or set(value) - accepted:
+        raise ConfigError(f"expected the keys {sorted(required)} and optionally {sorted(accepted - required)}; "
+                          f"got {sorted(value) if isinstance(value, dict) else value!r}", key=key)
+    if (set(value) & layer) and not layer <= set(value):
+        raise ConfigError("a leaf layer needs both 'height' and 'leaf_width' [m]", key=key)
+    if "leaf_resistance" in value and not layer <= set(value):
+        raise ConfigError("'leaf_resistance' applies to a leaf layer: give 'height' and 'leaf_width' too", key=key)
+    out = dict(value)
+    for name in sorted(accepted - {"source"}):
+        if name in out:
+            out[name] = _positive(out[name], f"{key}.{name}")
+    return out
 
 
 @functools.lru_cache(maxsize=1)

@@ -22,6 +22,11 @@ from the bottom up, Q_d = A T_0' − B with A, B known per element and step. The
   elements (``aerodynamic``);
 * Q_lat lateral conduction from neighbouring elements (``lateral``; optional).
 
+Stacks whose ``canopy`` has a ``height`` carry a leaf layer above their surface node
+(``canopy``): its linear equation is eliminated into the surface equation, so the form below
+holds for them too; their recorded terms are those of leaves and soil together, Q_d including
+the leaves' storage, and their surface temperature the nadir radiometric one.
+
 Everything but Q_t is linear in the new surface temperature within a step, so the surface
 equation of each element keeps the form
 
@@ -62,6 +67,13 @@ import numpy as np
 from radscene.errors import ConfigError, RadsceneError
 from radscene.thermal import _compiled
 from radscene.thermal.aerodynamic import flat_plate_coefficient, recovery_temperature
+from radscene.thermal.canopy import (
+    CanopyLayer,
+    beam_transmittance,
+    canopy_conductances,
+    leaf_equation,
+    transpiration_availability,
+)
 from radscene.thermal.conduction import DAY, ImplicitConduction, build_grid
 from radscene.thermal.convection import convection_coefficient
 from radscene.thermal.evaporation import linearised_evaporative_flux
@@ -175,6 +187,9 @@ class HeatBalance:
         Element areas [m2] (with ``lateral``).
     compiled : bool, optional
         Run the compiled step (default) or the numpy reference path.
+    canopy : bool, optional
+        Solve the leaf layer of stacks whose ``canopy`` has a ``height`` (default;
+        ``thermal.canopy``); False: such stacks are a bare surface.
 
     Examples
     --------
@@ -207,6 +222,7 @@ class HeatBalance:
         lateral=None,
         area=None,
         compiled=True,
+        canopy=True,
     ):
         stacks = list(stacks)
         self.grid = build_grid(stacks, material_index, n_nodes, growth, period, penetration_depths, deep_temperature)
@@ -235,7 +251,13 @@ class HeatBalance:
             self.lateral = laplacian(check_conductance(lateral, n))
         self.area = None if area is None else self._per_element(area, "area", n)
         self.compiled = bool(compiled)
+        self.canopy = CanopyLayer.from_stacks(stacks, index) if canopy else None
         self._es = np.ascontiguousarray(self.emissivity * SIGMA)
+        self._leaf = None  # leaf temperatures [K] of the canopy elements, set by run
+        if self.canopy is not None:
+            # the soil under leaves emits to the sky through the gaps only (module canopy)
+            c = self.canopy.index
+            self._es[c] = self.canopy.diffuse * self.emissivity[c] * SIGMA
         # the compiled path keeps the elements sorted by stack (module _compiled); None: as given
         order = np.argsort(self._index, kind="stable")
         self._order = None if not self.compiled or np.all(order == np.arange(n)) else order
@@ -305,11 +327,11 @@ class HeatBalance:
         q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
         q_sky = absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], view)
         h = convection_coefficient(f["wind_speed"][k], self.convection)
-        out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None}
+        out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None, "canopy": None}
         if self.exchange is not None:
             irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
             sky = np.broadcast_to(f["sky_longwave"][k] * view, shape)
-            out["q_env"] = environment_longwave(self.exchange, self.emissivity, self._es * previous**4, sky, self.exchange_reflections) + environment_shortwave(
+            out["q_env"] = environment_longwave(self.exchange, self.emissivity, self._exitance(previous), sky, self.exchange_reflections) + environment_shortwave(
                 self.exchange, self.absorptance, irradiance, self.exchange_reflections
             )
         if f["has_environment"]:
@@ -327,6 +349,14 @@ class HeatBalance:
                 aero[airborne] = h[airborne] * (recovery_temperature(t_air, u) - t_air)
                 internal = aero if internal is None else internal + aero
         out["q_i"] = internal
+        if self.canopy is not None:
+            c = self.canopy.index
+            h = out["h"] = np.array(np.broadcast_to(h, shape), dtype=float)
+            leaf_air, soil_air, leaf_soil = canopy_conductances(
+                self.canopy.lai, self.canopy.height, self.canopy.leaf_width, np.broadcast_to(f["wind_speed"][k], shape)[c],
+                h[c], np.broadcast_to(air, shape)[c], f["pressure"][k][c], self._leaf)
+            h[c] = soil_air  # the soil's convection (and its evaporation) through the canopy air
+            out["canopy"] = {"leaf_air": leaf_air, "leaf_soil": leaf_soil}
         if self._wet.size:
             wet = self._wet
             c, s = linearised_evaporative_flux(
@@ -340,9 +370,10 @@ class HeatBalance:
     def _step(self, state, f, k, dt, record=None, out=None):
         """Advance the node-major ``state`` (internal order) in place to time index k; fill row
         k of ``record``; return the new surface temperatures in the caller's order (in ``out``
-        if given)."""
+        if given): the radiometric temperature of canopy elements (``thermal.canopy``)."""
         solver = self._solver(dt)
-        needs_previous = not self.compiled or self.exchange is not None or self._wet.size or self.lateral is not None
+        needs_previous = (not self.compiled or self.exchange is not None or self._wet.size or self.lateral is not None
+                          or self.canopy is not None)
         previous = np.array(self._external(state[0])) if needs_previous else None
         old = np.array(self._external(state)) if record is not None else None
         p = self._fluxes(f, k, previous)
@@ -353,6 +384,13 @@ class HeatBalance:
                 constant = constant + p[name]
         slope = h if p["v_s"] is None else h + p["v_s"]
         n = self.grid.n_elements
+        leaf = None
+        if self.canopy is not None:
+            constant, slope = np.array(np.broadcast_to(constant, (n,))), np.array(np.broadcast_to(slope, (n,)))
+            leaf = self._leaf_terms(f, k, p, previous, dt)
+            c = self.canopy.index
+            constant[c] += leaf["soil_constant"]
+            slope[c] += leaf["soil_slope"]
         if self.compiled:
             constant = np.broadcast_to(constant, (n,))
             slope = np.broadcast_to(slope, (n,))
@@ -364,7 +402,8 @@ class HeatBalance:
             )
             if failures:
                 raise RadsceneError(f"surface temperature: Newton did not converge in {_MAX_ITERATIONS} iterations in {failures} blocks of elements")
-            surface = self._external(surface) if out is None or self._inverse is None else np.take(surface, self._inverse, out=out)
+            own = out if leaf is None else None  # with leaves, ``out`` receives the radiometric temperature
+            surface = self._external(surface) if own is None or self._inverse is None else np.take(surface, self._inverse, out=own)
             if record is not None or self.lateral is not None:
                 b = self._external(b)
             if self.lateral is not None:
@@ -373,21 +412,71 @@ class HeatBalance:
         else:
             beta, b = solver.element.eliminate(state)
             if self.lateral is None:
-                surface = solve_surface_temperature(constant + b, slope + solver.surface_conductance, self.emissivity, previous)
+                surface = solve_surface_temperature(constant + b, slope + solver.surface_conductance, self._es / SIGMA, previous)
             else:
                 surface = self._coupled(constant + b, slope + solver.surface_conductance, previous)
             solver.element.substitute(surface, beta, out=state)
+        seen = surface
+        if leaf is not None:
+            c = self.canopy.index
+            leaf_old = self._leaf.copy()
+            self._leaf[...] = (leaf["p"] + leaf["w"] * surface[c]) / leaf["d"]
+            leaf["old"] = leaf_old
+            seen = np.array(surface)
+            seen[c] = self._radiometric(surface[c])
         if record is not None:
-            self._record(record, k, dt, p, air, surface, solver.surface_conductance * surface - b, old, self._external(state))
-        if out is not None and surface is not out:
-            out[...] = surface
-        return surface
+            self._record(record, k, dt, p, air, surface, solver.surface_conductance * surface - b, old, self._external(state), leaf)
+        if out is not None and seen is not out:
+            out[...] = seen
+        return seen
+
+    def _radiometric(self, soil):
+        """Nadir radiometric temperature of the canopy elements [K] (``thermal.canopy``)."""
+        gap = beam_transmittance(self.canopy.lai, 1.0)
+        return ((1.0 - gap) * self._leaf**4 + gap * soil**4) ** 0.25
+
+    def _exitance(self, previous):
+        """Long-wave exitance of every element [W m-2] at its start-of-step temperatures: of
+        canopy elements the leaves' upward emission plus the soil's through the gaps."""
+        exitance = self._es * previous**4
+        if self.canopy is not None:
+            c = self.canopy.index
+            exitance[c] += (1.0 - self.canopy.diffuse) * self.emissivity[c] * SIGMA * self._leaf**4
+        return exitance
+
+    def _leaf_terms(self, f, k, p, previous, dt):
+        """The leaf equation of the canopy elements for step k and what it adds to the soil's
+        surface equation (module ``thermal.canopy``)."""
+        cl = self.canopy
+        c, n = cl.index, self.grid.n_elements
+        shape = (n,)
+        tau = cl.diffuse
+        eps = self.emissivity[c]
+        lit, view = np.broadcast_to(f["lit"][k], shape)[c], np.broadcast_to(f["sky_view_fraction"][k], shape)[c]
+        direct = np.broadcast_to(f["direct_irradiance"][k], shape)[c] * np.maximum(np.broadcast_to(f["cos_incidence"][k], shape)[c], 0.0) * lit
+        diffuse = np.broadcast_to(f["diffuse_irradiance"][k], shape)[c] * view
+        gap = beam_transmittance(cl.lai, np.broadcast_to(f["cos_incidence"][k], shape)[c])
+        q_a = self.absorptance[c] * (direct * (1.0 - gap) + diffuse * (1.0 - tau))
+        q_sky = eps * (1.0 - tau) * view * np.broadcast_to(f["sky_longwave"][k], shape)[c]
+        q_env = np.zeros(c.size) if p["q_env"] is None else np.broadcast_to(p["q_env"], shape)[c]
+        air = np.broadcast_to(f["air_temperature"][k], shape)[c]
+        pressure = np.broadcast_to(f["pressure"][k], shape)[c]
+        leaf_air, leaf_soil = p["canopy"]["leaf_air"], p["canopy"]["leaf_soil"]
+        beta = transpiration_availability(leaf_air, cl.lai, cl.leaf_resistance, direct + diffuse, air, pressure)
+        v_c, v_s = linearised_evaporative_flux(beta, leaf_air, self._leaf, air, np.broadcast_to(f["relative_humidity"][k], shape)[c], pressure)
+        emission = eps * (1.0 - tau) * SIGMA
+        d, p_leaf, w = leaf_equation(cl.capacity, dt, self._leaf, previous[c], q_a + q_sky + q_env + v_c, emission, eps * emission,
+                                     leaf_soil, air, leaf_air, v_s)
+        return {"d": d, "p": p_leaf, "w": w, "q_a": q_a, "q_sky": q_sky, "q_env": q_env, "v_c": v_c, "v_s": v_s,
+                "emission": emission, "leaf_air": leaf_air, "air": air,
+                # the leaves' shares leave the soil's equation; the eliminated leaf enters it
+                "soil_constant": w * p_leaf / d - q_a - q_sky - q_env, "soil_slope": w * (d - w) / d}
 
     def _coupled(self, constant, slope, start):
-        start = solve_surface_temperature(constant, slope, self.emissivity, start)
-        return coupled_surface_temperature(constant, slope, self.emissivity, self.lateral, self.area, start, _TOLERANCE, _MAX_ITERATIONS)
+        start = solve_surface_temperature(constant, slope, self._es / SIGMA, start)
+        return coupled_surface_temperature(constant, slope, self._es / SIGMA, self.lateral, self.area, start, _TOLERANCE, _MAX_ITERATIONS)
 
-    def _record(self, record, k, dt, p, air, surface, into_stack, old, new):
+    def _record(self, record, k, dt, p, air, surface, into_stack, old, new, leaf=None):
         terms = record["terms"]
         zero = np.zeros(surface.shape)
         terms["q_a"][k] = p["q_a"]
@@ -400,9 +489,19 @@ class HeatBalance:
         if "q_lat" in terms:
             terms["q_lat"][k] = -(self.lateral @ surface) / self.area
         terms["q_d"][k] = into_stack
+        stored = np.einsum("ij,ij->j", self.grid.capacity.T, new - old) + self.grid.bottom_flux(new.T) * dt
+        if leaf is not None:
+            # the leaves: their emission to the sky (linearised as the step used it), their
+            # exchange with the air and their transpiration; their storage counts in q_d
+            c, tc, tc0 = self.canopy.index, self._leaf, leaf["old"]
+            terms["q_t"][k, c] -= leaf["emission"] * (4.0 * tc0**3 * tc - 3.0 * tc0**4)
+            terms["q_k"][k, c] += leaf["leaf_air"] * (leaf["air"] - tc)
+            terms["q_v"][k, c] += leaf["v_c"] - leaf["v_s"] * tc
+            held = self.canopy.capacity * (tc - tc0)
+            terms["q_d"][k, c] += held / dt
+            stored[c] += held
         supplied = sum(terms[name][k] for name in terms if name != "q_d")
         magnitude = sum(np.abs(terms[name][k]) for name in terms)
-        stored = np.einsum("ij,ij->j", self.grid.capacity.T, new - old) + self.grid.bottom_flux(new.T) * dt
         weight = 1.0 if self.area is None else self.area
         error = float(np.sum(weight * np.abs(supplied * dt - stored)))
         scale = float(np.sum(weight * magnitude * dt))
@@ -438,6 +537,12 @@ class HeatBalance:
             raise ConfigError(
                 f"{self._wet.size} elements have moisture_availability > 0 (e.g. element {self._wet[0]}): the evaporation "
                 "term needs the air's relative humidity [0-1]; give it, or moisture_availability=0",
+                key="forcing.relative_humidity",
+            )
+        if self.canopy is not None and f["relative_humidity"] is None:
+            raise ConfigError(
+                f"{self.canopy.index.size} elements carry leaves (e.g. element {self.canopy.index[0]}): their transpiration "
+                "needs the air's relative humidity [0-1]; give it, or HeatBalance(..., canopy=False)",
                 key="forcing.relative_humidity",
             )
         if self.exchange is not None:
@@ -488,6 +593,8 @@ class HeatBalance:
         f = self._checked(forcing)
         time = f["time"]
         state = np.ascontiguousarray(self._internal(self._initial(initial_temperature, f)))
+        if self.canopy is not None:
+            self._leaf = np.array(self._external(state[0])[self.canopy.index])  # leaves start at the soil's surface
         days, change = 0, float("nan")
         if spin_up:
             if not (np.isfinite(spin_up_tolerance) and spin_up_tolerance > 0):
@@ -509,6 +616,8 @@ class HeatBalance:
                     # leaves through the bottom: start every node from the first day's mean
                     # surface temperature, which removes the slow transient of the deep nodes
                     state[...] = self._internal(self._initial(record.mean(axis=0), f))
+                    if self.canopy is not None:
+                        self._leaf[...] = record.mean(axis=0)[self.canopy.index]
                 if previous is not None:
                     change = float(np.max(np.abs(record - previous)))
                     if change < spin_up_tolerance:
@@ -525,8 +634,16 @@ class HeatBalance:
             recorder = {"terms": {t: np.full((time.size, n_el), np.nan) for t in names}, "closure": np.full(time.size, np.nan)}
         surface = np.empty((time.size, n_el))
         surface[0] = self._external(state[0])
+        leaves = ground = None
+        if self.canopy is not None:
+            c = self.canopy.index
+            leaves, ground = np.full((time.size, n_el), np.nan), np.full((time.size, n_el), np.nan)
+            leaves[0, c], ground[0, c] = self._leaf, surface[0, c]
+            surface[0, c] = self._radiometric(ground[0, c])
         for k in range(1, time.size):
             self._step(state, f, k, time[k] - time[k - 1], recorder, out=surface[k])
+            if leaves is not None:
+                leaves[k, c], ground[k, c] = self._leaf, self._external(state[0])[c]
             if progress is not None and (k % 20 == 0 or k == time.size - 1):
                 progress("steps", k, time.size - 1)
         return ThermalResult(
@@ -538,4 +655,6 @@ class HeatBalance:
             spin_up_change=change,
             terms=None if recorder is None else recorder["terms"],
             closure=None if recorder is None else recorder["closure"],
+            canopy_temperature=leaves,
+            ground_temperature=ground,
         )

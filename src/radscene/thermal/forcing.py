@@ -169,6 +169,10 @@ class ThermalResult:
         (with lateral conduction) the heat from the neighbouring elements, and ``q_d`` the
         heat that flows from the surface node into the stack (storage and conduction), so
         that q_a + q_sky + q_env + q_t + q_k + q_v + q_i (+ q_lat) = q_d.
+    canopy_temperature, ground_temperature : ndarray, (n_times, n_elements), or None
+        With leaves (``thermal.canopy``): the leaf layer's and the soil surface's temperatures
+        [K], NaN for the elements without leaves, whose ``surface_temperature`` is then the
+        nadir radiometric temperature of leaves and soil. None without leaves.
     closure : ndarray, (n_times,), or None
         With ``record_terms``: the energy closure of the step that ends at each time (row 0
         NaN) [-], Σ_e a_e |Σ surface terms · Δt − (ΔΣ C_i T_i + bottom flux · Δt)| /
@@ -185,3 +189,5 @@ class ThermalResult:
     spin_up_change: float = float("nan")
     terms: dict | None = None
     closure: np.ndarray | None = None
+    canopy_temperature: np.ndarray | None = None
+    ground_temperature: np.ndarray | None = None

@@ -344,6 +344,13 @@ def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave
         "absorptance": (el, alpha, {"units": "1", "long_name": "broadband solar absorptance"}),
         "emissivity": (el, eps, {"units": "1", "long_name": "broadband long-wave emissivity"}),
     }
+    if result.canopy_temperature is not None:
+        data["canopy_temperature"] = (("time", "element"), result.canopy_temperature.astype(np.float32), {
+            "units": "K", "long_name": "temperature of the leaf layer (NaN: no leaves)"})
+        data["ground_temperature"] = (("time", "element"), result.ground_temperature.astype(np.float32), {
+            "units": "K", "long_name": "temperature of the soil surface under the leaves (NaN: no leaves)"})
+        data["surface_temperature"][2]["long_name"] = ("surface temperature of the element (with leaves: the nadir "
+                                                       "radiometric temperature of leaves and soil)")
     long_names = {"q_a": "absorbed short-wave", "q_sky": "absorbed sky long-wave", "q_env": "exchange with the scene",
                   "q_t": "emitted long-wave", "q_k": "convection", "q_v": "evaporation", "q_i": "internal sources",
                   "q_lat": "lateral conduction from the neighbours", "q_d": "conduction into the stack"}
