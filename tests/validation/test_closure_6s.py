@@ -148,19 +148,16 @@ def test_rendered_plate_with_the_database_equals_6s_within_3_percent(
 
 
 #: Black-plate conditions still beyond 3 %, with the figures measured (0.45, 0.55, 0.66,
-#: 0.87, 1.63, 2.15 um bands). With the sun-zenith nodes 0 and 40 deg only (the sun is at 30
-#: deg), read linearly, continental 5 km from the top at 40 deg (+3.85 %) and from 3 km
-#: (+4.84, +5.86 %) were here too.
-BLACK_PLATE_GAPS = {
-    ("mari", 23.0, "air", 0.0): "+3.26, +3.24, +2.48, +1.83 % (0.45-0.87 um; 2.15 um -0.88 %; "
-                                "+4.45 % before the aircraft levels were read relative to the top)",
-}
-#: Why the maritime aerosol at nadir is off: 6S's radiance does not follow its phase
-#: function's backscatter structure (the dip near 140-150 deg), so ρ/ρ_ss is not smooth between
-#: the sun-zenith nodes 20 and 40 deg (the sun is at 30); from 3 km the aircraft level's
-#: quotient to the top adds to it.
-MARITIME_NADIR = ("interpolation of ρ/ρ_ss between the sun-zenith nodes 20 and 40 deg near the "
-                  "maritime phase function's backscatter dip")
+#: 0.87, 1.63, 2.15 um bands): none. With the sun-zenith nodes 0 and 40 deg only (the sun is at
+#: 30 deg), read linearly, continental 5 km from the top at 40 deg (+3.85 %) and from 3 km
+#: (+4.84, +5.86 %) were here; maritime 23 km from 3 km at nadir was +4.45 % until the
+#: aircraft levels were read relative to the top (+3.26 %), and +1.53 % since the factor turns
+#: to the excess in the glory region (database._GLORY_BLEND).
+BLACK_PLATE_GAPS: dict = {}
+#: What a gap here would be: the maritime aerosol near backscatter, where 6S's radiance does not
+#: follow the phase function's structure (the dip near 140-150 deg and the glory).
+MARITIME_NADIR = ("interpolation of the single-scattering-normalised factor between the "
+                  "sun-zenith nodes near the maritime phase function's backscatter structure")
 
 
 def _black_plate_marks(condition):
@@ -184,7 +181,9 @@ def test_black_plate_with_the_database_equals_6s_path_within_3_percent(
     functions were tabulated at 6S's 20 wavelengths, +7.1 and +7.3 %); continental 5 km from
     the top -0.46 and -0.81 %, from 3 km +2.11 and +1.90 %; maritime 23 km from the top +2.74 %
     (40 deg: +0.38; +2.46 % since the single-scattering normaliser's phase function is averaged
-    near backscatter), from 3 km at 40 deg -0.74 %. The rest: :data:`BLACK_PLATE_GAPS`."""
+    near backscatter), from 3 km at 40 deg -0.74 %; maritime 23 km at nadir from the top
+    +1.13 %, from 3 km +1.53 % (+4.45 % before the aircraft levels were read relative to the
+    top and the factor turned to the excess near backscatter)."""
     aerosol, visibility, sensor, view_zenith = condition
     failures = _compare(render_scene, tmp_path, (aerosol, None, sensor, view_zenith), ref.DATABASE,
                         DATABASE_TOLERANCE, _database(aerosol, visibility), visibility,
@@ -212,13 +211,11 @@ def test_rendered_plate_with_the_database_at_the_6s_aot_within_3_percent(
 
 
 #: Black plates at the 6S AOT550 beyond 3 % (0.45, 0.55, 0.66, 0.87, 1.63, 2.15 um bands):
-#: the maritime aerosol at nadir (:data:`MARITIME_NADIR`; physics.md, "The atmosphere
-#: database"). Before the sun-zenith node 20 deg and the spline, continental 0.5 from the top
-#: at 40 deg and from 3 km, and maritime 0.5 at 40 deg, were here too (+3.0 to +5.1 %).
-BLACK_PLATE_AOT_GAPS = {
-    ("mari", 0.5, "air", 0.0): "+3.56, +3.80, +3.29, +2.99, +1.02, -0.45 % (+5.55 % before the "
-                               "aircraft levels were read relative to the top)",
-}
+#: none. Before the sun-zenith node 20 deg and the spline, continental 0.5 from the top at 40
+#: deg and from 3 km, and maritime 0.5 at 40 deg, were here (+3.0 to +5.1 %); maritime 0.5 at
+#: nadir from 3 km until the factor turned to the excess near backscatter (+3.80 %; +5.55 %
+#: before the aircraft levels were read relative to the top).
+BLACK_PLATE_AOT_GAPS: dict = {}
 
 
 def _black_plate_aot_marks(condition):
@@ -236,9 +233,9 @@ def test_black_plate_with_the_database_at_the_6s_aot_within_3_percent(
     """The path radiance alone at AOT550 0.1 and 0.5. Measured (largest of the six bands): AOT
     0.1 within 1.7 % everywhere (continental 3 km up, nadir, 2.15 um: +1.70 %); continental
     0.5 within 2.2 % (3 km up, nadir, 0.45 um: +2.18 %); maritime 0.5 at 40 deg within 2.0 %,
-    from the top at nadir +2.29, +2.90, +2.68, +2.48, +1.21 % (0.45-1.63 um; +3.29 % at worst
-    before the single-scattering normaliser's phase function was averaged near backscatter).
-    The rest: :data:`BLACK_PLATE_AOT_GAPS`."""
+    at nadir from the top +0.17, +0.11, -0.23, +0.08, +1.32, +1.35 % and from 3 km +0.73,
+    +0.25, -0.16, +0.41, +1.17, +1.08 % (+2.90 and +3.80 % at worst before the factor turned
+    to the excess near backscatter, database._GLORY_BLEND)."""
     aerosol, aot, sensor, view_zenith = condition
     failures = _compare(render_scene, tmp_path, condition, ref.HOMOGENEOUS, DATABASE_TOLERANCE,
                         _database_aot(aerosol, aot), rhos=(0.0,))
