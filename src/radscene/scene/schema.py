@@ -362,7 +362,7 @@ class SeaTerrain(_Model):
     radscene.Simulation; the waves shorter than ``resolution`` are the facets' Cox-Munk
     roughness. Deterministic for a seed."""
 
-    type: Literal["sea"]
+    type: Literal["sea"] = Field(description="`sea`: a wind-driven sea surface")
     wind_speed: Speed = Field(description="U10, 10 m above the sea, e.g. '8 m/s'; 0: a calm sea "
                               "(flat, with Cox & Munk's clean-surface roughness)")
     wind_direction: Angle = Field(0.0, description="where the wind comes from, clockwise from "
