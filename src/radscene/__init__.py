@@ -19,6 +19,14 @@ from __future__ import annotations
 import importlib
 import types
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # for type checkers and the API docs; at run time __getattr__ imports them
+    from radscene.io.netcdf import write_netcdf
+    from radscene.io.zarr_store import write_zarr
+    from radscene.pipeline import render_all, render_hyperspectral, simulate, solve_thermal
+    from radscene.pipeline.simulation import Simulation, render_sequence
+    from radscene.scene import load_scene
 
 __version__ = "0.1.0"
 

@@ -122,3 +122,13 @@ def test_render_subpackage_keeps_its_names():
     assert TERMS is integrator_terms
     assert render is integrator_render
     assert sun_geometry is track_sun_geometry
+
+
+def test_io_names_resolve_and_writing_netcdf_leaves_matplotlib_alone():
+    import radscene.io
+
+    assert set(radscene.io.__all__) == set(radscene.io._LAZY)
+    for name in radscene.io.__all__:
+        assert callable(getattr(radscene.io, name)), name
+    loaded = _modules_after("import radscene\nradscene.write_netcdf")
+    assert "xarray" in loaded and "matplotlib" not in loaded

@@ -5,6 +5,16 @@ does not import matplotlib.
 """
 
 import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # for type checkers and the API docs; at run time __getattr__ imports them
+    from radscene.io.animation import band_animations, band_videos
+    from radscene.io.cog import write_cog, write_map_cogs
+    from radscene.io.envi import write_envi
+    from radscene.io.netcdf import read_netcdf, write_netcdf
+    from radscene.io.quicklook import band_quicklooks, signal_quicklooks, terms_figure, truth_figure
+    from radscene.io.spectral import write_spectral
+    from radscene.io.zarr_store import read_zarr, write_zarr
 
 #: Public name → the module that defines it.
 _LAZY = {
@@ -18,7 +28,9 @@ _LAZY = {
     "read_zarr": "zarr_store", "write_zarr": "zarr_store",
 }
 
-__all__ = sorted(_LAZY)
+__all__ = ["band_animations", "band_quicklooks", "band_videos", "read_netcdf", "read_zarr", "signal_quicklooks",
+           "terms_figure", "truth_figure", "write_cog", "write_envi", "write_map_cogs", "write_netcdf",
+           "write_spectral", "write_zarr"]
 
 
 def __getattr__(name: str):

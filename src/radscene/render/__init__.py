@@ -14,9 +14,19 @@ The integrator (numba, scipy, xarray) is imported on first use of ``render``, ``
 
 import importlib
 import sys
+from typing import TYPE_CHECKING
 
 # eager: the function sun_track must shadow the module radscene.render.sun_track here
 from radscene.render.sun_track import SunGeometry, SunTrack, sun_geometry, sun_track
+
+if TYPE_CHECKING:  # for type checkers and the API docs; at run time __getattr__ imports them
+    from radscene.render.integrator import (
+        BACKGROUND_TERM,
+        COUPLING_TERMS,
+        TERMS,
+        render,
+        render_all,
+    )
 
 __all__ = ["TERMS", "BACKGROUND_TERM", "COUPLING_TERMS", "SunGeometry", "SunTrack", "render", "render_all",
            "sun_geometry", "sun_track"]
