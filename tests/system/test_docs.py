@@ -98,11 +98,11 @@ def _row(reference: str, model: str, key: str) -> str:
 
 
 def test_examples_come_from_the_bundled_scenes(reference):
+    from importlib import resources
+
     import yaml
 
-    import radscene
-
-    examples = radscene.resources.files("radscene") / "examples"
+    examples = resources.files("radscene") / "examples"
     times, sizes = set(), []
     for path in examples.iterdir():
         if path.name.endswith(".yaml"):

@@ -18,7 +18,7 @@ import numpy as np
 from radscene.errors import ConfigError
 from radscene.geometry.mesh import Mesh
 
-__all__ = ["Heightfield", "procedural_terrain"]
+__all__ = ["Heightfield", "polyline_distance", "procedural_terrain"]
 
 # Points this far outside the grid, as a fraction of a cell, count as on its edge (float noise
 # in hit positions); farther ones are an error.
@@ -309,6 +309,47 @@ class Heightfield:
         faces[:, 0, 0], faces[:, 0, 1], faces[:, 0, 2] = sw, se, ne
         faces[:, 1, 0], faces[:, 1, 1], faces[:, 1, 2] = sw, ne, nw
         return Mesh(vertices, faces.reshape(-1, 3), name)
+
+
+def polyline_distance(points, vertices) -> np.ndarray:
+    r"""Distance in the plane from each point to a polyline (roads draped on a terrain).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 2)`` x, y [m].
+    vertices : array_like
+        ``(M, 2)`` the polyline's vertices in order, M >= 1 [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` the distance to the nearest point of any segment [m].
+
+    Notes
+    -----
+    For a segment from :math:`a` to :math:`b` the nearest point to :math:`p` is
+    :math:`a + t (b - a)` with :math:`t = \mathrm{clip}((p - a)\cdot(b - a) / |b - a|^2, 0, 1)`.
+
+    Examples
+    --------
+    >>> polyline_distance([[0.0, 3.0], [15.0, 0.0]], [[0.0, 0.0], [10.0, 0.0]]).tolist()
+    [3.0, 5.0]
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 2)
+    v = np.asarray(vertices, dtype=float).reshape(-1, 2)
+    if len(v) == 0:
+        raise ValueError("a polyline needs at least one vertex")
+    if len(v) == 1:
+        return np.hypot(*(p - v[0]).T)
+    best = np.full(len(p), np.inf)
+    for a, b in zip(v[:-1], v[1:], strict=True):
+        ab = b - a
+        length2 = float(ab @ ab)
+        t = np.zeros(len(p)) if length2 == 0.0 else np.clip((p - a) @ ab / length2, 0.0, 1.0)
+        d = p - (a + t[:, None] * ab)
+        np.minimum(best, np.hypot(d[:, 0], d[:, 1]), out=best)
+    return best
 
 
 def _smoothstep(t):

@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import datetime as _dt
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 
 from radscene.errors import ConfigError
+from radscene.pipeline.progress import progress_callback
 from radscene.pipeline.provenance import stamp
-from radscene.render import render as _render_observer
-from radscene.render import render_all as _render_all
+
+if TYPE_CHECKING:  # the renderer, and xarray with it, are imported by the functions that use them
+    import xarray as xr
 
 __all__ = ["as_scene", "render", "render_all", "render_hyperspectral", "spectral_passes", "simulate",
            "solve_thermal", "thermal_active", "apply_thermal", "record_signal", "check_thermal_inputs"]
@@ -252,7 +254,9 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
         day up to the scene's time.
     step : float, optional
         [s]; default ``thermal.step``.
-    progress : callable(stage, done, total), optional
+    progress : callable(stage, done, total), bool, optional
+        A callable is called with each stage's progress; True shows a bar, False none; the
+        default shows one when Python runs interactively (:mod:`radscene.pipeline.progress`).
 
     Returns
     -------
@@ -311,20 +315,22 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     tracer = RayTracer(meshes)
     index = stack_index.ravel()
     sources = _sources(scene, elements, used, stacks, index)
-    ds = solve_elements(tracer, elements, stacks, index, times,
-                        (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,
-                        absorptance=alpha[index], emissivity=eps[index],
-                        fixed_face_exitance=_fixed_exitance(scene, elements), meshes=meshes, options=options, **sources,
-                        names={"material": scene.material_names, "object": names}, sun_override=override,
-                        progress=progress, sun_transmittance=_volume_sun_transmittance(
-                            scene, table.wavelength, table.daily_spectrum(zenith)))
+    with progress_callback(progress, "heat balance", stages=True) as report:
+        ds = solve_elements(tracer, elements, stacks, index, times,
+                            (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,
+                            absorptance=alpha[index], emissivity=eps[index],
+                            fixed_face_exitance=_fixed_exitance(scene, elements), meshes=meshes, options=options,
+                            **sources, names={"material": scene.material_names, "object": names},
+                            sun_override=override, progress=report,
+                            sun_transmittance=_volume_sun_transmittance(scene, table.wavelength,
+                                                                        table.daily_spectrum(zenith)))
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
     stamp(ds, scene)
     scene.render_cache["thermal_elements"] = elements
     return ds
 
 
-def apply_thermal(scene, solution=None, time=None):
+def apply_thermal(scene, solution=None, time=None, *, progress=None):
     """Set the scene's free surface temperatures from the heat balance at an instant.
 
     Parameters
@@ -337,6 +343,8 @@ def apply_thermal(scene, solution=None, time=None):
         From :func:`solve_thermal`; solved (and kept with the scene) when not given.
     time : datetime, optional
         Default the scene's time; linear between the solution's steps.
+    progress : callable(stage, done, total), bool, optional
+        Of the heat balance, when it is solved here; as for :func:`solve_thermal`.
 
     Returns
     -------
@@ -346,7 +354,7 @@ def apply_thermal(scene, solution=None, time=None):
     if solution is None:
         solution = scene.render_cache.get("thermal")
         if solution is None:
-            solution = solve_thermal(scene)
+            solution = solve_thermal(scene, progress=progress)
     scene.render_cache["thermal"] = solution
     elements = scene.render_cache.get("thermal_elements")
     if elements is None:
@@ -399,53 +407,76 @@ def _volume_sun_transmittance(scene, wavelength, spectrum):
     return transmittance
 
 
-def render(scene, observer=None, **kwargs):
-    """:func:`radscene.render.render` with the scene's heat balance applied first (when it runs;
-    :func:`thermal_active`); an observer with a spectral grid (and no ``bands`` given) through
-    :func:`render_hyperspectral`."""
+def render(scene, observer=None, *, progress=None, **kwargs):
+    """:func:`radscene.render.integrator.render` with the scene's heat balance applied first
+    (when it runs; :func:`thermal_active`); an observer with a spectral grid (and no ``bands``
+    given) through :func:`render_hyperspectral`.
+
+    ``progress``: a callable, called as ``progress(samples_done, samples_total)`` after each
+    tile; True for a progress bar (the heat balance's, then the render's); False for none; by
+    default a bar when Python runs interactively — IPython, Jupyter, the ``python`` prompt
+    (:mod:`radscene.pipeline.progress`).
+    """
+    from radscene.render.integrator import render as render_observer
+
     scene = as_scene(scene)
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     if setup.spectral is not None and kwargs.get("bands") is None:
-        return render_hyperspectral(scene, setup.name, progress=kwargs.get("progress"))
+        return render_hyperspectral(scene, setup.name, progress=progress)
     if thermal_active(scene):
-        apply_thermal(scene)
-    return stamp(_render_observer(scene, observer, **kwargs), scene, setup.name)
+        apply_thermal(scene, progress=None if callable(progress) else progress)
+    with progress_callback(progress, f"render {setup.name}") as report:
+        images = render_observer(scene, observer, progress=report, **kwargs)
+    return stamp(images, scene, setup.name)
 
 
-def render_all(scene, **kwargs):
-    """:func:`radscene.render.render_all` with the scene's heat balance applied first; observers
-    with a spectral grid through :func:`render_hyperspectral`."""
+def render_all(scene, *, progress=None, **kwargs):
+    """:func:`radscene.render.integrator.render_all` with the scene's heat balance applied first;
+    observers with a spectral grid through :func:`render_hyperspectral`. ``progress`` as for
+    :func:`render`, one bar over each observer in turn."""
+    from radscene.render.integrator import render_all as render_observers
+
     scene = as_scene(scene)
     if any(o.spectral is not None for o in scene.observers):
-        return {o.name: render(scene, o.name, **kwargs) for o in scene.observers}
+        return {o.name: render(scene, o.name, progress=progress, **kwargs) for o in scene.observers}
     if thermal_active(scene):
-        apply_thermal(scene)
-    return {name: stamp(ds, scene, name) for name, ds in _render_all(scene, **kwargs).items()}
+        apply_thermal(scene, progress=None if callable(progress) else progress)
+    with progress_callback(progress, "render") as report:
+        images = render_observers(scene, progress=report, **kwargs)
+    return {name: stamp(ds, scene, name) for name, ds in images.items()}
 
 
-def render_hyperspectral(scene, observer=None, **kwargs):
+def render_hyperspectral(scene, observer=None, *, progress=None, **kwargs):
     """:func:`radscene.render.hyperspectral.render_hyperspectral` (the observer's spectral grid
     into one Dataset, ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1]) with the scene's heat
-    balance applied first."""
+    balance applied first; ``progress`` as for :func:`render`."""
     from radscene.render.hyperspectral import render_hyperspectral as _render_cube
 
     scene = as_scene(scene)
     if thermal_active(scene):
-        apply_thermal(scene)
+        apply_thermal(scene, progress=None if callable(progress) else progress)
     name = scene.observers[0].name if observer is None else observer
-    return stamp(_render_cube(scene, observer, **kwargs), scene, name)
+    with progress_callback(progress, f"render {name}") as report:
+        cube = _render_cube(scene, observer, progress=report, **kwargs)
+    return stamp(cube, scene, name)
 
 
-def spectral_passes(scene, observer=None, **kwargs):
+def spectral_passes(scene, observer=None, *, progress=None, **kwargs):
     """:func:`radscene.render.hyperspectral.render_passes` (the observer's spectral grid a group
-    of channels at a time) with the scene's heat balance applied first."""
+    of channels at a time) with the scene's heat balance applied first; ``progress`` as for
+    :func:`render`."""
     from radscene.render.hyperspectral import render_passes
 
     scene = as_scene(scene)
     if thermal_active(scene):
-        apply_thermal(scene)
+        apply_thermal(scene, progress=None if callable(progress) else progress)
     name = scene.observers[0].name if observer is None else observer
-    return (stamp(part, scene, name) for part in render_passes(scene, observer, **kwargs))
+
+    def passes():
+        with progress_callback(progress, f"render {name}") as report:
+            for part in render_passes(scene, observer, progress=report, **kwargs):
+                yield stamp(part, scene, name)
+    return passes()
 
 
 def simulate(scene, observer: str | None = None, *, progress=None
@@ -461,7 +492,7 @@ def simulate(scene, observer: str | None = None, *, progress=None
         A loaded scene, or what :func:`radscene.load_scene` loads.
     observer : str, optional
         Observer name; the first by default.
-    progress : callable, optional
+    progress : callable, bool, optional
         As for :func:`radscene.render`.
 
     Returns

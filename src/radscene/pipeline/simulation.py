@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import datetime as _dt
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 import xarray as xr
@@ -46,6 +47,7 @@ import xarray as xr
 from radscene.errors import ConfigError
 from radscene.geometry import Mesh
 from radscene.pipeline import apply_thermal, as_scene, record_signal, solve_thermal, thermal_active
+from radscene.pipeline.progress import progress_callback
 from radscene.pipeline.provenance import stamp
 from radscene.render.integrator import CONSTANT_ANGLES, GEOLOCATION_COORDS
 
@@ -217,8 +219,9 @@ class Simulation:
         ----------
         dt : float or str
             [s], > 0, or a duration string such as ``"40 ms"``.
-        progress : callable(done, total), optional
-            As for :func:`radscene.render`, per observer.
+        progress : callable(done, total) or bool, optional
+            As for :func:`radscene.render`, per observer; no bar unless True (a bar per frame
+            of a loop would be noise).
 
         Returns
         -------
@@ -231,7 +234,8 @@ class Simulation:
         return self.render(progress=progress)
 
     def render(self, *, progress=None) -> Frame:
-        """Render every observer at the clock's instant, as it is (no step)."""
+        """Render every observer at the clock's instant, as it is (no step); ``progress`` as for
+        :meth:`step`."""
         from radscene.render import render as render_observer
         from radscene.render.hyperspectral import render_hyperspectral
         from radscene.render.integrator import scene_tables
@@ -245,11 +249,13 @@ class Simulation:
         self._index += 1
         frame = Frame(self._index, self._elapsed, self.time)
         for setup in scene.observers:
-            def one(setup=setup, tables=tables):
+            def one(setup=setup, tables=tables, report=None):
                 if setup.spectral is not None:
-                    return render_hyperspectral(scene, setup.name, progress=progress)
-                return render_observer(scene, setup.name, progress=progress, _tables=tables)
-            images = self._expose(setup, one, tables)
+                    return render_hyperspectral(scene, setup.name, progress=report)
+                return render_observer(scene, setup.name, progress=report, _tables=tables)
+            with progress_callback(progress, f"frame {self._index} {setup.name}",
+                                   when_interactive=False) as report:
+                images = self._expose(setup, partial(one, report=report), tables)
             images.attrs.update({"frame": self._index, "elapsed_s": self._elapsed})
             stamp(images, scene, setup.name)
             frame.radiance[setup.name] = images
@@ -539,8 +545,9 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
         [s] or a duration string; default ``time.step``.
     observers : list of str, optional
         Only these (all by default).
-    progress : callable(done, total), optional
-        Called after each frame.
+    progress : callable(done, total) or bool, optional
+        A callable is called after each frame; True shows a bar of the frames, False none;
+        by default a bar when Python runs interactively (:mod:`radscene.pipeline.progress`).
 
     Returns
     -------
@@ -572,14 +579,15 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     sim = Simulation(scene)
     frames = {name: [] for name in names}
     signals = {name: [] for name in names}
-    for k, instant in enumerate(times):
-        frame = sim.render() if k == 0 else sim.step((instant - sim.time).total_seconds())
-        for name in names:
-            frames[name].append(_frame_layer(frame.radiance[name], frame))
-            if name in frame.signal:
-                signals[name].append(_frame_layer(frame.signal[name], frame))
-        if progress is not None:
-            progress(k + 1, len(times))
+    with progress_callback(progress, "frames") as report:
+        for k, instant in enumerate(times):
+            frame = sim.render() if k == 0 else sim.step((instant - sim.time).total_seconds())
+            for name in names:
+                frames[name].append(_frame_layer(frame.radiance[name], frame))
+                if name in frame.signal:
+                    signals[name].append(_frame_layer(frame.signal[name], frame))
+            if report is not None:
+                report(k + 1, len(times))
     return FrameSequence({name: _stack(layers) for name, layers in frames.items()},
                          {name: _stack(layers) for name, layers in signals.items() if layers})
 

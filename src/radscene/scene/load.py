@@ -144,7 +144,7 @@ def _key(loc: tuple) -> str:
         if isinstance(part, int):
             out += f"[{part}]"
         elif isinstance(part, str) and part.endswith("]") is False and part in (
-            "procedural", "dem", "sea", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
+            "flat", "procedural", "dem", "sea", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
             "perspective", "file", "noise", "function-after", "function-before", "image", "tile",
         ):
             continue  # discriminator tags pydantic inserts into the path
@@ -400,6 +400,10 @@ class _Resolver:
             )
             hf = Heightfield(hf.elevation, origin=(hf.origin[0] + shift[0], hf.origin[1] + shift[1]),
                              spacing=hf.spacing)
+        elif isinstance(tspec, schema.FlatTerrain):
+            n = [round(s / tspec.spacing) + 1 for s in tspec.size]
+            hf = Heightfield(np.full((n[1], n[0]), tspec.height), origin=tspec.origin,
+                             spacing=(tspec.spacing, tspec.spacing))
         else:
             try:
                 if tspec.file is not None:
@@ -428,6 +432,7 @@ class _Resolver:
             widx = self.material_index(tspec.water_material, "terrain.water_material")
             classes = np.where(water, widx, classes)
         face_material = self._face_values(mesh, hf, classes)
+        self._paint_roads(tspec, hf, mesh, face_material)
         face_temperature = np.full(len(face_material), DEFAULT_TEMPERATURE if tspec.temperature is None
                                    else tspec.temperature)
         face_fixed = np.full(len(face_material), tspec.temperature is not None)
@@ -497,6 +502,32 @@ class _Resolver:
             is_terrain=True,
             face_fixed=np.ones(n, dtype=bool),
         )
+
+    def _paint_roads(self, tspec, hf, mesh, face_material) -> None:
+        """Give the road's material to every terrain face whose centroid lies within half the
+        road's width of its centre line (in x, y), road after road (a later road over an
+        earlier one); changes ``face_material`` in place."""
+        from radscene.geometry.terrain import polyline_distance
+
+        if not tspec.roads:
+            return
+        centroid = mesh.vertices[mesh.faces].mean(axis=1)[:, :2]
+        spacing = float(min(hf.spacing))
+        for i, road in enumerate(tspec.roads):
+            key = f"terrain.roads[{i}]"
+            if road.width < spacing * (1.0 - 1e-9):
+                raise ConfigError(f"{road.width:g} m is narrower than the terrain's spacing {spacing:g} m: "
+                                  "the stripe would break into separate faces; give a width of at least "
+                                  "the spacing, or a finer terrain", key=f"{key}.width")
+            idx = self.material_index(road.material, f"{key}.material")
+            on = polyline_distance(centroid, np.asarray(road.points, float)) <= 0.5 * road.width
+            if not np.any(on):
+                x0, x1, y0, y1 = hf.extent
+                label = f"road {road.name!r}: " if road.name else ""
+                raise ConfigError(f"{label}no terrain face lies within {0.5 * road.width:g} m "
+                                  f"of its centre line; the terrain spans x {x0:g}..{x1:g} m, y {y0:g}..{y1:g} m",
+                                  key=f"{key}.points")
+            face_material[on] = idx
 
     def _terrain_classes(self, tspec, hf) -> np.ndarray:
         ny, nx = hf.elevation.shape

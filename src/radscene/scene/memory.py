@@ -64,7 +64,7 @@ def _terrain_cells(spec) -> tuple[float, str]:
     terrain = spec.terrain
     if terrain is None:
         return 0.0, ""
-    if getattr(terrain, "type", None) == "procedural":
+    if getattr(terrain, "type", None) in ("procedural", "flat"):
         nx = terrain.size[0] / terrain.spacing + 1
         ny = terrain.size[1] / terrain.spacing + 1
         return nx * ny, "terrain.spacing"

@@ -246,6 +246,30 @@ class MaterialMapNoise(_Model):
         0, description="seed of the random field: the same seed gives the same patches")
 
 
+class RoadSpec(_Model):
+    """A road: a polyline on the ground with a width, painted onto the terrain's faces as its
+    own material (a stripe of the terrain mesh, not a mesh of its own)."""
+
+    points: list[tuple[Length, Length]] = Field(
+        min_length=2, description="[x, y] of the centre line's vertices in the scene frame [m], "
+        "in order")
+    width: PositiveLength = Field(
+        description="width of the road [m]: every terrain face whose centroid lies within "
+        "width / 2 of the centre line takes the road's material; at least the terrain's spacing")
+    material: str = Field(
+        "asphalt", description="the road's material (a built-in or a key of `materials`); the "
+        "heat balance solves its faces as that material")
+    name: str | None = Field(None, description="a label for messages; default roads[i]")
+
+    @field_validator("points")
+    @classmethod
+    def _distinct(cls, value):
+        for i in range(1, len(value)):
+            if value[i] == value[i - 1]:
+                raise ValueError(f"points {i - 1} and {i} are the same point {list(value[i])}")
+        return value
+
+
 class _TerrainCommon(_Model):
     origin: tuple[Length, Length] = Field(
         (0.0, 0.0), description="(x, y) of the grid's south-west sample in the scene frame [m]; "
@@ -271,6 +295,22 @@ class _TerrainCommon(_Model):
     textures: TextureSet = Field(
         TextureSet(), description="multipliers of the terrain's reflectance, emissivity and "
         "transmittance laid on the ground plane; default none (every multiplier 1)")
+    roads: list[RoadSpec] = Field(
+        default_factory=list, description="roads painted onto the terrain over its land cover "
+        "and lakes, each a polyline with a width and its own material; default none")
+
+
+class FlatTerrain(_TerrainCommon):
+    """A level ground plane of one material (or a material map), without relief or noise."""
+
+    type: Literal["flat"] = Field(description="`flat`: a level plane")
+    size: tuple[PositiveLength, PositiveLength] = Field(
+        (1000.0, 1000.0), description="(east, north) extent [m], from `origin` (the south-west "
+        "corner); the grid has round(size / spacing) + 1 samples a side")
+    spacing: PositiveLength = Field(
+        5.0, description="distance between grid samples, both axes [m]: the resolution of the "
+        "material map, the roads and the heat balance's terrain grid")
+    height: Length = Field(0.0, description="height of the plane above the scene origin [m]")
 
 
 class ProceduralTerrain(_TerrainCommon):
@@ -360,7 +400,7 @@ class SeaTerrain(_Model):
         return self
 
 
-Terrain = Annotated[ProceduralTerrain | DemTerrain | SeaTerrain, Field(discriminator="type")]
+Terrain = Annotated[FlatTerrain | ProceduralTerrain | DemTerrain | SeaTerrain, Field(discriminator="type")]
 
 
 # ---------------------------------------------------------------------------------------------
