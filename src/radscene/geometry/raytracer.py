@@ -346,8 +346,8 @@ class RayTracer:
             if not isinstance(mesh, Mesh):
                 raise ConfigError(f"must be a radscene Mesh, got {type(mesh).__name__}",
                                   key=f"meshes[{index}]")
-            if mesh.vertices.shape != old.vertices.shape or not np.array_equal(mesh.faces,
-                                                                               old.faces):
+            if mesh.vertices.shape != old.vertices.shape or (
+                    mesh.faces is not old.faces and not np.array_equal(mesh.faces, old.faces)):
                 raise ConfigError(f"mesh {index} must keep its {len(old.vertices)} vertices and "
                                   f"{len(old.faces)} faces to be moved; got "
                                   f"{len(mesh.vertices)} and {len(mesh.faces)}",
@@ -373,17 +373,22 @@ class RayTracer:
         hi = np.maximum.reduceat(vertices, starts, axis=0)
         packets = getattr(self, "_packet_scene", None)
         first = 0
+        indices = np.array([index for index, _ in moved])
+        geometries = np.searchsorted(self._object_of_geom, indices).tolist()
+        self._mesh_lo[indices], self._mesh_hi[indices] = lo, hi
+        self.move_count[indices] += 1
+        local = vertices - self._center
+        all_meshes = list(self.meshes)
         for row, (index, mesh) in enumerate(moved):
             n_faces = len(mesh.faces)
             at = self._face_offset[index]
             self._normals[at:at + n_faces] = normals[first:first + n_faces]
             first += n_faces
-            self._mesh_lo[index], self._mesh_hi[index] = lo[row], hi[row]
-            self.move_count[index] += 1
-            self._replace(index, mesh)
+            all_meshes[index] = mesh
             if packets is not None:  # committed on the next query (see packets)
-                geometry = int(np.searchsorted(self._object_of_geom, index))
-                packets.update(geometry, mesh.vertices - self._center, commit=False)
+                packets.update(geometries[row], local[starts[row]:starts[row] + counts[row]],
+                               commit=False)
+        self.meshes = tuple(all_meshes)
         filled = self._object_of_geom
         self._bounds = (self._mesh_lo[filled].min(axis=0), self._mesh_hi[filled].max(axis=0))
         reach = np.maximum(np.abs(self._bounds[0] - self._center),

@@ -183,6 +183,10 @@ class Simulation:
         self._motions = {o.name: self.scene.motions[o.name] for o in self.scene.objects
                          if not o.is_terrain and o.name in self.scene.motions}
         self._parents = {n: m.parent for n, m in self._motions.items()}
+        self._children = {}  # each parent's parts
+        for child, parent in self._parents.items():
+            if parent is not None:
+                self._children.setdefault(parent, []).append(child)
         rest = compose({n: m.rest_pose() for n, m in self._motions.items()}, self._parents)
         specs = {o.name: o for o in self.scene.spec.objects}
         self._poses = {}
@@ -385,7 +389,7 @@ class Simulation:
                     rotation, old_rotation):
                 continue
             k, body = self._body[name]
-            moved[k] = Mesh(body.vertices @ rotation.T + position, body.faces, name=name)
+            moved[k] = body.with_vertices(body.vertices @ rotation.T + position)
             self._poses[name] = (np.asarray(position, float),
                                  np.asarray(attitude[0], float) if attitude else None, rotation)
         if moved:
@@ -516,8 +520,10 @@ class Simulation:
             self._move_observer(setup, position, attitude)
 
     def _find(self, name):
-        objects = {o.name: o for o in self.scene.objects}
-        observers = {o.name: o for o in self.scene.observers}
+        if getattr(self, "_by_name", None) is None:  # the scene's objects and observers stay
+            self._by_name = ({o.name: o for o in self.scene.objects},
+                             {o.name: o for o in self.scene.observers})
+        objects, observers = self._by_name
         if name in objects and name in observers:
             raise ConfigError(f"{name!r} names both an object and an observer", key="set_pose.name")
         if name in observers:
@@ -544,11 +550,10 @@ class Simulation:
     def _place_parts(self, name):
         """The parts carried by ``name`` where its pose and theirs at the clock's time put them."""
         parent_position, _, parent_rotation = self._poses[name]
-        for child, parent in self._parents.items():
-            if parent == name:
-                p, rot = self._motions[child].pose(self._elapsed)
-                self._place([(child, parent_position + parent_rotation @ p, parent_rotation @ rot)])
-                self._place_parts(child)
+        for child in self._children.get(name, ()):
+            p, rot = self._motions[child].pose(self._elapsed)
+            self._place([(child, parent_position + parent_rotation @ p, parent_rotation @ rot)])
+            self._place_parts(child)
 
     def _move_observer(self, setup, position, attitude):
         from radscene.platform import OrthographicCamera, PerspectiveCamera
