@@ -174,3 +174,33 @@ def test_what_realtime_frames_do_not_render_is_refused():
     scene["observers"][0]["supersample"] = 2
     with pytest.raises(ConfigError, match="realtime: .*supersample 2"):
         radscene.Simulation(scene, realtime=True)
+
+
+def test_frames_streamed_to_a_file_read_back_as_they_were(tmp_path):
+    import datetime as dt
+
+    import xarray as xr
+
+    from radscene.io import FrameStream
+
+    scene = _scene(SKY)
+    scene["environment"]["time"] = "2026-06-21T09:00:00Z"
+    sim = radscene.Simulation(scene, realtime=True)
+    frames = []
+    with FrameStream(tmp_path / "run.nc", variables=("radiance", "object_id")) as out:
+        for k in range(3):
+            _move(sim, k)
+            frames.append(sim.step(0.04).radiance["map"])
+            out.write(frames[-1])
+    with xr.open_dataset(tmp_path / "run.nc", engine="h5netcdf") as ds:
+        assert ds.sizes["time"] == 3 and list(ds.band.values) == ["vis", "lwir"]
+        for k, frame in enumerate(frames):
+            np.testing.assert_array_equal(ds.radiance[k].values, frame.radiance.values)
+            np.testing.assert_array_equal(ds.object_id[k].values, frame.object_id.values)
+        np.testing.assert_allclose(ds.elapsed.values, [0.04, 0.08, 0.12], rtol=0, atol=1e-12)
+        assert ds.time.values[1] - ds.time.values[0] == np.timedelta64(40, "ms")
+        assert ds.time.values[0] == np.datetime64(dt.datetime(2026, 6, 21, 9, 0, 0, 40000), "ns")
+    with pytest.raises(ConfigError, match="exists"):
+        FrameStream(tmp_path / "run.nc")
+    with pytest.raises(ConfigError, match="no variable 'radiant'"):
+        FrameStream(tmp_path / "other.nc", variables=("radiant",)).write(frames[0])
