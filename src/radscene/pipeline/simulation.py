@@ -155,7 +155,8 @@ class Simulation:
         (and the first after it moves) keeps the band tables, the path nodes and the visible
         sky of each pixel; every later frame traces only the primary and the sun's shadow
         rays. The sun, its atmosphere and the surface temperatures stay those of the first
-        frame; no reflected background, coupling layers, supersampling or geolocation.
+        frame, the reflected background that of the first frame where a pixel sees the same
+        object; no coupling layers, supersampling or geolocation.
         Default False (every frame a full render). See ``docs/simulation.md``.
 
     Examples

@@ -18,8 +18,9 @@ What a frame gives up against the full render (``docs/simulation.md``, "Real-tim
   surface in the key frame lends the lobe its cosine fan's fractions);
 * each pixel's path radiance and transmittance mix the path nodes of the key frame's hit;
 * the sun, its atmosphere and the surface temperatures are those of the key frame;
-* no reflected background, no surface–atmosphere coupling layers, no supersampling, no
-  geolocation maps.
+* the reflected background is the key frame's where a pixel sees the key frame's object, and
+  zero where it sees another;
+* no surface–atmosphere coupling layers, no supersampling, no geolocation maps.
 
 With the sky's visible fractions frozen, a key frame equals the full render of the same
 instant (the same random numbers): to 1e-12 relative in the tests.
@@ -37,14 +38,17 @@ import xarray as xr
 from radscene.atmosphere import sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
 from radscene.errors import ConfigError
-from radscene.render import illumination, kernels, node_mixing, terms
+from radscene.render import background, illumination, kernels, node_mixing, terms
 from radscene.render.integrator import (
+    BACKGROUND_LONG_NAME,
+    BACKGROUND_TERM,
     TERM_LONG_NAMES,
     TERMS,
     THERMAL_BAND_START,
     TILE_SAMPLES,
     _BandSetup,
     _configured_atmosphere,
+    _gather_band,
     _mean_view_azimuth,
     _shadows,
     _surface,
@@ -187,14 +191,22 @@ class RealtimeRenderer:
             path_weight=_rows(path_weight, rows, len(pixel), fill=1.0),
             face_pair=face_pair.ravel(), specular=specular, tables=mix_tables,
             sky_seen=sky_seen, exponent=tables.exponent, last=None)
-        self._freeze_sky(key, bset, hits, hit, n_pix)
+        self._freeze_sky(key, bset, nodes_all, hits, hit, n_pix)
         key.seconds = _time.perf_counter() - started
         return key
 
-    def _freeze_sky(self, key, bset, hits, hit, n_pix):
+    def _freeze_sky(self, key, bset, nodes_all, hits, hit, n_pix):
         """The key frame's visible-sky fractions per pixel, drawn tile by tile with the full
-        render's random numbers, and their sums for each pixel's key-frame material."""
-        tables, settings = self.tables, self.scene.settings
+        render's random numbers, and their sums for each pixel's key-frame material; its
+        reflected background (:mod:`radscene.render.background`) and objects seen."""
+        scene, tables, settings = self.scene, self.tables, self.scene.settings
+        reflect = background.for_render(
+            scene, tables, bset, key.bands, 1,
+            [band.response.center >= THERMAL_BAND_START for band in key.bands],
+            (lambda obj, pos: _textures(scene, obj, pos))
+            if any(obj.textures for obj in scene.objects) else None)
+        key.background = np.zeros((len(key.bands), n_pix)) if reflect is not None else None
+        key.object = np.full(n_pix, -1, dtype=np.int64)
         rays = key.rays
         n_k = bset.coefficients.sky_view.shape[1]
         key.sky_fractions = np.zeros((n_pix, n_k))
@@ -218,6 +230,13 @@ class RealtimeRenderer:
             lobe_shift = rng.random((n_spec, 2)) if n_spec else None
             p = rays.pixel[st.hidx]
             key.material[p] = st.mat
+            key.object[p] = st.obj
+            if reflect is not None:  # at the surface, then through τ_a and Δρ, as the render
+                values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start)
+                values *= _gather_band(bset.coefficients.transmittance,
+                                       nodes_all.subset(st.rank))
+                values *= _textures(scene, st.obj, st.pos)["reflectance"][:, None]
+                key.background[:, p] = values.T
             sky = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, bset.sky_nodes, None,
                                              shift=sky_shift, scratch=scratch)
@@ -252,12 +271,15 @@ class RealtimeRenderer:
             dirty = np.arange(n_pix)
             out = SimpleNamespace(
                 acc=np.zeros((len(TERMS), n_b, n_pix)), tau=np.full((n_b, n_pix), np.nan),
+                background=None if key.background is None else np.zeros((n_b, n_pix)),
                 radiance=np.zeros((n_b, n_pix)), bt=np.full((n_b, n_pix), np.nan),
                 maps={name: np.full(n_pix, fill, dtype=dtype)
                       for name, (dtype, fill) in MAPS.items()})
         else:
             dirty = self._changed(key, last) if self.incremental else np.arange(n_pix)
             out = SimpleNamespace(acc=last.acc.copy(), tau=last.tau.copy(),
+                                  background=None if last.background is None
+                                  else last.background.copy(),
                                   radiance=last.radiance.copy(), bt=last.bt.copy(),
                                   maps={k: v.copy() for k, v in last.maps.items()})
         if len(dirty):
@@ -375,6 +397,11 @@ class RealtimeRenderer:
         total = out.acc[0][:, dirty]  # the terms summed in TERMS order, as the full render
         for t in range(1, len(TERMS)):
             total += out.acc[t][:, dirty]
+        if out.background is not None:  # the key frame's, where the pixel sees its object
+            out.background[:, dirty] = 0.0
+            same = obj == key.object[p]
+            out.background[:, p[same]] = key.background[:, p[same]]
+            total += out.background[:, dirty]
         out.radiance[:, dirty] = total
         for b, band in enumerate(key.bands):
             if band.response.center >= THERMAL_BAND_START:
@@ -392,10 +419,15 @@ class RealtimeRenderer:
         image = ("band", "y", "x")
         units = {"units": "W m-2 sr-1"}
         data = {"radiance": (image, out.radiance.reshape(n_b, ny, nx), {
-            **units, "long_name": "at-aperture band radiance, sum of the five signature terms"})}
+            **units, "long_name": "at-aperture band radiance, sum of the signature terms"})}
         for t, name in enumerate(TERMS):
             data[name] = (image, out.acc[t].reshape(n_b, ny, nx),
                           {**units, "long_name": TERM_LONG_NAMES[name]})
+        if out.background is not None:
+            data[BACKGROUND_TERM] = (image, out.background.reshape(n_b, ny, nx), {
+                **units, "long_name": BACKGROUND_LONG_NAME,
+                "comment": "the key frame's, where the pixel sees the key frame's object; 0 "
+                "elsewhere"})
         data["brightness_temperature"] = (image, out.bt.reshape(n_b, ny, nx), {
             "units": "K", "long_name": "band brightness temperature of the total radiance",
             "comment": f"bands centred at or beyond {THERMAL_BAND_START} um; NaN elsewhere"})
