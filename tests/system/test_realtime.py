@@ -236,3 +236,25 @@ def test_frames_streamed_to_a_file_read_back_as_they_were(tmp_path):
         FrameStream(tmp_path / "run.nc")
     with pytest.raises(ConfigError, match="no variable 'radiant'"):
         FrameStream(tmp_path / "other.nc", variables=("radiant",)).write(frames[0])
+
+
+def test_the_heat_balance_gives_the_key_frames_temperatures_to_every_frame():
+    scene = _scene()
+    scene["environment"] = {"time": "2026-06-21T09:00:00Z",
+                            "location": {"latitude": 45.0, "longitude": 5.0},
+                            "atmosphere": {"type": "none"}}
+    scene["bands"] = [{"name": "lwir", "min": 8.0, "max": 12.0}]
+    scene["observers"][0].update(gsd=20.0, shape=[4, 4])
+    scene["objects"] = scene["objects"][:1]
+    del scene["objects"][0]["temperature"]
+    scene["objects"][0]["material"] = "asphalt"
+    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min",
+                        "hemisphere_samples": 4}
+    fast = radscene.Simulation(scene, thermal_horizon="2 h", realtime=True)
+    full = radscene.Simulation(scene, thermal_horizon="2 h")
+    key, later = fast.step("1 h").radiance["map"], fast.step("3 h").radiance["map"]
+    want = full.step("1 h").radiance["map"]
+    np.testing.assert_array_equal(key.surface_temperature.values, want.surface_temperature.values)
+    assert _relative(key.radiance, want.radiance) <= KEY_FRAME_TOLERANCE
+    # kept: the full render's noon is more than 2 K warmer (test_simulation.py)
+    np.testing.assert_array_equal(later.surface_temperature.values, key.surface_temperature.values)
