@@ -132,6 +132,38 @@ def test_retracing_only_what_moved_gives_every_pixel_traced_again(observer):
     assert traced[0] == size and 0 < max(traced[1:]) < size
 
 
+def test_shadows_cast_down_hills_are_traced_again_where_they_fall():
+    """Boxes flying over hills under a low sun: their shadows fall far below them, on slopes
+    the last frame saw (the sweep's floor); retracing only those pixels still gives every
+    pixel traced again, and the shadows are there."""
+    def scene():
+        out = _scene()
+        out["environment"]["sun"] = {"zenith": 65.0, "azimuth": 250.0}
+        out["objects"] = out["objects"][1:]
+        for box in out["objects"]:
+            box["on_ground"] = False
+        out["terrain"] = {"type": "procedural", "size": [300, 300], "spacing": 5.0,
+                          "relief": 40.0, "seed": 2, "material": "grey", "temperature": 290.0}
+        out["observers"][0].update(center=[150, 150], gsd=5.0, shape=[60, 60])
+        return out
+
+    def move(sim, k):
+        sim.set_poses({f"box{i}": ((110 + 30 * i + 2.0 * k, 120 + 10 * i - 1.5 * k, 45.0 + 5 * i),
+                                   (15 * k, 0.0, 0.0)) for i in range(3)})
+
+    incremental = radscene.Simulation(scene(), realtime=True)
+    everything = radscene.Simulation(scene(), realtime=True)
+    everything._realtime.incremental = False
+    for k in range(5):
+        move(incremental, k)
+        move(everything, k)
+        a, b = incremental.step(0.04).radiance["map"], everything.step(0.04).radiance["map"]
+        for var in a.data_vars:
+            np.testing.assert_array_equal(a[var].values, b[var].values, err_msg=var)
+    shade = (a.shadow_fraction.values == 1.0) & (a.object_id.values == 0)
+    assert shade.sum() > 20 and a.attrs["pixels_traced"] < a.sizes["x"] * a.sizes["y"] / 2
+
+
 def test_frame_k_is_the_same_in_every_run():
     runs = []
     for _ in range(2):

@@ -299,17 +299,18 @@ class RealtimeRenderer:
     def _changed(self, key, last) -> np.ndarray:
         """The pixels whose primary or shadow rays may meet an object moved since the last
         frame: those where the camera sees the box of its old or new place swept away from
-        the sun down to the scene's floor (a shadow may fall there), one pixel of margin.
-        Every pixel where that cannot be worked out (a box behind a pinhole, a sun on the
-        horizon, the tracer's clipping box grown)."""
+        the sun (a shadow may fall there), one pixel of margin. The sweep reaches down to the
+        lowest surface the last frame saw where the sweep to the scene's floor is seen (a
+        shadow falls only on a surface seen; those whose rays change are among the pixels
+        anyway). Every pixel where that cannot be worked out (a camera without ``project``,
+        a box behind a pinhole, a sun on the horizon)."""
         tracer = self.tables.tracer
         ny, nx = key.shape
         everything = np.arange(ny * nx)
         moved = np.flatnonzero(tracer.move_count != last.counts)
         if not len(moved):
             return np.zeros(0, dtype=np.int64)
-        project = getattr(key.camera, "project", None)
-        if project is None:
+        if getattr(key.camera, "project", None) is None:
             return everything
         # Where the ray tracer's clipping box grew (an object moved past the scene's box), the
         # other pixels keep the hits traced from the old box's entry points: the same faces,
@@ -322,21 +323,20 @@ class RealtimeRenderer:
             sun = key.sun_dir[0]
             if sun[2] <= 1e-6:
                 return everything
-            floor = tracer.bounds[0][2]
-            reach = np.maximum(hi[:, 2] - floor, 0.0) / sun[2]  # down to the floor, away from the sun
-            lo = np.minimum(lo, lo - reach[:, None] * sun)
-            hi = np.maximum(hi, hi - reach[:, None] * sun)
-        corners = np.stack([np.where(np.array(c, bool), hi, lo) for c in np.ndindex(2, 2, 2)],
-                           axis=1)  # (boxes, 8, 3)
-        row, col, in_front = project(corners)
-        if not (in_front.all() or hasattr(key.camera, "plane_center")):
-            return everything  # a box reaches behind the pinhole
-        r0 = np.clip(np.floor(row.min(axis=1)).astype(np.int64) - 1, 0, ny)
-        r1 = np.clip(np.ceil(row.max(axis=1)).astype(np.int64) + 1, 0, ny)
-        c0 = np.clip(np.floor(col.min(axis=1)).astype(np.int64) - 1, 0, nx)
-        c1 = np.clip(np.ceil(col.max(axis=1)).astype(np.int64) + 1, 0, nx)
+            rects = _rects(key.camera, *_swept(lo, hi, sun, tracer.bounds[0][2]), ny, nx)
+            if rects is None:
+                return everything
+            rays = key.rays
+            seen = rays.origins[:, 2] + last.maps["range"] * rays.directions[:, 2]
+            seen = np.where(np.isfinite(seen), seen, np.inf).reshape(ny, nx)
+            floor = np.array([seen[a:b, c:d].min() if a < b and c < d else np.inf
+                              for a, b, c, d in zip(*rects, strict=True)])
+            lo, hi = _swept(lo, hi, sun, np.minimum(floor, lo[:, 2]))
+        rects = _rects(key.camera, lo, hi, ny, nx)
+        if rects is None:
+            return everything
         mask = np.zeros((ny, nx), dtype=bool)
-        for a, b, c, d in zip(r0, r1, c0, c1, strict=True):
+        for a, b, c, d in zip(*rects, strict=True):
             mask[a:b, c:d] = True
         return np.flatnonzero(mask)
 
@@ -467,6 +467,28 @@ MAP_ATTRS = {
     "surface_temperature": {"units": "K", "standard_name": "surface_temperature",
                             "long_name": "surface temperature"},
 }
+
+
+def _swept(lo, hi, sun, floor):
+    """Boxes ``lo``, ``hi`` (n, 3) [m] grown by their sweep away from the unit vector ``sun``
+    down to ``floor`` (scalar or (n,)) [m]: where their shadows may fall."""
+    reach = np.maximum(hi[:, 2] - floor, 0.0) / sun[2]
+    return np.minimum(lo, lo - reach[:, None] * sun), np.maximum(hi, hi - reach[:, None] * sun)
+
+
+def _rects(camera, lo, hi, ny, nx):
+    """Per box (lo, hi) the pixel rectangle (row0, row1, col0, col1) that its projection
+    covers, one pixel of margin, clipped to the image; None where a corner lies behind a
+    pinhole."""
+    corners = np.stack([np.where(np.array(c, bool), hi, lo) for c in np.ndindex(2, 2, 2)],
+                       axis=1)  # (boxes, 8, 3)
+    row, col, in_front = camera.project(corners)
+    if not (in_front.all() or hasattr(camera, "plane_center")):  # orthographic: any point
+        return None
+    return (np.clip(np.floor(row.min(axis=1)).astype(np.int64) - 1, 0, ny),
+            np.clip(np.ceil(row.max(axis=1)).astype(np.int64) + 1, 0, ny),
+            np.clip(np.floor(col.min(axis=1)).astype(np.int64) - 1, 0, nx),
+            np.clip(np.ceil(col.max(axis=1)).astype(np.int64) + 1, 0, nx))
 
 
 def _nearest_hit(hit) -> np.ndarray:
