@@ -35,7 +35,13 @@ import numpy as np
 from radscene.errors import ConfigError
 from radscene.geometry.mesh import Mesh
 
-__all__ = ["Hits", "RayTracer"]
+__all__ = ["Hits", "RayTracer", "BOX_GROWTH"]
+
+#: When a moved mesh leaves the box that rays are clipped to, the box grows to hold it plus
+#: this fraction of its new half-size on every axis, so that a mesh moving on grows it
+#: seldom: each growth moves every ray's float32 start point (by rounding), so that hits traced
+#: before and after it may differ at that level (real-time frames retrace every pixel then).
+BOX_GROWTH = 0.25
 
 
 @dataclass
@@ -394,7 +400,9 @@ class RayTracer:
         reach = np.maximum(np.abs(self._bounds[0] - self._center),
                            np.abs(self._bounds[1] - self._center))
         margin = 1e-5 * float(np.linalg.norm(2 * reach)) + 1e-3
-        self._half = np.maximum(self._half, reach + margin)
+        needed = reach + margin
+        if np.any(needed > self._half):  # with room to spare: see BOX_GROWTH
+            self._half = np.maximum(self._half, needed * (1.0 + BOX_GROWTH))
         self._embreex = None
 
     def _replace(self, index, mesh):

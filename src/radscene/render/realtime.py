@@ -292,6 +292,7 @@ class RealtimeRenderer:
                 numba.set_num_threads(threads)
         out.counts = tracer.move_count.copy()
         out.lo, out.hi = tracer.mesh_bounds
+        out.half = tracer.half_size
         out.traced = len(dirty)
         key.last = out
         return self._dataset(key, setup, out, _time.perf_counter() - started)
@@ -303,19 +304,20 @@ class RealtimeRenderer:
         lowest surface the last frame saw where the sweep to the scene's floor is seen (a
         shadow falls only on a surface seen; those whose rays change are among the pixels
         anyway). Every pixel where that cannot be worked out (a camera without ``project``,
-        a box behind a pinhole, a sun on the horizon)."""
+        a box behind a pinhole, a sun on the horizon) or when the tracer's clipping box grew."""
         tracer = self.tables.tracer
         ny, nx = key.shape
         everything = np.arange(ny * nx)
         moved = np.flatnonzero(tracer.move_count != last.counts)
         if not len(moved):
             return np.zeros(0, dtype=np.int64)
-        if getattr(key.camera, "project", None) is None:
+        if getattr(key.camera, "project", None) is None or not np.array_equal(
+                tracer.half_size, last.half):
+            # the clipping box grew (an object moved past it): every ray starts at another
+            # float32 point, and a pixel kept would differ from one traced again by that
+            # rounding (up to a shadow flipped at a grazing sun); the box grows with room to
+            # spare (geometry.raytracer.BOX_GROWTH), so this is seldom
             return everything
-        # Where the ray tracer's clipping box grew (an object moved past the scene's box), the
-        # other pixels keep the hits traced from the old box's entry points: the same faces,
-        # the same points to float32 rounding of the start (a full retrace would move them by
-        # that rounding only; retracing every pixel at each growth cost 150-400 ms a frame).
         lo_now, hi_now = tracer.mesh_bounds
         lo = np.concatenate([last.lo[moved], lo_now[moved]])
         hi = np.concatenate([last.hi[moved], hi_now[moved]])
