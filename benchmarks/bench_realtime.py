@@ -139,6 +139,7 @@ def run(args) -> dict:
         "move_median_ms": ms(move), "render_median_ms": ms(render),
         "step_rest_median_ms": ms(frame - np.array(move) - np.array(render)),
         "pixels_traced_median": int(np.median(traced)),
+        "frames_all_pixels": int(np.sum(np.array(traced) == SIZE * SIZE)),  # the clipping box grew
         "full_render_s": round(full_seconds, 2),
         "difference_same_sun": difference(images, same_sun),
         "difference_same_instant": difference(images, reference),
