@@ -205,14 +205,20 @@ def test_a_sensor_records_a_real_time_frame_as_a_full_one():
 
 
 def test_a_moved_observer_gets_a_new_key_frame_equal_to_the_full_render():
-    fast = radscene.Simulation(_scene(SKY), realtime=True)
-    full = radscene.Simulation(_scene(SKY))
+    """The new key frame takes the sun of its own instant (10 min after the first)."""
+    scene = _scene(SKY)
+    scene["environment"].pop("sun")
+    scene["environment"].update(time="2026-06-21T09:00:00Z",
+                                location={"latitude": 45.0, "longitude": 5.0})
+    fast = radscene.Simulation(scene, realtime=True)
+    full = radscene.Simulation(scene)
     for sim in (fast, full):
         _move(sim, 2)
-        sim.step(0.04)
+        first = sim.step(0.04).radiance["map"]
         sim.set_pose("map", position=(20.0, -10.0, 1000.0))
-    a, b = fast.step(0.04).radiance["map"], full.step(0.04).radiance["map"]
+    a, b = fast.step(600.0).radiance["map"], full.step(600.0).radiance["map"]
     assert a.attrs["pixels_traced"] == a.sizes["x"] * a.sizes["y"]
+    assert a.attrs["sun_zenith_deg"] == b.attrs["sun_zenith_deg"] != first.attrs["sun_zenith_deg"]
     for var in (*TERMS, "radiance"):
         assert _relative(a[var], b[var]) <= KEY_FRAME_TOLERANCE, var
 

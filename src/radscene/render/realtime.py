@@ -186,7 +186,7 @@ class RealtimeRenderer:
                                     @ coef.sky_view.T) * (d[:, 2] > 0)[:, None]).T
         key = SimpleNamespace(
             camera=setup.camera, bands=bands, rays=rays, shape=rays.shape, sun_dir=sun_dir,
-            track=track, sun=tables.sun, index=index, weight=weight,
+            track=track, sun=track.nodes[track.reference], index=index, weight=weight,
             path_index=_rows(path_index, rows, len(pixel)),
             path_weight=_rows(path_weight, rows, len(pixel), fill=1.0),
             face_pair=face_pair.ravel(), specular=specular, tables=mix_tables,
