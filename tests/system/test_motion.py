@@ -226,8 +226,8 @@ def test_a_spinning_blade_is_turned_90_deg_a_quarter_turn_later_in_the_image():
 def test_a_part_rides_on_its_moving_parent_and_only_what_moved_is_refitted():
     sim = radscene.Simulation(_rotor_scene({"waypoints": [[0, 0, 0, 10, 0, 0, 0], [4, 40, 0, 14, 90, 0, 0]]}))
     updated = []
-    update = sim.tracer.update
-    sim.tracer.update = lambda k, mesh: (updated.append(k), update(k, mesh))
+    move = sim.tracer.move  # the simulation writes what moved with one move() a frame
+    sim.tracer.move = lambda meshes: (updated.extend(meshes), move(meshes))
     sim.step(2.0)
     hub_position, hub_attitude = sim.pose("hub")
     blade_position, blade_attitude = sim.pose("blade")

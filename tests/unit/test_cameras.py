@@ -204,3 +204,20 @@ def test_map_axes_are_the_first_row_and_column_of_the_pixel_coordinates():
     assert np.array_equal(y, np.broadcast_to(ys[:, None], y.shape))
     with pytest.raises(ValueError, match="nadir"):
         OrthographicCamera((0, 0), (4, 4), gsd=1.0, zenith=20.0).map_axes()
+
+
+@pytest.mark.parametrize("camera", [
+    OrthographicCamera(center=(10.0, -5.0), shape=(6, 9), gsd=2.5, altitude=500.0, zenith=30.0,
+                       azimuth=60.0),
+    PerspectiveCamera((3.0, -40.0, 25.0), (6, 9), fov=50.0, attitude=(10.0, -20.0, 5.0))],
+    ids=["orthographic", "perspective"])
+def test_project_returns_the_pixel_whose_ray_passes_through_a_point(camera):
+    rays = camera.rays()
+    distance = np.linspace(30.0, 90.0, len(rays.origins))[:, None]
+    row, col, in_front = camera.project(rays.origins + distance * rays.directions)
+    ny, nx = camera.shape
+    centre_row, centre_col = np.divmod(rays.pixel, nx)
+    np.testing.assert_allclose(row, centre_row + 0.5, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(col, centre_col + 0.5, rtol=0, atol=1e-9)
+    assert in_front.all()
+    assert not camera.project(rays.origins - 10.0 * rays.directions)[2].any()

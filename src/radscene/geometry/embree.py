@@ -192,8 +192,10 @@ class PacketScene:
             self._finalizer()
             raise RuntimeError(f"Embree failed to build the scene (error code {error})")
         self.handle = int(scene)
+        self.pending = False  # meshes moved but not yet committed (update(commit=False))
+        self._commit_lock = threading.Lock()
 
-    def update(self, index: int, vertices) -> None:
+    def update(self, index: int, vertices, commit: bool = True) -> None:
         """Move the vertices of mesh ``index`` (same count, same triangles) and commit.
 
         Only that mesh's BVH is refitted, and the top level rebuilt, when the scene was built
@@ -205,6 +207,10 @@ class PacketScene:
             The mesh, in the order given to the constructor.
         vertices : (V, 3) array_like
             The new vertices in the scene's frame [m].
+        commit : bool
+            Commit the scene now (default); False leaves it to :meth:`commit`, so that moving
+            many meshes rebuilds the top level once (the scene must be committed before the
+            next query).
         """
         buffer = self._vertices[index]
         if buffer is None:
@@ -217,10 +223,21 @@ class PacketScene:
         geometry = self._geometries[index]
         self._lib.rtcUpdateGeometryBuffer(geometry, _RTC_BUFFER_TYPE_VERTEX, 0)
         self._lib.rtcCommitGeometry(geometry)
-        self._lib.rtcCommitScene(self.handle)
-        error = self._lib.rtcGetDeviceError(self._device)
+        self.pending = True
+        if commit:
+            self.commit()
+
+    def commit(self) -> None:
+        """Commit the meshes moved by :meth:`update` with ``commit=False`` (nothing to do
+        when none is pending): refits them and rebuilds the top level once."""
+        with self._commit_lock:
+            if not self.pending:
+                return
+            self._lib.rtcCommitScene(self.handle)
+            self.pending = False
+            error = self._lib.rtcGetDeviceError(self._device)
         if error != _RTC_ERROR_NONE:
-            raise RuntimeError(f"Embree failed to update mesh {index} (error code {error})")
+            raise RuntimeError(f"Embree failed to commit the moved meshes (error code {error})")
 
     def occluded_within(self, origins, directions, t_max) -> np.ndarray:
         """As :meth:`occluded`, looking along each ray only up to ``t_max`` (N,) float32 [m]."""

@@ -145,6 +145,36 @@ class Mesh:
     def __repr__(self) -> str:
         return f"Mesh(name={self.name!r}, vertices={len(self.vertices)}, faces={len(self.faces)})"
 
+    def with_vertices(self, vertices) -> Mesh:
+        """The same mesh with its vertices moved: the faces shared, not checked again.
+
+        For meshes moved frame after frame (:meth:`radscene.geometry.RayTracer.move` checks
+        that the new vertices are finite).
+
+        Parameters
+        ----------
+        vertices : array_like
+            ``(N, 3)`` [m], as many as the mesh has.
+
+        Raises
+        ------
+        ConfigError
+            Another shape.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> m.with_vertices(m.vertices + 1.0).faces is m.faces
+        True
+        """
+        v = np.asarray(vertices, dtype=np.float64)
+        if v.shape != self.vertices.shape:
+            raise ConfigError(f"mesh {self.name!r}: {self.vertices.shape[0]} vertices (N, 3) to "
+                              f"move, got an array of shape {v.shape}", key="vertices")
+        moved = object.__new__(Mesh)
+        moved.vertices, moved.faces, moved.name = v, self.faces, self.name
+        return moved
+
     @property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Axis-aligned bounding box ``(min (3,), max (3,))`` of the vertices [m].

@@ -35,7 +35,13 @@ import numpy as np
 from radscene.errors import ConfigError
 from radscene.geometry.mesh import Mesh
 
-__all__ = ["Hits", "RayTracer"]
+__all__ = ["Hits", "RayTracer", "BOX_GROWTH"]
+
+#: When a moved mesh leaves the box that rays are clipped to, the box grows to hold it plus
+#: this fraction of its new half-size on every axis, so that a mesh moving on grows it
+#: seldom: each growth moves every ray's float32 start point (by rounding), so that hits traced
+#: before and after it may differ at that level (real-time frames retrace every pixel then).
+BOX_GROWTH = 0.25
 
 
 @dataclass
@@ -246,10 +252,16 @@ class RayTracer:
         self.dynamic = bool(dynamic)
 
         filled = [k for k, m in enumerate(meshes) if len(m.faces)]
-        self._mesh_bounds = {k: meshes[k].bounds for k in filled}  # kept: update() is O(moved)
+        #: How many times each mesh was moved (:meth:`move`): what moved since a count was kept.
+        self.move_count = np.zeros(len(meshes), dtype=np.int64)
+        # each mesh's box (rows of empty meshes unused), kept: move() is O(moved)
+        self._mesh_lo = np.zeros((len(meshes), 3))
+        self._mesh_hi = np.zeros((len(meshes), 3))
+        for k in filled:
+            self._mesh_lo[k], self._mesh_hi[k] = meshes[k].bounds
         if filled:
-            lo = np.min([self._mesh_bounds[k][0] for k in filled], axis=0)
-            hi = np.max([self._mesh_bounds[k][1] for k in filled], axis=0)
+            lo = self._mesh_lo[filled].min(axis=0)
+            hi = self._mesh_hi[filled].max(axis=0)
         else:
             lo = hi = np.zeros(3)
         self._bounds = (lo, hi)
@@ -296,7 +308,7 @@ class RayTracer:
         The other meshes are not touched: in a ``dynamic`` tracer with packets, Embree refits
         the moved mesh's BVH and the top level only; otherwise the embreex scene is rebuilt
         on its next query. The box rays are clipped to grows (about the same centre) to hold
-        the moved mesh.
+        the moved mesh. :meth:`move` moves several at once.
 
         Parameters
         ----------
@@ -310,38 +322,93 @@ class RayTracer:
         ConfigError
             An unknown index, or a mesh whose vertices or faces differ in number or order.
         """
-        if not 0 <= int(index) < len(self.meshes):
-            raise ConfigError(f"no mesh {index}; the tracer holds {len(self.meshes)}",
-                              key="index")
-        index = int(index)
-        old = self.meshes[index]
-        if not isinstance(mesh, Mesh):
-            raise ConfigError(f"must be a radscene Mesh, got {type(mesh).__name__}", key="mesh")
-        if mesh.vertices.shape != old.vertices.shape or not np.array_equal(mesh.faces, old.faces):
-            raise ConfigError(f"mesh {index} must keep its {len(old.vertices)} vertices and "
-                              f"{len(old.faces)} faces to be moved; got {len(mesh.vertices)} and "
-                              f"{len(mesh.faces)}", key="mesh")
-        if not np.isfinite(mesh.vertices).all():
-            raise ConfigError("vertices must be finite", key="mesh")
-        meshes = list(self.meshes)
-        meshes[index] = mesh
-        self.meshes = tuple(meshes)
-        if not len(mesh.faces):
+        self.move({index: mesh})
+
+    def move(self, meshes: dict) -> None:
+        """Replace several meshes by moved copies at once (as :meth:`update` does one).
+
+        The moved meshes' normals and boxes are computed in one pass, and Embree's top level
+        is rebuilt once, on the next query, whatever the number of meshes moved: moving 100
+        meshes of 100 triangles costs about what moving one does plus the vertex copies.
+
+        Parameters
+        ----------
+        meshes : dict of int to Mesh
+            Mesh index (its place in the list given to the constructor) to its new geometry,
+            world frame [m]; each with its old number of vertices and the same faces.
+
+        Raises
+        ------
+        ConfigError
+            As :meth:`update`, naming the first bad index.
+        """
+        moved = []
+        for index, mesh in meshes.items():
+            if not 0 <= int(index) < len(self.meshes):
+                raise ConfigError(f"no mesh {index}; the tracer holds {len(self.meshes)}",
+                                  key="index")
+            index = int(index)
+            old = self.meshes[index]
+            if not isinstance(mesh, Mesh):
+                raise ConfigError(f"must be a radscene Mesh, got {type(mesh).__name__}",
+                                  key=f"meshes[{index}]")
+            if mesh.vertices.shape != old.vertices.shape or (
+                    mesh.faces is not old.faces and not np.array_equal(mesh.faces, old.faces)):
+                raise ConfigError(f"mesh {index} must keep its {len(old.vertices)} vertices and "
+                                  f"{len(old.faces)} faces to be moved; got "
+                                  f"{len(mesh.vertices)} and {len(mesh.faces)}",
+                                  key=f"meshes[{index}]")
+            if len(mesh.faces):
+                moved.append((index, mesh))
+        if not moved:
+            for index, mesh in meshes.items():  # meshes without faces: nothing to trace
+                self._replace(int(index), mesh)
             return
-        start = self._face_offset[index]
-        self._normals[start:start + len(mesh.faces)] = mesh.face_normals
-        self._mesh_bounds[index] = mesh.bounds
-        self._bounds = (np.min([b[0] for b in self._mesh_bounds.values()], axis=0),
-                        np.max([b[1] for b in self._mesh_bounds.values()], axis=0))
+        # one pass over every moved vertex and face: finiteness, normals, boxes
+        vertices = np.concatenate([m.vertices for _, m in moved])
+        if not np.isfinite(vertices).all():
+            raise ConfigError("vertices must be finite", key="meshes")
+        counts = np.array([len(m.vertices) for _, m in moved])
+        starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        faces = np.concatenate([m.faces + s for (_, m), s in zip(moved, starts, strict=True)])
+        cross = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]],
+                         vertices[faces[:, 2]] - vertices[faces[:, 0]])
+        length = np.linalg.norm(cross, axis=1, keepdims=True)
+        normals = np.divide(cross, length, out=np.zeros_like(cross), where=length > 0)
+        lo = np.minimum.reduceat(vertices, starts, axis=0)
+        hi = np.maximum.reduceat(vertices, starts, axis=0)
+        packets = getattr(self, "_packet_scene", None)
+        first = 0
+        indices = np.array([index for index, _ in moved])
+        geometries = np.searchsorted(self._object_of_geom, indices).tolist()
+        self._mesh_lo[indices], self._mesh_hi[indices] = lo, hi
+        self.move_count[indices] += 1
+        local = vertices - self._center
+        all_meshes = list(self.meshes)
+        for row, (index, mesh) in enumerate(moved):
+            n_faces = len(mesh.faces)
+            at = self._face_offset[index]
+            self._normals[at:at + n_faces] = normals[first:first + n_faces]
+            first += n_faces
+            all_meshes[index] = mesh
+            if packets is not None:  # committed on the next query (see packets)
+                packets.update(geometries[row], local[starts[row]:starts[row] + counts[row]],
+                               commit=False)
+        self.meshes = tuple(all_meshes)
+        filled = self._object_of_geom
+        self._bounds = (self._mesh_lo[filled].min(axis=0), self._mesh_hi[filled].max(axis=0))
         reach = np.maximum(np.abs(self._bounds[0] - self._center),
                            np.abs(self._bounds[1] - self._center))
         margin = 1e-5 * float(np.linalg.norm(2 * reach)) + 1e-3
-        self._half = np.maximum(self._half, reach + margin)
-        packets = getattr(self, "_packet_scene", None)
-        if packets is not None:
-            geometry = int(np.searchsorted(self._object_of_geom, index))
-            packets.update(geometry, mesh.vertices - self._center)
+        needed = reach + margin
+        if np.any(needed > self._half):  # with room to spare: see BOX_GROWTH
+            self._half = np.maximum(self._half, needed * (1.0 + BOX_GROWTH))
         self._embreex = None
+
+    def _replace(self, index, mesh):
+        meshes = list(self.meshes)
+        meshes[index] = mesh
+        self.meshes = tuple(meshes)
 
     @property
     def packets(self):
@@ -353,9 +420,12 @@ class RayTracer:
         if self._empty or not self.use_packets:
             return None
         filled = [m for m in self.meshes if len(m.faces)]
-        return embree.packet_scene(
+        scene = embree.packet_scene(
             self, lambda: [(m.vertices - self._center).astype(np.float32) for m in filled],
             lambda: [m.faces for m in filled], self.robust, self.dynamic)
+        if scene is not None and scene.pending:  # meshes moved since the last query
+            scene.commit()
+        return scene
 
     def __repr__(self) -> str:
         return (f"RayTracer({len(self.meshes)} meshes, "
@@ -365,6 +435,12 @@ class RayTracer:
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """``(min (3,), max (3,))`` of the vertices of all meshes with faces, world frame [m]."""
         return self._bounds[0].copy(), self._bounds[1].copy()
+
+    @property
+    def mesh_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(min (M, 3), max (M, 3))``: each mesh's box, world frame [m] (rows of meshes
+        without faces are zero)."""
+        return self._mesh_lo.copy(), self._mesh_hi.copy()
 
     @property
     def center(self) -> np.ndarray:

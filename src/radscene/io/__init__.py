@@ -14,6 +14,7 @@ if TYPE_CHECKING:  # for type checkers and the API docs; at run time __getattr__
     from radscene.io.netcdf import read_netcdf, write_netcdf
     from radscene.io.quicklook import band_quicklooks, signal_quicklooks, terms_figure, truth_figure
     from radscene.io.spectral import write_spectral
+    from radscene.io.stream import FrameStream
     from radscene.io.zarr_store import read_zarr, write_zarr
 
 #: Public name → the module that defines it.
@@ -25,10 +26,11 @@ _LAZY = {
     "band_quicklooks": "quicklook", "signal_quicklooks": "quicklook", "terms_figure": "quicklook",
     "truth_figure": "quicklook",
     "write_spectral": "spectral",
+    "FrameStream": "stream",
     "read_zarr": "zarr_store", "write_zarr": "zarr_store",
 }
 
-__all__ = ["band_animations", "band_quicklooks", "band_videos", "read_netcdf", "read_zarr", "signal_quicklooks",
+__all__ = ["FrameStream", "band_animations", "band_quicklooks", "band_videos", "read_netcdf", "read_zarr", "signal_quicklooks",
            "terms_figure", "truth_figure", "write_cog", "write_envi", "write_map_cogs", "write_netcdf",
            "write_spectral", "write_zarr"]
 

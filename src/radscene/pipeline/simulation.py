@@ -91,6 +91,12 @@ def _vector(value, kind: str, key: str) -> np.ndarray:
 
     if isinstance(value, (str, bytes)) or np.ndim(value) != 1 or len(value) != 3:
         raise ConfigError(f"three values, e.g. [x, y, z] or [yaw, pitch, roll]; got {value!r}", key=key)
+    if all(isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+           for v in value):  # plain numbers: in the canonical unit already
+        out = np.array(value, float)
+        if not np.isfinite(out).all():
+            raise ConfigError(f"must be finite, got {value!r}", key=key)
+        return out
     out = np.array([parse_quantity(v, kind, key=f"{key}[{i}]") for i, v in enumerate(value)], float)
     if not np.isfinite(out).all():
         raise ConfigError(f"must be finite, got {value!r}", key=key)
@@ -151,6 +157,14 @@ class Simulation:
     thermal_horizon : float or str
         How far past the clock the heat balance is solved, when it runs and the clock passes
         the end of its solution [s] (or a duration string); default 1 h.
+    realtime : bool
+        Real-time frames (:mod:`radscene.render.realtime`): the first frame of each observer
+        (and the first after it moves) keeps the band tables, the path nodes and the visible
+        sky of each pixel; every later frame traces only the primary and the sun's shadow
+        rays. The sun, its atmosphere and the surface temperatures stay those of the first
+        frame, the reflected background that of the first frame where a pixel sees the same
+        object; no coupling layers, supersampling or geolocation.
+        Default False (every frame a full render). See ``docs/simulation.md``.
 
     Examples
     --------
@@ -161,7 +175,7 @@ class Simulation:
     >>> frame.radiance["map"].object_id                                  # doctest: +SKIP
     """
 
-    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON):
+    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON, realtime: bool = False):
         from radscene.geometry import RayTracer
         from radscene.render.integrator import scene_tables
 
@@ -177,6 +191,10 @@ class Simulation:
         self._motions = {o.name: self.scene.motions[o.name] for o in self.scene.objects
                          if not o.is_terrain and o.name in self.scene.motions}
         self._parents = {n: m.parent for n, m in self._motions.items()}
+        self._children = {}  # each parent's parts
+        for child, parent in self._parents.items():
+            if parent is not None:
+                self._children.setdefault(parent, []).append(child)
         rest = compose({n: m.rest_pose() for n, m in self._motions.items()}, self._parents)
         specs = {o.name: o for o in self.scene.spec.objects}
         self._poses = {}
@@ -198,7 +216,18 @@ class Simulation:
         self.tracer = RayTracer([obj.mesh for obj in self.scene.objects], dynamic=True)
         self._exposures = self._blur_exposures()
         self._follow_motions()
-        scene_tables(self.scene, self.tracer)
+        tables = scene_tables(self.scene, self.tracer)
+        self._realtime = None
+        if realtime:
+            from radscene.render.realtime import RealtimeRenderer
+
+            self._realtime = RealtimeRenderer(self.scene, tables)
+            self._stamps = {}  # per observer: (its camera, the provenance of its key frame)
+
+    @property
+    def realtime(self) -> bool:
+        """Whether frames are real-time frames (the constructor's ``realtime``)."""
+        return self._realtime is not None
 
     # -- the clock --------------------------------------------------------------------------
 
@@ -240,6 +269,8 @@ class Simulation:
         from radscene.render.hyperspectral import render_hyperspectral
         from radscene.render.integrator import scene_tables
 
+        if self._realtime is not None:
+            return self._render_realtime()
         scene = self.scene
         self._follow_motions()
         self._rebuild_scanners()
@@ -260,6 +291,33 @@ class Simulation:
             stamp(images, scene, setup.name)
             frame.radiance[setup.name] = images
             if setup.sensor is not None and setup.spectral is None:
+                seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
+                frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
+        return frame
+
+    def _render_realtime(self) -> Frame:
+        """A frame of real-time frames (:mod:`radscene.render.realtime`)."""
+        from radscene.pipeline.provenance import provenance
+        from radscene.render.integrator import scene_tables
+
+        scene = self.scene
+        self._follow_motions()
+        if self._thermal and self._index == 0:  # the temperatures of the first frame, kept
+            self._apply_thermal()
+            self._realtime.tables = scene_tables(scene, self.tracer)
+        self._index += 1
+        frame = Frame(self._index, self._elapsed, self.time)
+        for setup in scene.observers:
+            images = self._realtime.render(setup)
+            camera, stamp_attrs = self._stamps.get(setup.name, (None, None))
+            if camera is not setup.camera:  # the provenance changes with the observer only
+                stamp_attrs = provenance(scene, setup.name)
+                self._stamps[setup.name] = (setup.camera, stamp_attrs)
+            images.attrs.update(stamp_attrs)
+            images.attrs.update({"frame": self._index, "elapsed_s": self._elapsed,
+                                 "time": "" if self.time is None else self.time.isoformat()})
+            frame.radiance[setup.name] = images
+            if setup.sensor is not None:
                 seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
                 frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
         return frame
@@ -331,8 +389,7 @@ class Simulation:
         local.update({n: self._poses[n][::2] for n in self._motions if n not in self._moving})
         parents = {n: self._parents[n] if n in self._moving else None for n in local}
         world = compose(local, parents)
-        for name in self._moving:
-            self._place(name, *world[name])
+        self._place([(name, *world[name]) for name in self._moving])
 
     def _advance_sea(self, t):
         """The sea's waves at ``t`` [s] since the start, written into its mesh and the ray
@@ -345,18 +402,28 @@ class Simulation:
         self.scene.objects[k].mesh = mesh
         self._sea_time = t
 
-    def _place(self, name, position, rotation, attitude=None):
-        """Write an object's world pose into its mesh and the ray tracer (when it changed)."""
-        old_position, _, old_rotation = self._poses[name]
-        if attitude is None:
-            if np.array_equal(position, old_position) and np.array_equal(rotation, old_rotation):
-                return
-            attitude = _attitude(rotation)
-        k, body = self._body[name]
-        moved = Mesh(body.vertices @ rotation.T + position, body.faces, name=name)
-        self.tracer.update(k, moved)
-        self.scene.objects[k].mesh = moved
-        self._poses[name] = (np.asarray(position, float), np.asarray(attitude, float), rotation)
+    def _place(self, placements):
+        """Write objects' world poses into their meshes and the ray tracer, those that changed
+        (one :meth:`RayTracer.move <radscene.geometry.RayTracer.move>` for all).
+
+        ``placements``: ``(name, position (3,), rotation (3, 3))`` or with the attitude
+        ``(yaw, pitch, roll)`` [deg] as a fourth item (then written even when unchanged);
+        without it the attitude is worked out from the rotation when asked for (:meth:`pose`).
+        """
+        moved = {}
+        for name, position, rotation, *attitude in placements:
+            old_position, _, old_rotation = self._poses[name]
+            if not attitude and np.array_equal(position, old_position) and np.array_equal(
+                    rotation, old_rotation):
+                continue
+            k, body = self._body[name]
+            moved[k] = body.with_vertices(body.vertices @ rotation.T + position)
+            self._poses[name] = (np.asarray(position, float),
+                                 np.asarray(attitude[0], float) if attitude else None, rotation)
+        if moved:
+            self.tracer.move(moved)
+            for k, mesh in moved.items():
+                self.scene.objects[k].mesh = mesh
 
     def _apply_thermal(self):
         scene = self.scene
@@ -393,8 +460,8 @@ class Simulation:
         azimuth, 0)."""
         kind, target = self._find(name)
         if kind == "object":
-            position, attitude, _ = self._poses[name]
-            return position.copy(), attitude.copy()
+            position, attitude, rotation = self._poses[name]
+            return position.copy(), _attitude(rotation) if attitude is None else attitude.copy()
         cam = target.camera
         if target.kind == "perspective":
             return np.array(cam.position, float), np.array(cam.attitude, float)
@@ -435,9 +502,56 @@ class Simulation:
         else:
             self._move_observer(target, position, attitude)
 
+    def set_poses(self, poses: dict) -> None:
+        """Move several objects and observers at once, as :meth:`set_pose` each.
+
+        The objects' meshes go to the ray tracer in one :meth:`RayTracer.move
+        <radscene.geometry.RayTracer.move>` (one rebuild of Embree's top level), and their
+        rotations are made in one call: the way to move many objects every frame.
+
+        Parameters
+        ----------
+        poses : dict of str to (position, attitude)
+            Per name what :meth:`set_pose` takes; either may be None (left as it is).
+
+        Raises
+        ------
+        ConfigError
+            As :meth:`set_pose`, naming the first bad entry; nothing is moved then.
+        """
+        from radscene.geometry import rotation_matrix
+
+        objects, observers = [], []
+        for name, pose in poses.items():
+            if isinstance(pose, (str, bytes)) or len(pose) != 2:
+                raise ConfigError(f"{name!r}: a pair (position, attitude), either None; got "
+                                  f"{pose!r}", key="set_poses")
+            kind, target = self._find(name)
+            position, attitude = (None if v is None else _vector(v, unit, f"set_poses[{name}].{key}")
+                                  for v, unit, key in ((pose[0], "length", "position"),
+                                                       (pose[1], "angle", "attitude")))
+            (objects if kind == "object" else observers).append((name, target, position, attitude))
+        placements = []
+        for name, _, position, attitude in objects:
+            old_position, old_attitude, old_rotation = self._poses[name]
+            if attitude is None:
+                attitude = _attitude(old_rotation) if old_attitude is None else old_attitude
+            placements.append((name, old_position if position is None else position, attitude))
+        if placements:
+            attitudes = np.array([a for _, _, a in placements]).reshape(-1, 3)
+            rotations = rotation_matrix(attitudes[:, 0], attitudes[:, 1], attitudes[:, 2])
+            self._place([(name, position, rotation, attitude) for (name, position, attitude), rotation
+                         in zip(placements, rotations, strict=True)])
+            for name, *_ in placements:
+                self._place_parts(name)
+        for _, setup, position, attitude in observers:
+            self._move_observer(setup, position, attitude)
+
     def _find(self, name):
-        objects = {o.name: o for o in self.scene.objects}
-        observers = {o.name: o for o in self.scene.observers}
+        if getattr(self, "_by_name", None) is None:  # the scene's objects and observers stay
+            self._by_name = ({o.name: o for o in self.scene.objects},
+                             {o.name: o for o in self.scene.observers})
+        objects, observers = self._by_name
         if name in objects and name in observers:
             raise ConfigError(f"{name!r} names both an object and an observer", key="set_pose.name")
         if name in observers:
@@ -454,20 +568,20 @@ class Simulation:
         """set_pose of an object: it, and the parts it carries, move now."""
         from radscene.geometry import rotation_matrix
 
-        old_position, old_attitude, _ = self._poses[name]
+        old_position, old_attitude, old_rotation = self._poses[name]
         position = old_position if position is None else position
-        attitude = old_attitude if attitude is None else attitude
-        self._place(name, position, rotation_matrix(*attitude), attitude)
+        if attitude is None:
+            attitude = _attitude(old_rotation) if old_attitude is None else old_attitude
+        self._place([(name, position, rotation_matrix(*attitude), attitude)])
         self._place_parts(name)
 
     def _place_parts(self, name):
         """The parts carried by ``name`` where its pose and theirs at the clock's time put them."""
         parent_position, _, parent_rotation = self._poses[name]
-        for child, parent in self._parents.items():
-            if parent == name:
-                p, rot = self._motions[child].pose(self._elapsed)
-                self._place(child, parent_position + parent_rotation @ p, parent_rotation @ rot)
-                self._place_parts(child)
+        for child in self._children.get(name, ()):
+            p, rot = self._motions[child].pose(self._elapsed)
+            self._place([(child, parent_position + parent_rotation @ p, parent_rotation @ rot)])
+            self._place_parts(child)
 
     def _move_observer(self, setup, position, attitude):
         from radscene.platform import OrthographicCamera, PerspectiveCamera

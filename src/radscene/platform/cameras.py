@@ -289,6 +289,34 @@ class OrthographicCamera:
         directions = np.broadcast_to(self.direction, origins.shape).copy()
         return RayBundle(origins, directions, pixel, weight, self.shape, sub)
 
+    def project(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Continuous pixel coordinates of world points: the inverse of :meth:`rays`.
+
+        Parameters
+        ----------
+        points : array_like
+            ``(..., 3)`` world points [m].
+
+        Returns
+        -------
+        row, col : numpy.ndarray
+            Continuous coordinates of the ray through each point (0 at the top / left edge)
+            [px].
+        in_front : numpy.ndarray
+            bool, whether each point lies beyond the image plane, where rays can meet it.
+
+        Examples
+        --------
+        >>> cam = OrthographicCamera(center=(0.0, 0.0), shape=(2, 4), gsd=10.0)
+        >>> [float(a[0]) for a in cam.project([[15.0, 5.0, 0.0]])[:2]]
+        [0.5, 3.5]
+        """
+        rel = np.asarray(points, dtype=float) - self.plane_center
+        ny, nx = self.shape
+        col = rel @ self.right / self.gsd + 0.5 * nx
+        row = 0.5 * ny - rel @ self.up / self.gsd
+        return row, col, rel @ self.direction >= 0.0
+
     def pixel_coordinates(self, height: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Where the rays through the pixel centres meet the plane ``z = height``.
 
@@ -431,6 +459,39 @@ class PerspectiveCamera:
         b = (0.5 * ny - row) * p
         d = self.forward + a[..., None] * self.right + b[..., None] * self.up
         return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+    def project(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Continuous pixel coordinates of world points: the inverse of :meth:`directions_at`.
+
+        Parameters
+        ----------
+        points : array_like
+            ``(..., 3)`` world points [m].
+
+        Returns
+        -------
+        row, col : numpy.ndarray
+            Continuous coordinates of the ray through each point (0 at the top / left edge)
+            [px]; NaN for points not in front of the pinhole.
+        in_front : numpy.ndarray
+            bool, whether each point lies in front of the pinhole (positive along the axis).
+
+        Examples
+        --------
+        >>> cam = PerspectiveCamera((0, 0, 100), (3, 3), fov=90.0, look_at=(0, 0, 0))
+        >>> [round(float(a[0]), 12) for a in cam.project([[0.0, 0.0, 0.0]])[:2]]
+        [1.5, 1.5]
+        """
+        rel = np.asarray(points, dtype=float) - self.position
+        depth = rel @ self.forward
+        in_front = depth > 0.0
+        ny, nx = self.shape
+        p = self.pixel_pitch
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.where(in_front, 1.0 / (depth * p), np.nan)
+            col = rel @ self.right * scale + 0.5 * nx
+            row = 0.5 * ny - rel @ self.up * scale
+        return row, col, in_front
 
     def rays(self, supersample: int = 1, time=None, window=None) -> RayBundle:
         """Rays from the pinhole through every (sub-)pixel.
