@@ -20,8 +20,9 @@ of sight does not cross it; the sky is the ``uniform`` engine's, of band radianc
 Tolerances. Each pixel's fan is M = 64 stratified cosine-distributed rays (an 8 × 8 grid
 rotated per pixel); the 81 pixels are independent estimates, so the image mean's standard
 error is s/9 with s the pixels' standard deviation. The tests assert the mean within
-4 s/9 (measured: s = 2.2 % of the reflected sky at τ = 0.1, 1.3 % at τ = 1; 8 % of the
-reflected emission at τ = 0.1, 1.5 % at τ = 1, 0.16 % at τ = 3) and s itself below a bound, so
+4 s/9 (measured: s = 2.7 % of the reflected sky at τ = 0.1, 6.1 % at τ = 1, 10 % at τ = 3;
+8 % of sky and emission at τ = 0.1, 1.5 % at τ = 1, 0.16 % at τ = 3; the means were off by
++0.14, +0.23, +0.38 % and −0.41, −0.06, −0.006 %) and s itself below a bound, so
 that the tolerance cannot grow unnoticed. The sheet's factor has no noise (1e-12).
 """
 
@@ -43,7 +44,7 @@ SAMPLES = 64
 PIXELS = 81
 #: Multiples of the image mean's standard error allowed.
 SIGMAS = 4.0
-#: The pixels' relative standard deviation may not exceed this (measured at most 0.08).
+#: The pixels' relative standard deviation may not exceed this (measured at most 0.10).
 MAX_SPREAD = 0.12
 EXACT_REL = 1e-12
 
