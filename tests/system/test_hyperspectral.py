@@ -118,7 +118,11 @@ def test_with_the_reflected_background_band_mode_agrees_within_its_approximation
 @pytest.mark.parametrize("supersample", [1, 2])
 def test_with_a_grey_volume_the_integrated_cube_equals_band_mode(tmp_path, supersample):
     """A volume grey in both bands: its transmittance is the same in every channel, its
-    emission is integrated spectrally, so the cube integrates to band mode."""
+    emission is integrated spectrally, so the cube integrates to band mode — but for the
+    volume's own radiance reflected by the surfaces under it (along their sky rays), which
+    band mode reflects with band-mean reflectances and τ_a, as the reflected background does:
+    within 0.1 % in the LWIR, where it is not zero (measured 3.0e-4 with this non-grey soil and
+    atmosphere)."""
     spec = _scene(tmp_path, supersample).spec.model_dump(mode="json")
     spec["volumes"] = [{"name": "smoke", "shape": {"type": "ellipsoid", "radii": [15, 10, 6]},
                         "position": [-5, 5, 12], "optical_depth": 0.8, "temperature": 330.0,
@@ -126,10 +130,10 @@ def test_with_a_grey_volume_the_integrated_cube_equals_band_mode(tmp_path, super
     scene = radscene.load_scene(spec, base_dir=tmp_path)
     bands = radscene.render(scene, "bands")
     assert float(bands["volume_transmittance"].min()) < 0.6
-    for observer, band, per_pass in (("vnir", "vis", 4), ("tir", "lwir", 5)):
+    for observer, band, per_pass, rel in (("vnir", "vis", 4, REL), ("tir", "lwir", 5, 1e-3)):
         cube = radscene.render_hyperspectral(scene, observer, channels_per_pass=per_pass)
         got = band_radiance(cube, scene.band(band).response).values
-        np.testing.assert_allclose(got, bands["radiance"].sel(band=band).values, rtol=REL,
+        np.testing.assert_allclose(got, bands["radiance"].sel(band=band).values, rtol=rel,
                                    atol=0)
 
 

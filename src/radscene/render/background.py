@@ -157,8 +157,9 @@ def _vertices(tables, hits, directions, epsilon, texture) -> _Vertices:
                      tables.face_temperature[face])
 
 
-def _own(tracer, tables, v, sun, shadows, f=None) -> np.ndarray:
-    """Emission and reflected sun of vertices towards the previous vertex: (N, n_b)."""
+def _own(tracer, tables, v, sun, shadows, f=None, media=None) -> np.ndarray:
+    """Emission and reflected sun of vertices towards the previous vertex: (N, n_b); the sun
+    through the ``media``'s volumes where given."""
     out = emission(tables, v.material, v.temperature) * v.emissivity[:, None]
     if not np.any(tables.sun_irradiance > 0.0) or len(out) == 0:
         return out
@@ -171,13 +172,29 @@ def _own(tracer, tables, v, sun, shadows, f=None) -> np.ndarray:
     if np.any(lit):
         values = (f or brdf)(tables, v.material[lit], sun[lit], v.to_previous[lit],
                              v.normal[lit])
-        out[lit] += (values * (cos_s[lit] * v.reflectance[lit])[:, None]
-                     * tables.sun_irradiance[None, :])
+        values = (values * (cos_s[lit] * v.reflectance[lit])[:, None]
+                  * tables.sun_irradiance[None, :])
+        if media is not None and media.volumes:
+            values *= media.sun_transmittance(v.origin[lit], sun[lit])
+        out[lit] += values
     return out
 
 
+def _segment(media, origin, direction, distance, beta, out, rows, sky=None):
+    """A path segment through the ``media``: adds β L_v (and β T L_sky where ``sky`` (N, n_b)
+    is the sky at its end) to ``out`` at ``rows``; returns β T, the weight beyond it."""
+    if media is None:
+        if sky is not None:
+            _add(out, rows, beta * sky)
+        return beta
+    trans, light = media.along(origin, direction, distance, sheets=False)
+    beta_t = beta * trans
+    _add(out, rows, beta * light if sky is None else beta * light + beta_t * sky)
+    return beta_t
+
+
 def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, shadows=True,
-              texture: Callable | None = None) -> np.ndarray:
+              texture: Callable | None = None, media=None) -> np.ndarray:
     """Background radiance reflected by surface points, at the surface: (N, n_b).
 
     Vectorised over the paths; the same estimator and random numbers as
@@ -197,6 +214,8 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     shadows : bool — trace the vertices' shadow rays (else every vertex facing the sun is lit)
     texture : callable, optional — ``texture(object, position)`` → {"reflectance": Δρ,
         "emissivity": Δε} (N,) each, at vertices
+    media : radscene.render.media.Media, optional — the volumes every segment crosses (its
+        transmittance and their own radiance) and that dim the vertices' sun
 
     Returns
     -------
@@ -209,7 +228,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
         return out
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     step = max(1, CHUNK_SAMPLES // samples)
-    sky_on = bool(np.any(tables.sky > 0.0))
+    sky_on = bool(np.any(tables.sky > 0.0)) or (media is not None and bool(media.volumes))
     for start in range(0, n, step):
         sl = slice(start, min(start + step, n))
         paths = np.arange(sl.start * samples, sl.stop * samples)
@@ -223,12 +242,14 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
         at = point[alive]
         _, beta = brdf_weight(tables, material[at], wo[at], normal[at], first[alive])
         del first
+        beta = _segment(media, origin[at], d, hits.distance, beta, out, at)
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
             v = _vertices(tables, hits, d, epsilon, texture)
             p_sun = sun if len(sun) == 1 else sun[point[alive]]
-            _add(out, point[alive], beta * _own(tracer, tables, v, p_sun, shadows))
+            _add(out, point[alive], beta * _own(tracer, tables, v, p_sun, shadows,
+                                                media=media))
             wi_v, w_v = brdf_weight(tables, v.material, v.to_previous, v.normal,
                                     u.at(paths[alive], bounce))
             beta = beta * w_v * v.reflectance[:, None]
@@ -240,14 +261,17 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
                 if sky_on:
                     sky = np.flatnonzero(d[:, 2] > 0.0)
                     sky = sky[~tracer.occluded(o[sky], d[sky])]
-                    _add(out, point[alive[sky]], beta[sky] * sky_radiance(tables, d[sky]))
+                    _segment(media, o[sky], d[sky], None, beta[sky], out, point[alive[sky]],
+                             sky_radiance(tables, d[sky]))
                 break
             hits = tracer.intersect(o, d)  # the vertex's sky, or the next vertex
             sky = ~hits.hit & (d[:, 2] > 0.0)
             if np.any(sky):
-                _add(out, point[alive[sky]], beta[sky] * sky_radiance(tables, d[sky]))
+                _segment(media, o[sky], d[sky], None, beta[sky], out, point[alive[sky]],
+                         sky_radiance(tables, d[sky]))
             keep = hits.hit
             alive, beta, d, hits = alive[keep], beta[keep], d[keep], _take(hits, keep)
+            beta = _segment(media, o[keep], d, hits.distance, beta, out, point[alive])
     out /= samples
     return out
 
@@ -269,7 +293,8 @@ def _take(hits, keep):
 
 
 def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon,
-                        shadows=True, texture: Callable | None = None) -> np.ndarray:
+                        shadows=True, texture: Callable | None = None,
+                        media=None) -> np.ndarray:
     """:func:`reflected`, one path at a time: the slow, obvious version (the tests' oracle)."""
     n, samples, depth = u.points, u.samples, u.bounces + 1
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
@@ -287,11 +312,15 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
                 hits = tracer.intersect(o, d)
                 if not hits.hit[0]:
                     if bounce > 1 and d[0, 2] > 0.0:
-                        out[i] += beta[0] * sky_radiance(tables, d)[0]
+                        trans, light = _along_reference(media, o, d, None)
+                        out[i] += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
                     break
+                trans, light = _along_reference(media, o, d, hits.distance)
+                out[i] += beta[0] * light
+                beta = beta * trans
                 v = _vertices(tables, hits, d, epsilon, texture)
                 out[i] += beta[0] * _own(tracer, tables, v, s_dir[None], shadows,
-                                         brdf_reference)[0]
+                                         brdf_reference, media)[0]
                 d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
                                              u.at([i * samples + s], bounce))
                 beta = beta * w * v.reflectance[0]
@@ -299,9 +328,18 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
                     break
                 o = v.origin
                 if bounce == depth - 1 and d[0, 2] > 0.0 and not tracer.occluded(o, d)[0]:
-                    out[i] += beta[0] * sky_radiance(tables, d)[0]
+                    trans, light = _along_reference(media, o, d, None)
+                    out[i] += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
         out[i] /= max(samples, 1)
     return out
+
+
+def _along_reference(media, origin, direction, distance):
+    """T (n_b,) and L_v (n_b,) of one segment (T = 1, L = 0 without media)."""
+    if media is None:
+        return 1.0, 0.0
+    trans, light = media.along(origin, direction, distance, sheets=False)
+    return trans[0], light[0]
 
 
 class Pass:
@@ -315,33 +353,36 @@ class Pass:
     seed : int — the scene's seed; each tile's uniforms come from :func:`draws`
     epsilon : float — offset of ray origins along the normal [m]
     shadows : bool — trace the vertices' shadow rays
-    texture : callable, optional — as for :func:`reflected`
+    texture, media : optional — as for :func:`reflected`
     """
 
     def __init__(self, tracer, tables, *, samples, bounces, seed, epsilon, shadows=True,
-                 texture=None):
+                 texture=None, media=None):
         if int(samples) < 1 or int(bounces) < 1:
             raise ValueError(f"samples and bounces must be >= 1; got {samples}, {bounces}")
         self.tracer, self.tables = tracer, tables
         self.samples, self.bounces, self.seed = int(samples), int(bounces), int(seed)
         self.epsilon, self.shadows, self.texture = float(epsilon), bool(shadows), texture
+        self.media = media if media is not None and media.volumes else None
 
     def __call__(self, origin, normal, wo, material, sun, first_sample) -> np.ndarray:
         """(N, n_b) background radiance at the surface of a tile's hits (:func:`reflected`);
         ``first_sample`` is the index of the tile's first ray sample."""
         u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
         return reflected(self.tracer, self.tables, origin, normal, wo, material, sun, u,
-                         epsilon=self.epsilon, shadows=self.shadows, texture=self.texture)
+                         epsilon=self.epsilon, shadows=self.shadows, texture=self.texture,
+                         media=self.media)
 
 
-def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None) -> Pass | None:
+def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,
+               media=None) -> Pass | None:
     """The pass of one render, or None where the scene's ``background_bounces`` is 0.
 
     ``tables`` are the integrator's scene tables (tracer, per-face material and temperature,
     epsilon), ``bset`` its band setup (quadrature, the reference sun's spectrum, the sky
     table); the ``background_samples`` of a pixel are shared among its ``per_pixel`` ray
     samples (at least one path each); ``thermal`` flags the bands whose reflectances are
-    weighted by a 300 K blackbody; ``texture`` as for :func:`reflected`.
+    weighted by a 300 K blackbody; ``texture`` and ``media`` as for :func:`reflected`.
     """
     settings = scene.settings
     if settings.background_bounces == 0:
@@ -351,4 +392,5 @@ def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None) -> 
                        tables.face_material, tables.face_temperature)
     return Pass(tables.tracer, band, samples=-(-settings.background_samples // per_pixel),
                 bounces=settings.background_bounces, seed=settings.seed,
-                epsilon=tables.epsilon, shadows=settings.shadows, texture=texture)
+                epsilon=tables.epsilon, shadows=settings.shadows, texture=texture,
+                media=media)

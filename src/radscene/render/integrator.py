@@ -26,7 +26,15 @@ import xarray as xr
 
 from radscene.atmosphere import CouplingSpectra, SkyGeometry, sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
-from radscene.render import background, illumination, node_mixing, sheets, terms, volumes
+from radscene.render import (
+    background,
+    illumination,
+    media,
+    node_mixing,
+    sheets,
+    terms,
+    volumes,
+)
 from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
 from radscene.render.sun_track import combine_nodes, sun_geometry, sun_track
 
@@ -543,9 +551,15 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     # thread evaluates the terms of tile i (Embree and the numba kernels release the GIL). The
     # random rotations are drawn here, tile by tile, in the order of a serial render.
     scratch = {}
+    media_tables = None  # the band-mean BRDFs that reflect the volumes' own radiance
     unit_weight = bool(np.all(rays.weight == 1.0))  # then weighting changes nothing: skip it
     geolocation = None
     labelled = central & hit  # positions and view directions are known from the primary rays
+
+    # volumes and sheets on the sky and background rays (None: the scene has neither)
+    medium = _media(scene, tables, bands, sun_dir, track.up, suns[track.reference])
+    sky_open = np.zeros((n_b, n_pix)) if medium is not None else None
+    media_light = np.zeros((n_b, n_pix)) if medium is not None else None
 
     def launch(sl):
         state = _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
@@ -556,8 +570,13 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         n_specular = int(np.count_nonzero(state.specular))
         shifts = (rng.random((len(state.mat), 2)),
                   rng.random((n_specular, 2)) if n_specular else None)
-        return state, worker.submit(_secondary_rays, tables, state, settings, sky_nodes,
-                                    shifts, scratch, fused_sky, shadows)
+        job = worker.submit(_secondary_rays, tables, state, settings, sky_nodes, shifts,
+                            scratch, fused_sky, shadows)
+        # the sky rays through volumes and sheets: the same fan, traced again (media.py)
+        state.media = None if medium is None else worker.submit(
+            media.sky_fan, tables, medium, state.origin, state.nrm, settings.sky_samples,
+            shifts[0])
+        return state, job
 
     sky_diffuse = np.ascontiguousarray(coef.sky_diffuse.transpose(0, 2, 1, 3), dtype=float)
     # one sample per pixel and no BRDF model: the terms go straight into the outputs
@@ -595,7 +614,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         scene, tables, bset, bands, per_pixel,
         [band.response.center >= THERMAL_BAND_START for band in bands],
         (lambda obj, pos: _textures(scene, obj, pos))
-        if any(obj.textures for obj in scene.objects) else None)
+        if any(obj.textures for obj in scene.objects) else None, medium)
     sums[BACKGROUND_TERM] = bg = np.zeros((n_b, n_pix))
 
     def tile_totals(sl):
@@ -610,6 +629,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             total += acc[t, :, at]
         if reflect is not None:
             total += bg[:, at]
+        if media_light is not None:
+            total += media_light[:, at]
         if bt_map is not None:
             for b in thermal:
                 bt_map[b, at] = band_brightness_temperature(total[b], bands[b].response)
@@ -676,6 +697,21 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             cos_g = np.einsum("nc,nc->n", wo, np.broadcast_to(st.sun, wo.shape))
             _brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f,
                         path_nodes_all.subset(rank))
+        if medium is not None:  # the sky rays' change by volumes and sheets
+            change = st.media.result()
+            if media_tables is None:
+                media_tables = reflect.tables if reflect is not None else _reflection_tables(
+                    scene, tables, bset, bands)
+            d_sky, d_light = _media_sky(change, bset, sky_diffuse, st, tex, path_nodes_all,
+                                        media_tables, coef.transmittance)
+            if direct:
+                out[3][:, p] += (d_sky * wh[:, None]).T
+            else:
+                out[3] += d_sky.T
+            pixels, totals = _pixel_sums(p, wh, np.vstack([
+                d_light.T, sky_view[None, :] + change.view(n_hits).T]))
+            media_light[:, pixels] += totals[:n_b]
+            sky_open[:, pixels] += totals[n_b:]
         if reflect is not None:  # at the surface, then through τ_a and Δρ
             values = reflect(st.origin, nrm, wo, mat, st.sun, sl.start)
             values *= _gather_band(coef.transmittance, path_nodes_all.subset(rank))
@@ -717,13 +753,103 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             if any(np.any(layer[b]) for layer in coupled.values()):
                 bt_map[b] = band_brightness_temperature(radiance[b], bands[b].response)
     sums.update(coupled)
+    if media_light is not None:  # after the coupling pass: it is not light from the sky
+        sums["sky_reflected"] += media_light
     elapsed = _time.perf_counter() - started
     ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
                   object_id, material_id, normal_map, sun, elapsed, pool=worker,
                   brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
         geolocation = _geolocation(scene, hits, rays, labelled, track)
+    if sky_open is not None:
+        seen = truth_sum["hit_weight"] > 0.0
+        sky_open[:, seen] /= truth_sum["hit_weight"][seen]
+        sky_open[:, ~seen] = np.nan
+        ds["sky_view_transmitted"] = (("band", "y", "x"), sky_open.reshape(n_b, ny, nx), {
+            "units": "1", "long_name": "cosine-weighted fraction of the hemisphere that sees "
+            "sky, each direction weighted by the band transmittance of the volumes and sheets "
+            "along it"})
     return cf_conventions(ds.assign(geolocation), scene)
+
+
+def _media(scene, tables, bands, sun_dir, sun_up, reference):
+    """The volumes and sheets that the sky rays of a render cross (:class:`media.Media`), or
+    None where the scene has neither. ``reference`` is the (sun, atmosphere) pair whose sun
+    the volumes scatter, along the hits' mean sun direction ``sun_dir``."""
+    has_sheets = bool(tables.sheet_object.any())
+    if not scene.volumes and not has_sheets:
+        return None
+    sun = None
+    if sun_up and any(v.albedo > 0.0 for v in scene.volumes):
+        mean = np.reshape(sun_dir, (-1, 3)).mean(axis=0)
+        sun = (mean / np.linalg.norm(mean), _sun_irradiance(reference[1], reference[0]))
+    sheet_tau = sheets.band_transmittance(scene.materials, bands) if has_sheets else None
+    return media.Media(
+        tuple(scene.volumes), list(bands), float(scene.location.altitude), sun,
+        _breakpoints(scene), tables if has_sheets else None, sheet_tau,
+        (lambda obj, pos: _textures(scene, obj, pos)["transmittance"]) if has_sheets else None)
+
+
+def _reflection_tables(scene, tables, bset, bands):
+    """The reflected background's band tables (band-mean BRDFs) without its pass."""
+    return background.band_tables(
+        scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
+        bset.coefficients.sky_view, bset.sky_nodes,
+        [band.response.center >= THERMAL_BAND_START for band in bands], tables.face_offset,
+        tables.face_material, tables.face_temperature)
+
+
+#: Sky-fan rays whose sky-node weights are formed at once (P × sky nodes floats).
+MEDIA_CHUNK = 1 << 13
+
+
+def _media_sky(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transmittance):
+    """The change of a tile's reflected sky by volumes and sheets, per hit (N, n_b), and the
+    volumes' own radiance reflected along the sky rays (N, n_b) [W m-2 sr-1].
+
+    Each changed ray r of hit i adds delta_r,b times its share of the reflected sky, the sky
+    sum of the render's tables with the ray's own sky-node weights as fractions (so the sun's
+    spectral factors, ρ and τ_a stay as in the sky term), divided by the fan's rays; and
+    π f̄(ω_r, ω_o) L_v,r τ̄_a of the volumes' radiance, f̄ the band-mean BRDF of the
+    reflected background (:mod:`radscene.render.background_tables`).
+    """
+    from radscene.render.background_tables import brdf
+
+    n, n_b = len(st.mat), sky_diffuse.shape[2]
+    d_sky, d_light = np.zeros((n, n_b)), np.zeros((n, n_b))
+    if len(change.point) == 0:
+        return d_sky, d_light
+    tau_a = _gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
+    for start in range(0, len(change.point), MEDIA_CHUNK):
+        c = slice(start, start + MEDIA_CHUNK)
+        point, d = change.point[c], change.direction[c]
+        zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
+        azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
+        hats = sky_node_weights(zenith, azimuth, *bset.sky_nodes)  # (P, K)
+        nodes = nodes_all.subset(st.rank[point])
+        mat = st.mat[point]
+        share = node_mixing.mix_sky(sky_diffuse, mat, nodes.index, nodes.weight, hats)
+        if bset.brdf is not None:  # by reciprocity, ρ_dh at the view angle (_brdf_terms)
+            for m in bset.brdf.models:
+                sel = np.flatnonzero(mat == m)
+                if len(sel) == 0:
+                    continue
+                lower, frac = _view_weights(st.cos_v[point[sel]])
+                sub = nodes.subset(sel)
+                share[sel] = sum(
+                    v_weight[:, None] * _sky_sum(bset.brdf.sky[m], v_index, sub, hats[sel])
+                    for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)))
+        light = change.light[c]
+        own = np.zeros_like(light)
+        lit = np.flatnonzero(np.any(light > 0.0, axis=1))
+        if len(lit):
+            f = brdf(reflection, mat[lit], d[lit], st.wo[point[lit]], st.nrm[point[lit]])
+            own[lit] = np.pi * f * light[lit] * tau_a[point[lit]]
+        for b in range(n_b):
+            d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
+            d_light[:, b] += np.bincount(point, own[:, b], n)
+    scale = tex["reflectance"][:, None] / change.samples
+    return d_sky * scale, d_light * scale
 
 
 def _adjacency_on(scene, height) -> bool:
