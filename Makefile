@@ -30,6 +30,8 @@ bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 	$(BIN)/python benchmarks/bench_hyperspectral.py
 	$(BIN)/python benchmarks/bench_background.py
 	$(BIN)/python benchmarks/bench_motion.py
+	$(BIN)/python benchmarks/bench_realtime.py
+	$(BIN)/python benchmarks/bench_volumes.py
 
 lowtran: $(STAMP)  ## build LOWTRAN7 for the `lowtran` atmosphere engine (needs gfortran)
 	$(BIN)/python scripts/build_lowtran.py --check
