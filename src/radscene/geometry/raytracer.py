@@ -35,7 +35,7 @@ import numpy as np
 from radscene.errors import ConfigError
 from radscene.geometry.mesh import Mesh
 
-__all__ = ["Hits", "RayTracer"]
+__all__ = ["Hits", "RayTracer", "clip_ray"]
 
 
 @dataclass
@@ -133,6 +133,21 @@ def _fmax(a, b):
     return a if a >= b else b
 
 
+@numba.njit(inline="always")
+def clip_ray(ox, oy, oz, dx, dy, dz, center, half):
+    """One ray (unit direction) clipped to the box ``center`` ± ``half``, as :meth:`RayTracer.
+    intersect` clips it: (entry advance, exit distance [m], float32 local start x, y, z).
+    The box is missed where entry > exit."""
+    lx, ly, lz = ox - center[0], oy - center[1], oz - center[2]
+    t1x, t2x = (-half[0] - lx) * (1.0 / dx), (half[0] - lx) * (1.0 / dx)
+    t1y, t2y = (-half[1] - ly) * (1.0 / dy), (half[1] - ly) * (1.0 / dy)
+    t1z, t2z = (-half[2] - lz) * (1.0 / dz), (half[2] - lz) * (1.0 / dz)
+    enter = _fmax(_fmax(_fmax(_fmin(t1x, t2x), _fmin(t1y, t2y)), _fmin(t1z, t2z)), 0.0)
+    leave = _fmin(_fmin(_fmax(t1x, t2x), _fmax(t1y, t2y)), _fmax(t1z, t2z))
+    return (enter, leave, np.float32(lx + enter * dx), np.float32(ly + enter * dy),
+            np.float32(lz + enter * dz))
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def _prepare(o, d, center, half, unit, start, direction, t_in, reach):
     """Checked, normalised and box-clipped rays in one pass (as :func:`_rays`, ``_starts``).
@@ -153,17 +168,10 @@ def _prepare(o, d, center, half, unit, start, direction, t_in, reach):
             continue
         dx, dy, dz = dx / length, dy / length, dz / length
         unit[i, 0], unit[i, 1], unit[i, 2] = dx, dy, dz
-        lx, ly, lz = ox - center[0], oy - center[1], oz - center[2]
-        t1x, t2x = (-half[0] - lx) * (1.0 / dx), (half[0] - lx) * (1.0 / dx)
-        t1y, t2y = (-half[1] - ly) * (1.0 / dy), (half[1] - ly) * (1.0 / dy)
-        t1z, t2z = (-half[2] - lz) * (1.0 / dz), (half[2] - lz) * (1.0 / dz)
-        enter = _fmax(_fmax(_fmax(_fmin(t1x, t2x), _fmin(t1y, t2y)), _fmin(t1z, t2z)), 0.0)
-        leave = _fmin(_fmin(_fmax(t1x, t2x), _fmax(t1y, t2y)), _fmax(t1z, t2z))
+        enter, leave, start[i, 0], start[i, 1], start[i, 2] = clip_ray(ox, oy, oz, dx, dy, dz,
+                                                                     center, half)
         t_in[i] = enter
         reach[i] = enter <= leave
-        start[i, 0] = np.float32(lx + enter * dx)
-        start[i, 1] = np.float32(ly + enter * dy)
-        start[i, 2] = np.float32(lz + enter * dz)
         direction[i, 0], direction[i, 1], direction[i, 2] = (
             np.float32(dx), np.float32(dy), np.float32(dz))
     return bad
@@ -498,6 +506,31 @@ class RayTracer:
                     self._face_offset, self._normals, distance, obj, primitive, u, v, normal,
                     position)
         return Hits(distance, obj, primitive, u, v, normal, position, obj >= 0)
+
+    def hits(self, origins, directions, t_in, geom, prim, tfar, u, v) -> Hits:
+        """The :class:`Hits` of rays that a compiled kernel clipped (:func:`clip_ray`) and
+        traced through :attr:`packets` itself, formed as :meth:`intersect` forms its own.
+
+        Parameters
+        ----------
+        origins, directions : (N, 3) float64 — world origins [m], unit directions [-]
+        t_in : (N,) float64 — each ray's box-entry advance [m]
+        geom, prim : (N,) int32 — Embree's geometry and triangle index, -1 on a miss
+        tfar, u, v : (N,) float32 — Embree's distance from the entry point [m] and
+            barycentric coordinates
+        """
+        n = len(origins)
+        distance, position = np.empty(n), np.empty((n, 3))
+        obj, primitive = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
+        hit_u, hit_v = np.empty(n, dtype=np.float32), np.empty(n, dtype=np.float32)
+        normal = np.empty((n, 3))
+        if n:
+            _finish(np.ascontiguousarray(origins, dtype=np.float64),
+                    np.ascontiguousarray(directions, dtype=np.float64),
+                    np.ascontiguousarray(t_in, dtype=np.float64), geom, prim, tfar, u, v,
+                    self._object_of_geom, self._face_offset, self._normals, distance, obj,
+                    primitive, hit_u, hit_v, normal, position)
+        return Hits(distance, obj, primitive, hit_u, hit_v, normal, position, obj >= 0)
 
     def occluded(self, origins, directions, t_max=None) -> np.ndarray:
         """Whether anything lies on each ray between its origin and ``t_max``.

@@ -60,6 +60,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from radscene.atmosphere import sky_node_weights
+from radscene.render import background_kernels as kernels
 from radscene.render.background_tables import (
     WEIGHTING_TEMPERATURE,
     BackgroundTables,
@@ -210,19 +211,16 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     step = max(1, CHUNK_SAMPLES // samples)
     sky_on = bool(np.any(tables.sky > 0.0))
+    origin, normal, wo = (np.ascontiguousarray(a, dtype=np.float64) for a in (origin, normal, wo))
+    material = np.ascontiguousarray(material, dtype=np.int64)
     for start in range(0, n, step):
-        sl = slice(start, min(start + step, n))
-        paths = np.arange(sl.start * samples, sl.stop * samples)
-        point = paths // samples  # each path's point
-        first = u.at(paths, 0)
         # every path's first direction; the weights only of those that meet the scene
-        wi, valid = directions(tables, material, wo, normal, point, first)
-        alive = np.flatnonzero(valid)
-        hits = tracer.intersect(origin[point[alive]], wi[alive])
-        alive, d, hits = alive[hits.hit], wi[alive[hits.hit]], _take(hits, hits.hit)
-        at = point[alive]
-        _, beta = brdf_weight(tables, material[at], wo[at], normal[at], first[alive])
-        del first
+        paths, d, hits = _first_vertices(tracer, tables, origin, normal, wo, material, u,
+                                         start, min(start + step, n))
+        point = paths // samples  # each path's point
+        _, beta = brdf_weight(tables, material[point], wo[point], normal[point],
+                              u.at(paths, 0))
+        alive = np.arange(len(paths))  # rows of paths
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
@@ -250,6 +248,61 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
             alive, beta, d, hits = alive[keep], beta[keep], d[keep], _take(hits, keep)
     out /= samples
     return out
+
+
+def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi):
+    """The paths of points ``lo`` to ``hi`` whose first direction meets the scene, in the
+    order of their indices: (paths (P,), their directions (P, 3), their Hits)."""
+    samples = u.samples
+    packets = tracer.packets
+    modelled = np.zeros(len(tables.exponent), dtype=bool)
+    modelled[list(tables.brdfs)] = True
+    if packets is None or np.all(modelled[material[lo:hi]]):  # embreex: draw all, then trace
+        return _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u,
+                                     np.arange(lo * samples, hi * samples))
+    n = (hi - lo) * samples
+    direction, unit, t_in = np.empty((n, 3)), np.empty((n, 3)), np.empty(n)
+    geom, prim = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
+    tfar, hit_u, hit_v = (np.empty(n, dtype=np.float32) for _ in range(3))
+    reflects = np.any((tables.diffuse > 0.0) | (tables.specular > 0.0), axis=1)
+    kernels.first_hits(packets.intersect8, packets.handle, np.uint64(u.key), u.bounces + 1, lo,
+                       hi, samples, wo, normal, origin, material, reflects & ~modelled,
+                       tables.p_lobe, tables.exponent, tracer.center, tracer.half_size,
+                       direction, unit, t_in, geom, prim, tfar, hit_u, hit_v)
+    rows = np.flatnonzero(geom >= 0)
+    hits = tracer.hits(origin[lo + rows // samples], unit[rows], t_in[rows], geom[rows],
+                       prim[rows], tfar[rows], hit_u[rows], hit_v[rows])
+    paths, d = lo * samples + rows, direction[rows]
+    if not np.any(modelled[material[lo:hi]]):
+        return paths, d, hits
+    # the paths of materials with a BRDF model: drawn through the registry, merged in order
+    others = np.flatnonzero(modelled[material[lo:hi]])
+    more = (lo + others)[:, None] * samples + np.arange(samples)
+    m_paths, m_d, m_hits = _first_vertices_drawn(tracer, tables, origin, normal, wo,
+                                                 material, u, more.ravel())
+    order = np.argsort(np.concatenate([paths, m_paths]), kind="stable")
+    both = _concat(hits, m_hits)
+    return (np.concatenate([paths, m_paths])[order], np.concatenate([d, m_d])[order],
+            _take(both, order))
+
+
+def _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u, paths):
+    """:func:`_first_vertices` of some paths, their directions drawn first, then traced by
+    :meth:`RayTracer.intersect`."""
+    point = paths // u.samples
+    wi, valid = directions(tables, material, wo, normal, point, u.at(paths, 0))
+    alive = np.flatnonzero(valid)
+    hits = tracer.intersect(origin[point[alive]], wi[alive])
+    keep = alive[hits.hit]
+    return paths[keep], wi[keep], _take(hits, hits.hit)
+
+
+def _concat(a, b):
+    """Two Hits batches, one after the other."""
+    from radscene.geometry.raytracer import Hits
+
+    return Hits(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in
+                  ("distance", "object", "primitive", "u", "v", "normal", "position", "hit")))
 
 
 def _add(out, rows, values):
