@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 __all__ = ["PacketScene", "packet_scene", "packets_available", "aligned", "packet_buffers",
-           "set_lane", "set_hit_lane", "read_hit", "RAY8_FLOATS", "RAYHIT8_FLOATS", "LANES"]
+           "set_lane", "RAY8_FLOATS", "LANES"]
 
 #: Rays per packet.
 LANES = 8
@@ -355,27 +355,6 @@ _HIT = RAY8_FLOATS  # offset of the hit part
 _INVALID_ID = 0xFFFFFFFF
 
 
-@numba.njit(inline="always")
-def set_hit_lane(rayhit, words, lane, ox, oy, oz, dx, dy, dz):
-    """:func:`set_lane` for a ``RTCRayHit8`` packet (``RAYHIT8_FLOATS`` words): the ray,
-    and its hit's geomID, instID and instPrimID invalid."""
-    set_lane(rayhit, words, lane, ox, oy, oz, dx, dy, dz)
-    for f in range(6, 10):
-        words[_HIT + f * LANES + lane] = _INVALID_ID
-
-
-@numba.njit(inline="always")
-def read_hit(rayhit, words, lane):
-    """The hit of lane ``lane`` of a traced ``RTCRayHit8`` packet: (geomID, primID, tfar, u,
-    v), geomID and primID -1 and the rest 0 on a miss."""
-    g = words[_HIT + 6 * LANES + lane]
-    if g == _INVALID_ID:
-        return (np.int32(-1), np.int32(-1), np.float32(0.0), np.float32(0.0),
-                np.float32(0.0))
-    return (np.int32(g), np.int32(words[_HIT + 5 * LANES + lane]), rayhit[8 * LANES + lane],
-            rayhit[_HIT + 3 * LANES + lane], rayhit[_HIT + 4 * LANES + lane])
-
-
 @numba.njit(parallel=True, cache=True)
 def _intersect_rays(intersect8, scene, origins, directions, geom, prim, tfar, u, v):
     n = origins.shape[0]
@@ -388,11 +367,21 @@ def _intersect_rays(intersect8, scene, origins, directions, geom, prim, tfar, u,
                     valid[lane] = 0
                     continue
                 valid[lane] = -1
-                set_hit_lane(rayhit, words, lane, origins[k, 0], origins[k, 1], origins[k, 2],
-                             directions[k, 0], directions[k, 1], directions[k, 2])
+                set_lane(rayhit, words, lane, origins[k, 0], origins[k, 1], origins[k, 2],
+                         directions[k, 0], directions[k, 1], directions[k, 2])
+                for f in range(6, 10):  # geomID, instID, instPrimID: invalid
+                    words[_HIT + f * LANES + lane] = _INVALID_ID
             intersect8(valid.ctypes.data, scene, rayhit.ctypes.data, 0)
             for lane in range(LANES):
                 k = start + lane
                 if k >= n:
                     continue
-                geom[k], prim[k], tfar[k], u[k], v[k] = read_hit(rayhit, words, lane)
+                g = words[_HIT + 6 * LANES + lane]
+                if g == _INVALID_ID:
+                    geom[k], prim[k], tfar[k], u[k], v[k] = -1, -1, 0.0, 0.0, 0.0
+                else:
+                    geom[k] = g
+                    prim[k] = words[_HIT + 5 * LANES + lane]
+                    tfar[k] = rayhit[8 * LANES + lane]
+                    u[k] = rayhit[_HIT + 3 * LANES + lane]
+                    v[k] = rayhit[_HIT + 4 * LANES + lane]

@@ -507,31 +507,6 @@ class RayTracer:
                     position)
         return Hits(distance, obj, primitive, u, v, normal, position, obj >= 0)
 
-    def hits(self, origins, directions, t_in, geom, prim, tfar, u, v) -> Hits:
-        """The :class:`Hits` of rays that a compiled kernel clipped (:func:`clip_ray`) and
-        traced through :attr:`packets` itself, formed as :meth:`intersect` forms its own.
-
-        Parameters
-        ----------
-        origins, directions : (N, 3) float64 — world origins [m], unit directions [-]
-        t_in : (N,) float64 — each ray's box-entry advance [m]
-        geom, prim : (N,) int32 — Embree's geometry and triangle index, -1 on a miss
-        tfar, u, v : (N,) float32 — Embree's distance from the entry point [m] and
-            barycentric coordinates
-        """
-        n = len(origins)
-        distance, position = np.empty(n), np.empty((n, 3))
-        obj, primitive = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
-        hit_u, hit_v = np.empty(n, dtype=np.float32), np.empty(n, dtype=np.float32)
-        normal = np.empty((n, 3))
-        if n:
-            _finish(np.ascontiguousarray(origins, dtype=np.float64),
-                    np.ascontiguousarray(directions, dtype=np.float64),
-                    np.ascontiguousarray(t_in, dtype=np.float64), geom, prim, tfar, u, v,
-                    self._object_of_geom, self._face_offset, self._normals, distance, obj,
-                    primitive, hit_u, hit_v, normal, position)
-        return Hits(distance, obj, primitive, hit_u, hit_v, normal, position, obj >= 0)
-
     def occluded(self, origins, directions, t_max=None) -> np.ndarray:
         """Whether anything lies on each ray between its origin and ``t_max``.
 

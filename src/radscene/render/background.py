@@ -56,6 +56,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -158,8 +159,9 @@ def _vertices(tables, hits, directions, epsilon, texture) -> _Vertices:
                      tables.face_temperature[face])
 
 
-def _own(tracer, tables, v, sun, shadows, f=None) -> np.ndarray:
-    """Emission and reflected sun of vertices towards the previous vertex: (N, n_b)."""
+def _own(tracer, tables, v, sun, shadows, f=None, occluded=None) -> np.ndarray:
+    """Emission and reflected sun of vertices towards the previous vertex: (N, n_b);
+    ``f`` and ``occluded`` default to :func:`brdf` and :func:`_occluded`."""
     out = emission(tables, v.material, v.temperature) * v.emissivity[:, None]
     if not np.any(tables.sun_irradiance > 0.0) or len(out) == 0:
         return out
@@ -168,7 +170,7 @@ def _own(tracer, tables, v, sun, shadows, f=None) -> np.ndarray:
     lit = cos_s > 0.0
     if shadows and np.any(lit):
         idx = np.flatnonzero(lit)
-        lit[idx] = ~tracer.occluded(v.origin[idx], sun[idx])
+        lit[idx] = ~(occluded or partial(_occluded, tracer))(v.origin[idx], sun[idx])
     if np.any(lit):
         values = (f or brdf)(tables, v.material[lit], sun[lit], v.to_previous[lit],
                              v.normal[lit])
@@ -237,7 +239,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
             if bounce == bounces:  # the last vertex's sky: an occlusion ray
                 if sky_on:
                     sky = np.flatnonzero(d[:, 2] > 0.0)
-                    sky = sky[~tracer.occluded(o[sky], d[sky])]
+                    sky = sky[~_occluded(tracer, o[sky], d[sky])]
                     _add(out, point[alive[sky]], beta[sky] * sky_radiance(tables, d[sky]))
                 break
             hits = tracer.intersect(o, d)  # the vertex's sky, or the next vertex
@@ -261,18 +263,17 @@ def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi):
         return _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u,
                                      np.arange(lo * samples, hi * samples))
     n = (hi - lo) * samples
-    direction, unit, t_in = np.empty((n, 3)), np.empty((n, 3)), np.empty(n)
-    geom, prim = np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int32)
-    tfar, hit_u, hit_v = (np.empty(n, dtype=np.float32) for _ in range(3))
+    direction, blocked = np.empty((n, 3)), np.empty(n, dtype=bool)
     reflects = np.any((tables.diffuse > 0.0) | (tables.specular > 0.0), axis=1)
-    kernels.first_hits(packets.intersect8, packets.handle, np.uint64(u.key), u.bounces + 1, lo,
-                       hi, samples, wo, normal, origin, material, reflects & ~modelled,
-                       tables.p_lobe, tables.exponent, tracer.center, tracer.half_size,
-                       direction, unit, t_in, geom, prim, tfar, hit_u, hit_v)
-    rows = np.flatnonzero(geom >= 0)
-    hits = tracer.hits(origin[lo + rows // samples], unit[rows], t_in[rows], geom[rows],
-                       prim[rows], tfar[rows], hit_u[rows], hit_v[rows])
-    paths, d = lo * samples + rows, direction[rows]
+    kernels.first_blocked(packets.occluded8, packets.handle, np.uint64(u.key), u.bounces + 1,
+                          lo, hi, samples, wo, normal, origin, material, reflects & ~modelled,
+                          tables.p_lobe, tables.exponent, tracer.center, tracer.half_size,
+                          direction, blocked)
+    # the few that meet the scene, traced again for their first hit
+    rows = np.flatnonzero(blocked)
+    hits = tracer.intersect(origin[lo + rows // samples], direction[rows])
+    rows = rows[hits.hit]
+    paths, d, hits = lo * samples + rows, direction[rows], _take(hits, hits.hit)
     if not np.any(modelled[material[lo:hi]]):
         return paths, d, hits
     # the paths of materials with a BRDF model: drawn through the registry, merged in order
@@ -306,11 +307,22 @@ def _concat(a, b):
 
 
 def _add(out, rows, values):
-    """out[rows] += values, rows repeating."""
+    """out[rows] += values, rows repeating (in their order)."""
     if len(rows) == 0:
         return
-    for b in range(out.shape[1]):
-        out[:, b] += np.bincount(rows, values[:, b], minlength=len(out))
+    kernels.add_rows(out, np.ascontiguousarray(rows, dtype=np.int64),
+                     np.ascontiguousarray(values, dtype=np.float64))
+
+
+def _occluded(tracer, origins, directions) -> np.ndarray:
+    """``tracer.occluded(origins, directions)``, as Embree packets where the tracer has them
+    and the origins lie in its box (then clipping the rays to the box changes nothing)."""
+    local = None if tracer.packets is None or len(origins) == 0 else tracer.to_local(origins)
+    if local is None:
+        return tracer.occluded(origins, directions)
+    d = np.asarray(directions, dtype=np.float64)
+    d = d / np.linalg.norm(d, axis=1)[:, None]  # as RayTracer.occluded normalises
+    return tracer.occluded_local(local, np.ascontiguousarray(d, dtype=np.float32))
 
 
 def _take(hits, keep):
@@ -344,7 +356,7 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
                     break
                 v = _vertices(tables, hits, d, epsilon, texture)
                 out[i] += beta[0] * _own(tracer, tables, v, s_dir[None], shadows,
-                                         brdf_reference)[0]
+                                         brdf_reference, tracer.occluded)[0]
                 d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
                                              u.at([i * samples + s], bounce))
                 beta = beta * w * v.reflectance[0]

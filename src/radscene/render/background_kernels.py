@@ -14,12 +14,12 @@ import math
 import numba
 import numpy as np
 
-from radscene.geometry.embree import LANES, RAYHIT8_FLOATS, packet_buffers, read_hit, set_hit_lane
+from radscene.geometry.embree import LANES, RAY8_FLOATS, packet_buffers, set_lane
 from radscene.geometry.raytracer import clip_ray
 from radscene.render.kernels import _basis
 
 __all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms",
-           "first_hits"]
+           "first_blocked", "add_rows"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -187,60 +187,55 @@ def counter_uniforms(key, paths, bounce, depth, out):
             out[i, d] = _uniform(key, paths[i], bounce, depth, d)
 
 
-#: Points per parallel work item of :func:`first_hits`.
+#: Points per parallel work item of :func:`first_blocked`.
 _POINT_BLOCK = 256
 
 
 @numba.njit(inline="always")
-def _trace_lanes(intersect8, scene, rayhit, words, valid, slot, lanes, geom, prim, tfar, hit_u,
-                 hit_v):
-    """Trace the first ``lanes`` lanes of a packet; write their hits to rows ``slot``."""
+def _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked):
+    """Trace the first ``lanes`` lanes of a packet; flag rows ``slot`` that are blocked."""
     for lane in range(lanes, LANES):
         valid[lane] = 0
-    intersect8(valid.ctypes.data, scene, rayhit.ctypes.data, 0)
+    occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
     for lane in range(lanes):
-        k = slot[lane]
-        geom[k], prim[k], tfar[k], hit_u[k], hit_v[k] = read_hit(rayhit, words, lane)
+        blocked[slot[lane]] = ray[8 * LANES + lane] < 0.0
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def first_hits(intersect8, scene, key, depth, lo, hi, samples, wo, normal, origin, material,
-               traced, p_lobe, exponent, center, half, direction, unit, t_in, geom, prim, tfar,
-               hit_u, hit_v):
-    """The first vertices of the paths from points ``lo`` to ``hi``, in one pass: each path's
-    uniforms (:func:`counter_uniforms`, vertex 0), its direction from the point's Phong model
-    (as :func:`phong_directions`), and its ray clipped as :meth:`RayTracer.intersect` clips it
-    and traced with Embree's ``rtcIntersect8``, the valid rays packed eight to a packet (a
-    point's paths share their origin).
+def first_blocked(occluded8, scene, key, depth, lo, hi, samples, wo, normal, origin, material,
+                  traced, p_lobe, exponent, center, half, direction, blocked):
+    """The first directions of the paths from points ``lo`` to ``hi`` and whether they meet
+    the scene, in one pass: each path's uniforms (:func:`counter_uniforms`, vertex 0), its
+    direction from the point's Phong model (as :func:`phong_directions`), its ray clipped as
+    :meth:`RayTracer.intersect` clips it and traced by Embree's ``rtcOccluded8``, the valid
+    rays packed eight to a packet (a point's paths share their origin).
 
-    Row k of the outputs is path (lo · samples + k), of point lo + k // samples.
+    Row k of the outputs is path lo · samples + k, of point lo + k // samples.
 
     Parameters
     ----------
-    intersect8, scene : Embree's ``rtcIntersect8`` and the packet scene's handle
+    occluded8, scene : Embree's ``rtcOccluded8`` and the packet scene's handle
     key : uint64 — the tile's key; depth : vertices per path (bounces + 1)
     wo, normal, origin : (N, 3) float64 — each point's ω_o, normal facing it, ray origin [m]
     material : (N,) int64
-    traced : (M,) bool — materials drawn here (plain and reflecting); the paths of others
-        are left untraced (geom -1)
+    traced : (M,) bool — materials drawn here (plain and reflecting); the paths of the
+        others are not blocked
     p_lobe, exponent : (M,) — as for :func:`phong_weights`
     center, half : (3,) — the tracer's box (:attr:`RayTracer.center`, ``half_size``) [m]
-    direction, unit : ((hi - lo) · samples, 3) float64 out — the drawn direction and its
-        normalised copy (rows of traced rays)
-    t_in : (…,) float64 out — box-entry advance [m]
-    geom, prim, tfar, hit_u, hit_v : (…,) out — Embree's hit (:func:`read_hit`); geom -1
-        where the path was not traced or missed
+    direction : ((hi - lo) · samples, 3) float64 out — the drawn directions (rows of traced
+        paths whose weight may be non-zero)
+    blocked : ((hi - lo) · samples,) bool out — the direction meets the scene
     """
     n_blocks = (hi - lo + _POINT_BLOCK - 1) // _POINT_BLOCK
     for c in numba.prange(n_blocks):
-        rayhit, words, valid = packet_buffers(RAYHIT8_FLOATS)
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
         slot = np.empty(LANES, np.int64)
         lanes = 0
         for i in range(lo + c * _POINT_BLOCK, min(hi, lo + (c + 1) * _POINT_BLOCK)):
             m = material[i]
             for s in range(samples):
                 k = (i - lo) * samples + s
-                geom[k] = -1
+                blocked[k] = False
                 if not traced[m]:
                     continue
                 path = i * samples + s
@@ -257,17 +252,22 @@ def first_hits(intersect8, scene, key, depth, lo, hi, samples, wo, normal, origi
                 if not enter <= leave:
                     continue
                 direction[k, 0], direction[k, 1], direction[k, 2] = dx, dy, dz
-                unit[k, 0], unit[k, 1], unit[k, 2] = ux, uy, uz
-                t_in[k] = enter
-                set_hit_lane(rayhit, words, lanes, sx, sy, sz, np.float32(ux),
-                             np.float32(uy), np.float32(uz))
+                set_lane(ray, words, lanes, sx, sy, sz, np.float32(ux), np.float32(uy),
+                         np.float32(uz))
                 valid[lanes] = -1
                 slot[lanes] = k
                 lanes += 1
                 if lanes == LANES:
-                    _trace_lanes(intersect8, scene, rayhit, words, valid, slot, lanes, geom,
-                                 prim, tfar, hit_u, hit_v)
+                    _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked)
                     lanes = 0
         if lanes:
-            _trace_lanes(intersect8, scene, rayhit, words, valid, slot, lanes, geom, prim,
-                         tfar, hit_u, hit_v)
+            _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked)
+
+
+@numba.njit(cache=True)
+def add_rows(out, rows, values):
+    """out[rows[i]] += values[i] for each i in order (rows may repeat)."""
+    for i in range(len(rows)):
+        r = rows[i]
+        for b in range(out.shape[1]):
+            out[r, b] += values[i, b]
