@@ -28,11 +28,11 @@ class _Band:
         return ((wl >= self.support[0]) & (wl <= self.support[1])).astype(float)
 
 
-def _setup(bounces, specular=0.0):
+def _setup(bounces, specular=0.0, packets=True, brdfs=None):
     """A 2 m box on a 40 m plate, a visible and a thermal band; points on the plate around
-    the box, looking up."""
+    the box, looking up. ``brdfs`` as for :func:`background.band_tables`."""
     meshes = [plate(40.0, 40.0), box((2.0, 2.0, 2.0)).transformed(translation=(0.0, 0.0, 0.0))]
-    tracer = RayTracer(meshes)
+    tracer = RayTracer(meshes, packets=packets)
     materials = [Material.create("ground", reflectance=0.3 + specular,
                                  specular_reflectance=specular,
                                  specular_exponent=40.0),
@@ -46,8 +46,9 @@ def _setup(bounces, specular=0.0):
     face_offset = np.array([0, faces[0]])
     face_material = np.concatenate([np.zeros(faces[0], int), np.ones(faces[1], int)])
     face_temperature = np.concatenate([np.full(faces[0], 300.0), np.full(faces[1], 320.0)])
-    tables = background.band_tables(materials, {}, quadrature, sun_spectra, sky, (zen, az),
-                                    [False, True], face_offset, face_material, face_temperature)
+    tables = background.band_tables(materials, brdfs or {}, quadrature, sun_spectra, sky,
+                                    (zen, az), [False, True], face_offset, face_material,
+                                    face_temperature)
     rng = np.random.default_rng(4)
     n = 12
     azimuth, radius = rng.uniform(0.0, 2.0 * np.pi, n), rng.uniform(1.5, 2.5, n)
@@ -68,6 +69,33 @@ def test_vectorised_pass_equals_reference(bounces, specular):
     slow = background.reflected_reference(*args, epsilon=1e-3)
     assert np.count_nonzero(fast[:, 1]) >= 8  # most points see the box
     assert fast == pytest.approx(slow, rel=1e-12, abs=1e-12)
+
+
+def test_vectorised_pass_equals_reference_without_packets():
+    """Without Embree's packets the first directions are drawn first, then intersected."""
+    tracer, tables, origin, normal, wo, material, u = _setup(2, 0.3, packets=False)
+    assert tracer.packets is None
+    args = (tracer, tables, origin, normal, wo, material, SUN, u)
+    fast = background.reflected(*args, epsilon=1e-3)
+    assert np.count_nonzero(fast[:, 1]) >= 8
+    assert fast == pytest.approx(background.reflected_reference(*args, epsilon=1e-3),
+                                 rel=1e-12, abs=1e-12)
+
+
+def test_vectorised_pass_equals_reference_with_a_brdf_model_among_plain_materials():
+    """Points of a material with a BRDF model (drawn through the registry) among plain ones
+    (drawn and traced in the compiled first pass): the paths are merged in order."""
+    from radscene.materials.brdf import make_brdf
+
+    model = make_brdf({"type": "lambertian", "reflectance": 0.6})
+    tracer, tables, origin, normal, wo, material, u = _setup(2, brdfs={1: model})
+    material = np.arange(len(material)) % 2  # every other point of the modelled material
+    args = (tracer, tables, origin, normal, wo, material, SUN, u)
+    fast = background.reflected(*args, epsilon=1e-3)
+    assert np.count_nonzero(fast[material == 0, 1]) >= 4
+    assert np.count_nonzero(fast[material == 1, 1]) >= 4
+    assert fast == pytest.approx(background.reflected_reference(*args, epsilon=1e-3),
+                                 rel=1e-12, abs=1e-12)
 
 
 def test_vectorised_pass_does_not_depend_on_the_chunk_size(monkeypatch):

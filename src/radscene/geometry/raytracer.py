@@ -35,7 +35,7 @@ import numpy as np
 from radscene.errors import ConfigError
 from radscene.geometry.mesh import Mesh
 
-__all__ = ["Hits", "RayTracer", "BOX_GROWTH"]
+__all__ = ["Hits", "RayTracer", "BOX_GROWTH", "clip_ray"]
 
 #: When a moved mesh leaves the box that rays are clipped to, the box grows to hold it plus
 #: this fraction of its new half-size on every axis, so that a mesh moving on grows it
@@ -139,6 +139,21 @@ def _fmax(a, b):
     return a if a >= b else b
 
 
+@numba.njit(inline="always")
+def clip_ray(ox, oy, oz, dx, dy, dz, center, half):
+    """One ray (unit direction) clipped to the box ``center`` ± ``half``, as :meth:`RayTracer.
+    intersect` clips it: (entry advance, exit distance [m], float32 local start x, y, z).
+    The box is missed where entry > exit."""
+    lx, ly, lz = ox - center[0], oy - center[1], oz - center[2]
+    t1x, t2x = (-half[0] - lx) * (1.0 / dx), (half[0] - lx) * (1.0 / dx)
+    t1y, t2y = (-half[1] - ly) * (1.0 / dy), (half[1] - ly) * (1.0 / dy)
+    t1z, t2z = (-half[2] - lz) * (1.0 / dz), (half[2] - lz) * (1.0 / dz)
+    enter = _fmax(_fmax(_fmax(_fmin(t1x, t2x), _fmin(t1y, t2y)), _fmin(t1z, t2z)), 0.0)
+    leave = _fmin(_fmin(_fmax(t1x, t2x), _fmax(t1y, t2y)), _fmax(t1z, t2z))
+    return (enter, leave, np.float32(lx + enter * dx), np.float32(ly + enter * dy),
+            np.float32(lz + enter * dz))
+
+
 @numba.njit(parallel=True, cache=True, error_model="numpy")
 def _prepare(o, d, center, half, unit, start, direction, t_in, reach):
     """Checked, normalised and box-clipped rays in one pass (as :func:`_rays`, ``_starts``).
@@ -159,17 +174,10 @@ def _prepare(o, d, center, half, unit, start, direction, t_in, reach):
             continue
         dx, dy, dz = dx / length, dy / length, dz / length
         unit[i, 0], unit[i, 1], unit[i, 2] = dx, dy, dz
-        lx, ly, lz = ox - center[0], oy - center[1], oz - center[2]
-        t1x, t2x = (-half[0] - lx) * (1.0 / dx), (half[0] - lx) * (1.0 / dx)
-        t1y, t2y = (-half[1] - ly) * (1.0 / dy), (half[1] - ly) * (1.0 / dy)
-        t1z, t2z = (-half[2] - lz) * (1.0 / dz), (half[2] - lz) * (1.0 / dz)
-        enter = _fmax(_fmax(_fmax(_fmin(t1x, t2x), _fmin(t1y, t2y)), _fmin(t1z, t2z)), 0.0)
-        leave = _fmin(_fmin(_fmax(t1x, t2x), _fmax(t1y, t2y)), _fmax(t1z, t2z))
+        enter, leave, start[i, 0], start[i, 1], start[i, 2] = clip_ray(ox, oy, oz, dx, dy, dz,
+                                                                     center, half)
         t_in[i] = enter
         reach[i] = enter <= leave
-        start[i, 0] = np.float32(lx + enter * dx)
-        start[i, 1] = np.float32(ly + enter * dy)
-        start[i, 2] = np.float32(lz + enter * dz)
         direction[i, 0], direction[i, 1], direction[i, 2] = (
             np.float32(dx), np.float32(dy), np.float32(dz))
     return bad

@@ -32,6 +32,14 @@ counter-based (SplitMix64 of the path, vertex and dimension under a key from the
 ``seed`` and the tile; Steele, Lea & Flood 2014): the noise falls as 1/√samples, a render is
 repeatable, and a path's numbers are drawn only while it lives.
 
+Cost: most first directions leave the scene (93.5 % of the 16.8 M of the background
+benchmark, ``benchmarks/bench_background.py``). Where Embree's packets are available, a
+compiled pass (:func:`radscene.render.background_kernels.first_blocked`) draws every path's
+first direction and traces it as an occlusion query, eight rays of a point to a packet; only
+the directions that meet the scene are traced again for their hit. The numbers are those of
+drawing every direction and intersecting it (:func:`reflected_reference`; the same without
+packets).
+
 Assumptions
 -----------
 * Reflections inside the pass use **band-mean** BRDFs: a plain material's ρ_d and ρ_s averaged
@@ -56,10 +64,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
 from radscene.atmosphere import sky_node_weights
+from radscene.render import background_kernels as kernels
 from radscene.render.background_tables import (
     WEIGHTING_TEMPERATURE,
     BackgroundTables,
@@ -157,9 +167,10 @@ def _vertices(tables, hits, directions, epsilon, texture) -> _Vertices:
                      tables.face_temperature[face])
 
 
-def _own(tracer, tables, v, sun, shadows, f=None, media=None) -> np.ndarray:
+def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None) -> np.ndarray:
     """Emission and reflected sun of vertices towards the previous vertex: (N, n_b); the sun
-    through the ``media``'s volumes where given."""
+    through the ``media``'s volumes where given; ``f`` and ``occluded`` default to
+    :func:`brdf` and :func:`_occluded`."""
     out = emission(tables, v.material, v.temperature) * v.emissivity[:, None]
     if not np.any(tables.sun_irradiance > 0.0) or len(out) == 0:
         return out
@@ -168,7 +179,7 @@ def _own(tracer, tables, v, sun, shadows, f=None, media=None) -> np.ndarray:
     lit = cos_s > 0.0
     if shadows and np.any(lit):
         idx = np.flatnonzero(lit)
-        lit[idx] = ~tracer.occluded(v.origin[idx], sun[idx])
+        lit[idx] = ~(occluded or partial(_occluded, tracer))(v.origin[idx], sun[idx])
     if np.any(lit):
         values = (f or brdf)(tables, v.material[lit], sun[lit], v.to_previous[lit],
                              v.normal[lit])
@@ -229,20 +240,17 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     step = max(1, CHUNK_SAMPLES // samples)
     sky_on = bool(np.any(tables.sky > 0.0)) or (media is not None and bool(media.volumes))
+    origin, normal, wo = (np.ascontiguousarray(a, dtype=np.float64) for a in (origin, normal, wo))
+    material = np.ascontiguousarray(material, dtype=np.int64)
     for start in range(0, n, step):
-        sl = slice(start, min(start + step, n))
-        paths = np.arange(sl.start * samples, sl.stop * samples)
-        point = paths // samples  # each path's point
-        first = u.at(paths, 0)
         # every path's first direction; the weights only of those that meet the scene
-        wi, valid = directions(tables, material, wo, normal, point, first)
-        alive = np.flatnonzero(valid)
-        hits = tracer.intersect(origin[point[alive]], wi[alive])
-        alive, d, hits = alive[hits.hit], wi[alive[hits.hit]], _take(hits, hits.hit)
-        at = point[alive]
-        _, beta = brdf_weight(tables, material[at], wo[at], normal[at], first[alive])
-        del first
-        beta = _segment(media, origin[at], d, hits.distance, beta, out, at)
+        paths, d, hits = _first_vertices(tracer, tables, origin, normal, wo, material, u,
+                                         start, min(start + step, n))
+        point = paths // samples  # each path's point
+        _, beta = brdf_weight(tables, material[point], wo[point], normal[point],
+                              u.at(paths, 0))
+        alive = np.arange(len(paths))  # rows of paths
+        beta = _segment(media, origin[point], d, hits.distance, beta, out, point)
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
@@ -260,7 +268,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
             if bounce == bounces:  # the last vertex's sky: an occlusion ray
                 if sky_on:
                     sky = np.flatnonzero(d[:, 2] > 0.0)
-                    sky = sky[~tracer.occluded(o[sky], d[sky])]
+                    sky = sky[~_occluded(tracer, o[sky], d[sky])]
                     _segment(media, o[sky], d[sky], None, beta[sky], out, point[alive[sky]],
                              sky_radiance(tables, d[sky]))
                 break
@@ -276,12 +284,77 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     return out
 
 
+def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi):
+    """The paths of points ``lo`` to ``hi`` whose first direction meets the scene, in the
+    order of their indices: (paths (P,), their directions (P, 3), their Hits)."""
+    samples = u.samples
+    packets = tracer.packets
+    modelled = np.zeros(len(tables.exponent), dtype=bool)
+    modelled[list(tables.brdfs)] = True
+    if packets is None or np.all(modelled[material[lo:hi]]):  # embreex: draw all, then trace
+        return _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u,
+                                     np.arange(lo * samples, hi * samples))
+    n = (hi - lo) * samples
+    direction, blocked = np.empty((n, 3)), np.empty(n, dtype=bool)
+    reflects = np.any((tables.diffuse > 0.0) | (tables.specular > 0.0), axis=1)
+    kernels.first_blocked(packets.occluded8, packets.handle, np.uint64(u.key), u.bounces + 1,
+                          lo, hi, samples, wo, normal, origin, material, reflects & ~modelled,
+                          tables.p_lobe, tables.exponent, tracer.center, tracer.half_size,
+                          direction, blocked)
+    # the few that meet the scene, traced again for their first hit
+    rows = np.flatnonzero(blocked)
+    hits = tracer.intersect(origin[lo + rows // samples], direction[rows])
+    rows = rows[hits.hit]
+    paths, d, hits = lo * samples + rows, direction[rows], _take(hits, hits.hit)
+    if not np.any(modelled[material[lo:hi]]):
+        return paths, d, hits
+    # the paths of materials with a BRDF model: drawn through the registry, merged in order
+    others = np.flatnonzero(modelled[material[lo:hi]])
+    more = (lo + others)[:, None] * samples + np.arange(samples)
+    m_paths, m_d, m_hits = _first_vertices_drawn(tracer, tables, origin, normal, wo,
+                                                 material, u, more.ravel())
+    order = np.argsort(np.concatenate([paths, m_paths]), kind="stable")
+    both = _concat(hits, m_hits)
+    return (np.concatenate([paths, m_paths])[order], np.concatenate([d, m_d])[order],
+            _take(both, order))
+
+
+def _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u, paths):
+    """:func:`_first_vertices` of some paths, their directions drawn first, then traced by
+    :meth:`RayTracer.intersect`."""
+    point = paths // u.samples
+    wi, valid = directions(tables, material, wo, normal, point, u.at(paths, 0))
+    alive = np.flatnonzero(valid)
+    hits = tracer.intersect(origin[point[alive]], wi[alive])
+    keep = alive[hits.hit]
+    return paths[keep], wi[keep], _take(hits, hits.hit)
+
+
+def _concat(a, b):
+    """Two Hits batches, one after the other."""
+    from radscene.geometry.raytracer import Hits
+
+    return Hits(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in
+                  ("distance", "object", "primitive", "u", "v", "normal", "position", "hit")))
+
+
 def _add(out, rows, values):
-    """out[rows] += values, rows repeating."""
+    """out[rows] += values, rows repeating (in their order)."""
     if len(rows) == 0:
         return
-    for b in range(out.shape[1]):
-        out[:, b] += np.bincount(rows, values[:, b], minlength=len(out))
+    kernels.add_rows(out, np.ascontiguousarray(rows, dtype=np.int64),
+                     np.ascontiguousarray(values, dtype=np.float64))
+
+
+def _occluded(tracer, origins, directions) -> np.ndarray:
+    """``tracer.occluded(origins, directions)``, as Embree packets where the tracer has them
+    and the origins lie in its box (then clipping the rays to the box changes nothing)."""
+    local = None if tracer.packets is None or len(origins) == 0 else tracer.to_local(origins)
+    if local is None:
+        return tracer.occluded(origins, directions)
+    d = np.asarray(directions, dtype=np.float64)
+    d = d / np.linalg.norm(d, axis=1)[:, None]  # as RayTracer.occluded normalises
+    return tracer.occluded_local(local, np.ascontiguousarray(d, dtype=np.float32))
 
 
 def _take(hits, keep):
@@ -320,7 +393,7 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
                 beta = beta * trans
                 v = _vertices(tables, hits, d, epsilon, texture)
                 out[i] += beta[0] * _own(tracer, tables, v, s_dir[None], shadows,
-                                         brdf_reference, media)[0]
+                                         brdf_reference, media, tracer.occluded)[0]
                 d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
                                              u.at([i * samples + s], bounce))
                 beta = beta * w * v.reflectance[0]

@@ -14,9 +14,12 @@ import math
 import numba
 import numpy as np
 
+from radscene.geometry.embree import LANES, RAY8_FLOATS, packet_buffers, set_lane
+from radscene.geometry.raytracer import clip_ray
 from radscene.render.kernels import _basis
 
-__all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms"]
+__all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms",
+           "first_blocked", "add_rows"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -154,6 +157,15 @@ def _splitmix(state):
     return z ^ (z >> np.uint64(31))
 
 
+@numba.njit(inline="always")
+def _uniform(key, path, bounce, depth, d):
+    """The uniform of path ``path``, vertex ``bounce``, dimension ``d`` (see
+    :func:`counter_uniforms`)."""
+    counter = (np.uint64(path) * np.uint64(depth) + np.uint64(bounce)) * np.uint64(2)
+    state = key + (counter + np.uint64(d) + np.uint64(1)) * _GOLDEN
+    return np.float64(_splitmix(state) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+
+
 @numba.njit(parallel=True, cache=True)
 def counter_uniforms(key, paths, bounce, depth, out):
     """Uniforms in [0, 1) of paths at one vertex, from their counters (SplitMix64).
@@ -171,7 +183,91 @@ def counter_uniforms(key, paths, bounce, depth, out):
     out : (N, 2) float64 out
     """
     for i in numba.prange(len(paths)):
-        base = (np.uint64(paths[i]) * np.uint64(depth) + np.uint64(bounce)) * np.uint64(2)
         for d in range(2):
-            state = key + (base + np.uint64(d) + np.uint64(1)) * _GOLDEN
-            out[i, d] = np.float64(_splitmix(state) >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+            out[i, d] = _uniform(key, paths[i], bounce, depth, d)
+
+
+#: Points per parallel work item of :func:`first_blocked`.
+_POINT_BLOCK = 256
+
+
+@numba.njit(inline="always")
+def _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked):
+    """Trace the first ``lanes`` lanes of a packet; flag rows ``slot`` that are blocked."""
+    for lane in range(lanes, LANES):
+        valid[lane] = 0
+    occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
+    for lane in range(lanes):
+        blocked[slot[lane]] = ray[8 * LANES + lane] < 0.0
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def first_blocked(occluded8, scene, key, depth, lo, hi, samples, wo, normal, origin, material,
+                  traced, p_lobe, exponent, center, half, direction, blocked):
+    """The first directions of the paths from points ``lo`` to ``hi`` and whether they meet
+    the scene, in one pass: each path's uniforms (:func:`counter_uniforms`, vertex 0), its
+    direction from the point's Phong model (as :func:`phong_directions`), its ray clipped as
+    :meth:`RayTracer.intersect` clips it and traced by Embree's ``rtcOccluded8``, the valid
+    rays packed eight to a packet (a point's paths share their origin).
+
+    Row k of the outputs is path lo · samples + k, of point lo + k // samples.
+
+    Parameters
+    ----------
+    occluded8, scene : Embree's ``rtcOccluded8`` and the packet scene's handle
+    key : uint64 — the tile's key; depth : vertices per path (bounces + 1)
+    wo, normal, origin : (N, 3) float64 — each point's ω_o, normal facing it, ray origin [m]
+    material : (N,) int64
+    traced : (M,) bool — materials drawn here (plain and reflecting); the paths of the
+        others are not blocked
+    p_lobe, exponent : (M,) — as for :func:`phong_weights`
+    center, half : (3,) — the tracer's box (:attr:`RayTracer.center`, ``half_size``) [m]
+    direction : ((hi - lo) · samples, 3) float64 out — the drawn directions (rows of traced
+        paths whose weight may be non-zero)
+    blocked : ((hi - lo) · samples,) bool out — the direction meets the scene
+    """
+    n_blocks = (hi - lo + _POINT_BLOCK - 1) // _POINT_BLOCK
+    for c in numba.prange(n_blocks):
+        ray, words, valid = packet_buffers(RAY8_FLOATS)
+        slot = np.empty(LANES, np.int64)
+        lanes = 0
+        for i in range(lo + c * _POINT_BLOCK, min(hi, lo + (c + 1) * _POINT_BLOCK)):
+            m = material[i]
+            for s in range(samples):
+                k = (i - lo) * samples + s
+                blocked[k] = False
+                if not traced[m]:
+                    continue
+                path = i * samples + s
+                dx, dy, dz, pdf, mu_i, mu_o, _ = _draw(
+                    wo[i, 0], wo[i, 1], wo[i, 2], normal[i, 0], normal[i, 1], normal[i, 2],
+                    _uniform(key, path, 0, depth, 0), _uniform(key, path, 0, depth, 1),
+                    p_lobe[m], exponent[m])
+                if not (mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0 and math.isfinite(pdf)):
+                    continue
+                length = math.sqrt(dx * dx + dy * dy + dz * dz)
+                ux, uy, uz = dx / length, dy / length, dz / length
+                enter, leave, sx, sy, sz = clip_ray(origin[i, 0], origin[i, 1], origin[i, 2],
+                                                    ux, uy, uz, center, half)
+                if not enter <= leave:
+                    continue
+                direction[k, 0], direction[k, 1], direction[k, 2] = dx, dy, dz
+                set_lane(ray, words, lanes, sx, sy, sz, np.float32(ux), np.float32(uy),
+                         np.float32(uz))
+                valid[lanes] = -1
+                slot[lanes] = k
+                lanes += 1
+                if lanes == LANES:
+                    _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked)
+                    lanes = 0
+        if lanes:
+            _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked)
+
+
+@numba.njit(cache=True)
+def add_rows(out, rows, values):
+    """out[rows[i]] += values[i] for each i in order (rows may repeat)."""
+    for i in range(len(rows)):
+        r = rows[i]
+        for b in range(out.shape[1]):
+            out[r, b] += values[i, b]
