@@ -1289,13 +1289,18 @@ def cf_conventions(ds: xr.Dataset, scene) -> xr.Dataset:
         if seen.size and float(seen.max() - seen.min()) <= 1e-9:
             ds[name] = ((), float(seen[0]), {**ds[name].attrs, "comment": "one value over the image"})
     if "x" in ds.coords and ds["x"].attrs.get("units") == "m":
-        import rioxarray  # noqa: F401  (the .rio accessor)
-
         from radscene.platform.geolocation import LocalFrame
 
         loc = scene.location
-        ds = ds.rio.write_crs(LocalFrame(loc.latitude, loc.longitude, loc.altitude).crs(),
-                              grid_mapping_name="crs")
+        crs = LocalFrame(loc.latitude, loc.longitude, loc.altitude).crs()
+        # pyproj's CF grid mapping plus the WKT under GDAL's name, as rioxarray's write_crs
+        # writes them; not through the .rio accessor, whose write_crs deep-copies every layer
+        # and whose cached accessor keeps each render alive until a garbage collection (the
+        # render benchmark took 4.0 s instead of 1.8 s)
+        ds = ds.assign_coords(crs=((), 0, {**crs.to_cf(), "spatial_ref": crs.to_wkt()}))
+        for var in ds.data_vars.values():
+            if "x" in var.dims and "y" in var.dims:
+                var.encoding["grid_mapping"] = "crs"
     return ds
 
 
