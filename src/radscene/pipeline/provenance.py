@@ -189,6 +189,17 @@ def provenance(scene, observer: str | None = None) -> dict:
     dict
         Attribute name → str or int, ready for a NetCDF file's global attributes.
     """
+    return {**_scene_part(scene),
+            "observer_geometry": json.dumps(_observer(scene, observer), default=str)}
+
+
+def _scene_part(scene) -> dict:
+    """The scene-wide attributes, computed once per scene document (a sequence or a
+    :class:`~radscene.Simulation` stamps every frame; the YAML text alone took 5 ms)."""
+    key = ("provenance", id(scene.document), scene.source, scene.base_dir)
+    held = scene.render_cache.get("provenance")
+    if held is not None and held[0] == key:
+        return held[1]
     from radscene import __version__
 
     document = _plain(scene.document if scene.document is not None else {})
@@ -198,7 +209,7 @@ def provenance(scene, observer: str | None = None) -> dict:
         text = yaml.safe_dump(json.loads(json.dumps(document, default=str)), sort_keys=False,
                               allow_unicode=True)
     base = Path(scene.base_dir) if scene.base_dir is not None else Path.cwd()
-    return {
+    attrs = {
         "scene_document": text,
         "scene_sha256": hashlib.sha256(text.encode()).hexdigest(),
         "scene_file": str(Path(scene.source).resolve()) if scene.source else "",
@@ -207,10 +218,11 @@ def provenance(scene, observer: str | None = None) -> dict:
         "radscene_version": __version__,
         "radscene_git_commit": _git_commit(),
         "atmosphere_engine": json.dumps(_atmosphere(scene), default=str),
-        "observer_geometry": json.dumps(_observer(scene, observer), default=str),
         "random_seed": int(scene.settings.seed),
         "library_versions": _library_versions(),
     }
+    scene.render_cache["provenance"] = (key, attrs)
+    return attrs
 
 
 def stamp(ds, scene, observer: str | None = None):
