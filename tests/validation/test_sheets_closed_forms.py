@@ -101,3 +101,44 @@ def test_partial_shadow_of_a_sheet(tau, sun_zenith):
         assert ratio == pytest.approx(np.full((9, 9), tau), rel=EXACT_REL)
         assert ds["shadow_fraction"].values == pytest.approx(np.full((9, 9), 1.0 - tau),
                                                              rel=EXACT_REL)
+
+
+@pytest.mark.parametrize("tau", [0.0, 0.3, 0.7])
+def test_the_heat_balance_sees_the_partial_shadow_of_a_sheet(tau):
+    """``radscene.solve_thermal`` of a flat asphalt ground half under a net of grey
+    transmittance τ, the sun fixed at 20 deg: the cells under the net are sunlit τ (the share
+    of the direct sun the net lets through; 0 for an opaque plate), the open cells 1; and
+    the ground under the net ends cooler than the open ground, the more so the smaller τ."""
+    import radscene
+
+    scene = {
+        "name": "net",
+        "environment": {"sun": {"zenith": 20.0, "azimuth": 180.0},
+                        "time": "2024-06-21T12:00:00+00:00",
+                        "location": {"latitude": 45.0, "longitude": 0.0},
+                        "atmosphere": {"type": "uniform", "transmittance": 1.0}},
+        "terrain": {"type": "flat", "size": [40, 40], "spacing": 2, "material": "asphalt"},
+        "materials": {"net": {"reflectance": 0.1, "transmittance": tau}},
+        "objects": [{"name": "net", "shape": {"type": "plate", "width": 20, "length": 40},
+                     "position": [10, 20, 2], "material": "net", "temperature": 300.0,
+                     "transmissive": tau > 0.0}],
+        "bands": [LWIR],
+        "observers": [{"name": "cam", "type": "orthographic", "center": [20, 20], "gsd": 1.0,
+                       "shape": [4, 4], "altitude": 1000}],
+        "thermal": {"start": "2024-06-21T09:00:00+00:00", "end": "2024-06-21T12:00:00+00:00",
+                    "step": "30 min", "hemisphere_samples": 4, "spin_up": False},
+    }
+    solved = radscene.solve_thermal(scene)
+    ground = solved.object.values == "terrain"
+    x = solved.x.values
+    y = solved.y.values
+    # the net spans x 0..20 m, y 0..40 m, 2 m up; its shadow (sun zenith 20 deg, to the south)
+    # lies 0.73 m north of it: cells 1 m clear of its edges are wholly under it or wholly open
+    under = ground & (x < 19.0) & (np.abs(y - 20.0) < 15.0)
+    open_ = ground & (x > 21.0) & (np.abs(y - 20.0) < 15.0)
+    assert under.sum() >= 20 and open_.sum() >= 20
+    lit = solved.sunlit.isel(time=-1).values
+    np.testing.assert_allclose(lit[under], tau, atol=1e-12)
+    np.testing.assert_allclose(lit[open_], 1.0, atol=1e-12)
+    t = solved.surface_temperature.isel(time=-1).values
+    assert t[under].mean() < t[open_].mean() - 1.0  # K

@@ -313,6 +313,8 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
                              nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed,
                              lateral=spec.lateral, exchange_reflections=spec.exchange_reflections)
     tracer = RayTracer(meshes)
+    shadow_tracer, sun_transmittance = _media_sun_transmittance(
+        scene, tracer, table.wavelength, table.daily_spectrum(zenith))
     index = stack_index.ravel()
     sources = _sources(scene, elements, used, stacks, index)
     with progress_callback(progress, "heat balance", stages=True) as report:
@@ -322,8 +324,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
                             fixed_face_exitance=_fixed_exitance(scene, elements), meshes=meshes, options=options,
                             **sources, names={"material": scene.material_names, "object": names},
                             sun_override=override, progress=report,
-                            sun_transmittance=_volume_sun_transmittance(scene, table.wavelength,
-                                                                        table.daily_spectrum(zenith)))
+                            sun_transmittance=sun_transmittance, shadow_tracer=shadow_tracer)
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
     stamp(ds, scene)
     scene.render_cache["thermal_elements"] = elements
@@ -384,6 +385,54 @@ def apply_thermal(scene, solution=None, time=None, *, progress=None):
         offset += n
     scene.render_cache.pop("tables", None)
     return solution
+
+
+def _media_sun_transmittance(scene, tracer, wavelength, spectrum):
+    """The heat balance's partial shadows: (the tracer of its shadow rays, which do not see the
+    sheets; ``transmittance(points, sun)``, the share of the direct sun passing the scene's
+    volumes and sheets, or None without either).
+
+    A sheet's share is Δτ τ (its texture's multiplier times its material's transmittance),
+    weighted by the ground's global spectrum like the volumes' (:func:`_volume_sun_transmittance`);
+    sheets in series multiply, as in the render (:func:`radscene.render.sheets.sun_transmittance`).
+    """
+    through_volumes = _volume_sun_transmittance(scene, wavelength, spectrum)
+    from radscene.render import sheets
+
+    is_sheet, shadow_tracer, sheet_tracer = sheets.tracers(scene.objects, tracer)
+    if not is_sheet.any():
+        return tracer, through_volumes
+    from types import SimpleNamespace
+
+    from radscene.radiometry import TabulatedResponse
+
+    keep = np.asarray(spectrum, float) > 0.0
+    band = SimpleNamespace(response=TabulatedResponse(np.asarray(wavelength, float)[keep],
+                                                      np.asarray(spectrum, float)[keep],
+                                                      name="shortwave"))
+    tau = sheets.band_transmittance(scene.materials, [band])
+    counts = [len(o.face_material) for o in scene.objects]
+    lo, hi = tracer.bounds
+    geometry = SimpleNamespace(epsilon=1e-4 + 2e-6 * float(np.linalg.norm(hi - lo)), sheet_tracer=sheet_tracer,
+                               face_offset=np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int),
+                               face_material=np.concatenate([o.face_material for o in scene.objects]))
+
+    def multiplier(obj, pos):  # Δτ of a textured sheet
+        out = np.ones(len(obj))
+        for k, o in enumerate(scene.objects):
+            texture = o.textures.get("transmittance") if o.textures else None
+            if texture is not None and np.any(obj == k):
+                out[obj == k] = texture.sample(pos[obj == k, 0], pos[obj == k, 1])
+        return out
+
+    def transmittance(points, sun):
+        points = np.asarray(points, float)
+        # the shadow points lie on faces facing the sun, just off them: any normal towards the
+        # sun keeps the sheet rays' origins on the lit side
+        normals = np.broadcast_to(np.asarray(sun, float), points.shape)
+        out = sheets.sun_transmittance(geometry, tau, points, normals, sun, multiplier)[:, 0]
+        return out if through_volumes is None else out * through_volumes(points, sun)
+    return shadow_tracer, transmittance
 
 
 def _volume_sun_transmittance(scene, wavelength, spectrum):

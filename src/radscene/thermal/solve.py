@@ -127,7 +127,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
                    *, absorptance=None, emissivity=None, fixed_face_exitance=None, moisture_availability=None,
                    internal_flux=0.0, air_speed=None, characteristic_length=1.0, meshes=None,
                    options=ThermalOptions(), names=None, sun_override=None, progress=None,
-                   sun_transmittance=None):
+                   sun_transmittance=None, shadow_tracer=None):
     """Surface temperatures and flux terms of every element at every time.
 
     Parameters
@@ -173,6 +173,9 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     sun_transmittance : callable(points, sun), optional
         The share of the direct sun passing semi-transparent volumes on the way to points
         (:func:`radscene.thermal.exposure.sunlit_fraction`); default none in the way.
+    shadow_tracer : radscene.geometry.RayTracer, optional
+        The ray engine of the shadow rays, when they must not see some surfaces (the
+        semi-transparent sheets, whose share ``sun_transmittance`` gives); default ``tracer``.
 
     Returns
     -------
@@ -223,7 +226,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     hemisphere = hemisphere_exposure(tracer, elements, options.hemisphere_samples, options.seed)
     if progress is not None:
         progress("hemisphere", 1, 1)
-    lit = _shadow_history(tracer, elements, times, sun_dir, options.shadow_interval, progress,
+    lit = _shadow_history(tracer if shadow_tracer is None else shadow_tracer, elements, times, sun_dir, options.shadow_interval, progress,
                           sun_transmittance)
     cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
 
