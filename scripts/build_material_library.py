@@ -470,6 +470,47 @@ def build_earthlib_materials(selected: dict):
         print(f"{material:19s} {row.NAME:40s} row {best:5d}  (medoid of {idx.size})")
 
 
+#: Materials whose VSWIR spectrum is a measured SLUM sample (Kotthaus et al. 2014,
+#: sources/reflectance_slum_kotthaus_2014.csv, per cent) and whose 3-20 um spectrum is the same
+#: specimen's measured emissivity (sources/thermal_emissivity_slum_kotthaus_2014.csv).
+SLUM_MATERIALS = {
+    "brick": {"sample": "B013", "rule": "the medoid of SLUM's 14 brick samples B001-B014 in the "
+              "long-wave emissivity"},
+}
+#: Width of the bins the SLUM short-wave spectra are averaged over, at the earthlib band centres
+#: 0.40, 0.41, ... 2.45 um [um].
+SLUM_SW_BIN = 0.01
+
+
+def build_slum_materials():
+    """Materials measured whole by SLUM: short-wave reflectance and long-wave emissivity of one
+    specimen (``SLUM_MATERIALS``)."""
+    header, data = read_csv(SOURCES / "reflectance_slum_kotthaus_2014.csv")
+    for material, recipe in SLUM_MATERIALS.items():
+        sample = recipe["sample"]
+        wl, rho = data[:, 0], data[:, header.index(sample)] / 100.0
+        centres = np.round(np.arange(0.40, VSWIR_MAX + 1e-9, SLUM_SW_BIN), 4)
+        vswir = np.array([rho[np.abs(wl - c) <= SLUM_SW_BIN / 2].mean() for c in centres])
+        if np.any(vswir <= 0.0) or np.any(vswir >= 1.0):
+            raise SystemExit(f"{material}: SLUM sample {sample} leaves (0, 1)")
+        wl_t, eps_t, thermal_note = slum_emissivity(sample)
+        write_csv(
+            DATA / f"{material}.csv",
+            [
+                f"radscene built-in material '{material}' - {GEN}",
+                "reflectance: total hemispherical reflectance [-] (rho_d + rho_s).",
+                f"0.40-{VSWIR_MAX:.2f} um: MEASURED - SLUM sample {sample} (Kotthaus et al. 2014, "
+                "sources/reflectance_slum_kotthaus_2014.csv, laboratory spectrophotometer), mean "
+                f"of each {SLUM_SW_BIN * 1000:g} nm bin at its centre; {recipe['rule']}.",
+                thermal_note,
+                f"{VSWIR_MAX:.2f}-3.0 um: linear in wavelength (no tabulated point).",
+            ],
+            {"wavelength_um": np.concatenate([centres, wl_t]),
+             "reflectance": np.concatenate([vswir, 1.0 - eps_t])},
+        )
+        print(f"{material:19s} SLUM {sample}")
+
+
 def build_water():
     from radscene.materials.water import _nk_table, water_reflectance
 
@@ -649,6 +690,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     selected: dict = {}
     build_earthlib_materials(selected)
+    build_slum_materials()
     build_water()
     build_aluminium()
     build_snow()

@@ -97,7 +97,8 @@ def test_band_level_scaling_keeps_the_published_shape(name, column):
 
 @pytest.mark.parametrize(
     "name, sample", [("asphalt", "A003"), ("fresh_asphalt", "A009"), ("asphalt_shingle", "A003"),
-                     ("concrete", "C006"), ("concrete_roof_tile", "C006"), ("roof_tile", "B013")]
+                     ("concrete", "C006"), ("concrete_roof_tile", "C006"), ("roof_tile", "B013"),
+                     ("brick", "B013")]
 )
 def test_slum_materials_state_the_sample_and_the_extension_rule(name, sample):
     source = library_info()["materials"][name]["source"]
@@ -113,10 +114,21 @@ def test_slum_materials_state_the_sample_and_the_extension_rule(name, sample):
         ("concrete", 8.65, 0.938506),  # SLUM C006, 8.6-8.7 um (silicate band)
         ("concrete", 11.05, 0.952469),  # SLUM C006, 11.0-11.1 um
         ("roof_tile", 8.25, 0.900686),  # SLUM B013, 8.2-8.3 um (quartz reststrahlen)
+        ("brick", 8.25, 0.900686),  # the same specimen
     ],
 )
 def test_slum_emissivity_matches_the_data_set(name, wavelength, expected):
     assert float(get_material(name).emissivity(wavelength)) == pytest.approx(expected, abs=2e-6)
+
+
+@pytest.mark.parametrize(
+    "wavelength, expected",
+    [(0.55, 0.190713), (0.65, 0.306125), (1.65, 0.499945), (2.2, 0.50669)],
+)
+def test_brick_short_wave_reflectance_is_the_data_sets(wavelength, expected):
+    """SLUM B013's short-wave reflectance (LUMA_SLUM_SW.csv, per cent), the mean of its samples
+    within 5 nm of each wavelength: a red brick (0.65 um over 0.55 um 1.6)."""
+    assert float(get_material("brick").reflectance(wavelength)) == pytest.approx(expected, abs=2e-6)
 
 
 def test_slum_spectrum_is_extended_by_its_stated_rule():

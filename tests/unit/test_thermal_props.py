@@ -22,7 +22,12 @@ from radscene.radiometry.planck import spectral_radiance
 @pytest.mark.parametrize("name", list_materials())
 def test_every_material_has_a_valid_stack_and_the_stored_optics_match_the_spectra(name):
     tp = get_thermal_properties(name)
-    assert tp.material == name and tp.bottom in ("semi-infinite", "insulated")
+    assert tp.material == name
+    if isinstance(tp.bottom, dict):  # a room behind the stack
+        assert set(tp.bottom) == {"interior_air", "h"} and 273.15 < tp.bottom["interior_air"] < 313.15
+        assert 0.0 < tp.bottom["h"] < 30.0 and tp.layers[-1].thickness > 0
+    else:
+        assert tp.bottom in ("semi-infinite", "insulated")
     for layer in tp.layers:
         assert layer.conductivity > 0 and layer.density > 0 and layer.specific_heat > 0
         assert layer.source
