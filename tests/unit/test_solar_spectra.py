@@ -160,8 +160,8 @@ def test_database_engine_scales_its_sun_by_the_chosen_spectrum():
 def test_renderer_sun_follows_the_atmosphere():
     from types import SimpleNamespace
 
-    from radscene.render.integrator import _solar_spectrum
+    from radscene.render.spectral import solar_spectrum
 
-    assert _solar_spectrum(SimpleNamespace(solar_spectrum="tsis1")) == "tsis1"
-    assert _solar_spectrum(SimpleNamespace(solar_spectrum="6s")) == "radscene"
-    assert _solar_spectrum(SimpleNamespace()) == "radscene"  # engines without a spectrum
+    assert solar_spectrum(SimpleNamespace(solar_spectrum="tsis1")) == "tsis1"
+    assert solar_spectrum(SimpleNamespace(solar_spectrum="6s")) == "radscene"
+    assert solar_spectrum(SimpleNamespace()) == "radscene"  # engines without a spectrum

@@ -14,7 +14,6 @@ sun of their own acquisition time (:mod:`radscene.render.sun_track`).
 
 from __future__ import annotations
 
-import datetime as _dt
 import time as _time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -33,48 +32,43 @@ from radscene.render import (
     node_mixing,
     sheets,
     terms,
+    truth,
     volumes,
 )
-from radscene.render.spectral import BandCoefficients, band_quadrature, emission_coefficients
+from radscene.render.outputs import (
+    BACKGROUND_LONG_NAME,
+    BACKGROUND_TERM,
+    CONSTANT_ANGLES,
+    COUPLING_LONG_NAMES,
+    COUPLING_TERMS,
+    GEOLOCATION_COORDS,
+    TERM_LONG_NAMES,
+    TERMS,
+    THERMAL_BAND_START,
+    cf_conventions,
+    dataset,
+    pixel_coordinates,
+    sky_view_transmitted,
+)
+from radscene.render.spectral import (
+    BandCoefficients,
+    band_quadrature,
+    breakpoints,
+    emission_coefficients,
+    solar_spectrum,
+)
 from radscene.render.sun_track import combine_nodes, sun_geometry, sun_track
 
-__all__ = ["render", "render_all", "TERMS", "BACKGROUND_TERM", "COUPLING_TERMS", "TILE_SAMPLES"]
+__all__ = ["render", "render_all", "scene_tables", "cf_conventions", "TERMS", "TERM_LONG_NAMES",
+           "BACKGROUND_TERM", "BACKGROUND_LONG_NAME", "COUPLING_TERMS", "COUPLING_LONG_NAMES",
+           "THERMAL_BAND_START", "GEOLOCATION_COORDS", "CONSTANT_ANGLES", "TILE_SAMPLES"]
 
-#: Output layer names of the signature terms, in the order they are summed.
-TERMS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance")
-TERM_LONG_NAMES = {
-    "sun_diffuse": "directly reflected sunlight, diffuse",
-    "sun_specular": "directly reflected sunlight, specular",
-    "thermal_emission": "self-emitted thermal radiance",
-    "sky_reflected": "reflected sky radiance",
-    "path_radiance": "atmospheric path radiance (sky radiance where a ray leaves the scene)",
-}
-#: Output layer of the reflected background (:mod:`radscene.render.background`), summed into
-#: the radiance after the terms.
-BACKGROUND_TERM = "background_reflected"
-BACKGROUND_LONG_NAME = "reflected background: the radiance of the scene's other surfaces " \
-    "reflected by the surface seen"
-#: Output layers of the surface–atmosphere coupling (:mod:`radscene.render.coupling`),
-#: summed into the radiance after the terms.
-COUPLING_TERMS = ("multiple_reflection", "diffuse_transmitted", "adjacency")
-COUPLING_LONG_NAMES = {
-    "multiple_reflection": "surface radiance from light reflected between the ground and "
-                           "the atmosphere",
-    "diffuse_transmitted": "the surface's own radiance scattered on its way to the sensor "
-                           "(diffuse upward transmittance, uniform surroundings)",
-    "adjacency": "adjacency effect: the surroundings' radiance through the atmospheric "
-                 "point-spread function, minus the uniform-surroundings part",
-}
-#: Per-pixel sums kept for the truth maps (the last is the weight of surface samples).
-TRUTH_SUMS = ("cos_incidence", "shadow", "sky_view", "temperature", "range", "hit_weight")
 #: Ray samples per tile.
 TILE_SAMPLES = 1 << 17
 #: Step to which temperatures interpolated across faces are grouped for the emission [K]: at
 #: most half of it, 0.5 mK, off (a band radiance off by 6e-5 relative at 3 um and 200 K; more at
 #: shorter wavelengths, where a surface near 300 K emits next to nothing).
 EMISSION_TEMPERATURE_STEP = 1e-3
-#: Bands whose response centre is at or beyond this wavelength get a brightness temperature [um].
-THERMAL_BAND_START = 2.5
 
 
 class _SceneTables:
@@ -103,35 +97,6 @@ class _SceneTables:
         self.exponent = np.array([m.specular_exponent for m in scene.materials], dtype=float)
 
 
-def _solar_spectrum(atmosphere) -> str:
-    """The solar spectrum of the renderer's sun: the atmosphere's where radscene evaluates it
-    (``radscene``, ``tsis1``), else ``radscene``'s (6S's own spectrum exists only inside 6S)."""
-    from radscene.sun import SOLAR_SPECTRUM_NAMES
-
-    name = str(getattr(atmosphere, "solar_spectrum", "radscene") or "radscene").lower()
-    return name if name in SOLAR_SPECTRUM_NAMES else "radscene"
-
-
-def _breakpoints(scene) -> np.ndarray:
-    """Every table wavelength that enters a band integral: materials, atmosphere, sun."""
-    from radscene.sun import spectrum as sun_spectrum
-
-    name = _solar_spectrum(scene.atmosphere)
-    solar_wl, _ = sun_spectrum.toa_solar_spectrum(name)
-    # the measured parts have kinks at their samples; the blackbody head and tail are smooth
-    start = 0.28 if name == "radscene" else 0.25
-    points = [solar_wl[(solar_wl >= start) & (solar_wl <= 4.0)]]
-    for m in scene.materials:
-        for spec in (m.diffuse_reflectance, m.specular_reflectance, m.transmittance):
-            if spec.wavelength is not None:
-                points.append(np.asarray(spec.wavelength, dtype=float))
-    for attr in ("transmittance", "sun_transmittance", "path_radiance", "sky_radiance"):
-        spec = getattr(scene.atmosphere, attr, None)
-        if spec is not None and getattr(spec, "wavelength", None) is not None:
-            points.append(np.asarray(spec.wavelength, dtype=float))
-    return np.unique(np.concatenate(points))
-
-
 class _BandSetup:
     """Quadrature and coefficient tables for the bands of one render.
 
@@ -145,7 +110,7 @@ class _BandSetup:
         from radscene.sun import toa_solar_irradiance
 
         atm_ref = suns[reference][1]
-        breakpoints = _breakpoints(scene)
+        points = breakpoints(scene)
         zen_nodes = np.asarray(atm_ref.sky_zenith_nodes(), dtype=float)
         az_nodes = np.asarray(atm_ref.sky_azimuth_nodes(), dtype=float)
         sky_zenith, sky_azimuth = (g.ravel() for g in np.meshgrid(zen_nodes, az_nodes,
@@ -168,7 +133,7 @@ class _BandSetup:
         self.sun_spectra = []  # per band: E_sun τ_so of the reference sun node at the nodes
         hemisphere = _hemisphere_weights(zen_nodes, az_nodes) if atm_ref.couples else None
         for b, band in enumerate(bands):
-            nodes, weights = band_quadrature(band.response, breakpoints)
+            nodes, weights = band_quadrature(band.response, points)
             atm_ref.check_wavelength(nodes, key=f"bands[{band.name}]")
             self.quadrature.append((nodes, weights))
             comps = [m.components(nodes) for m in scene.materials]
@@ -179,7 +144,7 @@ class _BandSetup:
             for s, (sun, atm) in enumerate(suns):
                 block = slice(s * n_j, (s + 1) * n_j)
                 if sun.zenith < 90.0:
-                    toa = toa_solar_irradiance(nodes, sun.distance, _solar_spectrum(atm))
+                    toa = toa_solar_irradiance(nodes, sun.distance, solar_spectrum(atm))
                     e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance  # (q,)
                 else:
                     e_sun = np.zeros_like(nodes)
@@ -343,7 +308,7 @@ class _BrdfTables:
                 tau = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
                                path_nodes.view_zenith, nodes).transmittance  # (j, q)
                 if sun.zenith < 90.0:
-                    toa = toa_solar_irradiance(nodes, sun.distance, _solar_spectrum(atm))
+                    toa = toa_solar_irradiance(nodes, sun.distance, solar_spectrum(atm))
                     e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance
                     self.sun[b, block] = tau @ (weights * e_sun)
                 sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
@@ -489,7 +454,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     if scene.volumes:  # the light from behind through them, and their own
         atm = _configured_atmosphere(scene, sun, None)
         ds = volumes.apply(ds, scene, bands, rays, hits, sun_dir, track.up, atm, layers,
-                           _sun_irradiance(atm, sun), _breakpoints(scene))
+                           _sun_irradiance(atm, sun), breakpoints(scene))
     return ds
 
 
@@ -528,9 +493,9 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     acc = np.zeros((len(TERMS), n_b, n_pix))
     sums = dict(zip(TERMS, acc, strict=True))
     transmittance = np.zeros((n_b, n_pix))
-    truth_sum = {k: np.zeros(n_pix) for k in TRUTH_SUMS}
+    truth_sum = {k: np.zeros(n_pix) for k in truth.TRUTH_SUMS}
     # the sub-sample nearest each pixel centre labels ids and normals
-    central = _central_subsample(rays)
+    central = truth.central_subsample(rays)
     object_id = np.full(n_pix, -1, dtype=np.int32)
     material_id = np.full(n_pix, -1, dtype=np.int32)
     normal_map = np.full((3, n_pix), np.nan)
@@ -638,8 +603,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         if i + ahead < len(tiles):
             pending[i + ahead] = launch(tiles[i + ahead])
         if geolocation is None:  # while the first tiles' rays are traced
-            geolocation = _geolocation(scene, hits, rays, labelled, track)
-            pixel_coords = _pixel_coordinates(setup, rays.shape)
+            geolocation = truth.geolocation(scene, hits, rays, labelled, track)
+            pixel_coords = pixel_coordinates(setup, rays.shape)
         current = pending.pop(i)
         if layers is not None:
             _touch_pages(layers, i, len(tiles))
@@ -724,7 +689,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             if not direct:
                 acc[:, :, at] = out if unit_weight else out * wh
                 transmittance[:, at] = tau if unit_weight else tau * wh
-            for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
+            for key, row in zip(truth.TRUTH_SUMS, truth_rows, strict=True):
                 truth_sum[key][at] = wh if row is None else row if unit_weight else row * wh
         else:
             n_rows = len(TERMS) * n_b
@@ -733,7 +698,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             pixels, totals = _pixel_sums(p, wh, rows)
             acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
             transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
-            for c, key in enumerate(TRUTH_SUMS):
+            for c, key in enumerate(truth.TRUTH_SUMS):
                 truth_sum[key][pixels] += totals[n_rows + n_b + c]
         if per_pixel == 1:  # every sample is its pixel's central one
             object_id[at], material_id[at], normal_map[:, at] = obj, mat, nrm.T
@@ -756,19 +721,14 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     if media_light is not None:  # after the coupling pass: it is not light from the sky
         sums["sky_reflected"] += media_light
     elapsed = _time.perf_counter() - started
-    ds = _dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
+    ds = dataset(scene, setup, bands, rays.shape, sums, transmittance, truth_sum,
                   object_id, material_id, normal_map, sun, elapsed, pool=worker,
                   brightness=bt_map, pixel_coords=pixel_coords, radiance=radiance)
     if geolocation is None:  # no samples
-        geolocation = _geolocation(scene, hits, rays, labelled, track)
+        geolocation = truth.geolocation(scene, hits, rays, labelled, track)
     if sky_open is not None:
-        seen = truth_sum["hit_weight"] > 0.0
-        sky_open[:, seen] /= truth_sum["hit_weight"][seen]
-        sky_open[:, ~seen] = np.nan
-        ds["sky_view_transmitted"] = (("band", "y", "x"), sky_open.reshape(n_b, ny, nx), {
-            "units": "1", "long_name": "cosine-weighted fraction of the hemisphere that sees "
-            "sky, each direction weighted by the band transmittance of the volumes and sheets "
-            "along it"})
+        ds["sky_view_transmitted"] = sky_view_transmitted(sky_open, truth_sum["hit_weight"],
+                                                          rays.shape)
     return cf_conventions(ds.assign(geolocation), scene)
 
 
@@ -786,7 +746,7 @@ def _media(scene, tables, bands, sun_dir, sun_up, reference):
     sheet_tau = sheets.band_transmittance(scene.materials, bands) if has_sheets else None
     return media.Media(
         tuple(scene.volumes), list(bands), float(scene.location.altitude), sun,
-        _breakpoints(scene), tables if has_sheets else None, sheet_tau,
+        breakpoints(scene), tables if has_sheets else None, sheet_tau,
         (lambda obj, pos: _textures(scene, obj, pos)["transmittance"]) if has_sheets else None)
 
 
@@ -964,7 +924,7 @@ def _sun_irradiance(atm, sun):
     def irradiance(wavelength, altitude):
         if sun.zenith >= 90.0:
             return np.zeros_like(wavelength)
-        toa = toa_solar_irradiance(wavelength, sun.distance, _solar_spectrum(atm))
+        toa = toa_solar_irradiance(wavelength, sun.distance, solar_spectrum(atm))
         return atm.sun(altitude, sun.zenith, wavelength, toa).irradiance
     return irradiance
 
@@ -984,25 +944,6 @@ def _pixel_sums(pixel, weight, rows):
     if len(starts) == len(pixel):
         return pixel, weighted
     return pixel[starts], np.add.reduceat(weighted, starts, axis=1)
-
-
-def _central_subsamples(rays) -> np.ndarray:
-    """True for the sub-samples of each pixel symmetric about its centre: the centre one of an
-    odd k×k grid, the middle 2×2 of an even one (whose mean position is the centre)."""
-    k2 = int(np.max(rays.subsample)) + 1
-    k = int(round(np.sqrt(k2)))
-    if k % 2:
-        return rays.subsample == (k // 2) * k + (k // 2)
-    row, col = np.divmod(rays.subsample, k)
-    return (np.abs(row - (k - 1) / 2.0) < 1.0) & (np.abs(col - (k - 1) / 2.0) < 1.0)
-
-
-def _central_subsample(rays) -> np.ndarray:
-    """True for the sub-sample of each pixel whose index is the centre of the k×k grid."""
-    k2 = int(np.max(rays.subsample)) + 1
-    k = int(round(np.sqrt(k2)))
-    centre = (k // 2) * k + (k // 2)
-    return rays.subsample == centre
 
 
 def _hit_temperature(tables, hits, hit, hit_face):
@@ -1147,216 +1088,3 @@ def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
             out[kind][sel] = texture.sample(pos[sel, 0], pos[sel, 1])
     return out
 
-
-def _dataset(scene, setup, bands, shape, sums, transmittance, truth_sum, object_id, material_id,
-             normal_map, sun, elapsed, pool=None, brightness=None,
-             pixel_coords=None, radiance=None) -> xr.Dataset:
-    """The render's Dataset; ``pool``, an executor, may take the brightness temperatures.
-
-    ``brightness`` (band, pixel), when given, holds them already for the thermal bands;
-    ``pixel_coords`` the observer's pixel coordinates (:func:`_pixel_coordinates`);
-    ``radiance`` (band, pixel) the terms' sum, when the render made it.
-    """
-    from radscene import __version__
-    from radscene.radiometry import band_brightness_temperature
-
-    ny, nx = shape
-    n_b = len(bands)
-    cube = {name: s.reshape(n_b, ny, nx) for name, s in sums.items()}
-    if radiance is not None:
-        total = radiance.reshape(n_b, ny, nx)
-    else:
-        total = cube[TERMS[0]].copy()  # the terms summed in TERMS order, in place
-        for name in TERMS[1:] + (BACKGROUND_TERM,) + COUPLING_TERMS:
-            total += cube[name]
-    thermal = [b for b, band in enumerate(bands) if band.response.center >= THERMAL_BAND_START]
-    if brightness is not None:
-        thermal = []  # done during the render
-    if pool is not None:  # while the rest is assembled here
-        bt_jobs = {b: pool.submit(band_brightness_temperature, total[b], bands[b].response)
-                   for b in thermal}
-    hw = truth_sum["hit_weight"]
-    seen = hw > 0
-    # the render's sums become the maps in place (no second array of each)
-    mean = {}
-    for k, v in truth_sum.items():
-        if k != "hit_weight":
-            np.divide(v, hw, out=v, where=seen)
-            v[~seen] = np.nan
-            mean[k] = v.reshape(ny, nx)
-    tau_map = transmittance.reshape(n_b, ny, nx)
-    seen = seen.reshape(ny, nx)
-    np.divide(tau_map, hw.reshape(ny, nx), out=tau_map, where=seen)
-    tau_map[:, ~seen] = np.nan
-    radiance_attrs = {"units": "W m-2 sr-1"}
-    data = {
-        "radiance": (("band", "y", "x"), total, {
-            **radiance_attrs, "long_name": "at-aperture band radiance, sum of the signature terms",
-        }),
-    }
-    for name in TERMS:
-        data[name] = (("band", "y", "x"), cube[name],
-                      {**radiance_attrs, "long_name": TERM_LONG_NAMES[name]})
-    data[BACKGROUND_TERM] = (("band", "y", "x"), cube[BACKGROUND_TERM],
-                             {**radiance_attrs, "long_name": BACKGROUND_LONG_NAME})
-    for name in COUPLING_TERMS:
-        data[name] = (("band", "y", "x"), cube[name],
-                      {**radiance_attrs, "long_name": COUPLING_LONG_NAMES[name]})
-    bt = np.full((n_b, ny, nx), np.nan) if brightness is None else brightness.reshape(n_b, ny, nx)
-    for b in thermal:
-        bt[b] = (bt_jobs[b].result() if pool is not None
-                 else band_brightness_temperature(total[b], bands[b].response))
-    data["brightness_temperature"] = (("band", "y", "x"), bt, {
-        "units": "K", "long_name": "band brightness temperature of the total radiance",
-        "comment": f"computed for bands centred at or beyond {THERMAL_BAND_START} um; NaN elsewhere"})
-    data["path_transmittance"] = (("band", "y", "x"), tau_map, {
-        "units": "1", "long_name": "response-weighted target-to-sensor transmittance"})
-    data["object_id"] = (("y", "x"), object_id.reshape(ny, nx), {
-        "long_name": "object index (-1: no object)", "flag_values": np.arange(len(scene.objects), dtype=np.int32),
-        "flag_meanings": " ".join(o.name.replace(" ", "_") for o in scene.objects)})
-    data["material_id"] = (("y", "x"), material_id.reshape(ny, nx), {
-        "long_name": "material index (-1: no material)",
-        "flag_values": np.arange(len(scene.materials), dtype=np.int32),
-        "flag_meanings": " ".join(m.replace(" ", "_") for m in scene.material_names)})
-    data["range"] = (("y", "x"), mean["range"], {"units": "m", "long_name": "distance from the observer to the surface"})
-    data["surface_normal"] = (("vector", "y", "x"), normal_map.reshape(3, ny, nx), {
-        "units": "1", "long_name": "unit surface normal facing the observer (east, north, up)"})
-    data["cos_incidence"] = (("y", "x"), mean["cos_incidence"], {
-        "units": "1", "long_name": "cosine of the sun's angle of incidence (negative: facing away)"})
-    data["shadow_fraction"] = (("y", "x"), mean["shadow"], {
-        "units": "1", "long_name": "fraction of the pixel not directly sunlit (cast or self shadow)"})
-    data["sky_view_fraction"] = (("y", "x"), mean["sky_view"], {
-        "units": "1", "long_name": "cosine-weighted fraction of the hemisphere that sees sky"})
-    data["surface_temperature"] = (("y", "x"), mean["temperature"], {
-        "units": "K", "standard_name": "surface_temperature", "long_name": "surface temperature"})
-    coords = {
-        "band": ("band", [b.name for b in bands]),
-        "wavelength_center": ("band", [float(b.response.center) for b in bands],
-                              {"units": "um", "long_name": "response centre wavelength"}),
-        "wavelength_min": ("band", [float(b.response.support[0]) for b in bands], {"units": "um"}),
-        "wavelength_max": ("band", [float(b.response.support[1]) for b in bands], {"units": "um"}),
-        "equivalent_width": ("band", [float(b.response.equivalent_width()) for b in bands],
-                             {"units": "um", "long_name": "integral of the response"}),
-        "vector": ("vector", ["east", "north", "up"]),
-    }
-    coords.update(_pixel_coordinates(setup, shape) if pixel_coords is None else pixel_coords)
-    ds = xr.Dataset(data, coords=coords)
-    ds.attrs = {
-        "Conventions": "CF-1.10",
-        "title": f"radscene render of {scene.name!r}, observer {setup.name!r}",
-        "source": f"radscene {__version__}",
-        "history": f"{_dt.datetime.now(_dt.UTC).isoformat(timespec='seconds')} rendered by radscene {__version__}",
-        "scene": scene.name,
-        "observer": setup.name,
-        "observer_type": setup.kind,
-        "time": scene.time.astimezone(_dt.UTC).isoformat() if scene.time else "",
-        "sun_zenith_deg": sun.zenith,
-        "sun_azimuth_deg": sun.azimuth,
-        "earth_sun_distance_au": sun.distance,
-        "solar_spectrum": _solar_spectrum(scene.atmosphere),
-        "atmosphere": scene.atmosphere.name,
-        "latitude_deg": scene.location.latitude,
-        "longitude_deg": scene.location.longitude,
-        "supersample": setup.supersample,
-        "sky_samples": scene.settings.sky_samples,
-        "background_bounces": scene.settings.background_bounces,
-        "background_samples": scene.settings.background_samples,
-        "render_seconds": round(elapsed, 3),
-        "band_radiance_definition": "integral of S(lambda) L(lambda) d lambda with the band "
-                                    "response S (peak 1 for rectangular and Gaussian bands)",
-    }
-    return ds
-
-
-#: Per-pixel geolocation stored as CF auxiliary coordinates of the image.
-GEOLOCATION_COORDS = ("latitude", "longitude", "height")
-#: Angle maps stored as scalars when they are one value over the image [deg].
-CONSTANT_ANGLES = ("sun_zenith", "sun_azimuth", "view_zenith", "view_azimuth")
-
-
-def cf_conventions(ds: xr.Dataset, scene) -> xr.Dataset:
-    """A render's Dataset in CF form: latitude, longitude and height as auxiliary coordinates
-    (each image variable's ``coordinates`` on writing); an angle map that holds one value
-    (within 1e-9 deg) where the image sees the scene as a scalar; a map product (``x``/``y``
-    in metres of the scene frame) with the ``crs`` grid-mapping variable of the frame's
-    projection (rioxarray: ``ds.rio.crs``)."""
-    ds = ds.set_coords([n for n in GEOLOCATION_COORDS if n in ds.data_vars])
-    for name in CONSTANT_ANGLES:
-        if name not in ds.data_vars or ds[name].ndim == 0:
-            continue
-        values = ds[name].values
-        seen = values[np.isfinite(values)]
-        if seen.size and float(seen.max() - seen.min()) <= 1e-9:
-            ds[name] = ((), float(seen[0]), {**ds[name].attrs, "comment": "one value over the image"})
-    if "x" in ds.coords and ds["x"].attrs.get("units") == "m":
-        from radscene.platform.geolocation import LocalFrame
-
-        loc = scene.location
-        crs = LocalFrame(loc.latitude, loc.longitude, loc.altitude).crs()
-        # pyproj's CF grid mapping plus the WKT under GDAL's name, as rioxarray's write_crs
-        # writes them; not through the .rio accessor, whose write_crs deep-copies every layer
-        # and whose cached accessor keeps each render alive until a garbage collection (the
-        # render benchmark took 4.0 s instead of 1.8 s)
-        ds = ds.assign_coords(crs=((), 0, {**crs.to_cf(), "spatial_ref": crs.to_wkt()}))
-        for var in ds.data_vars.values():
-            if "x" in var.dims and "y" in var.dims:
-                var.encoding["grid_mapping"] = "crs"
-    return ds
-
-
-def _geolocation(scene, hits, rays, labelled, track) -> dict:
-    """Per-pixel geodetic position and view/sun angles of the surface each pixel sees, from
-    the ``labelled`` hits (one per pixel); the sun is ``track``'s at each one's time."""
-    from radscene.platform.geolocation import LocalFrame
-
-    ny, nx = rays.shape
-    loc = scene.location
-    frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
-    pick = slice(None) if labelled.all() else labelled
-    position, direction, pixel = hits.position[pick], rays.directions[pick], rays.pixel[pick]
-    if int(np.max(rays.subsample)) > 0:
-        # an even k×k grid has no sub-sample at the pixel's centre: the mean of the middle 2×2
-        # (those that hit) is there on a plane; an odd grid's centre sample is its own mean
-        middle = np.flatnonzero(_central_subsamples(rays) & hits.hit)
-        pixel, inverse, count = np.unique(rays.pixel[middle], return_inverse=True, return_counts=True)
-        inverse = inverse.ravel()
-        position = np.stack([np.bincount(inverse, hits.position[middle, a]) for a in range(3)], axis=1) / count[:, None]
-        direction = np.stack([np.bincount(inverse, rays.directions[middle, a]) for a in range(3)], axis=1)
-        direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    lat, lon, height, vz, va = frame.pixel_geolocation(position, direction, pixel, ny * nx).reshape(5, ny, nx)
-    hit = np.isfinite(lat)
-    sun_zenith, sun_azimuth = np.full((2, ny * nx), np.nan)
-    zen, azi = track.angles(rays.time[pick] if track.moving else None)
-    sun_zenith[rays.pixel[pick]], sun_azimuth[rays.pixel[pick]] = zen, azi
-    sun_zenith = np.where(hit, sun_zenith.reshape(ny, nx), np.nan)
-    sun_azimuth = np.where(hit, sun_azimuth.reshape(ny, nx), np.nan)
-    deg = {"units": "degree"}
-    return {
-        "latitude": (("y", "x"), lat, {"units": "degrees_north", "standard_name": "latitude",
-                                        "long_name": "WGS84 latitude of the surface seen"}),
-        "longitude": (("y", "x"), lon, {"units": "degrees_east", "standard_name": "longitude",
-                                         "long_name": "WGS84 longitude of the surface seen"}),
-        "height": (("y", "x"), height, {"units": "m", "long_name": "height above the WGS84 ellipsoid"}),
-        "view_zenith": (("y", "x"), vz, {**deg, "long_name": "zenith angle of the direction from "
-                                         "the surface to the sensor (scene frame)"}),
-        "view_azimuth": (("y", "x"), va, {**deg, "long_name": "azimuth of that direction, "
-                                          "clockwise from north (scene frame)"}),
-        "sun_zenith": (("y", "x"), sun_zenith,
-                       {**deg, "long_name": "solar zenith angle at the pixel's acquisition "
-                        "time (scene origin; the parallax across a scene is negligible)"}),
-        "sun_azimuth": (("y", "x"), sun_azimuth,
-                        {**deg, "long_name": "solar azimuth, clockwise from north, at the "
-                         "pixel's acquisition time"}),
-    }
-
-
-def _pixel_coordinates(setup, shape) -> dict:
-    ny, nx = shape
-    if setup.kind == "orthographic" and getattr(setup.camera, "zenith", 0.0) == 0.0:
-        xs, ys = setup.camera.map_axes()
-        return {"x": ("x", xs, {"units": "m", "long_name": "easting in the scene frame",
-                                "axis": "X"}),
-                "y": ("y", ys, {"units": "m", "long_name": "northing in the scene frame",
-                                "axis": "Y"})}
-    return {"x": ("x", np.arange(nx), {"long_name": "pixel column"}),
-            "y": ("y", np.arange(ny), {"long_name": "pixel row"})}

@@ -22,7 +22,8 @@ from scipy.interpolate import CubicSpline
 
 from radscene.radiometry import spectral_radiance
 
-__all__ = ["band_quadrature", "BandCoefficients", "emission_coefficients"]
+__all__ = ["band_quadrature", "BandCoefficients", "emission_coefficients", "solar_spectrum",
+           "breakpoints"]
 
 #: Gauss–Legendre order per sub-interval.
 GL_ORDER = 4
@@ -152,3 +153,32 @@ def emission_coefficients(emissivity_tau, nodes, weights, material_index, temper
         sel = material_index == m
         out[sel] = CubicSpline(t_grid, table[m], axis=-1)(temperature[sel]).T
     return out
+
+
+def solar_spectrum(atmosphere) -> str:
+    """The solar spectrum of the renderer's sun: the atmosphere's where radscene evaluates it
+    (``radscene``, ``tsis1``), else ``radscene``'s (6S's own spectrum exists only inside 6S)."""
+    from radscene.sun import SOLAR_SPECTRUM_NAMES
+
+    name = str(getattr(atmosphere, "solar_spectrum", "radscene") or "radscene").lower()
+    return name if name in SOLAR_SPECTRUM_NAMES else "radscene"
+
+
+def breakpoints(scene) -> np.ndarray:
+    """Every table wavelength that enters a band integral: materials, atmosphere, sun [um]."""
+    from radscene.sun import spectrum as sun_spectrum
+
+    name = solar_spectrum(scene.atmosphere)
+    solar_wl, _ = sun_spectrum.toa_solar_spectrum(name)
+    # the measured parts have kinks at their samples; the blackbody head and tail are smooth
+    start = 0.28 if name == "radscene" else 0.25
+    points = [solar_wl[(solar_wl >= start) & (solar_wl <= 4.0)]]
+    for m in scene.materials:
+        for spec in (m.diffuse_reflectance, m.specular_reflectance, m.transmittance):
+            if spec.wavelength is not None:
+                points.append(np.asarray(spec.wavelength, dtype=float))
+    for attr in ("transmittance", "sun_transmittance", "path_radiance", "sky_radiance"):
+        spec = getattr(scene.atmosphere, attr, None)
+        if spec is not None and getattr(spec, "wavelength", None) is not None:
+            points.append(np.asarray(spec.wavelength, dtype=float))
+    return np.unique(np.concatenate(points))
