@@ -79,6 +79,11 @@ def band_inputs(scene) -> dict:
     from radscene.render import integrator, sun_geometry
     from radscene.render.spectral import emission_coefficients
 
+    try:  # where the band tables live (the integrator's own before they had a module)
+        from radscene.render.band_setup import BandSetup
+    except ImportError:
+        BandSetup = integrator._BandSetup
+
     if getattr(scene.atmosphere, "geometry_dependent", True):
         raise ValueError("the comparison needs an atmosphere whose path does not depend on "
                          "geometry (uniform)")
@@ -90,9 +95,9 @@ def band_inputs(scene) -> dict:
     tables = SimpleNamespace(sun=sun_geometry(scene))
     bands = [scene.band(b["name"]) for b in BANDS]
     try:  # one sun node, its atmosphere (radscene after the per-ray sun)
-        setup = integrator._BandSetup(scene, bands, nodes, [(tables.sun, scene.atmosphere)])
+        setup = BandSetup(scene, bands, nodes, [(tables.sun, scene.atmosphere)])
     except TypeError:
-        setup = integrator._BandSetup(scene, tables, bands, nodes, scene.atmosphere)
+        setup = BandSetup(scene, tables, bands, nodes, scene.atmosphere)
     c = setup.coefficients
     n_m = len(scene.materials)
     temperature = np.full(n_m, np.nan)

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["mix_rows", "mix_sky", "mix_terms", "TERM_SLOTS"]
+__all__ = ["mix_rows", "mix_sky", "mix_terms", "gather_band", "sky_sum", "TERM_SLOTS"]
 
 
 @numba.njit(inline="always")
@@ -159,6 +159,23 @@ def mix_sky(table, row, index, weight, fractions) -> np.ndarray:
         (N, n_b) float64.
     """
     return _run(_mix_sky, table, row, index, weight, fractions)
+
+
+def gather_band(table, nodes) -> np.ndarray:
+    """Σ_j w_j table[:, idx_j] for each sample: (N, n_b); ``table`` is (n_b, n_j) and
+    ``nodes`` the samples' path nodes (``index``, ``weight``)."""
+    return mix_rows(table.T[None], np.zeros(len(nodes.index), dtype=np.int64), nodes.index,
+                    nodes.weight)
+
+
+def sky_sum(table, row, nodes, fractions) -> np.ndarray:
+    """Σ_j w_j Σ_k table[row, :, idx_j, k] F_k for each sample: (N, n_b).
+
+    ``table`` is (n_rows, n_b, n_j, n_k) (rows: materials, or view cosines of a BRDF table),
+    ``row`` and ``fractions`` (N,) and (N, n_k): terms.sky_reflected's sum without forming
+    the (N, n_b, n_k) table of each sample.
+    """
+    return mix_sky(table.transpose(0, 2, 1, 3), row, nodes.index, nodes.weight, fractions)
 
 
 def _f64(a):

@@ -39,6 +39,7 @@ from radscene.atmosphere import sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
 from radscene.errors import ConfigError
 from radscene.render import background, illumination, kernels, node_mixing, terms
+from radscene.render.band_setup import BandSetup, configured_atmosphere, mean_view_azimuth
 from radscene.render.integrator import (
     BACKGROUND_LONG_NAME,
     BACKGROUND_TERM,
@@ -46,15 +47,11 @@ from radscene.render.integrator import (
     TERMS,
     THERMAL_BAND_START,
     TILE_SAMPLES,
-    _BandSetup,
-    _configured_atmosphere,
-    _gather_band,
-    _mean_view_azimuth,
     _shadows,
     _surface,
     _textures,
-    emission_coefficients,
 )
+from radscene.render.spectral import emission_coefficients
 from radscene.render.sun_track import combine_nodes, sun_track
 
 __all__ = ["RealtimeRenderer", "check_realtime", "SERIAL_PIXELS"]
@@ -141,7 +138,7 @@ class RealtimeRenderer:
         to_observer = -rays.directions[hit]
         view_zenith = np.degrees(np.arccos(np.clip(to_observer[:, 2], -1.0, 1.0)))
         view_azimuth = np.degrees(np.arctan2(to_observer[:, 0], to_observer[:, 1])) % 360.0
-        suns = [(s, _configured_atmosphere(scene, s, _mean_view_azimuth(rays.directions, hit)))
+        suns = [(s, configured_atmosphere(scene, s, mean_view_azimuth(rays.directions, hit)))
                 for s in track.nodes]
         atm = suns[track.reference][1]
         path_nodes = atm.path_nodes(rays.origins[hit, 2] + alt0, hits.position[hit, 2] + alt0,
@@ -149,7 +146,7 @@ class RealtimeRenderer:
                                         view_azimuth, track.angles(None)[1]))
         nodes_all = combine_nodes(path_nodes, *track.node_weights(None))
         path_index, path_weight = nodes_all.azimuth_mixing()
-        bset = _BandSetup(scene, bands, path_nodes, suns, track.reference)
+        bset = BandSetup(scene, bands, path_nodes, suns, track.reference)
         coef = bset.coefficients
         # per pixel: the path nodes of its key-frame hit (pixels that missed: the nearest hit's)
         pixel = rays.pixel[hit]
@@ -233,7 +230,7 @@ class RealtimeRenderer:
             key.object[p] = st.obj
             if reflect is not None:  # at the surface, then through τ_a and Δρ, as the render
                 values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start)
-                values *= _gather_band(bset.coefficients.transmittance,
+                values *= node_mixing.gather_band(bset.coefficients.transmittance,
                                        nodes_all.subset(st.rank))
                 values *= _textures(scene, st.obj, st.pos)["reflectance"][:, None]
                 key.background[:, p] = values.T
