@@ -74,13 +74,13 @@ def test_packet_intersections_equal_embreex_ones(tracer):
 
 
 def test_render_shadows_from_packets_equal_the_checked_queries(tracer):
-    """The renderer's shadow pass (integrator._shadows): packets of eight neighbouring hits,
+    """The renderer's shadow pass (render.surface.shadows): packets of eight neighbouring hits,
     against the same hits through embreex — normals turned to face the viewer, faces turned
     from the sun unlit, hits whose offset origin leaves the scene's box (here: above it) sent
     to the checked query; and with shadows off, only the faces' orientation."""
     from types import SimpleNamespace
 
-    from radscene.render.integrator import _shadows
+    from radscene.render.surface import shadows
 
     rng = np.random.default_rng(12)
     n = 4001
@@ -94,7 +94,7 @@ def test_render_shadows_from_packets_equal_the_checked_queries(tracer):
     sun /= np.linalg.norm(sun)
     single = RayTracer(tracer.meshes, packets=False)
     for trace in (True, False):
-        got = [_shadows(SimpleNamespace(shadow_tracer=t, sun=SimpleNamespace(zenith=36.0),
+        got = [shadows(SimpleNamespace(shadow_tracer=t, sun=SimpleNamespace(zenith=36.0),
                                         epsilon=1e-3),
                         hits, hits.hit, down, sun, trace) for t in (tracer, single)]
         np.testing.assert_array_equal(got[0], got[1])
@@ -109,7 +109,7 @@ def test_render_shadows_with_a_sun_per_hit(tracer):
     query agree hit by hit, and one sun given per hit equals that sun given once."""
     from types import SimpleNamespace
 
-    from radscene.render.integrator import _shadows
+    from radscene.render.surface import shadows
 
     rng = np.random.default_rng(5)
     n = 3001
@@ -123,9 +123,9 @@ def test_render_shadows_with_a_sun_per_hit(tracer):
     sun /= np.linalg.norm(sun, axis=1, keepdims=True)
     single = RayTracer(tracer.meshes, packets=False)
     tables = [SimpleNamespace(shadow_tracer=t, epsilon=1e-3) for t in (tracer, single)]
-    got = [_shadows(tb, hits, hits.hit, down, sun, True) for tb in tables]
+    got = [shadows(tb, hits, hits.hit, down, sun, True) for tb in tables]
     np.testing.assert_array_equal(got[0], got[1])
     assert 0.0 < got[0].mean() < 1.0
     one = np.repeat(sun[:1], n_hit, axis=0)
-    np.testing.assert_array_equal(_shadows(tables[0], hits, hits.hit, down, one, True),
-                                  _shadows(tables[0], hits, hits.hit, down, sun[0], True))
+    np.testing.assert_array_equal(shadows(tables[0], hits, hits.hit, down, one, True),
+                                  shadows(tables[0], hits, hits.hit, down, sun[0], True))

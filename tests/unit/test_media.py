@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from radscene import load_scene
-from radscene.render import illumination, integrator, media
+from radscene.render import illumination, integrator, media, media_sky
 
 SCENE = {
     "name": "media",
@@ -40,7 +40,7 @@ def setup():
     tables = integrator.scene_tables(scene)
     bands = [scene.band(b["name"]) for b in SCENE["bands"]]
     sun = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
-    medium = integrator._media(scene, tables, bands, sun, False, None)
+    medium = media_sky.for_render(scene, tables, bands, sun, False, None)
     rng = np.random.default_rng(3)
     n = 10
     xy = rng.uniform(-5.0, 0.5, (n, 2))

@@ -84,7 +84,7 @@ from radscene.render.background_tables import (
 
 __all__ = ["BackgroundTables", "band_tables", "draws", "reflected", "reflected_reference",
            "sky_radiance", "brdf", "brdf_reference", "brdf_weight", "brdf_weight_reference",
-           "directions", "Draws", "Pass", "for_render", "WEIGHTING_TEMPERATURE",
+           "directions", "Draws", "Pass", "for_render", "render_tables", "WEIGHTING_TEMPERATURE",
            "CHUNK_SAMPLES"]
 
 #: Paths (hits × samples) handled at once; the results do not depend on it.
@@ -460,10 +460,16 @@ def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,
     settings = scene.settings
     if settings.background_bounces == 0:
         return None
-    band = band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
-                       bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
-                       tables.face_material, tables.face_temperature)
-    return Pass(tables.tracer, band, samples=-(-settings.background_samples // per_pixel),
+    return Pass(tables.tracer, render_tables(scene, tables, bset, thermal), samples=-(-settings.background_samples // per_pixel),
                 bounces=settings.background_bounces, seed=settings.seed,
                 epsilon=tables.epsilon, shadows=settings.shadows, texture=texture,
                 media=media)
+
+
+def render_tables(scene, tables, bset, thermal) -> BackgroundTables:
+    """The band tables (:func:`band_tables`) of one render: ``tables``, ``bset`` and
+    ``thermal`` as for :func:`for_render`; also those that reflect the volumes' own radiance
+    where the render has no background pass."""
+    return band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
+                       bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
+                       tables.face_material, tables.face_temperature)

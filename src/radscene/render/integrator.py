@@ -17,7 +17,6 @@ from __future__ import annotations
 import time as _time
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from types import SimpleNamespace
 
 import numpy as np
 import xarray as xr
@@ -25,8 +24,8 @@ import xarray as xr
 from radscene.atmosphere import sky_node_weights
 from radscene.render import (
     background,
-    illumination,
     media,
+    media_sky,
     node_mixing,
     sheets,
     terms,
@@ -42,7 +41,7 @@ from radscene.render.band_setup import (
     path_setup,
     sun_irradiance,
 )
-from radscene.render.brdf_tables import brdf_terms, view_weights
+from radscene.render.brdf_tables import brdf_terms
 from radscene.render.coupling_pass import coupling_layers, coupling_pass
 from radscene.render.outputs import (
     BACKGROUND_LONG_NAME,
@@ -60,7 +59,16 @@ from radscene.render.outputs import (
     sky_view_transmitted,
 )
 from radscene.render.spectral import breakpoints
-from radscene.render.sun_track import sun_geometry, sun_track
+from radscene.render.sun_track import sun_track
+from radscene.render.surface import (
+    SceneTables,
+    hit_temperature,
+    scene_tables,
+    secondary_rays,
+    shadows,
+    surface_state,
+    textures,
+)
 from radscene.render.tiles import as_slice, pixel_sums, tile_slices, touch_pages
 
 __all__ = ["render", "render_all", "scene_tables", "cf_conventions", "TERMS", "TERM_LONG_NAMES",
@@ -71,34 +79,8 @@ __all__ = ["render", "render_all", "scene_tables", "cf_conventions", "TERMS", "T
 TILE_SAMPLES = 1 << 17
 
 
-class _SceneTables:
-    """Per-scene data shared by all observers: the ray tracer and per-face lookups (``tracer``:
-    one already built of the objects' meshes, kept)."""
-
-    def __init__(self, scene, tracer=None):
-        from radscene.geometry import RayTracer
-
-        self.scene = scene
-        self.tracer = RayTracer([obj.mesh for obj in scene.objects]) if tracer is None else tracer
-        sizes = [len(obj.face_material) for obj in scene.objects]
-        self.face_offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
-        self.face_material = np.concatenate([obj.face_material for obj in scene.objects])
-        self.face_temperature = np.concatenate([obj.face_temperature for obj in scene.objects])
-        corners = [getattr(obj, "face_corner_temperature", None) for obj in scene.objects]
-        self.face_corner_temperature = None if all(c is None for c in corners) else np.concatenate(
-            [np.repeat(np.asarray(obj.face_temperature, float)[:, None], 3, axis=1) if c is None else np.asarray(c, float)
-             for obj, c in zip(scene.objects, corners, strict=True)])
-        # semi-transparent sheets: shadow rays pass them (render/sheets.py)
-        self.sheet_object, self.shadow_tracer, self.sheet_tracer = sheets.tracers(
-            scene.objects, self.tracer)
-        lo, hi = self.tracer.bounds
-        self.epsilon = 1e-4 + 2e-6 * float(np.linalg.norm(np.asarray(hi) - np.asarray(lo)))
-        self.sun = sun_geometry(scene)
-        self.exponent = np.array([m.specular_exponent for m in scene.materials], dtype=float)
-
-
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
-           bands=None, specular=None, _tables: _SceneTables | None = None, _rays=None,
+           bands=None, specular=None, _tables: SceneTables | None = None, _rays=None,
            _depth: int = 0) -> xr.Dataset:
     """Render one observer of a scene.
 
@@ -149,10 +131,10 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     # tables; the shadow, sky and lobe rays of the later tiles go to the same thread.
     worker = ThreadPoolExecutor(max_workers=1)
     try:
-        shadows = worker.submit(_shadows, tables, hits, hit, rays.directions, sun_dir,
-                                settings.shadows, track.up)
+        shadow_pass = worker.submit(shadows, tables, hits, hit, rays.directions, sun_dir,
+                                    settings.shadows, track.up)
         ds = _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
-                          settings, rays, hits, hit, shadows, worker, started, progress,
+                          settings, rays, hits, hit, shadow_pass, worker, started, progress,
                           specular)
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
@@ -163,7 +145,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                           _rays=bundle, _depth=_depth + 1)
         ds = sheets.apply(ds, tables, sheets.band_transmittance(scene.materials, bands), bands,
                           rays, hits, layers, sun_dir, track.up, settings.shadows,
-                          lambda obj, pos: _textures(scene, obj, pos)["transmittance"], behind,
+                          lambda obj, pos: textures(scene, obj, pos)["transmittance"], behind,
                           _depth)
         layers += ("transmitted",)
     if scene.volumes:  # the light from behind through them, and their own
@@ -174,7 +156,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
 
 
 def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, settings, rays,
-                 hits, hit, shadows, worker, started, progress, specular=None) -> xr.Dataset:
+                 hits, hit, shadow_pass, worker, started, progress, specular=None) -> xr.Dataset:
     """:func:`render` after the primary rays: the path nodes, the band tables and the tiles.
 
     ``sun`` is the scene's sun (the Dataset's attributes), ``track`` the sun at the rays'
@@ -211,7 +193,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     tiles = tile_slices(total, per_pixel, TILE_SAMPLES)
     hit_face = tables.face_offset[hits.object[hit]] + hits.primitive[hit]
     hit_material = tables.face_material[hit_face]
-    hit_temperature = _hit_temperature(tables, hits, hit, hit_face)
+    hit_temp = hit_temperature(tables, hits, hit, hit_face)
     specular_material = np.any(coef.sun_specular != 0.0, axis=(1, 2)) | np.any(
         coef.sky_specular != 0.0, axis=(1, 2, 3)) if specular is None else np.asarray(
         specular, dtype=bool)
@@ -225,21 +207,22 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     labelled = central & hit  # positions and view directions are known from the primary rays
 
     # volumes and sheets on the sky and background rays (None: the scene has neither)
-    medium = _media(scene, tables, bands, sun_dir, track.up, suns[track.reference])
+    medium = media_sky.for_render(scene, tables, bands, sun_dir, track.up,
+                                  suns[track.reference])
     sky_open = np.zeros((n_b, n_pix)) if medium is not None else None
     media_light = np.zeros((n_b, n_pix)) if medium is not None else None
 
     def launch(sl):
-        state = _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
-                         hit_temperature)
+        state = surface_state(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
+                              hit_temp)
         if state is None:
             return None
         state.specular = specular_material[state.mat]
         n_specular = int(np.count_nonzero(state.specular))
         shifts = (rng.random((len(state.mat), 2)),
                   rng.random((n_specular, 2)) if n_specular else None)
-        job = worker.submit(_secondary_rays, tables, state, settings, sky_nodes, shifts,
-                            scratch, fused_sky, shadows)
+        job = worker.submit(secondary_rays, tables, state, settings, sky_nodes, shifts,
+                            scratch, fused_sky, shadow_pass)
         # the sky rays through volumes and sheets: the same fan, traced again (media.py)
         state.media = None if medium is None else worker.submit(
             media.sky_fan, tables, medium, state.origin, state.nrm, settings.sky_samples,
@@ -257,7 +240,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     pending = {k: launch(tiles[k]) for k in range(min(ahead, len(tiles)))}
     # the other tables while the first tiles' rays are traced
     emission_pair, emission_tables = emission_pairs(
-        bset, hit_material, hit_temperature,
+        bset, hit_material, hit_temp,
         None if tables.face_corner_temperature is None else EMISSION_TEMPERATURE_STEP)
     mixing = mix_tables(coef, emission_tables, sky_diffuse)
     # with one sample per pixel a tile's pixels are final once its terms are written: their
@@ -274,7 +257,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     reflect = background.for_render(
         scene, tables, bset, bands, per_pixel,
         [band.response.center >= THERMAL_BAND_START for band in bands],
-        (lambda obj, pos: _textures(scene, obj, pos))
+        (lambda obj, pos: textures(scene, obj, pos))
         if any(obj.textures for obj in scene.objects) else None, medium)
     sums[BACKGROUND_TERM] = bg = np.zeros((n_b, n_pix))
 
@@ -326,7 +309,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         st, job = current
         hidx, rank, obj, mat, temp = st.hidx, st.rank, st.obj, st.mat, st.temp
         pos, nrm, wo, cos_v, cos_i = st.pos, st.nrm, st.wo, st.cos_v, st.cos_i
-        tex = _textures(scene, obj, pos)
+        tex = textures(scene, obj, pos)
         n_hits = len(hidx)
         if np.any(st.specular):
             mirror_sun = 2.0 * cos_i[:, None] * nrm - st.sun
@@ -361,9 +344,11 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         if medium is not None:  # the sky rays' change by volumes and sheets
             change = st.media.result()
             if media_tables is None:
-                media_tables = reflect.tables if reflect is not None else _reflection_tables(
-                    scene, tables, bset, bands)
-            d_sky, d_light = _media_sky(change, bset, sky_diffuse, st, tex, path_nodes_all,
+                media_tables = reflect.tables if reflect is not None else (
+                    background.render_tables(
+                        scene, tables, bset,
+                        [band.response.center >= THERMAL_BAND_START for band in bands]))
+            d_sky, d_light = media_sky.sky_change(change, bset, sky_diffuse, st, tex, path_nodes_all,
                                         media_tables, coef.transmittance)
             if direct:
                 out[3][:, p] += (d_sky * wh[:, None]).T
@@ -428,95 +413,6 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     return cf_conventions(ds.assign(geolocation), scene)
 
 
-def _media(scene, tables, bands, sun_dir, sun_up, reference):
-    """The volumes and sheets that the sky rays of a render cross (:class:`media.Media`), or
-    None where the scene has neither. ``reference`` is the (sun, atmosphere) pair whose sun
-    the volumes scatter, along the hits' mean sun direction ``sun_dir``."""
-    has_sheets = bool(tables.sheet_object.any())
-    if not scene.volumes and not has_sheets:
-        return None
-    sun = None
-    if sun_up and any(v.albedo > 0.0 for v in scene.volumes):
-        mean = np.reshape(sun_dir, (-1, 3)).mean(axis=0)
-        sun = (mean / np.linalg.norm(mean), sun_irradiance(reference[1], reference[0]))
-    sheet_tau = sheets.band_transmittance(scene.materials, bands) if has_sheets else None
-    return media.Media(
-        tuple(scene.volumes), list(bands), float(scene.location.altitude), sun,
-        breakpoints(scene), tables if has_sheets else None, sheet_tau,
-        (lambda obj, pos: _textures(scene, obj, pos)["transmittance"]) if has_sheets else None)
-
-
-def _reflection_tables(scene, tables, bset, bands):
-    """The reflected background's band tables (band-mean BRDFs) without its pass."""
-    return background.band_tables(
-        scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
-        bset.coefficients.sky_view, bset.sky_nodes,
-        [band.response.center >= THERMAL_BAND_START for band in bands], tables.face_offset,
-        tables.face_material, tables.face_temperature)
-
-
-#: Sky-fan rays whose sky-node weights are formed at once (P × sky nodes floats).
-MEDIA_CHUNK = 1 << 13
-
-
-def _media_sky(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transmittance):
-    """The change of a tile's reflected sky by volumes and sheets, per hit (N, n_b), and the
-    volumes' own radiance reflected along the sky rays (N, n_b) [W m-2 sr-1].
-
-    Each changed ray r of hit i adds delta_r,b times its share of the reflected sky, the sky
-    sum of the render's tables with the ray's own sky-node weights as fractions (so the sun's
-    spectral factors, ρ and τ_a stay as in the sky term), divided by the fan's rays; and
-    π f̄(ω_r, ω_o) L_v,r τ̄_a of the volumes' radiance, f̄ the band-mean BRDF of the
-    reflected background (:mod:`radscene.render.background_tables`).
-    """
-    from radscene.render.background_tables import brdf
-
-    n, n_b = len(st.mat), sky_diffuse.shape[2]
-    d_sky, d_light = np.zeros((n, n_b)), np.zeros((n, n_b))
-    if len(change.point) == 0:
-        return d_sky, d_light
-    tau_a = node_mixing.gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
-    for start in range(0, len(change.point), MEDIA_CHUNK):
-        c = slice(start, start + MEDIA_CHUNK)
-        point, d = change.point[c], change.direction[c]
-        zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
-        azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
-        hats = sky_node_weights(zenith, azimuth, *bset.sky_nodes)  # (P, K)
-        nodes = nodes_all.subset(st.rank[point])
-        mat = st.mat[point]
-        share = node_mixing.mix_sky(sky_diffuse, mat, nodes.index, nodes.weight, hats)
-        if bset.brdf is not None:  # by reciprocity, ρ_dh at the view angle (_brdf_terms)
-            for m in bset.brdf.models:
-                sel = np.flatnonzero(mat == m)
-                if len(sel) == 0:
-                    continue
-                lower, frac = view_weights(st.cos_v[point[sel]])
-                sub = nodes.subset(sel)
-                share[sel] = sum(
-                    v_weight[:, None] * node_mixing.sky_sum(bset.brdf.sky[m], v_index, sub, hats[sel])
-                    for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)))
-        light = change.light[c]
-        own = np.zeros_like(light)
-        lit = np.flatnonzero(np.any(light > 0.0, axis=1))
-        if len(lit):
-            f = brdf(reflection, mat[lit], d[lit], st.wo[point[lit]], st.nrm[point[lit]])
-            own[lit] = np.pi * f * light[lit] * tau_a[point[lit]]
-        for b in range(n_b):
-            d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
-            d_light[:, b] += np.bincount(point, own[:, b], n)
-    scale = tex["reflectance"][:, None] / change.samples
-    return d_sky * scale, d_light * scale
-
-
-def scene_tables(scene, tracer=None) -> _SceneTables:
-    """The ray tracer and per-face tables of a scene, built once and kept with the scene;
-    given a ``tracer`` (of the objects' meshes as they are), built anew around it."""
-    cached = scene.render_cache.get("tables")
-    if cached is None or tracer is not None:
-        cached = scene.render_cache["tables"] = _SceneTables(scene, tracer)
-    return cached
-
-
 def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
     """Render every observer of a scene; returns ``{observer name: Dataset}``."""
     tables = scene_tables(scene)
@@ -532,121 +428,4 @@ def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
 def _report(progress, done, total):
     if progress is not None:
         progress(done, total)
-
-
-def _hit_temperature(tables, hits, hit, hit_face):
-    """The surface temperature at each hit [K]: its face's, or interpolated barycentrically
-    between the face's corner temperatures where the scene gives them."""
-    if tables.face_corner_temperature is None:
-        return tables.face_temperature[hit_face]
-    corner = tables.face_corner_temperature[hit_face]
-    u = hits.u[hit].astype(float)
-    v = hits.v[hit].astype(float)
-    return (1.0 - u - v) * corner[:, 0] + u * corner[:, 1] + v * corner[:, 2]
-
-
-def _surface(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material, hit_temperature):
-    """The state at the hits of one tile of samples, or None where the tile has none.
-
-    ``sun_dir`` is the unit vector towards the sun of every hit (in hit order), or one row
-    for all; the state's ``sun`` is that of the tile's hits (or the one row).
-    """
-    from radscene.render import kernels
-
-    h = hit[sl]
-    if not np.any(h):
-        return None
-    hidx = np.nonzero(h)[0] + sl.start
-    rank = hit_rank[hidx]
-    sun = sun_dir if len(sun_dir) == 1 else sun_dir[rank]
-    nrm, wo, cos_v, cos_i, origin = kernels.surface_state(
-        hits.normal, rays.directions, hits.position, hidx, tables.epsilon, sun)
-    return SimpleNamespace(
-        hidx=hidx, rank=rank, obj=hits.object[hidx], mat=hit_material[rank],
-        temp=hit_temperature[rank], pos=hits.position[hidx], nrm=nrm, wo=wo, cos_v=cos_v,
-        cos_i=cos_i, origin=origin, sun=sun)
-
-
-def _shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.ndarray:
-    """1.0 for each hit (in hit order) where the sun is above its face (the normal turned to
-    face the viewer) and, with ``trace``, seen from it; else 0.0. ``sun_dir`` is the unit
-    vector towards the sun of each hit, or one row for all; ``sun_up`` False: it is below
-    the horizon for every hit."""
-    from radscene.render import kernels
-
-    sel = slice(None) if hit.all() else hit
-    pos, nrm, view = hits.position[sel], hits.normal[sel], directions[sel]
-    sun_dir = np.reshape(sun_dir, (-1, 3))
-    lit = np.zeros(len(pos))
-    if not sun_up or len(pos) == 0:
-        return lit
-    tracer = tables.shadow_tracer
-    todo = slice(None)  # the hits left to the checked query below: all of them, or
-    if tracer.packets is not None:  # one pass, packets of eight neighbouring hits
-        _traced, outside = kernels.packet_shadows(tracer.packets, np.ascontiguousarray(pos),
-                                                  np.ascontiguousarray(nrm),
-                                                  np.ascontiguousarray(view),
-                                                  tracer.center, tracer.half_size,
-                                                  tables.epsilon, sun_dir, trace, lit)
-        if not outside:
-            return lit
-        todo = np.flatnonzero(lit < 0.0)  # those whose origin lies outside the scene's box
-    pos, nrm, view = pos[todo], nrm[todo], view[todo]
-    sun = np.broadcast_to(sun_dir if len(sun_dir) == 1 else sun_dir[todo], pos.shape)
-    nrm = np.where((np.einsum("nc,nc->n", nrm, view) > 0.0)[:, None], -nrm, nrm)
-    facing = np.einsum("nc,nc->n", nrm, sun) > 0.0
-    out = np.zeros(len(pos))
-    if trace:
-        out[facing] = illumination.cast_shadow(tracer, pos[facing] + tables.epsilon
-                                               * nrm[facing], sun[facing])
-    else:
-        out[facing] = 1.0
-    lit[todo] = out
-    return lit
-
-
-def _secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadows):
-    """Lit flags, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
-
-    ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
-    the fans' ray buffers between tiles. ``sky`` is None, or (table, index, weight): then the
-    sky fan is folded straight into the reflected-sky band sums and the second item is
-    (sums (N, n_b), sky view (N,)) instead of the fractions (N, K). The lobe fractions have
-    no rows where the tile has no specular hit. ``shadows`` is the future of :func:`_shadows`
-    for every hit of the render (run earlier on the same thread).
-    """
-    lit = shadows.result()[st.rank]
-    if sky is None:
-        sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
-                                             settings.sky_samples, sky_nodes, None,
-                                             shift=shifts[0], scratch=scratch)
-    else:
-        table, index, weight = sky
-        sky_out = illumination.sky_sums(tables.tracer, st.origin, st.nrm, settings.sky_samples,
-                                        sky_nodes, None, rank=st.rank, material=st.mat,
-                                        index=index, weight=weight, table=table,
-                                        shift=shifts[0], scratch=scratch)
-    n_k = len(sky_nodes[0]) * len(sky_nodes[1])
-    if shifts[1] is None:
-        return lit, sky_out, np.zeros((0, n_k))
-    lobe_f = np.zeros((len(st.mat), n_k))
-    sel = st.specular
-    axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
-    lobe_f[sel] = illumination.lobe_sky_fractions(
-        tables.tracer, st.origin[sel], st.nrm[sel], axis, tables.exponent[st.mat[sel]],
-        settings.specular_samples, sky_nodes, None, shift=shifts[1], scratch=scratch)
-    return lit, sky_out, lobe_f
-
-
-def _textures(scene, obj, pos) -> dict[str, np.ndarray]:
-    out = {k: np.ones(len(obj)) for k in ("reflectance", "emissivity", "transmittance")}
-    for o, sobj in enumerate(scene.objects):
-        if not sobj.textures:
-            continue
-        sel = obj == o
-        if not np.any(sel):
-            continue
-        for kind, texture in sobj.textures.items():
-            out[kind][sel] = texture.sample(pos[sel, 0], pos[sel, 1])
-    return out
 

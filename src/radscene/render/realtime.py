@@ -47,12 +47,10 @@ from radscene.render.integrator import (
     TERMS,
     THERMAL_BAND_START,
     TILE_SAMPLES,
-    _shadows,
-    _surface,
-    _textures,
 )
 from radscene.render.spectral import emission_coefficients
 from radscene.render.sun_track import combine_nodes, sun_track
+from radscene.render.surface import shadows, surface_state, textures
 
 __all__ = ["RealtimeRenderer", "check_realtime", "SERIAL_PIXELS"]
 
@@ -102,7 +100,7 @@ class RealtimeRenderer:
     scene : radscene.scene.Scene
         Loaded; checked with :func:`check_realtime`. Its materials and surface temperatures
         are read at each key frame.
-    tables : radscene.render.integrator._SceneTables
+    tables : radscene.render.surface.SceneTables
         The ray tracer (moved between frames by the caller) and the per-face tables.
     """
 
@@ -200,7 +198,7 @@ class RealtimeRenderer:
         reflect = background.for_render(
             scene, tables, bset, key.bands, 1,
             [band.response.center >= THERMAL_BAND_START for band in key.bands],
-            (lambda obj, pos: _textures(scene, obj, pos))
+            (lambda obj, pos: textures(scene, obj, pos))
             if any(obj.textures for obj in scene.objects) else None)
         key.background = np.zeros((len(key.bands), n_pix)) if reflect is not None else None
         key.object = np.full(n_pix, -1, dtype=np.int64)
@@ -217,7 +215,7 @@ class RealtimeRenderer:
         scratch = {}
         for start in range(0, total, TILE_SAMPLES):
             sl = slice(start, min(start + TILE_SAMPLES, total))
-            st = _surface(tables, rays, hits, hit, hit_rank, sl, key.sun_dir, hit_material,
+            st = surface_state(tables, rays, hits, hit, hit_rank, sl, key.sun_dir, hit_material,
                           np.zeros(len(hit_material)))
             if st is None:
                 continue
@@ -232,7 +230,7 @@ class RealtimeRenderer:
                 values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start)
                 values *= node_mixing.gather_band(bset.coefficients.transmittance,
                                        nodes_all.subset(st.rank))
-                values *= _textures(scene, st.obj, st.pos)["reflectance"][:, None]
+                values *= textures(scene, st.obj, st.pos)["reflectance"][:, None]
                 key.background[:, p] = values.T
             sky = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, bset.sky_nodes, None,
@@ -350,14 +348,14 @@ class RealtimeRenderer:
         hit = hits.hit
         hidx = np.flatnonzero(hit)
         p = dirty[hidx]
-        lit = _shadows(tables, hits, hit, directions, key.sun_dir, settings.shadows,
+        lit = shadows(tables, hits, hit, directions, key.sun_dir, settings.shadows,
                        key.track.up)
         nrm, wo, cos_v, cos_i, _origin = kernels.surface_state(
             hits.normal, directions, hits.position, hidx, tables.epsilon, key.sun_dir)
         obj = hits.object[hidx]
         face = tables.face_offset[obj] + hits.primitive[hidx]
         mat = tables.face_material[face]
-        tex = _textures(scene, obj, hits.position[hidx])
+        tex = textures(scene, obj, hits.position[hidx])
         spec = key.specular[mat]
         n_k = key.sky_fractions.shape[1]
         if spec.any():
