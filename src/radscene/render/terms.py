@@ -25,8 +25,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from radscene.atmosphere import sky_node_weights
+
 __all__ = ["sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected", "path_radiance",
-           "phong_geometry"]
+           "phong_geometry", "leaving_sky"]
 
 
 def sun_diffuse(coefficient, cos_incidence, lit, texture):
@@ -89,3 +91,19 @@ def sky_reflected(diffuse_coefficient, sky_fraction, specular_coefficient, lobe_
 def path_radiance(coefficient):
     """Atmospheric path radiance ∫ S L_path dλ [W m-2 sr-1]; ``coefficient`` (N, n_b)."""
     return np.asarray(coefficient)
+
+
+def leaving_sky(directions, sky_nodes, sky_view):
+    """The sky radiance seen along rays that leave the scene [W m-2 sr-1], (N, n_b): the sky
+    table interpolated at each direction upwards, zero downwards.
+
+    Parameters
+    ----------
+    directions : (N, 3) unit vectors of the rays (east, north, up)
+    sky_nodes : (zenith nodes, azimuth nodes) of the sky table [deg]
+    sky_view : (n_b, n_k) ∫ S L_sky,k dλ [W m-2 sr-1]
+    """
+    dz = directions[:, 2]
+    zenith = np.degrees(np.arccos(np.clip(dz, -1.0, 1.0)))
+    azimuth = np.degrees(np.arctan2(directions[:, 0], directions[:, 1]))
+    return (sky_node_weights(zenith, azimuth, *sky_nodes) @ sky_view.T) * (dz > 0)[:, None]

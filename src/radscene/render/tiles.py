@@ -1,14 +1,21 @@
-"""Tile assembly: the helpers that sum a render's tiles of ray samples per pixel.
+"""Tile assembly: the per-pixel sums a render accumulates, tile by tile.
 
 A render traces its ray samples in tiles of whole pixels; each tile's terms, transmittance
-and truth are weighted by the samples' weights and summed per pixel into the image.
+and truth are weighted by the samples' weights and summed per pixel into the image
+(:class:`TileSums`). With one sample per pixel a tile's pixels are final once written: their
+total radiance and brightness temperatures are formed then (:meth:`TileSums.totals`), while
+the next tiles' rays are traced.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["tile_slices", "pixel_sums", "as_slice", "touch_pages"]
+from radscene.render import terms
+from radscene.render.outputs import BACKGROUND_TERM, TERMS, THERMAL_BAND_START
+from radscene.render.truth import TRUTH_SUMS
+
+__all__ = ["TileSums", "tile_slices", "pixel_sums", "as_slice", "touch_pages"]
 
 
 def tile_slices(total, per_pixel, tile_samples):
@@ -16,6 +23,143 @@ def tile_slices(total, per_pixel, tile_samples):
     each), about ``tile_samples`` long."""
     tile = max(per_pixel, (tile_samples // per_pixel) * per_pixel)
     return [slice(start, min(start + tile, total)) for start in range(0, total, tile)]
+
+
+class TileSums:
+    """The per-pixel sums of one render (band radiance [W m-2 sr-1], weighted sums).
+
+    Attributes
+    ----------
+    acc : (term, band, pixel) the signature terms, :data:`~radscene.render.outputs.TERMS`
+    sums : dict — each layer (band, pixel) by name: the terms (views of ``acc``) and the
+        reflected background
+    transmittance : (band, pixel) the path transmittance
+    truth : dict — :data:`~radscene.render.truth.TRUTH_SUMS`, (pixel,) each
+    object_id, material_id, normal_map : the labels of the sub-sample nearest each centre
+    media_light, sky_open : (band, pixel) or None — the volumes' own radiance reflected along
+        the sky rays, and the sky view through volumes and sheets (where the scene has any)
+    radiance, brightness : (band, pixel) or None — the total radiance and brightness
+        temperature [K], formed per tile where ``direct`` (one sample per pixel, no BRDF)
+
+    Parameters
+    ----------
+    bands : list — objects with ``response``
+    n_pix : int
+    central : (samples,) bool — the sub-sample nearest each pixel centre
+    direct : bool — one sample per pixel and no BRDF model: the terms are written straight
+        into ``acc``, the totals formed per tile
+    media, background : bool — the scene's volumes or sheets change the sky rays; the
+        render has a reflected-background pass
+    """
+
+    def __init__(self, bands, n_pix, central, direct, media, background):
+        n_b = len(bands)
+        self.bands = bands
+        self.acc = np.zeros((len(TERMS), n_b, n_pix))
+        self.sums = dict(zip(TERMS, self.acc, strict=True))
+        self.transmittance = np.zeros((n_b, n_pix))
+        self.truth = {k: np.zeros(n_pix) for k in TRUTH_SUMS}
+        self.central = central
+        self.object_id = np.full(n_pix, -1, dtype=np.int32)
+        self.material_id = np.full(n_pix, -1, dtype=np.int32)
+        self.normal_map = np.full((3, n_pix), np.nan)
+        self.sky_open = np.zeros((n_b, n_pix)) if media else None
+        self.media_light = np.zeros((n_b, n_pix)) if media else None
+        self.direct = direct
+        self.thermal = [b for b, band in enumerate(bands)
+                        if band.response.center >= THERMAL_BAND_START]
+        self.brightness = np.full((n_b, n_pix), np.nan) if direct and self.thermal else None
+        self.radiance = np.empty((n_b, n_pix)) if direct else None
+        self.has_background = background
+        self.sums[BACKGROUND_TERM] = self.background = np.zeros((n_b, n_pix))
+
+    def leaving(self, pixel, weight, directions, sky_nodes, sky_view):
+        """Add the path radiance of samples whose rays leave the scene: the sky (upwards)
+        or nothing (downwards); ``sky_view`` (band, sky node) [W m-2 sr-1]."""
+        n_pix = self.acc.shape[2]
+        sky_seen = terms.leaving_sky(directions, sky_nodes, sky_view)
+        path = self.sums["path_radiance"]
+        for b in range(path.shape[0]):
+            path[b] += np.bincount(pixel, weight * sky_seen[:, b], n_pix)
+
+    def buffers(self, pixel, weight):
+        """Where a tile's hits write their terms: (terms (term, band, ·), transmittance
+        (band, ·), each hit's column, its weight) — the image itself where ``direct``, else
+        arrays of the tile's hits, weighted and summed by :meth:`add`."""
+        if self.direct:
+            return self.acc, self.transmittance, pixel, weight
+        n_hits, n_b = len(pixel), self.acc.shape[1]
+        out, tau = np.empty((len(TERMS), n_b, n_hits)), np.empty((n_b, n_hits))
+        return out, tau, np.arange(n_hits), np.ones(n_hits)
+
+    def add(self, pixel, weight, out, tau, truth_rows, per_pixel, unit_weight):
+        """Add a tile's terms (term, band, hit), transmittance and truth rows (one per
+        :data:`TRUTH_SUMS`, None: the weight itself) at its hits' ``pixel``."""
+        acc, truth = self.acc, self.truth
+        if per_pixel == 1:  # one sample per pixel: no sums, only weighted copies
+            at = as_slice(pixel)  # a tile of whole rows: plain slices
+            if not self.direct:
+                acc[:, :, at] = out if unit_weight else out * weight
+                self.transmittance[:, at] = tau if unit_weight else tau * weight
+            for key, row in zip(TRUTH_SUMS, truth_rows, strict=True):
+                truth[key][at] = weight if row is None else row if unit_weight else row * weight
+            return
+        n_hits, n_b = len(pixel), acc.shape[1]
+        n_rows = len(TERMS) * n_b
+        rows = np.concatenate([out.reshape(n_rows, n_hits), tau, np.vstack(
+            [np.ones(n_hits) if row is None else row for row in truth_rows])])
+        pixels, totals = pixel_sums(pixel, weight, rows)
+        acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
+        self.transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
+        for c, key in enumerate(TRUTH_SUMS):
+            truth[key][pixels] += totals[n_rows + n_b + c]
+
+    def label(self, pixel, sample, obj, mat, nrm, per_pixel):
+        """Label the pixels of a tile's hits (``sample``: their ray samples) with the object,
+        material and normal of the sub-sample nearest each pixel centre."""
+        if per_pixel == 1:  # every sample is its pixel's central one
+            at = as_slice(pixel)
+            self.object_id[at], self.material_id[at], self.normal_map[:, at] = obj, mat, nrm.T
+        else:
+            c = self.central[sample]
+            self.object_id[pixel[c]] = obj[c]
+            self.material_id[pixel[c]] = mat[c]
+            self.normal_map[:, pixel[c]] = nrm[c].T
+
+    def add_background(self, pixel, weight, values):
+        """Add the reflected background of a tile's hits, ``values`` (band, hit)."""
+        pixels, totals = pixel_sums(pixel, weight, values)
+        self.background[:, pixels] += totals
+
+    def add_media(self, pixel, weight, light, view):
+        """Add the volumes' own radiance reflected along the sky rays of a tile's hits,
+        ``light`` (band, hit), and their sky view through volumes and sheets, ``view``
+        (band, hit)."""
+        n_b = len(light)
+        pixels, totals = pixel_sums(pixel, weight, np.vstack([light, view]))
+        self.media_light[:, pixels] += totals[:n_b]
+        self.sky_open[:, pixels] += totals[n_b:]
+
+    def totals(self, pixel):
+        """The total radiance (the terms summed in TERMS order, as the Dataset would) and
+        brightness temperatures of a tile's pixels, where they are formed per tile."""
+        from radscene.radiometry import band_brightness_temperature
+
+        if self.radiance is None:
+            return
+        at = as_slice(pixel)
+        total = self.radiance[:, at]
+        np.copyto(total, self.acc[0, :, at])
+        for t in range(1, len(TERMS)):
+            total += self.acc[t, :, at]
+        if self.has_background:
+            total += self.background[:, at]
+        if self.media_light is not None:
+            total += self.media_light[:, at]
+        if self.brightness is not None:
+            for b in self.thermal:
+                self.brightness[b, at] = band_brightness_temperature(total[b],
+                                                                     self.bands[b].response)
 
 
 def as_slice(index):

@@ -1,0 +1,122 @@
+"""Shading of a tile's hits: the signature terms, and the passes that add to them.
+
+For the hits of one tile of ray samples, :class:`TileShader` forms the five signature terms
+(:func:`radscene.render.node_mixing.mix_terms`, the terms of :mod:`radscene.render.terms`
+with their band coefficients mixed between path nodes), replaces them where the material has
+a BRDF model (:func:`radscene.render.brdf_tables.brdf_terms`), changes the reflected sky by
+the scene's volumes and sheets (:mod:`radscene.render.media_sky`), adds the reflected
+background (:mod:`radscene.render.background`) and writes all of it, with the truth, into
+the image's sums (:class:`radscene.render.tiles.TileSums`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from radscene.render import background, media_sky, node_mixing, terms
+from radscene.render.brdf_tables import brdf_terms
+from radscene.render.outputs import TERMS, THERMAL_BAND_START
+from radscene.render.surface import textures
+
+__all__ = ["TileShader"]
+
+
+class TileShader:
+    """Shades the tiles of one render (see the module's description).
+
+    Parameters
+    ----------
+    scene, tables : the scene and its :class:`~radscene.render.surface.SceneTables`
+    bset : :class:`~radscene.render.band_setup.BandSetup` — the render's band tables
+    bands : list — the bands rendered
+    rays, hits : the render's ray samples and their primary hits
+    image : :class:`~radscene.render.tiles.TileSums` — where the tiles are written
+    nodes : namespace — the hits' path-node mixing
+        (:func:`~radscene.render.band_setup.path_setup`)
+    mix_tables : dict — the band tables as ``mix_terms`` takes them
+    emission_pair : (hits,) int — each hit's row of the emission table
+    fused_sky : bool — the sky fans come folded into the diffuse sky sums
+    medium : :class:`~radscene.render.media.Media` or None
+    reflect : :class:`~radscene.render.background.Pass` or None
+    per_pixel : int — ray samples per pixel
+    """
+
+    def __init__(self, scene, tables, bset, bands, rays, hits, image, nodes, mix_tables,
+                 emission_pair, fused_sky, medium, reflect, per_pixel):
+        self.scene, self.tables, self.bset, self.bands = scene, tables, bset, bands
+        self.rays, self.hits, self.image, self.nodes = rays, hits, image, nodes
+        self.mix_tables, self.emission_pair = mix_tables, emission_pair
+        self.fused_sky, self.medium, self.reflect = fused_sky, medium, reflect
+        self.per_pixel = per_pixel
+        self.unit_weight = bool(np.all(rays.weight == 1.0))  # then weighting changes nothing
+        self.media_tables = None  # the band-mean BRDFs that reflect the volumes' own radiance
+
+    def __call__(self, st, job, sl):
+        """Shade the hits of tile ``sl``: ``st`` their surface state
+        (:func:`~radscene.render.surface.surface_state`), ``job`` the future of their
+        secondary rays (:func:`~radscene.render.surface.secondary_rays`)."""
+        image, rays = self.image, self.rays
+        tex = textures(self.scene, st.obj, st.pos)
+        p = rays.pixel[st.hidx]
+        wh = rays.weight[st.hidx]
+        out, tau, lit, sky_view = self._terms(st, tex, job, p, wh)
+        if self.medium is not None:  # the sky rays' change by volumes and sheets
+            self._media(st, tex, out, p, wh, sky_view)
+        if self.reflect is not None:  # at the surface, then through τ_a and Δρ
+            values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start)
+            values *= node_mixing.gather_band(self.bset.coefficients.transmittance,
+                                              self.nodes.nodes_all.subset(st.rank))
+            values *= tex["reflectance"][:, None]
+            image.add_background(p, wh, values.T)
+        truth_rows = (st.cos_i, 1.0 - lit, sky_view, st.temp, self.hits.distance[st.hidx], None)
+        image.add(p, wh, out, tau, truth_rows, self.per_pixel, self.unit_weight)
+        image.label(p, st.hidx, st.obj, st.mat, st.nrm, self.per_pixel)
+
+    def _terms(self, st, tex, job, p, wh):
+        """The tile's terms and transmittance, in the image (``direct``) or per hit; its lit
+        flags and sky view."""
+        nodes, bset = self.nodes, self.bset
+        if np.any(st.specular):
+            mirror_sun = 2.0 * st.cos_i[:, None] * st.nrm - st.sun
+            cos_r = np.einsum("nc,nc->n", mirror_sun, st.wo)
+            lobe = terms.phong_geometry(cos_r, self.tables.exponent[st.mat], st.cos_i, st.cos_v)
+        else:  # every specular coefficient of these materials is zero
+            lobe = np.zeros(len(st.hidx))
+        lit, sky_out, lobe_f = job.result()
+        if not self.fused_sky:
+            sky_f, sky_sums, sky_view = sky_out, None, sky_out.sum(axis=1)
+        else:
+            sky_f, (sky_sums, sky_view) = None, sky_out
+        out, tau, out_pixel, out_weight = self.image.buffers(p, wh)
+        node_mixing.mix_terms(
+            out, tau, out_pixel, out_weight, st.rank, st.mat, self.emission_pair,
+            nodes.nodes_all.index, nodes.nodes_all.weight, cos_incidence=st.cos_i, lit=lit,
+            reflectance=tex["reflectance"], emissivity=tex["emissivity"], lobe=lobe,
+            specular=st.specular, sky_fractions=sky_f, lobe_fractions=lobe_f,
+            sky_sums=sky_sums, path_index=nodes.path_index, path_weight=nodes.path_weight,
+            **self.mix_tables)
+        if bset.brdf is not None:
+            values = {name: out[t].T for t, name in enumerate(TERMS)}
+            cos_g = np.einsum("nc,nc->n", st.wo, np.broadcast_to(st.sun, st.wo.shape))
+            brdf_terms(bset, values, st.mat, st.temp, st.cos_i, st.cos_v, cos_g, lit, tex,
+                       sky_f, nodes.nodes_all.subset(st.rank))
+        return out, tau, lit, sky_view
+
+    def _media(self, st, tex, out, p, wh, sky_view):
+        """Add the change of the tile's reflected sky by volumes and sheets to ``out``, and
+        the volumes' own radiance reflected along the sky rays to the image."""
+        change = st.media.result()
+        if self.media_tables is None:
+            self.media_tables = (self.reflect.tables if self.reflect is not None
+                                 else background.render_tables(
+                                     self.scene, self.tables, self.bset,
+                                     [band.response.center >= THERMAL_BAND_START
+                                      for band in self.bands]))
+        d_sky, d_light = media_sky.sky_change(
+            change, self.bset, self.mix_tables["sky_diffuse"], st, tex, self.nodes.nodes_all,
+            self.media_tables, self.bset.coefficients.transmittance)
+        if self.image.direct:
+            out[3][:, p] += (d_sky * wh[:, None]).T
+        else:
+            out[3] += d_sky.T
+        self.image.add_media(p, wh, d_light.T, sky_view[None, :] + change.view(len(st.hidx)).T)
