@@ -35,21 +35,18 @@ import numba
 import numpy as np
 import xarray as xr
 
-from radscene.atmosphere import sky_node_weights
-from radscene.atmosphere.nodes import fold_relative_azimuth
 from radscene.errors import ConfigError
 from radscene.render import background, illumination, kernels, node_mixing, terms
-from radscene.render.band_setup import BandSetup, configured_atmosphere, mean_view_azimuth
-from radscene.render.integrator import (
+from radscene.render.band_setup import BandSetup, emission_pairs, mix_tables, path_setup
+from radscene.render.integrator import TILE_SAMPLES
+from radscene.render.outputs import (
     BACKGROUND_LONG_NAME,
     BACKGROUND_TERM,
     TERM_LONG_NAMES,
     TERMS,
     THERMAL_BAND_START,
-    TILE_SAMPLES,
 )
-from radscene.render.spectral import emission_coefficients
-from radscene.render.sun_track import combine_nodes, sun_track
+from radscene.render.sun_track import sun_track
 from radscene.render.surface import shadows, surface_state, textures
 
 __all__ = ["RealtimeRenderer", "check_realtime", "SERIAL_PIXELS"]
@@ -132,19 +129,9 @@ class RealtimeRenderer:
         sun_dir = track.direction(None)
         hits = tables.tracer.intersect(rays.origins, rays.directions)
         hit = hits.hit
-        alt0 = scene.location.altitude
-        to_observer = -rays.directions[hit]
-        view_zenith = np.degrees(np.arccos(np.clip(to_observer[:, 2], -1.0, 1.0)))
-        view_azimuth = np.degrees(np.arctan2(to_observer[:, 0], to_observer[:, 1])) % 360.0
-        suns = [(s, configured_atmosphere(scene, s, mean_view_azimuth(rays.directions, hit)))
-                for s in track.nodes]
-        atm = suns[track.reference][1]
-        path_nodes = atm.path_nodes(rays.origins[hit, 2] + alt0, hits.position[hit, 2] + alt0,
-                                    view_zenith, relative_azimuth=fold_relative_azimuth(
-                                        view_azimuth, track.angles(None)[1]))
-        nodes_all = combine_nodes(path_nodes, *track.node_weights(None))
-        path_index, path_weight = nodes_all.azimuth_mixing()
-        bset = BandSetup(scene, bands, path_nodes, suns, track.reference)
+        geo = path_setup(scene, rays, hits, hit, track, None)
+        nodes_all = geo.nodes_all
+        bset = BandSetup(scene, bands, geo.path_nodes, geo.suns, track.reference)
         coef = bset.coefficients
         # per pixel: the path nodes of its key-frame hit (pixels that missed: the nearest hit's)
         pixel = rays.pixel[hit]
@@ -155,36 +142,19 @@ class RealtimeRenderer:
         index = _rows(nodes_all.index, rows, len(pixel))
         weight = _rows(nodes_all.weight, rows, len(pixel), fill=1.0)
         # emission of every (material, temperature) pair among the faces, once
-        t_unique, t_inverse = np.unique(tables.face_temperature, return_inverse=True)
-        pairs, face_pair = np.unique(tables.face_material.astype(np.int64) * t_unique.size
-                                     + t_inverse.ravel(), return_inverse=True)
-        pair_material, pair_t = np.divmod(pairs, max(t_unique.size, 1))
-        emission = [emission_coefficients(bset.emissivity_tau[b], q_nodes, q_weights,
-                                          pair_material, t_unique[pair_t])
-                    for b, (q_nodes, q_weights) in enumerate(bset.quadrature)]
+        face_pair, emission = emission_pairs(bset, tables.face_material, tables.face_temperature)
         specular = np.any(coef.sun_specular != 0.0, axis=(1, 2)) | np.any(
             coef.sky_specular != 0.0, axis=(1, 2, 3))
-        mix_tables = {
-            "sun_diffuse": coef.sun_diffuse.transpose(0, 2, 1),
-            "sun_specular": coef.sun_specular.transpose(0, 2, 1),
-            "emission": np.stack(emission, axis=-1),
-            "sky_diffuse": coef.sky_diffuse.transpose(0, 2, 1, 3),
-            "sky_specular": coef.sky_specular.transpose(0, 2, 1, 3),
-            "path": coef.path.transpose(0, 2, 1), "transmittance": coef.transmittance.T[None]}
-        mix_tables = {k: np.ascontiguousarray(v, dtype=float) for k, v in mix_tables.items()}
         # the sky seen by rays that leave the scene, per pixel (zero looking down)
-        d = rays.directions
-        zen = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
-        azi = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
         sky_seen = np.zeros((len(bands), n_pix))
-        sky_seen[:, rays.pixel] = ((sky_node_weights(zen, azi, *bset.sky_nodes)
-                                    @ coef.sky_view.T) * (d[:, 2] > 0)[:, None]).T
+        sky_seen[:, rays.pixel] = terms.leaving_sky(rays.directions, bset.sky_nodes,
+                                                    coef.sky_view).T
         key = SimpleNamespace(
             camera=setup.camera, bands=bands, rays=rays, shape=rays.shape, sun_dir=sun_dir,
             track=track, sun=track.nodes[track.reference], index=index, weight=weight,
-            path_index=_rows(path_index, rows, len(pixel)),
-            path_weight=_rows(path_weight, rows, len(pixel), fill=1.0),
-            face_pair=face_pair.ravel(), specular=specular, tables=mix_tables,
+            path_index=_rows(geo.path_index, rows, len(pixel)),
+            path_weight=_rows(geo.path_weight, rows, len(pixel), fill=1.0),
+            face_pair=face_pair, specular=specular, tables=mix_tables(coef, emission),
             sky_seen=sky_seen, exponent=tables.exponent, last=None)
         self._freeze_sky(key, bset, nodes_all, hits, hit, n_pix)
         key.seconds = _time.perf_counter() - started
