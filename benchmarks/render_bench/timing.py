@@ -139,6 +139,46 @@ class RayCounter:
         return sum(self.rays.values())
 
 
+#: The modules of radscene.render that hold what the integrator did inline or in its own
+#: helpers (the integrator orchestrates; its passes live beside it).
+RENDER_MODULES = ("integrator", "band_setup", "brdf_tables", "coupling_pass", "media_sky",
+                  "node_mixing", "outputs", "shading", "surface", "terms", "tiles", "truth")
+#: Of those, the ones with the inline numpy of the render's tile loop.
+INLINE_MODULES = ("integrator", "shading", "tiles")
+
+
+def render_bindings(name, modules=RENDER_MODULES) -> list:
+    """The modules of ``modules`` that bind ``name`` to the same object as the first that
+    binds it (the helper's home and those that import it by name); none where this
+    radscene version has no such helper."""
+    import importlib
+
+    found, target = [], None
+    for short in modules:
+        try:
+            module = importlib.import_module(f"radscene.render.{short}")
+        except ImportError:
+            continue
+        value = vars(module).get(name)
+        if value is None or (target is not None and value is not target):
+            continue
+        target = value
+        found.append(module)
+    return found
+
+
+def patch_render(saved, names, wrap) -> None:
+    """Replace each of ``names`` by ``wrap(function, name)`` wherever the render's modules
+    bind it (:func:`render_bindings`), noting (module, name, original) in ``saved``."""
+    for name in names:
+        modules = render_bindings(name)
+        if modules:
+            wrapped = wrap(getattr(modules[0], name), name)
+            for module in modules:
+                saved.append((module, name, getattr(module, name)))
+                setattr(module, name, wrapped)
+
+
 class _TimedNumpy:
     """Stands in for ``numpy`` in one module's namespace, timing a few of its functions."""
 
@@ -163,7 +203,8 @@ class PhaseTimer:
 
     INTEGRATOR = ("_SceneTables", "_BandSetup", "_emission_pairs", "_surface", "_textures",
                   "_geolocation", "_dataset", "_subset_nodes", "_central_subsample",
-                  "_pixel_sums")
+                  "_pixel_sums", "SceneTables", "BandSetup", "emission_pairs", "surface_state",
+                  "textures", "geolocation", "dataset", "central_subsample", "pixel_sums")
     NUMPY = ("bincount", "einsum", "vstack", "stack", "concatenate")
 
     def __init__(self):
@@ -192,11 +233,12 @@ class PhaseTimer:
         setattr(owner, name, self.wrap(old, label))
 
     def __enter__(self):
-        from radscene.platform import cameras
-        from radscene.render import illumination, integrator, node_mixing, terms
+        import importlib
 
-        for name in self.INTEGRATOR:
-            self._patch(integrator, name, name)
+        from radscene.platform import cameras
+        from radscene.render import illumination, node_mixing, terms
+
+        patch_render(self._saved, self.INTEGRATOR, self.wrap)
         self._patch(node_mixing, "mix_terms", "node_mixing.mix_terms")
         for name in getattr(terms, "__all__", ()):
             if callable(getattr(terms, name, None)):
@@ -205,8 +247,14 @@ class PhaseTimer:
             self._patch(illumination, name, f"illumination.{name}")
         for cls in (cameras.OrthographicCamera, cameras.PerspectiveCamera):
             self._patch(cls, "rays", "camera.rays")
-        self._saved.append((integrator, "np", integrator.np))
-        integrator.np = _TimedNumpy(self, self.NUMPY)
+        timed = _TimedNumpy(self, self.NUMPY)
+        for short in INLINE_MODULES:
+            try:
+                module = importlib.import_module(f"radscene.render.{short}")
+            except ImportError:
+                continue
+            self._saved.append((module, "np", module.np))
+            module.np = timed
         return self
 
     def __exit__(self, *exc):
@@ -223,19 +271,21 @@ class AtmosphereTimer:
     ``path_nodes``, ``with_sun``; nested calls count once). ``mixing``: the renderer's per-sample
     interpolation between path and sky nodes: in ``node_mixing.mix_terms``, which also forms
     the terms, its time less that of the same call with one path node per hit (the rest is
-    counted as ``terms``); the integrator's ``_gather_band``, ``_sky_sum``, ``_subset_nodes``,
-    ``sky_node_weights`` whole. ``sky_fold``: ``kernels.fold_sky_sums`` (``packet_sky_sums``) on the secondary-ray
+    counted as ``terms``); ``gather_band``, ``sky_sum`` and ``sky_node_weights`` as the
+    integrator's passes call them (``_gather_band``, ``_sky_sum``, ``_subset_nodes`` of older
+    versions' integrator) whole. ``sky_fold``: ``kernels.fold_sky_sums`` (``packet_sky_sums``) on the secondary-ray
     thread, which folds each point's sky rays onto the atmosphere's sky nodes and sums the band
     sky tables over them: only the sums are a look-up. Each call is repeated with no bands (the
     fold alone); the difference is counted as ``sky_fold``, and the repeat's time as ``extra``,
     which the caller takes off the render's wall time. ``band_tables``: the band integration of the node
-    spectra with the materials (``_BandSetup``, ``_emission_pairs``), inclusive of the queries
+    spectra with the materials (``BandSetup``, ``emission_pairs``), inclusive of the queries
     it makes. Nesting is counted per thread.
     """
 
     QUERIES = ("path", "sun", "sky", "path_nodes", "with_sun")
-    MIXING = ("_gather_band", "_sky_sum", "_subset_nodes", "sky_node_weights")
-    TABLES = ("_BandSetup", "_emission_pairs")
+    MIXING = ("_gather_band", "_sky_sum", "_subset_nodes", "sky_node_weights", "gather_band",
+              "sky_sum")
+    TABLES = ("_BandSetup", "_emission_pairs", "BandSetup", "emission_pairs")
 
     def __init__(self, engine_class):
         import threading
@@ -340,10 +390,10 @@ class AtmosphereTimer:
         return wrapped
 
     def __enter__(self):
-        from radscene.render import integrator, node_mixing
+        from radscene.render import node_mixing
 
         targets = [(self.engine_class, n, "queries") for n in self.QUERIES]
-        targets += [(integrator, n, "mixing") for n in self.MIXING]
+        patch_render(self._saved, self.MIXING, lambda f, n: self._wrap(f, "mixing", n))
         self._saved.append((node_mixing, "mix_terms", node_mixing.mix_terms))
         node_mixing.mix_terms = self._mix(node_mixing.mix_terms)
 
@@ -363,11 +413,8 @@ class AtmosphereTimer:
             if hasattr(kernels, name):
                 self._saved.append((kernels, name, getattr(kernels, name)))
                 setattr(kernels, name, self._sky_fold(getattr(kernels, name)))
-        for name in self.TABLES:  # inclusive: their queries are counted there too
-            old = getattr(integrator, name, None)
-            if old is not None:
-                self._saved.append((integrator, name, old))
-                setattr(integrator, name, self._wrap(old, "band_tables", name))
+        # inclusive: their queries are counted there too
+        patch_render(self._saved, self.TABLES, lambda f, n: self._wrap(f, "band_tables", n))
         return self
 
     def __exit__(self, *exc):
