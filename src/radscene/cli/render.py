@@ -184,10 +184,10 @@ def render(
     with manifest.json (every file, its size and SHA-256). With a sequence (--start/--end/
     --step, or ``time`` in the scene file) one NAME_sequence.nc (.zarr) per observer with a
     time axis (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif
-    and/or BAND.mp4 (--video), written after the last frame. With --from out/NAME.nc (or
-    out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its
-    observer, unless --observer), to the same numbers. --quiet prints only errors; --verbose
-    adds each stage and its time."""
+    and/or BAND.mp4 (--video), written after the last frame (so a sequence is rendered again
+    whole, never resumed). With --from out/NAME.nc (or out.zarr/NAME.zarr), the scene that
+    file was rendered from is rendered again (its observer, unless --observer), to the same
+    numbers. --quiet prints only errors; --verbose adds each stage and its time."""
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
     from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
@@ -218,6 +218,10 @@ def render(
                      f"object(s), bands {', '.join(b.name for b in scene.bands)}, observers "
                      f"{', '.join(names)}", time.perf_counter() - t)
         if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
+            if resume:
+                raise ConfigError("a sequence is written whole after its last frame, so a "
+                                  "stopped one has nothing to resume; render it again (with "
+                                  "--overwrite if it left files)", key="--resume")
             check_output_folder(output, formats.sequence_files(names), overwrite)
             sequence = True
         else:
