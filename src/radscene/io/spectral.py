@@ -13,14 +13,14 @@ from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
-from radscene.io.envi import header_text
+from radscene.io.envi import header_text, map_fields
 from radscene.io.files import atomic_output
 from radscene.io.netcdf import _encoding
 
@@ -28,7 +28,7 @@ __all__ = ["write_spectral", "envi_header"]
 
 
 def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
-                description: str = "") -> str:
+                description: str = "", georeference: Sequence[str] = ()) -> str:
     """The text of an ENVI header for a BSQ float32 little-endian cube.
 
     Parameters
@@ -42,6 +42,9 @@ def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
         Channel centres and full widths at half maximum [um].
     description : str
         Appended to the description.
+    georeference : sequence of str
+        ``map info`` and ``coordinate system string`` of a map product
+        (:func:`radscene.io.envi.map_fields`).
 
     Returns
     -------
@@ -50,7 +53,7 @@ def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
     text = (f"radscene spectral radiance [W m-2 sr-1 um-1] of scene {ds_attrs.get('scene', '')!r}, "
             f"observer {ds_attrs.get('observer', '')!r}. {description}").strip()
     return header_text(shape, wavelength, fwhm, [f"{float(v):.6f} um" for v in wavelength],
-                       text, "W m-2 sr-1 um-1", ds_attrs)
+                       text, "W m-2 sr-1 um-1", ds_attrs, georeference)
 
 
 def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, *,
@@ -99,13 +102,15 @@ def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, 
             img_tmp = stack.enter_context(atomic_output(envi))
             hdr_tmp = stack.enter_context(atomic_output(envi.with_suffix(".hdr")))
             written += [envi, envi.with_suffix(".hdr")]
-        done, var, img, attrs, shape = 0, None, None, None, None
+        done, var, img, attrs, shape, georeference = 0, None, None, None, None, []
         for part in passes:
             cube = part["radiance"]
             if var is None:
                 attrs, shape = {**part.attrs, "spectral_mode": "hyperspectral"}, cube.shape[1:]
                 maps = part.drop_vars(["radiance", "wavelength", "fwhm"])
                 maps.attrs = attrs
+                if hdr_tmp is not None:
+                    georeference = map_fields(cube)
                 var = start_cube(maps, cube)
                 if img_tmp is not None:
                     img = stack.enter_context(open(img_tmp, "wb"))
@@ -125,7 +130,8 @@ def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, 
         if img is not None:
             img.close()
         if hdr_tmp is not None:
-            Path(hdr_tmp).write_text(envi_header(attrs, (n,) + tuple(shape), wavelength, fwhm))
+            Path(hdr_tmp).write_text(envi_header(attrs, (n,) + tuple(shape), wavelength, fwhm,
+                                                 georeference=georeference))
     return written
 
 
