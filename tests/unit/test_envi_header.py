@@ -4,13 +4,15 @@ describe, absent without a map grid."""
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 import xarray as xr
 from pyproj import CRS
 
 from radscene.errors import ConfigError
-from radscene.io.envi import header_text, map_fields
+from radscene.io.envi import header_text, map_fields, pixel_size
 
 pytest.importorskip("rioxarray")
 
@@ -35,9 +37,13 @@ def test_utm_grid_gives_zone_hemisphere_corner_and_pixel_size():
     assert south == "map info = {UTM, 1, 1, 0, 2, 1, 1, 33, South, WGS-84, units=Meters}"
 
 
-def test_a_single_row_takes_square_pixels():
+def test_a_single_row_takes_square_pixels_and_a_single_pixel_the_recorded_size():
     info = map_fields(_layer([10.0, 12.0, 14.0], [5.0]))[0]
     assert info.startswith("map info = {UTM, 1, 1, 9, 6, 2, 2,")
+    attrs = {"observer_geometry": json.dumps({"gsd_m": 4.0, "shape": [1, 1]})}
+    assert pixel_size(attrs) == 4.0 and pixel_size({}) is None
+    info = map_fields(_layer([10.0], [5.0]), pixel_size(attrs))[0]
+    assert info.startswith("map info = {UTM, 1, 1, 8, 7, 4, 4,")
 
 
 @pytest.mark.parametrize("x, y, match", [

@@ -30,7 +30,7 @@ import numpy as np
 from radscene.errors import ConfigError
 from radscene.io.files import atomic_output
 
-__all__ = ["write_envi", "header_text", "attribute_fields", "map_fields"]
+__all__ = ["write_envi", "header_text", "attribute_fields", "map_fields", "pixel_size"]
 
 
 def _braces(values, fmt="{:.6f}") -> str:
@@ -67,7 +67,17 @@ def _projection_name(crs) -> str:
     return operation.method_name if operation is not None else "Arbitrary"
 
 
-def map_fields(data) -> list[str]:
+def pixel_size(attrs: dict) -> float | None:
+    """The ground sample distance [m] a render's attributes record (``observer_geometry``),
+    or None."""
+    try:
+        value = json.loads(attrs.get("observer_geometry", "{}")).get("gsd_m")
+    except (TypeError, ValueError, AttributeError):
+        return None
+    return float(value) if isinstance(value, int | float) else None
+
+
+def map_fields(data, pixel_size: float | None = None) -> list[str]:
     """The header lines that georeference a map product: ``map info`` and ``coordinate system
     string``.
 
@@ -76,6 +86,9 @@ def map_fields(data) -> list[str]:
     data : xarray.DataArray or xarray.Dataset
         A map product's layer or pass: ``x``/``y`` [m] at the pixel centres, equally spaced,
         north up, with a CRS (the ``crs`` grid mapping).
+    pixel_size : float, optional
+        The pixel size [m] of a grid of one pixel, which its coordinates do not give (a
+        render's: :func:`pixel_size` of its attributes).
 
     Returns
     -------
@@ -86,7 +99,8 @@ def map_fields(data) -> list[str]:
     ------
     ConfigError
         Map coordinates with a CRS that are not equally spaced, not north up (rows from
-        north to south, columns from west to east), or a single pixel (no pixel size).
+        north to south, columns from west to east), or a single pixel without
+        ``pixel_size``.
     """
     import rioxarray  # noqa: F401  (the .rio accessor)
     from pyproj import CRS
@@ -106,8 +120,10 @@ def map_fields(data) -> list[str]:
     _regular(y, "y")
     steps = [(v[-1] - v[0]) / (v.size - 1) if v.size > 1 else None for v in (x, -y)]
     if steps == [None, None]:
-        raise ConfigError("map info needs the pixel size, which a grid of one pixel does not "
-                          "give", key="data")
+        if pixel_size is None:
+            raise ConfigError("map info needs the pixel size, which a grid of one pixel does "
+                              "not give; give pixel_size", key="data")
+        steps = [float(pixel_size)] * 2
     dx, dy = (step if step is not None else other  # one row or column: square pixels
               for step, other in zip(steps, steps[::-1], strict=True))
     if dx <= 0 or dy <= 0:
@@ -218,7 +234,8 @@ def write_envi(data, path: str | os.PathLike, attrs: dict | None = None) -> list
                    "band-mean spectral radiance [W m-2 sr-1 um-1]")
     text = header_text(data.shape, data["wavelength_center"].values,
                        data["equivalent_width"].values, [str(b) for b in data["band"].values],
-                       description, units, attrs, georeference=map_fields(data))
+                       description, units, attrs,
+                       georeference=map_fields(data, pixel_size(attrs)))
     with atomic_output(path) as img_tmp, atomic_output(header) as hdr_tmp:
         np.asarray(data.values, dtype="<f4").tofile(img_tmp)
         Path(hdr_tmp).write_text(text)

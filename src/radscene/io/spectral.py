@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
-from radscene.io.envi import header_text, map_fields
+from radscene.io.envi import header_text, map_fields, pixel_size
 from radscene.io.files import atomic_output
 from radscene.io.netcdf import _encoding
 
@@ -110,7 +110,7 @@ def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, 
                 maps = part.drop_vars(["radiance", "wavelength", "fwhm"])
                 maps.attrs = attrs
                 if hdr_tmp is not None:
-                    georeference = map_fields(cube)
+                    georeference = map_fields(cube, pixel_size(attrs))
                 var = start_cube(maps, cube)
                 if img_tmp is not None:
                     img = stack.enter_context(open(img_tmp, "wb"))
