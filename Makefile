@@ -50,7 +50,7 @@ schema: $(STAMP)  ## the JSON schema of scene files, for editors (see docs/edito
 	$(BIN)/radscene schema -o scene.schema.json
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks scripts
 
 clean:
 	rm -rf out build dist site .pytest_cache .ruff_cache

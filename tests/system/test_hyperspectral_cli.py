@@ -67,6 +67,20 @@ def test_envi_file_reads_back_with_the_spectral_package(tmp_path):
                                   cube["radiance"].values)
     np.testing.assert_allclose(image.bands.centers, cube["wavelength"].values, rtol=1e-6)
     np.testing.assert_allclose(image.bands.bandwidths, cube["fwhm"].values, rtol=1e-6)
+    # an orthographic observer: georeferenced, the tie point (1, 1) at the outer corner of
+    # the first pixel, in the CRS of the NetCDF file's grid mapping
+    import rioxarray  # noqa: F401 - the .rio accessor
+    import xarray as xr
+    from pyproj import CRS
+
+    info = [f.strip() for f in image.metadata["map info"]]
+    assert info[:3] == ["Orthographic", "1", "1"] and info[7:] == ["WGS-84", "units=Meters"]
+    x, y = cube["x"].values, cube["y"].values
+    assert [float(v) for v in info[3:7]] == pytest.approx(
+        [x[0] - 0.5, y[0] + 0.5, x[1] - x[0], y[0] - y[1]], abs=1e-9)
+    crs = xr.open_dataset(out / "hsi_spectral.nc", decode_coords="all").rio.crs
+    wkt = ",".join(image.metadata["coordinate system string"])
+    assert CRS.from_wkt(wkt).equals(CRS.from_wkt(crs.to_wkt()), ignore_axis_order=True)
 
 
 BAD = {

@@ -179,6 +179,53 @@ def test_band_radiance_as_envi_reads_back_with_the_spectral_package(runs):
     assert json.loads(image.metadata["scene_files"]) == nc.attrs["scene_files"]
 
 
+def _map_info(metadata) -> dict:
+    """The fields of an ENVI header's ``map info`` as the spectral package reads it."""
+    fields = [f.strip() for f in metadata["map info"]]
+    return {"projection": fields[0], "pixel": (float(fields[1]), float(fields[2])),
+            "corner": (float(fields[3]), float(fields[4])),
+            "size": (float(fields[5]), float(fields[6])), "rest": fields[7:]}
+
+
+def test_band_envi_is_georeferenced_as_the_geotiffs(runs):
+    envi = pytest.importorskip("spectral.io.envi")
+    from pyproj import CRS
+
+    image = envi.open(str(runs / "nc" / "map.hdr"), str(runs / "nc" / "map.img"))
+    info = _map_info(image.metadata)
+    nc = read_netcdf(runs / "nc" / "map.nc")
+    nc_crs = xr.open_dataset(runs / "nc" / "map.nc", decode_coords="all").rio.crs
+    with rasterio.open(runs / "nc" / "map_radiance.tif") as cog:
+        transform, cog_crs = cog.transform, cog.crs
+    # the tie point (1, 1) is the outer corner of the first pixel: the GeoTIFF's origin, and
+    # half a pixel beyond the NetCDF file's first pixel centre
+    assert info["projection"] == "Orthographic" and info["pixel"] == (1.0, 1.0)
+    assert info["corner"] == pytest.approx((transform.c, transform.f), abs=1e-9)
+    assert info["size"] == pytest.approx((transform.a, -transform.e), rel=1e-12)
+    assert info["corner"] == pytest.approx((float(nc.x[0]) - 0.5, float(nc.y[0]) + 0.5),
+                                           abs=1e-9)
+    assert info["rest"] == ["WGS-84", "units=Meters"]
+    # the coordinate system string (split on its commas by the spectral package) is the CRS
+    wkt = ",".join(image.metadata["coordinate system string"])
+    assert CRS.from_wkt(wkt).equals(CRS.from_wkt(nc_crs.to_wkt()), ignore_axis_order=True)
+    # and GDAL reads the ENVI image onto the grid of the GeoTIFFs
+    with rasterio.open(runs / "nc" / "map.img") as gdal_envi:
+        assert gdal_envi.transform.almost_equals(transform, precision=1e-9)
+        assert CRS.from_wkt(gdal_envi.crs.to_wkt()).equals(CRS.from_wkt(cog_crs.to_wkt()),
+                                                           ignore_axis_order=True)
+
+
+def test_a_perspective_view_in_envi_has_no_map_info(tmp_path):
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(SCENE + "  - {name: cam, type: perspective, position: [0, -60, 40], "
+                     "look_at: [0, 0, 0], fov: 40 deg, shape: [6, 8]}\n")
+    _run("render", scene, "-o", tmp_path / "out", "--observer", "cam", "--envi",
+         "--no-quicklooks", "-q")
+    header = (tmp_path / "out" / "cam.hdr").read_text()
+    assert "samples = 8" in header.splitlines()
+    assert "map info" not in header and "coordinate system string" not in header
+
+
 def test_quiet_prints_nothing_and_verbose_each_stage(tmp_path):
     scene = tmp_path / "scene.yaml"
     scene.write_text(SCENE)

@@ -8,15 +8,17 @@ rectangle (a ``(min, max)`` pair [um] becomes a
 (:class:`~radscene.radiometry.srf.TabulatedResponse`), or any other registered response. For
 each spectrum v(λ) of the Dataset (piecewise linear between its wavelengths) the band gets
 
-======================  ====================================  ==================================
-variable                value                                 unit
-======================  ====================================  ==================================
-``band_<v>``            ∫ S v dλ (transmittances: the mean)   v's unit × um (e.g. W m-2 sr-1)
-``band_mean_<v>``       ∫ S v dλ / ∫ S dλ (radiances and      v's unit (e.g. W m-2 sr-1 um-1)
-                        irradiances)
-``band_<r>_brightness   the temperature of the blackbody      K (NaN for bands centred below
-_temperature``          with the same ∫ S L dλ                :data:`THERMAL_BAND_MIN`)
-======================  ====================================  ==================================
+===================================  ============================  ===========================
+variable                             value                         unit
+===================================  ============================  ===========================
+``band_<v>``                         ∫ S v dλ (transmittances:     v's unit × um (e.g.
+                                     the mean)                     W m-2 sr-1)
+``band_mean_<v>``                    ∫ S v dλ / ∫ S dλ (radiances  v's unit (e.g.
+                                     and irradiances)              W m-2 sr-1 um-1)
+``band_<r>_brightness_temperature``  the temperature of the        K (NaN for bands centred
+                                     blackbody with the same       below
+                                     ∫ S L dλ                      :data:`THERMAL_BAND_MIN`)
+===================================  ============================  ===========================
 
 For a rectangular or tabulated S both factors are linear on every interval between the union of
 their breakpoints, so the integral is exact (Simpson's rule on each interval); other responses

@@ -55,7 +55,8 @@ class Formats:
         files = []
         for name in names:
             if scene.observer(name).spectral is not None:
-                files += [f"{name}_spectral.nc", f"{name}_spectral.img", f"{name}_spectral.hdr"]
+                files += [f"{name}_spectral{self.ext}", f"{name}_spectral.img",
+                          f"{name}_spectral.hdr"]
                 continue
             files += [f"{name}{self.ext}", f"{name}_signal{self.ext}"]
             files += [f"{name}_{layer}.tif" for layer in layer_names(self.geotiff)]
@@ -176,17 +177,17 @@ def render(
     orthographic observer) also gets Cloud-Optimised GeoTIFFs NAME_LAYER.tif (--geotiff,
     default maps: radiance, brightness temperature and the truth maps); --envi adds the band
     radiance as ENVI NAME.img/.hdr. An observer with a spectral grid goes to NAME_spectral.nc
-    and the ENVI NAME_spectral.img/.hdr. OUTPUT is checked before any work: a file, a folder
-    under a file or one that cannot be written is refused, and so are earlier results in it
-    unless --overwrite. While the run lasts OUTPUT holds a marker (.radscene-incomplete.json)
-    listing the observers finished; a complete run replaces it with manifest.json (every
-    file, its size and SHA-256). With a sequence (--start/--end/--step, or ``time`` in the
-    scene file) one NAME_sequence.nc (.zarr) per observer with a time axis
-    (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif and/or
-    BAND.mp4 (--video), written after the last frame. With --from out/NAME.nc (or
-    out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its
-    observer, unless --observer), to the same numbers. --quiet prints only errors; --verbose
-    adds each stage and its time."""
+    (NAME_spectral.zarr) and the ENVI NAME_spectral.img/.hdr. OUTPUT is checked before any
+    work: a file, a folder under a file or one that cannot be written is refused, and so are
+    earlier results in it unless --overwrite. While the run lasts OUTPUT holds a marker
+    (.radscene-incomplete.json) listing the observers finished; a complete run replaces it
+    with manifest.json (every file, its size and SHA-256). With a sequence (--start/--end/
+    --step, or ``time`` in the scene file) one NAME_sequence.nc (.zarr) per observer with a
+    time axis (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif
+    and/or BAND.mp4 (--video), written after the last frame (so a sequence is rendered again
+    whole, never resumed). With --from out/NAME.nc (or out.zarr/NAME.zarr), the scene that
+    file was rendered from is rendered again (its observer, unless --observer), to the same
+    numbers. --quiet prints only errors; --verbose adds each stage and its time."""
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
     from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
@@ -217,6 +218,10 @@ def render(
                      f"object(s), bands {', '.join(b.name for b in scene.bands)}, observers "
                      f"{', '.join(names)}", time.perf_counter() - t)
         if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
+            if resume:
+                raise ConfigError("a sequence is written whole after its last frame, so a "
+                                  "stopped one has nothing to resume; render it again (with "
+                                  "--overwrite if it left files)", key="--resume")
             check_output_folder(output, formats.sequence_files(names), overwrite)
             sequence = True
         else:
@@ -255,7 +260,7 @@ def render(
                         bar.update(task, completed=done, total=total)
 
                     if scene.observer(name).spectral is not None:  # written pass by pass
-                        spectral[name], files = _write_spectral(scene, name, output, progress,
+                        spectral[name], files = _write_spectral(scene, name, formats, progress,
                                                                 report)
                     else:
                         results[name], files = _render_and_write(scene, name, formats,
@@ -340,9 +345,10 @@ def _summary(scene, results, spectral, written, output, started):
     console.print(f"wrote {len(written)} files under {output}/")
 
 
-def _write_spectral(scene, name, output, progress, report):
-    """Render a spectral observer pass by pass into ``NAME_spectral.nc`` and the ENVI
-    ``NAME_spectral.img``/``.hdr``; returns a summary line and the files."""
+def _write_spectral(scene, name, formats, progress, report):
+    """Render a spectral observer pass by pass into ``NAME_spectral.nc`` (``.zarr`` with a
+    Zarr output) and the ENVI ``NAME_spectral.img``/``.hdr``; returns a summary line and the
+    files."""
     import numpy as np
 
     from radscene.io import write_spectral
@@ -360,8 +366,8 @@ def _write_spectral(scene, name, output, progress, report):
             yield part
 
     files = write_spectral(summarised(spectral_passes(scene, name, progress=progress)),
-                           output / f"{name}_spectral.nc", grid,
-                           envi=output / f"{name}_spectral.img")
+                           formats.data(f"{name}_spectral"), grid,
+                           envi=formats.output / f"{name}_spectral.img")
     report.stage(f"{name}: rendered and wrote {len(grid.wavelength)} channels pass by pass to "
                  f"{', '.join(str(f) for f in files)}", time.perf_counter() - t)
     total, count, low, high = (sum(s[0] for s in stats), sum(s[1] for s in stats),

@@ -1,24 +1,26 @@
-"""Spectral cubes written as they are rendered: NetCDF-4 and ENVI, a pass of channels at a time.
+"""Spectral cubes written as they are rendered: NetCDF-4 or Zarr, and ENVI, a pass of channels
+at a time.
 
 The passes of :func:`radscene.render.hyperspectral.render_passes` go to disk one by one, so a
-cube never has to fit in memory: the NetCDF variable ``radiance(wavelength, y, x)`` is
-created at its full size (float32, one chunk per channel) and filled pass by pass, and the
-ENVI image is band-sequential (BSQ), so each pass is appended to it. Both files are written
-beside their destination under temporary names and moved into place only when complete.
+cube never has to fit in memory: the variable ``radiance(wavelength, y, x)`` of the NetCDF file
+(or of the Zarr store, the format of :func:`radscene.io.write_zarr`) is created at its full size
+(float32, one chunk per channel) and filled pass by pass, and the ENVI image is band-sequential
+(BSQ), so each pass is appended to it. Every file (or store) is written beside its destination
+under a temporary name and moved into place only when complete.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
-from radscene.io.envi import header_text
+from radscene.io.envi import header_text, map_fields, pixel_size
 from radscene.io.files import atomic_output
 from radscene.io.netcdf import _encoding
 
@@ -26,7 +28,7 @@ __all__ = ["write_spectral", "envi_header"]
 
 
 def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
-                description: str = "") -> str:
+                description: str = "", georeference: Sequence[str] = ()) -> str:
     """The text of an ENVI header for a BSQ float32 little-endian cube.
 
     Parameters
@@ -40,6 +42,9 @@ def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
         Channel centres and full widths at half maximum [um].
     description : str
         Appended to the description.
+    georeference : sequence of str
+        ``map info`` and ``coordinate system string`` of a map product
+        (:func:`radscene.io.envi.map_fields`).
 
     Returns
     -------
@@ -48,12 +53,12 @@ def envi_header(ds_attrs: dict, shape: tuple[int, int, int], wavelength, fwhm,
     text = (f"radscene spectral radiance [W m-2 sr-1 um-1] of scene {ds_attrs.get('scene', '')!r}, "
             f"observer {ds_attrs.get('observer', '')!r}. {description}").strip()
     return header_text(shape, wavelength, fwhm, [f"{float(v):.6f} um" for v in wavelength],
-                       text, "W m-2 sr-1 um-1", ds_attrs)
+                       text, "W m-2 sr-1 um-1", ds_attrs, georeference)
 
 
 def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, *,
                    envi: str | os.PathLike | None = None, compress: bool = True) -> list[Path]:
-    """Write the passes of a spectral render to NetCDF-4 (and ENVI) as they come.
+    """Write the passes of a spectral render to NetCDF-4 or Zarr (and ENVI) as they come.
 
     Parameters
     ----------
@@ -61,77 +66,106 @@ def write_spectral(passes: Iterable[xr.Dataset], path: str | os.PathLike, grid, 
         In grid order, each ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1] of some channels
         with ``wavelength`` and ``fwhm`` [um] and the band-free maps (taken from the first).
     path : path-like
-        The NetCDF file.
+        The NetCDF file; a name ending in ``.zarr`` writes a Zarr store instead (format 2,
+        consolidated, as :func:`radscene.io.write_zarr`; needs the package zarr).
     grid : radscene.radiometry.ChannelGrid
         The render's grid: every channel's centre ``wavelength`` and ``width`` (its FWHM) [um].
     envi : path-like, optional
         The ENVI image (``.img``); its header goes beside it with the suffix ``.hdr``.
     compress : bool
-        gzip the NetCDF cube (level 1, shuffled).
+        Compress the cube: gzip (level 1, shuffled) in NetCDF, zstd in Zarr.
 
     Returns
     -------
     list of pathlib.Path
-        The files written (NetCDF, then the ENVI image and header).
+        The files written (the NetCDF file or Zarr store, then the ENVI image and header).
 
     Raises
     ------
     ConfigError
         The passes do not fill the grid exactly.
     """
-    import h5netcdf
-
     wavelength = np.asarray(grid.wavelength, dtype=float)
     fwhm = np.asarray(grid.width, dtype=float)
     n = wavelength.size
     path = Path(path)
+    if path.suffix.lower() == ".zarr":
+        from radscene.io.zarr_store import cube_store as cube_output
+    else:
+        cube_output = _netcdf_cube
     written = [path]
     with contextlib.ExitStack() as stack:
-        nc_tmp = stack.enter_context(atomic_output(path))
+        start_cube = stack.enter_context(cube_output(path, wavelength, fwhm, compress))
         img_tmp = hdr_tmp = None
         if envi is not None:
             envi = Path(envi)
             img_tmp = stack.enter_context(atomic_output(envi))
             hdr_tmp = stack.enter_context(atomic_output(envi.with_suffix(".hdr")))
             written += [envi, envi.with_suffix(".hdr")]
-        done, nc, img, attrs, shape = 0, None, None, None, None
-        try:
-            for part in passes:
-                cube = part["radiance"]
-                if nc is None:
-                    attrs, shape = {**part.attrs, "spectral_mode": "hyperspectral"}, cube.shape[1:]
-                    maps = part.drop_vars(["radiance", "wavelength", "fwhm"])
-                    maps.attrs = attrs
-                    maps.to_netcdf(nc_tmp, engine="h5netcdf",
-                                   encoding=_encoding(maps, compress))
-                    nc = h5netcdf.File(nc_tmp, "a")
-                    var = _cube_variable(nc, cube, wavelength, fwhm, compress)
-                    if img_tmp is not None:
-                        img = open(img_tmp, "wb")  # noqa: SIM115 - closed below
-                k = cube.shape[0]
-                if done + k > n or not np.allclose(part["wavelength"].values,
-                                                   wavelength[done:done + k], rtol=0, atol=1e-12):
-                    raise ConfigError(f"pass of channels {done}-{done + k - 1} does not match "
-                                      "the grid", key="passes")
-                values = np.asarray(cube.values, dtype=np.float32)
-                var[done:done + k] = values
-                if img is not None:
-                    img.write(values.astype("<f4", copy=False).tobytes(order="C"))
-                done += k
-            if done != n:
-                raise ConfigError(f"the passes hold {done} of the grid's {n} channels",
-                                  key="passes")
-        finally:
-            if nc is not None:
-                nc.close()
+        done, var, img, attrs, shape, georeference = 0, None, None, None, None, []
+        for part in passes:
+            cube = part["radiance"]
+            if var is None:
+                attrs, shape = {**part.attrs, "spectral_mode": "hyperspectral"}, cube.shape[1:]
+                maps = part.drop_vars(["radiance", "wavelength", "fwhm"])
+                maps.attrs = attrs
+                if hdr_tmp is not None:
+                    georeference = map_fields(cube, pixel_size(attrs))
+                var = start_cube(maps, cube)
+                if img_tmp is not None:
+                    img = stack.enter_context(open(img_tmp, "wb"))
+            k = cube.shape[0]
+            if done + k > n or not np.allclose(part["wavelength"].values,
+                                               wavelength[done:done + k], rtol=0, atol=1e-12):
+                raise ConfigError(f"pass of channels {done}-{done + k - 1} does not match "
+                                  "the grid", key="passes")
+            values = np.asarray(cube.values, dtype=np.float32)
+            var[done:done + k] = values
             if img is not None:
-                img.close()
+                img.write(values.astype("<f4", copy=False).tobytes(order="C"))
+            done += k
+        if done != n:
+            raise ConfigError(f"the passes hold {done} of the grid's {n} channels",
+                              key="passes")
+        if img is not None:
+            img.close()
         if hdr_tmp is not None:
-            Path(hdr_tmp).write_text(envi_header(attrs, (n,) + tuple(shape), wavelength, fwhm))
+            Path(hdr_tmp).write_text(envi_header(attrs, (n,) + tuple(shape), wavelength, fwhm,
+                                                 georeference=georeference))
     return written
 
 
-def _cube_variable(nc, cube: xr.DataArray, wavelength, fwhm, compress: bool):
+def grid_mapping(maps: xr.Dataset) -> str | None:
+    """The grid-mapping variable of the maps of a map product (``crs``), else None."""
+    return next((v.encoding["grid_mapping"] for v in maps.data_vars.values()
+                 if "grid_mapping" in v.encoding), None)
+
+
+@contextlib.contextmanager
+def _netcdf_cube(path: Path, wavelength, fwhm, compress: bool):
+    """Yield ``start(maps, cube)``, which writes the maps into a temporary NetCDF file beside
+    ``path`` and returns the empty cube variable to fill; on success the file takes ``path``'s
+    place."""
+    import h5netcdf
+
+    nc = None
+
+    def start(maps: xr.Dataset, cube: xr.DataArray):
+        nonlocal nc
+        maps.to_netcdf(tmp, engine="h5netcdf", encoding=_encoding(maps, compress))
+        nc = h5netcdf.File(tmp, "a")
+        return _cube_variable(nc, cube, wavelength, fwhm, compress, grid_mapping(maps))
+
+    with atomic_output(path) as tmp:
+        try:
+            yield start
+        finally:
+            if nc is not None:
+                nc.close()
+
+
+def _cube_variable(nc, cube: xr.DataArray, wavelength, fwhm, compress: bool,
+                   mapping: str | None):
     """Create the wavelength axis, its coordinates and the empty float32 cube in ``nc``."""
     nc.dimensions["wavelength"] = wavelength.size
     for name, values, source in (("wavelength", wavelength, cube["wavelength"]),
@@ -142,4 +176,6 @@ def _cube_variable(nc, cube: xr.DataArray, wavelength, fwhm, compress: bool):
     var = nc.create_variable("radiance", ("wavelength",) + tuple(cube.dims[1:]), dtype="f4",
                              chunks=(1,) + tuple(cube.shape[1:]), **options)
     var.attrs.update({**cube.attrs, "coordinates": "fwhm"})
+    if mapping is not None:
+        var.attrs["grid_mapping"] = mapping
     return var

@@ -13,6 +13,7 @@ Needs the optional dependency ``zarr`` (``pip install radscene[zarr]``).
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 
@@ -22,7 +23,7 @@ import xarray as xr
 from radscene.errors import ConfigError
 from radscene.io.files import atomic_output_dir
 
-__all__ = ["write_zarr", "read_zarr", "TILE"]
+__all__ = ["write_zarr", "read_zarr", "cube_store", "TILE"]
 
 #: Largest chunk of an image layer along y and x [px].
 TILE = 1024
@@ -37,10 +38,14 @@ def _zarr():
     return zarr
 
 
-def _encoding(ds: xr.Dataset, compress: bool) -> dict:
+def _codec():
     from numcodecs import Blosc
 
-    codec = Blosc(cname="zstd", clevel=3, shuffle=Blosc.SHUFFLE)
+    return Blosc(cname="zstd", clevel=3, shuffle=Blosc.SHUFFLE)
+
+
+def _encoding(ds: xr.Dataset, compress: bool) -> dict:
+    codec = _codec()
     enc = {}
     for name, var in ds.data_vars.items():
         e = {k: var.encoding[k] for k in ("grid_mapping", "coordinates") if k in var.encoding}
@@ -87,6 +92,58 @@ def write_zarr(ds: xr.Dataset, path: str | os.PathLike, compress: bool = True) -
         ds.to_zarr(tmp, mode="w", zarr_format=2, consolidated=True,
                    encoding=_encoding(ds, compress))
     return path
+
+
+@contextlib.contextmanager
+def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True):
+    """A spectral cube's Zarr store, filled a pass of channels at a time (for
+    :func:`radscene.io.write_spectral`).
+
+    Yields ``start(maps, cube)``: given the band-free maps (a Dataset, with the attributes of
+    the store) and the first pass ``cube`` (``radiance(wavelength, y, x)`` with ``wavelength``
+    and ``fwhm``), it writes the maps, the ``wavelength`` axis and its ``fwhm`` [um] into a
+    temporary store beside ``path`` and returns the empty float32 ``radiance`` array of every
+    channel (chunks of one channel, NaN until written) for the passes to fill by slices.
+    When the block ends without error the metadata is consolidated and the store takes
+    ``path``'s place; otherwise the temporary store is removed.
+
+    Parameters
+    ----------
+    path : path-like
+        The store (``*.zarr``).
+    wavelength, fwhm : array_like
+        Every channel's centre and full width at half maximum [um].
+    compress : bool
+        Compress the cube and the maps (zstd).
+    """
+    from radscene.io.spectral import grid_mapping
+
+    zarr = _zarr()
+    wavelength = np.asarray(wavelength, dtype=float)
+    fwhm = np.asarray(fwhm, dtype=float)
+
+    def start(maps: xr.Dataset, cube: xr.DataArray):
+        maps.to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
+                     encoding=_encoding(maps, compress))
+        group = zarr.open_group(tmp, mode="a", zarr_format=2)
+        for name, values in (("wavelength", wavelength), ("fwhm", fwhm)):
+            axis = group.create_array(name, shape=values.shape, dtype="f8", fill_value=None,
+                                      attributes={**cube[name].attrs,
+                                                  "_ARRAY_DIMENSIONS": ["wavelength"]})
+            axis[:] = values
+        dims = ("wavelength",) + tuple(cube.dims[1:])
+        attrs = {**cube.attrs, "coordinates": "fwhm", "_ARRAY_DIMENSIONS": list(dims)}
+        if (mapping := grid_mapping(maps)) is not None:
+            attrs["grid_mapping"] = mapping
+        shape = (wavelength.size,) + tuple(cube.shape[1:])
+        chunks = (1,) + tuple(min(size, TILE) for size in cube.shape[1:])
+        return group.create_array("radiance", shape=shape, chunks=chunks, dtype="f4",
+                                  fill_value=np.nan, attributes=attrs,
+                                  compressors=(_codec(),) if compress else None)
+
+    with atomic_output_dir(path) as tmp:
+        yield start
+        zarr.consolidate_metadata(tmp, zarr_format=2)
 
 
 def read_zarr(path: str | os.PathLike) -> xr.Dataset:
