@@ -185,6 +185,7 @@ class Simulation:
         self._elapsed = 0.0
         self._index = 0
         self._thermal = thermal_active(self.scene)
+        from radscene.geometry import rotation_matrix
         from radscene.platform.motion import compose
 
         # every object but the terrain: its motion, its world pose and its mesh in its own frame
@@ -195,20 +196,26 @@ class Simulation:
         for child, parent in self._parents.items():
             if parent is not None:
                 self._children.setdefault(parent, []).append(child)
-        rest = compose({n: m.rest_pose() for n, m in self._motions.items()}, self._parents)
+        # where the meshes stand: the scene's instant (t = 0 s) as loaded, or where a simulation
+        # of the same Scene left them
+        placed = dict(compose({n: m.pose(0.0) for n, m in self._motions.items()}, self._parents))
+        placed.update({n: pose for n, pose in self.scene.poses.items() if n in placed})
         specs = {o.name: o for o in self.scene.spec.objects}
+        # what moves by itself (a trajectory, a spin) and what a moving parent carries
+        self._moving = {n for n in self._motions if self._carried(n)}
         self._poses = {}
         self._body = {}
         for k, obj in enumerate(self.scene.objects):
             if obj.name not in self._motions:
                 continue
-            position, rot = rest[obj.name]
-            attitude = (np.array(specs[obj.name].rotation, float) if self._parents[obj.name] is None
-                        else _attitude(rot))
+            position, rot = placed[obj.name]
+            spec_rotation = np.array(specs[obj.name].rotation, float)
+            if self._parents[obj.name] is None and np.array_equal(rot, rotation_matrix(*spec_rotation)):
+                attitude = spec_rotation  # the scene file's (yaw, pitch, roll), exactly
+            else:
+                attitude = _attitude(rot)
             self._poses[obj.name] = (position, attitude, rot)
             self._body[obj.name] = (k, _to_body(obj.mesh, position, rot))
-        # what moves by itself (a trajectory, a spin) and what a moving parent carries
-        self._moving = {n for n in self._motions if self._carried(n)}
         # a sea's waves move with the clock: its mesh is rewritten at each instant
         self._sea = self.scene.sea if self.scene.sea is not None and self.scene.sea.moves else None
         self._sea_index = next((k for k, o in enumerate(self.scene.objects) if o.is_terrain), None)
@@ -420,6 +427,7 @@ class Simulation:
             moved[k] = body.with_vertices(body.vertices @ rotation.T + position)
             self._poses[name] = (np.asarray(position, float),
                                  np.asarray(attitude[0], float) if attitude else None, rotation)
+            self.scene.poses[name] = (self._poses[name][0], rotation)
         if moved:
             self.tracer.move(moved)
             for k, mesh in moved.items():
