@@ -30,6 +30,7 @@ bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 	$(BIN)/python benchmarks/bench_hyperspectral.py
 	$(BIN)/python benchmarks/bench_background.py
 	$(BIN)/python benchmarks/bench_motion.py
+	$(BIN)/python benchmarks/bench_motion.py --refit
 	$(BIN)/python benchmarks/bench_realtime.py
 	$(BIN)/python benchmarks/bench_volumes.py
 

@@ -475,8 +475,40 @@ def render(scene, observer=None, *, progress=None, **kwargs):
     if thermal_active(scene):
         apply_thermal(scene, progress=None if callable(progress) else progress)
     with progress_callback(progress, f"render {setup.name}") as report:
-        images = render_observer(scene, observer, progress=report, **kwargs)
+        if _scans_motion(scene, setup) and not kwargs:
+            images = _render_scan(scene, setup, report)
+        else:
+            images = render_observer(scene, observer, progress=report, **kwargs)
     return stamp(images, scene, setup.name)
+
+
+def _scans_motion(scene, setup) -> bool:
+    """Whether a band observer is a scanner over something that moves during its scan."""
+    return setup.kind in ("pushbroom", "whiskbroom") and setup.spectral is None and (
+        any(m.moves for m in scene.motions.values()) or (scene.sea is not None and scene.sea.moves))
+
+
+def _render_scan(scene, setup, progress=None):
+    """A scanner's image over a moving scene, each group of pixels at its time
+    (:mod:`radscene.pipeline.scan_motion`), through a :class:`Simulation` at the scene's
+    instant; the scene's meshes, poses and tables are left as they were."""
+    from radscene.pipeline.simulation import Simulation
+
+    meshes = [obj.mesh for obj in scene.objects]
+    poses = dict(scene.poses)
+    cached = scene.render_cache.get("tables")
+    try:
+        sim = Simulation(scene)
+        return sim._scan(setup, scene.render_cache["tables"], progress)
+    finally:
+        for obj, mesh in zip(scene.objects, meshes, strict=True):
+            obj.mesh = mesh
+        scene.poses.clear()
+        scene.poses.update(poses)
+        if cached is None:
+            scene.render_cache.pop("tables", None)
+        else:
+            scene.render_cache["tables"] = cached
 
 
 def render_all(scene, *, progress=None, **kwargs):
@@ -486,7 +518,7 @@ def render_all(scene, *, progress=None, **kwargs):
     from radscene.render.integrator import render_all as render_observers
 
     scene = as_scene(scene)
-    if any(o.spectral is not None for o in scene.observers):
+    if any(o.spectral is not None or _scans_motion(scene, o) for o in scene.observers):
         return {o.name: render(scene, o.name, progress=progress, **kwargs) for o in scene.observers}
     if thermal_active(scene):
         apply_thermal(scene, progress=None if callable(progress) else progress)

@@ -25,6 +25,11 @@ With ``render.motion_blur`` a frame is the mean of renders at sub-frame instants
 exposure, what moves placed at each (:mod:`radscene.pipeline.motion_blur`); the sun and the
 tables stay the frame's.
 
+A scanner (pushbroom, whiskbroom) over something that moves renders its pixels in groups of
+nearly one time, what moves placed at each group's time
+(:mod:`radscene.pipeline.scan_motion`): a car driven during the scan comes out stretched and
+sheared as in a real scanner's image.
+
 A sea (``terrain: {type: sea}``, :mod:`radscene.geometry.sea`) moves too: at each instant
 (and each sub-instant of a blurred frame) its waves are synthesised for ``t`` and written into
 the tracer (:meth:`~radscene.geometry.RayTracer.update` of the sea's mesh alone).
@@ -185,6 +190,7 @@ class Simulation:
         self._elapsed = 0.0
         self._index = 0
         self._thermal = thermal_active(self.scene)
+        from radscene.geometry import rotation_matrix
         from radscene.platform.motion import compose
 
         # every object but the terrain: its motion, its world pose and its mesh in its own frame
@@ -195,20 +201,26 @@ class Simulation:
         for child, parent in self._parents.items():
             if parent is not None:
                 self._children.setdefault(parent, []).append(child)
-        rest = compose({n: m.rest_pose() for n, m in self._motions.items()}, self._parents)
+        # where the meshes stand: the scene's instant (t = 0 s) as loaded, or where a simulation
+        # of the same Scene left them
+        placed = dict(compose({n: m.pose(0.0) for n, m in self._motions.items()}, self._parents))
+        placed.update({n: pose for n, pose in self.scene.poses.items() if n in placed})
         specs = {o.name: o for o in self.scene.spec.objects}
+        # what moves by itself (a trajectory, a spin) and what a moving parent carries
+        self._moving = {n for n in self._motions if self._carried(n)}
         self._poses = {}
         self._body = {}
         for k, obj in enumerate(self.scene.objects):
             if obj.name not in self._motions:
                 continue
-            position, rot = rest[obj.name]
-            attitude = (np.array(specs[obj.name].rotation, float) if self._parents[obj.name] is None
-                        else _attitude(rot))
+            position, rot = placed[obj.name]
+            spec_rotation = np.array(specs[obj.name].rotation, float)
+            if self._parents[obj.name] is None and np.array_equal(rot, rotation_matrix(*spec_rotation)):
+                attitude = spec_rotation  # the scene file's (yaw, pitch, roll), exactly
+            else:
+                attitude = _attitude(rot)
             self._poses[obj.name] = (position, attitude, rot)
             self._body[obj.name] = (k, _to_body(obj.mesh, position, rot))
-        # what moves by itself (a trajectory, a spin) and what a moving parent carries
-        self._moving = {n for n in self._motions if self._carried(n)}
         # a sea's waves move with the clock: its mesh is rewritten at each instant
         self._sea = self.scene.sea if self.scene.sea is not None and self.scene.sea.moves else None
         self._sea_index = next((k for k, o in enumerate(self.scene.objects) if o.is_terrain), None)
@@ -283,6 +295,8 @@ class Simulation:
             def one(setup=setup, tables=tables, report=None):
                 if setup.spectral is not None:
                     return render_hyperspectral(scene, setup.name, progress=report)
+                if self._scans_motion(setup):
+                    return self._scan(setup, tables, report)
                 return render_observer(scene, setup.name, progress=report, _tables=tables)
             with progress_callback(progress, f"frame {self._index} {setup.name}",
                                    when_interactive=False) as report:
@@ -374,6 +388,59 @@ class Simulation:
         bands = None if setup.spectral is not None else [self.scene.band(b) for b in setup.bands]
         return mean_frame(layers, bands)
 
+    def _scans_motion(self, setup) -> bool:
+        """Whether a band observer is a scanner over something that moves (objects, waves)."""
+        return setup.kind in ("pushbroom", "whiskbroom") and setup.spectral is None and bool(
+            self._moving or self._sea)
+
+    def _scan(self, setup, tables, progress=None):
+        """A scanner's image, each group of its pixels rendered with what moves placed at the
+        group's time (:mod:`radscene.pipeline.scan_motion`); what moves is put back where it
+        was."""
+        from radscene.pipeline.scan_motion import compose, motion_groups, pixel_times
+        from radscene.platform.cameras import RayBundle
+        from radscene.render.integrator import render as render_observer
+        from radscene.render.integrator import scene_tables
+
+        camera = setup.camera
+        rays = camera.rays(supersample=setup.supersample)
+        # the scanner's clock against the simulation's: its t = 0 is its epoch
+        epoch = getattr(camera, "epoch", None)
+        shift = 0.0 if epoch is None or self._start is None else (epoch - self._start).total_seconds()
+        moving = [self._body[n][0] for n in sorted(self._moving)]
+        if self._sea is not None:
+            moving.append(self._sea_index)
+        sheets = any(getattr(self.scene.objects[k], "transmissive", False) for k in moving)
+        here = self._placed_at
+
+        def vertices(t):
+            self._follow_motions(shift + t)
+            return np.concatenate([self.scene.objects[k].mesh.vertices for k in moving])
+
+        parts, masks, done = [], [], 0
+        try:
+            group, times = motion_groups(pixel_times(rays), vertices, lambda t: camera.sensor_axes(t)[0],
+                                         camera.ifov)
+            for g, t in enumerate(times):
+                mask = group == g
+                keep = mask[rays.pixel]
+                bundle = RayBundle(rays.origins[keep], rays.directions[keep], rays.pixel[keep],
+                                   rays.weight[keep], rays.shape, rays.subsample[keep], time=rays.time[keep])
+                self._follow_motions(shift + t)
+                if sheets:  # the sheets' own tracers follow them
+                    tables = scene_tables(self.scene, self.tracer)
+                report = None if progress is None else (
+                    lambda n, total, done=done: progress(done + n, len(rays)))
+                parts.append(render_observer(self.scene, setup.name, progress=report, _tables=tables,
+                                             _rays=bundle))
+                masks.append(mask.reshape(rays.shape))
+                done += len(bundle)
+        finally:  # back where they were
+            self._follow_motions(here)
+            if sheets:
+                scene_tables(self.scene, self.tracer)
+        return compose(parts, masks)
+
     def _follow_motions(self, t=None):
         """Objects that move (trajectories, spins, parts of moving parents) where they are at
         ``t`` [s] since the start (default the clock's time); only those whose pose changed
@@ -381,6 +448,7 @@ class Simulation:
         from radscene.platform.motion import compose
 
         t = self._elapsed if t is None else t
+        self._placed_at = t
         self._advance_sea(t)
         if not self._moving:
             return
@@ -420,6 +488,7 @@ class Simulation:
             moved[k] = body.with_vertices(body.vertices @ rotation.T + position)
             self._poses[name] = (np.asarray(position, float),
                                  np.asarray(attitude[0], float) if attitude else None, rotation)
+            self.scene.poses[name] = (self._poses[name][0], rotation)
         if moved:
             self.tracer.move(moved)
             for k, mesh in moved.items():

@@ -115,6 +115,10 @@ class Scene:
     volumes: list = field(default_factory=list)
     #: How each object (not the terrain) moves, by name (radscene.platform.motion.Motion).
     motions: dict = field(default_factory=dict)
+    #: Where each object (not the terrain) stands, by name: ``(position (3,) [m], rotation
+    #: (3, 3))`` of its mesh in the scene frame, at the scene's instant (its motion at t = 0 s)
+    #: until a :class:`~radscene.pipeline.simulation.Simulation` moves it.
+    poses: dict = field(default_factory=dict)
     #: The sea when the terrain is one (radscene.geometry.sea.TiledSea): its mesh at any time.
     sea: Any = None
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
@@ -279,6 +283,7 @@ class _Resolver:
         self.material_names: list[str] = []
         self.brdfs: dict = {}
         self.motions: dict = {}
+        self.poses: dict = {}
         self.sea_surface = None
 
     # -- helpers ---------------------------------------------------------------------------
@@ -584,6 +589,10 @@ class _Resolver:
 
         out = []
         self.motions = {o.name: self.motion(i, o, hf) for i, o in enumerate(self.spec.objects)}
+        # every object where its motion puts it at the scene's instant (t = 0 s): its trajectory's
+        # point, its spin's angle, its parent's pose; the scene file's position when it is still
+        self.poses = compose({n: m.pose(0.0) for n, m in self.motions.items()},
+                             {n: m.parent for n, m in self.motions.items()})
         rest = compose({n: m.rest_pose() for n, m in self.motions.items()},
                        {n: m.parent for n, m in self.motions.items()})
         for i, ospec in enumerate(self.spec.objects):
@@ -601,13 +610,11 @@ class _Resolver:
                 except ConfigError as err:
                     raise ConfigError(err.message, key=f"{key}.shape.file") from None
                 mesh = mesh.transformed(scale=shape.scale)
-            if ospec.parent is None:
-                x, y, z = ospec.position
-                if self.motions[ospec.name].terrain is not None:
-                    z = z + float(hf.height_at(x, y))
-                mesh = mesh.transformed(translation=(x, y, z), rotation=ospec.rotation)
-            else:  # a part: placed in its parent's frame, where the parent rests
-                p, rot = rest[ospec.name]
+            p, rot = self.poses[ospec.name]
+            if ospec.parent is None and np.array_equal(p, rest[ospec.name][0]) and np.array_equal(
+                    rot, rest[ospec.name][1]):  # where the scene file places it
+                mesh = mesh.transformed(translation=p, rotation=ospec.rotation)
+            else:  # on its trajectory, or a part in its parent's frame
                 mesh = Mesh(mesh.vertices @ rot.T + p, mesh.faces, name=mesh.name)
             mesh.name = ospec.name
             midx = self.material_index(ospec.material, f"{key}.material")
@@ -963,6 +970,7 @@ class _Resolver:
             brdfs=self.brdfs,
             volumes=volumes,
             motions=self.motions,
+            poses=self.poses,
             sea=self.sea_surface,
         )
 

@@ -872,7 +872,7 @@ class RenderSettings(_Model):
         None, description="motion blur in frame sequences and radscene.Simulation: {samples, "
         "exposure}; objects on trajectories, spinning parts and scanners are placed at each "
         "sub-frame instant, the sun and the atmosphere stay those of the frame. A single render "
-        "moves nothing, so it is unchanged; default off")
+        "is the instant itself (what moves where it is at t = 0), not blurred; default off")
 
 
 # ---------------------------------------------------------------------------------------------
