@@ -253,3 +253,15 @@ def test_scene_with_a_volume_and_a_sheet_renders_and_writes_its_layers(tmp_path)
             assert name in ds
         assert float(ds["volume_transmittance"].min()) < 1.0
         assert float(ds["transmitted"].sel(band="lwir").max()) > 0.0
+
+
+def test_brackets_in_a_message_are_printed_not_taken_for_markup(tmp_path):
+    """Units in brackets ("[m, m]", "name [unit]") reach the user; Rich markup would drop them."""
+    import numpy as np
+
+    np.save(tmp_path / "dem.npy", np.zeros((4, 4)))
+    start, end = GOOD.index("objects:"), GOOD.index("bands:")
+    text = GOOD[:start] + "terrain: {type: dem, file: dem.npy, material: paint}\n" + GOOD[end:]
+    result, out = _run(tmp_path, text)
+    assert result.exit_code == 2, result.output
+    assert "a .npy DEM needs 'spacing' [m, m]" in result.output, result.output

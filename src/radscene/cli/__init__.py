@@ -14,6 +14,7 @@ from pathlib import Path
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import Progress
 from rich.table import Table
 
@@ -35,8 +36,9 @@ err_console = Console(stderr=True)
 
 
 def _fail(err: Exception) -> None:
-    """One line on stderr; exit code 2 for bad input, 1 for an engine that failed."""
-    err_console.print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
+    """One line on stderr; exit code 2 for bad input, 1 for an engine that failed. The message
+    is escaped: its brackets ("name [unit]", "[0, 1]") are text, not Rich markup."""
+    err_console.print(f"[bold red]error:[/] {escape(str(err))}", highlight=False, soft_wrap=True)
     raise typer.Exit(code=2 if isinstance(err, ConfigError) else 1)
 
 
@@ -85,7 +87,7 @@ class Report:
     def warn(self, text: str) -> None:
         """A warning (standard error), unless quiet."""
         if not self.quiet:
-            err_console.print(f"warning: {text}", highlight=False)
+            err_console.print(f"warning: {escape(text)}", highlight=False)
 
     def stage(self, text: str, seconds: float | None = None) -> None:
         """With --verbose: a stage, what it did and how long it took (standard error)."""
