@@ -145,8 +145,8 @@ GOOD = "time [s], x [m], y [m], z [m]\n0, 0, 0, 0\n1, 1, 0, 0\n2, 2, 0, 0\n"
     ("time [s], x [m], y [m]\n0, 0, 0\n1, 1, 0\n", r"missing column 'z'"),
     (GOOD.replace("2, 2", "0.5, 2"), r"row 3 \(line 4\): time 0.5 s does not follow 1 s"),
     (GOOD.replace("2, 2", "1, 2"), r"row 3 \(line 4\): time 1 s does not follow 1 s"),
-    (GOOD.replace("1, 1", "1, one"), r"row 2 \(line 3\), column 'x': 'one' is not a number"),
-    (GOOD.replace("y [m]", "y [s]"), r"column 'y': \[s\] is not a unit of length"),
+    (GOOD.replace("1, 1", "1, one"), r"row 2 \(line 3\), column 'x': not a number"),
+    (GOOD.replace("y [m]", "y [s]"), r"column 'y': its unit is not one of length"),
     (GOOD.replace("x [m]", "x"), r"column 'x' has no unit; write it as 'x \[m\]'"),
     (GOOD.replace("1, 1, 0, 0", "1, 1, 0"), r"row 2 \(line 3\) has 3 values for 4 columns"),
 ])

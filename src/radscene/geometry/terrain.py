@@ -15,7 +15,7 @@ import os
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.geometry.mesh import Mesh
 
 __all__ = ["Heightfield", "polyline_distance", "procedural_terrain"]
@@ -151,7 +151,7 @@ class Heightfield:
         try:
             da = rioxarray.open_rasterio(path, masked=True)
         except Exception as exc:  # rasterio raises its own types
-            raise ConfigError(f"cannot read GeoTIFF {path!r}: {exc}", key="path") from exc
+            raise ConfigError(f"cannot read GeoTIFF {path!r}: {unreadable(exc)}", key="path") from None
         with da:
             if "band" in da.dims:
                 bands = [int(b) for b in da["band"].values]

@@ -18,7 +18,7 @@ import yaml
 from pydantic import ValidationError
 
 from radscene.atmosphere import Atmosphere, make_atmosphere
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.scene import schema
 
 #: Surface temperature of faces without a given one when the heat balance does not run [K].
@@ -329,8 +329,16 @@ class _Resolver:
         if lname in custom and brdf_spec is not None:
             from radscene.materials import make_brdf
 
-            self.brdfs[len(self.materials) - 1] = make_brdf(
-                brdf_spec, key=f"materials.{name}.brdf", base_dir=self.base)
+            key = f"materials.{name}.brdf"
+            try:
+                self.brdfs[len(self.materials) - 1] = make_brdf(brdf_spec, key=key,
+                                                                base_dir=self.base)
+            except ConfigError as err:
+                if err.key and err.key.startswith(key):
+                    raise
+                # a table file's error names the file (and line): the message keeps it
+                raise ConfigError(f"{err.key}: {err.message}" if err.key else err.message,
+                                  key=key) from None
         return len(self.materials) - 1
 
     def mixture_index(self, fractions: dict, key: str) -> int:
@@ -702,11 +710,14 @@ class _Resolver:
                     if var.dims != ("z", "y", "x"):
                         raise ConfigError(f"{profile.variable!r} has dims {var.dims}; expected "
                                           "('z', 'y', 'x')", key=f"{key}.file")
+                    if not np.issubdtype(var.dtype, np.number):
+                        raise ConfigError(f"{profile.variable!r} is not numeric", key=f"{key}.file")
                     grid = var.values
-            except (OSError, ValueError) as err:
-                if isinstance(err, ConfigError):
-                    raise
-                raise ConfigError(f"cannot read {path}: {err}", key=f"{key}.file") from None
+            except ConfigError:
+                raise
+            except Exception:  # noqa: BLE001 - whatever the NetCDF libraries raise: a bad file
+                raise ConfigError(f"{path.name}: not a readable NetCDF file",
+                                  key=f"{key}.file") from None
         grid = np.asarray(grid, dtype=float)
         if grid.ndim != 3 or min(grid.shape) < 2:
             raise ConfigError(f"a density grid has three dimensions (z, y, x) of at least two "
@@ -1056,7 +1067,8 @@ def _read_image(path: Path, key: str) -> np.ndarray:
             if image.ndim == 3:
                 image = image[..., 0]
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
-        raise ConfigError(f"cannot read image {path}: {err}", key=key) from None
+        why = err.message if isinstance(err, ConfigError) else unreadable(err)
+        raise ConfigError(f"cannot read image {path}: {why}", key=key) from None
     if image.ndim != 2:
         raise ConfigError(f"a 2-D single-band image is needed, got shape {image.shape}", key=key)
     return np.asarray(image)
