@@ -39,6 +39,15 @@ def _corrupt_png(path):
     path.write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(50))
 
 
+def _geotiff(path, crs):
+    import rasterio
+    from rasterio.transform import from_origin
+
+    with rasterio.open(path, "w", driver="GTiff", height=3, width=4, count=1, dtype="float32",
+                       crs=crs, transform=from_origin(5.0, 45.0, 0.001, 0.001)) as dst:
+        dst.write(np.zeros((3, 4), np.float32), 1)
+
+
 def _text(content):
     return lambda path: path.write_text(content)
 
@@ -93,6 +102,8 @@ CASES = {
     "weather NetCDF of text": ("wx.nc", _text("hello"), lambda s, f: _weather(s, f),
                                "thermal.weather.file"),
     "missing weather file": ("wx.csv", None, lambda s, f: _weather(s, f), "thermal.weather.file"),
+    "DEM in geographic degrees": ("deg.tif", lambda p: _geotiff(p, "EPSG:4326"), lambda s, f: s.update(
+        terrain={"type": "dem", "file": f, "material": "paint"}), "terrain.file"),
 }
 
 
