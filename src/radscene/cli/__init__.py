@@ -220,6 +220,11 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
         t = time.perf_counter()
         check_thermal_inputs(scene)
         report.stage("heat-balance inputs checked", time.perf_counter() - t)
+        frames = None
+        if scene.spec.time is not None:
+            from radscene.pipeline.simulation import check_sequence
+
+            frames = check_sequence(scene)
     except (ConfigError, EngineError) as err:
         _fail(err)
     if quiet:
@@ -243,6 +248,8 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
     need = max((b for b, _, _ in estimate(scene.spec)["observers"]), default=0.0)
     if need:
         report.say(f"  memory: about {need / 1e9:.1f} GB for the largest render (estimate)")
+    if frames is not None:
+        report.say(f"  sequence: {frames:,} frames")
     report.say(f"  atmosphere: {scene.atmosphere.name}")
     report.say(f"  sun: zenith {sun.zenith:.2f}°, azimuth {sun.azimuth:.2f}°, "
                f"{sun.distance:.5f} AU")

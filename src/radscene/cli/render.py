@@ -189,7 +189,7 @@ def render(
     adds each stage and its time."""
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
-    from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
+    from radscene.pipeline import apply_thermal, check_thermal_inputs, solve_thermal, thermal_active
     from radscene.scene import load_scene
 
     try:
@@ -224,6 +224,8 @@ def render(
             done = run_record.finished(output, scene_file) if resume else []
             todo = [n for n in names if n not in done]
             check_output_folder(output, formats.result_files(scene, todo), overwrite or resume)
+            if todo:  # the heat balance's weather file and size, before the folder is touched
+                check_thermal_inputs(scene)
         report.stage(f"output {output}/ checked; writing {formats.describe(sequence)}")
     except (ConfigError, EngineError) as err:
         _fail(err)

@@ -119,6 +119,9 @@ class Scene:
     sea: Any = None
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
     render_cache: dict = field(default_factory=dict, repr=False)
+    #: What a run's memory is checked against: (bytes, where the figure comes from), from
+    #: ``max_memory``, ``render.max_memory`` or the machine (radscene.scene.memory).
+    memory_limit: tuple | None = None
 
     def band(self, name: str) -> Band:
         for band in self.bands:
@@ -261,12 +264,14 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
         spec = schema.SceneSpec.model_validate(data)
     except ValidationError as err:
         raise _validation_error(err) from None
-    from radscene.scene.memory import check_memory, parse_memory
+    from radscene.scene.memory import check_memory, memory_limit, parse_memory
 
-    check_memory(spec, None if max_memory is None else parse_memory(max_memory, "--max-memory"))
+    limit = None if max_memory is None else parse_memory(max_memory, "--max-memory")
+    check_memory(spec, limit, base)
     scene = _Resolver(spec, base, path).resolve()
     scene.document = copy.deepcopy(data)
     scene.base_dir = Path(os.path.realpath(base))
+    scene.memory_limit = memory_limit(spec, limit)
     return scene
 
 
