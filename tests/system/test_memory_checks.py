@@ -155,7 +155,12 @@ def test_a_sequence_too_long_for_memory_is_refused_before_its_first_frame(tmp_pa
     runner = CliRunner()
     result = runner.invoke(app, ["check", str(path)])
     assert result.exit_code == 2 and "time.step: the sequence of 86,400,001" in result.output
+    out = tmp_path / "out"
     path.write_text(yaml.safe_dump(_sequence_scene(step="10 min")))
+    result = runner.invoke(app, ["render", str(path), "-o", str(out), "--step", "1 ms"])
+    assert result.exit_code == 2, result.output
+    assert result.output.strip().startswith("error: --step: the sequence of 86,400,001 frames")
+    assert len(result.output.strip().splitlines()) == 1 and not out.exists()
     result = runner.invoke(app, ["check", str(path)])
     assert result.exit_code == 0 and "sequence: 145 frames" in result.output, result.output
 

@@ -341,7 +341,16 @@ def _register_subcommands() -> None:
 _register_subcommands()
 
 
+def _terminate(signum, frame):
+    """SIGTERM ends a command as Ctrl-C does: the files being written are temporaries, removed
+    on the way out (radscene.io.files.atomic_output), so none is left half written."""
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
 def run() -> None:  # pragma: no cover - console entry
+    import signal
+
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         app()
     except KeyboardInterrupt:
