@@ -233,3 +233,23 @@ def test_the_bad_file_matrix(tmp_path, reader, kind):
     assert len(lines) == 1 and key in lines[0], result.output
     assert "Traceback" not in result.output
     assert "SECRET" not in result.output.upper(), result.output
+
+
+def test_an_atmosphere_database_is_named_relative_to_the_scene_folder(tmp_path, monkeypatch):
+    """As every file of a scene: `file: mine.nc` beside the scene, run from elsewhere."""
+    import shutil
+
+    from radscene.atmosphere.database import shipped_databases
+
+    shutil.copy(shipped_databases()["default"], tmp_path / "mine.nc")
+    scene = copy.deepcopy(BASE)
+    scene["environment"]["atmosphere"] = {"type": "database", "file": "mine.nc"}
+    (tmp_path / "scene.yaml").write_text(yaml.safe_dump(scene))
+    monkeypatch.chdir("/")
+    result = CliRunner().invoke(app, ["check", str(tmp_path / "scene.yaml")])
+    assert result.exit_code == 0, result.output
+    (tmp_path / "mine.nc").write_bytes(bytes(range(256)))
+    result = CliRunner().invoke(app, ["check", str(tmp_path / "scene.yaml")])
+    assert result.exit_code == 2
+    assert result.output.startswith(f"error: environment.atmosphere.file: cannot read the "
+                                    f"database {tmp_path / 'mine.nc'}"), result.output

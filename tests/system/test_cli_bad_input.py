@@ -105,6 +105,10 @@ BAD = {
     "reflectance plus transmittance above one": (
         GOOD.replace("reflectance: 0.4", "reflectance: 0.4, transmittance: 0.7"),
         "reflectance + transmittance = 1.1"),
+    "ragged inline elevation": (
+        GOOD.replace("objects:", "terrain: {type: dem, elevation: [[1, 2], [3]], spacing: [1 m, 1 m], "
+                     "material: paint}\nobjects:"),
+        "terrain.elevation: rows must all have the same length: row 0 has 2 samples, row 1 has 1"),
     "naive time": (GOOD.replace("sun: {zenith: 30 deg, azimuth: 180 deg}",
                                 "time: '2026-01-01T12:00:00'"), "environment.time"),
 }

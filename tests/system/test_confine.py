@@ -59,3 +59,12 @@ def test_cli_confine_exits_2(folders):
     path.write_text(yaml.safe_dump(_scene("../elsewhere/red.csv")))
     result = CliRunner().invoke(app, ["check", str(path), "--confine"])
     assert result.exit_code == 2 and "bands[0].file" in result.output, result.output
+
+
+@pytest.mark.parametrize("key, value", [("executable", "/bin/true"), ("cache_dir", "/tmp")])
+def test_a_confined_scene_runs_no_program_and_writes_no_folder_it_names(folders, key, value):
+    inside, _ = folders
+    scene = _scene("red.csv")
+    scene["environment"]["atmosphere"] = {"type": "lowtran", key: value}
+    with pytest.raises(ConfigError, match=rf"environment\.atmosphere\.{key}: --confine"):
+        radscene.load_scene(scene, base_dir=inside, confine=True)

@@ -108,3 +108,29 @@ def test_a_hung_engine_stops_a_render_at_the_scene_timeout(tmp_path, monkeypatch
     assert "case" in lines[0] and "Traceback" not in result.output
     assert time.monotonic() - started < 50  # stopped at the timeout, not at the stand-in's end
     assert (tmp_path / "out" / MARKER).is_file() and not (tmp_path / "out" / MANIFEST).exists()
+
+
+@pytest.mark.parametrize("where", ["scene", "environment"])
+def test_check_refuses_an_engine_executable_that_is_not_one(tmp_path, monkeypatch, where):
+    """`radscene check` finds the program the engine runs, as the render would: a named file
+    that is not executable is one line naming its key, exit 2 (it passed check before). The
+    scene names it relative to its own folder, as it names every file."""
+    import yaml
+    from typer.testing import CliRunner
+
+    from radscene.cli import app
+
+    (tmp_path / "engine.sh").write_text("#!/bin/sh\n")  # not executable
+    atmosphere = {"type": "lowtran", "cache": False}
+    if where == "scene":
+        atmosphere["executable"] = "engine.sh"
+    else:
+        monkeypatch.setenv("RADSCENE_LOWTRAN", str(tmp_path / "engine.sh"))
+    scene = {**SCENE, "environment": {**SCENE["environment"], "atmosphere": atmosphere}}
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    monkeypatch.chdir("/")
+    result = CliRunner().invoke(app, ["check", str(path)])
+    key = "environment.atmosphere.executable" if where == "scene" else "RADSCENE_LOWTRAN"
+    assert result.exit_code == 2, result.output
+    assert result.output.startswith(f"error: {key}: not an executable file: {tmp_path}"), result.output

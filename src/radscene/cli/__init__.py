@@ -205,6 +205,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
                                        help="Also print each stage on standard error: what it "
                                             "does and its time.")):
     """Validate a scene file and summarise what it holds, without rendering."""
+    from radscene.atmosphere import check_engine
     from radscene.pipeline import check_thermal_inputs
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
@@ -214,6 +215,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
         t = time.perf_counter()
         scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         report.stage(f"loaded and validated {scene_file}", time.perf_counter() - t)
+        check_engine(scene.atmosphere)
         t = time.perf_counter()
         sun = sun_geometry(scene)
         report.stage("sun position", time.perf_counter() - t)

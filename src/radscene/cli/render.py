@@ -207,6 +207,7 @@ def render(
     out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its
     observer, unless --observer), to the same numbers. --quiet prints only errors; --verbose
     adds each stage and its time."""
+    from radscene.atmosphere import check_engine
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
     from radscene.pipeline import apply_thermal, check_thermal_inputs, solve_thermal, thermal_active
@@ -250,6 +251,7 @@ def render(
             check_output_folder(output, formats.result_files(scene, todo), overwrite or resume)
             if todo:  # the heat balance's weather file and size, before the folder is touched
                 check_thermal_inputs(scene)
+        check_engine(scene.atmosphere)
         report.stage(f"output {output}/ checked; writing {formats.describe(sequence)}")
     except (ConfigError, EngineError) as err:
         _fail(err)

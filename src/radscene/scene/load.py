@@ -911,10 +911,23 @@ class _Resolver:
                                      grid))
         return out
 
+    def _atmosphere_spec(self) -> dict:
+        """The atmosphere's settings with its files (a database, an engine executable) named
+        relative to the scene file's folder made absolute, as every other file of a scene is
+        (a shipped database's name stays a name)."""
+        out = dict(self.spec.environment.atmosphere or {})
+        for name in ("file", "executable"):
+            value = out.get(name)
+            if isinstance(value, str) and value and not Path(os.path.expanduser(value)).is_absolute():
+                candidate = self.base / value
+                if candidate.exists():
+                    out[name] = str(candidate)
+        return out
+
     def resolve(self) -> Scene:
         spec = self.spec
         try:
-            atmosphere = make_atmosphere(spec.environment.atmosphere)
+            atmosphere = make_atmosphere(self._atmosphere_spec())
         except ConfigError as err:
             key = err.key or ""
             if key.startswith("atmosphere"):
