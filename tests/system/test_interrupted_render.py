@@ -122,7 +122,7 @@ SEQUENCE = textwrap.dedent("""
 """)
 
 
-def test_a_stopped_sequence_leaves_a_marker_and_resume_finishes(tmp_path):
+def test_a_stopped_sequence_leaves_a_marker_and_resume_finishes(tmp_path, one_line_refusal):
     scene = tmp_path / "frames.yaml"
     scene.write_text(SEQUENCE)
     out = tmp_path / "out"
@@ -140,7 +140,7 @@ def test_a_stopped_sequence_leaves_a_marker_and_resume_finishes(tmp_path):
     assert not (out / MARKER).exists() and not _temporaries(out)
     again = subprocess.run(_cli("render", scene, "-o", out, "--resume", "--step", "30 s"),
                            capture_output=True, text=True, timeout=600)
-    assert again.returncode == 2 and "nothing to resume" in again.stderr
+    assert again.returncode == 2 and one_line_refusal(again.stderr, "nothing to resume")
 
 
 def test_a_stopped_spectral_cube_leaves_no_temporaries(tmp_path):
