@@ -157,7 +157,7 @@ def test_bad_track_files_are_one_line_naming_the_key_and_row(tmp_path, text, mat
         radscene.load_scene(scene, base_dir=tmp_path)
 
 
-def test_the_cli_refuses_a_bad_track_file_with_exit_2_and_one_line(tmp_path):
+def test_the_cli_refuses_a_bad_track_file_with_exit_2_and_one_line(tmp_path, one_line_refusal):
     (tmp_path / "track.csv").write_text(GOOD.replace("2, 2", "1, 2"))
     scene = _scene(_scene()["objects"][0], _mover({"file": "track.csv"}))
     path = tmp_path / "scene.yaml"
@@ -165,8 +165,7 @@ def test_the_cli_refuses_a_bad_track_file_with_exit_2_and_one_line(tmp_path):
     result = CliRunner().invoke(app, ["render", str(path), "-o", str(tmp_path / "out"), "--start",
                                       "2026-06-21T07:00:00Z", "--end", "2026-06-21T07:00:01Z", "--step", "1 s"])
     assert result.exit_code == 2
-    lines = [line for line in result.output.splitlines() if line.strip()]
-    assert len(lines) == 1 and "objects[1].trajectory.file: track.csv: row 3 (line 4)" in lines[0], result.output
+    one_line_refusal(result.output, "objects[1].trajectory.file: track.csv: row 3 (line 4)")
 
 
 SLOPE = 10.0  # [deg]

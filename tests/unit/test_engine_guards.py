@@ -134,3 +134,4 @@ def test_check_refuses_an_engine_executable_that_is_not_one(tmp_path, monkeypatc
     key = "environment.atmosphere.executable" if where == "scene" else "RADSCENE_LOWTRAN"
     assert result.exit_code == 2, result.output
     assert result.output.startswith(f"error: {key}: not an executable file: {tmp_path}"), result.output
+    assert len(result.output.strip().splitlines()) == 1 and "Traceback" not in result.output
