@@ -6,7 +6,9 @@ scene file or the argument name) and what would be accepted.
 
 from __future__ import annotations
 
-__all__ = ["RadsceneError", "ConfigError", "EngineError"]
+import re
+
+__all__ = ["RadsceneError", "ConfigError", "EngineError", "unreadable"]
 
 
 class RadsceneError(Exception):
@@ -32,3 +34,31 @@ class ConfigError(RadsceneError, ValueError):
 
 class EngineError(RadsceneError, RuntimeError):
     """An external engine (LOWTRAN, 6S, ...) failed for a named case."""
+
+
+#: A quoted stretch of a library's message (an opening quote that does not follow a letter, as
+#: an apostrophe does): what it quotes is usually the bad file's own text.
+_QUOTED = re.compile("(?<![\\w])b?'[^']*'|(?<![\\w])b?\"[^\"]*\"")
+
+
+def unreadable(err: BaseException) -> str:
+    """Why a library could not read a file, in a few words that quote none of the file.
+
+    A message that quotes the file's content (a line, a field, the bytes a decoder choked on)
+    would show a file that is not what it should be — a scene of unknown origin may name any
+    file — to whoever reads the error. So a text decoding error is only "not a text (UTF-8)
+    file", an operating-system error its ``strerror``, and any other message its first line
+    with every quoted stretch replaced by ``…``, at most 120 characters.
+
+    >>> unreadable(ValueError("could not convert string to float: 'hunter2'"))
+    'could not convert string to float: …'
+    """
+    if isinstance(err, UnicodeError):
+        return "not a text (UTF-8) file"
+    if isinstance(err, OSError) and err.strerror:
+        return err.strerror
+    text = str(err).strip().splitlines()[0] if str(err).strip() else ""
+    text = _QUOTED.sub("…", text).strip()
+    if not text:
+        return type(err).__name__
+    return text if len(text) <= 120 else text[:119] + "…"

@@ -26,3 +26,20 @@ def plate_scene(material: dict, atmosphere: dict, bands: list[dict], sun_zenith:
 @pytest.fixture
 def make_plate_scene():
     return plate_scene
+
+
+def _one_line_refusal(output: str, *words: str) -> str:
+    """Check a refusal on the command line: one line, 'error: KEY: ...', holding ``words``, no
+    traceback; returns the line."""
+    lines = [line for line in output.splitlines() if line.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: "), output
+    assert "Traceback" not in output
+    for word in words:
+        assert word in lines[0], output
+    return lines[0]
+
+
+@pytest.fixture
+def one_line_refusal():
+    """:func:`_one_line_refusal`, for tests of bad input at the command line."""
+    return _one_line_refusal

@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 import textwrap
 import time
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -65,6 +66,20 @@ def test_an_output_that_cannot_be_written_is_refused(tmp_path):
         _refused(_render(tmp_path, locked / "out"), "not writable")
     finally:
         locked.chmod(0o700)
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc")
+@pytest.mark.parametrize("command", ["render", "thermal"])
+def test_an_output_no_one_can_create_is_refused_even_for_root(tmp_path, command):
+    """/proc passes every permission check for root, yet nothing can be created in it: the
+    output is refused before any work, not by a traceback at the end."""
+    if command == "render":
+        _refused(_render(tmp_path, Path("/proc/radscene-out")), "cannot write /proc/radscene-out")
+        return
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(GOOD)
+    result = runner.invoke(app, ["thermal", str(scene), "-o", "/proc/radscene-out.nc"])
+    _refused(result, "cannot write /proc/radscene-out.nc")
 
 
 def test_earlier_results_are_kept_unless_overwrite(tmp_path):

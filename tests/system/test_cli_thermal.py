@@ -54,11 +54,11 @@ def test_thermal_writes_cf_netcdf_and_figures(scene_file, tmp_path):
     (["--step", "2 d"], "longer than the span"),
     (["--start", "2026-06-21T10:00"], "UTC offset"),
 ])
-def test_thermal_bad_input_exits_2_and_writes_nothing(scene_file, tmp_path, args, message):
+def test_thermal_bad_input_exits_2_and_writes_nothing(scene_file, tmp_path, args, message, one_line_refusal):
     out = tmp_path / "bad.nc"
     result = runner.invoke(app, ["thermal", str(scene_file), "-o", str(out), *args])
     assert result.exit_code == 2
-    assert message in result.output
+    one_line_refusal(result.output, message)
     assert not out.exists()
 
 
@@ -83,15 +83,15 @@ def _write(tmp_path, changes):
     ({"objects": {"lorry": {"internal_power": "1 kW"}}}, "thermal.objects.lorry"),
     ({"step": "-5 min"}, "thermal.step"),
 ])
-def test_thermal_bad_scene_exits_2_naming_the_key(tmp_path, changes, message):
+def test_thermal_bad_scene_exits_2_naming_the_key(tmp_path, changes, message, one_line_refusal):
     out = tmp_path / "bad.nc"
     result = runner.invoke(app, ["thermal", str(_write(tmp_path, changes)), "-o", str(out)])
     assert result.exit_code == 2, result.output
-    assert message in result.output
+    one_line_refusal(result.output, message)
     assert not out.exists()
 
 
-def test_thermal_weather_file_with_a_gap_exits_2_naming_the_row(tmp_path):
+def test_thermal_weather_file_with_a_gap_exits_2_naming_the_row(tmp_path, one_line_refusal):
     rows = ["# latitude: 35.0", "# longitude: 0.0",
             "time [UTC],air_temperature [degC],relative_humidity [%],wind_speed [m/s],cloud_cover [%],pressure [hPa]"]
     for hour in range(30):  # hourly from 2026-06-20T00:00, the air temperature missing at 12:00
@@ -103,7 +103,7 @@ def test_thermal_weather_file_with_a_gap_exits_2_naming_the_row(tmp_path):
     out = tmp_path / "bad.nc"
     result = runner.invoke(app, ["thermal", str(path), "-o", str(out)])
     assert result.exit_code == 2, result.output
-    assert "site.csv" in result.output and "line 16" in result.output
+    one_line_refusal(result.output, "site.csv", "line 16")
     assert not out.exists()
 
 
@@ -121,11 +121,11 @@ def _wth_file(tmp_path, sky="0.80"):
     ({"cloud_cover": 0.2}, "0.80", "the file carries its sky exposure (field 9"),
     ({}, "8.00", "line 2: sky exposure 8 (field 9) outside [0, 1]"),
 ])
-def test_thermal_wth_declaration_or_field_wrong_exits_2_naming_it(tmp_path, weather, sky, message):
+def test_thermal_wth_declaration_or_field_wrong_exits_2_naming_it(tmp_path, weather, sky, message, one_line_refusal):
     _wth_file(tmp_path, sky)
     path = _write(tmp_path, {"weather": {"file": "site.wth", "start": "2026-06-20T00:00:00Z", **weather}})
     out = tmp_path / "bad.nc"
     result = runner.invoke(app, ["thermal", str(path), "-o", str(out)])
     assert result.exit_code == 2, result.output
-    assert "site.wth" in result.output and message in result.output
+    one_line_refusal(result.output, "site.wth", message)
     assert not out.exists()

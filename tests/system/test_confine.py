@@ -53,9 +53,18 @@ def test_a_file_outside_is_refused_naming_its_key(folders, name):
     radscene.load_scene(_scene(name), base_dir=inside)
 
 
-def test_cli_confine_exits_2(folders):
+def test_cli_confine_exits_2(folders, one_line_refusal):
     inside, _ = folders
     path = inside / "s.yaml"
     path.write_text(yaml.safe_dump(_scene("../elsewhere/red.csv")))
     result = CliRunner().invoke(app, ["check", str(path), "--confine"])
-    assert result.exit_code == 2 and "bands[0].file" in result.output, result.output
+    assert result.exit_code == 2 and one_line_refusal(result.output, "bands[0].file")
+
+
+@pytest.mark.parametrize("key, value", [("executable", "/bin/true"), ("cache_dir", "/tmp")])
+def test_a_confined_scene_runs_no_program_and_writes_no_folder_it_names(folders, key, value):
+    inside, _ = folders
+    scene = _scene("red.csv")
+    scene["environment"]["atmosphere"] = {"type": "lowtran", key: value}
+    with pytest.raises(ConfigError, match=rf"environment\.atmosphere\.{key}: --confine"):
+        radscene.load_scene(scene, base_dir=inside, confine=True)

@@ -63,15 +63,142 @@ def test_bad_memory_sizes_are_refused(text):
         parse_memory(text)
 
 
-def test_cli_refuses_before_work_and_check_reports_the_estimate(tmp_path):
+def test_cli_refuses_before_work_and_check_reports_the_estimate(tmp_path, one_line_refusal):
     path = tmp_path / "s.yaml"
     path.write_text(yaml.safe_dump(_scene(shape=(4096, 4096), supersample=4)))
     runner = CliRunner()
     result = runner.invoke(app, ["render", str(path), "-o", str(tmp_path / "out"),
                                  "--max-memory", "1GB"])
     assert result.exit_code == 2, result.output
-    assert "observers[0].shape" in result.output and not (tmp_path / "out").exists()
+    one_line_refusal(result.output, "observers[0].shape")
+    assert not (tmp_path / "out").exists()
     path.write_text(yaml.safe_dump(_scene()))
     result = runner.invoke(app, ["check", str(path)])
     assert result.exit_code == 0, result.output
     assert "memory: about" in result.output
+
+
+# -- sizes known from a file's header, a span or a grid: checked before the first step --------
+
+def _dem_scene(name):
+    scene = _scene()
+    scene["terrain"] = {"type": "dem", "file": name, "spacing": [1, 1], "material": "soil"}
+    scene["observers"][0]["shape"] = [8, 8]
+    return scene
+
+
+def test_a_dem_file_is_sized_from_its_header_before_it_is_read(tmp_path):
+    """A .npy DEM whose header says 30 000 × 30 000 (its samples absent): refused for its size,
+    not for the missing samples, so none was read; a GeoTIFF by its width × height."""
+    import numpy as np
+    import rasterio
+    from rasterio.transform import from_origin
+
+    header = np.lib.format.header_data_from_array_1_0(np.zeros((2, 2)))
+    header["shape"] = (30000, 30000)
+    with open(tmp_path / "big.npy", "wb") as f:
+        np.lib.format.write_array_header_1_0(f, header)
+    with pytest.raises(ConfigError, match=r"terrain\.file: the terrain grid needs about 36\d\.\d "
+                                          r"GB; .*a DEM resampled coarser or cropped"):
+        radscene.load_scene(_dem_scene("big.npy"), base_dir=tmp_path)
+    with rasterio.open(tmp_path / "big.tif", "w", driver="GTiff", height=1500, width=1500,
+                       count=1, dtype="float32", crs="EPSG:32631",
+                       transform=from_origin(6e5, 5e6, 1.0, 1.0)) as dst:
+        dst.write(np.zeros((1500, 1500), np.float32), 1)
+    with pytest.raises(ConfigError, match=r"terrain\.file: the terrain grid needs about 1\.2 GB"):
+        radscene.load_scene(_dem_scene("big.tif"), base_dir=tmp_path, max_memory="1 GB")
+
+
+def test_too_many_channels_name_the_spectral_step():
+    scene = _scene()
+    scene["observers"][0]["spectral"] = {"min": "0.4 um", "max": "20 um", "step": "0.001 nm"}
+    started = time.perf_counter()
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.spectral\.step: .*1\.96e\+07 "
+                                          r"channels.*a coarser spectral step"):
+        radscene.load_scene(scene, max_memory="16 GB")
+    assert time.perf_counter() - started < 5.0
+
+
+def test_a_spectral_cube_gathered_in_memory_is_sized_before_the_render():
+    """render_hyperspectral holds the whole cube (512² pixels × 2101 channels × 4 B = 2.2 GB):
+    refused, naming the grid, where the pass-by-pass render fits."""
+    scene = _scene(shape=(512, 512))
+    scene["observers"][0]["spectral"] = {"min": "0.4 um", "max": "2.5 um", "step": "1 nm"}
+    loaded = radscene.load_scene(scene, max_memory="2.2 GB")
+    started = time.perf_counter()
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.spectral\.step: the spectral cube of "
+                                          r"2,101 channels × 262,144 pixels in memory needs about "
+                                          r"2\.5 GB; the limit is 2\.2 GB \(--max-memory\)"):
+        radscene.render_hyperspectral(loaded, progress=False)
+    assert time.perf_counter() - started < 2.0
+
+
+def _sequence_scene(step="1 ms"):
+    scene = _scene(shape=(64, 64))
+    scene["time"] = {"start": "2026-06-21T10:00:00Z", "end": "2026-06-22T10:00:00Z", "step": step}
+    return scene
+
+
+def test_a_sequence_too_long_for_memory_is_refused_before_its_first_frame(tmp_path, one_line_refusal):
+    import datetime as dt
+
+    started = time.perf_counter()
+    with pytest.raises(ConfigError, match=r"time\.step: the sequence of 86,400,001 frames .* "
+                                          r"needs about \d+\.\d GB"):
+        radscene.render_sequence(_sequence_scene(), progress=False)
+    with pytest.raises(ConfigError, match=r"time\.step: the sequence of 31,536,001 frames"):
+        radscene.render_sequence(_scene(), start=dt.datetime(2026, 1, 1, tzinfo=dt.UTC),
+                                 end=dt.datetime(2027, 1, 1, tzinfo=dt.UTC), step=1.0,
+                                 progress=False)
+    assert time.perf_counter() - started < 5.0
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump(_sequence_scene()))
+    runner = CliRunner()
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 2 and one_line_refusal(result.output, "time.step: the sequence of 86,400,001")
+    out = tmp_path / "out"
+    path.write_text(yaml.safe_dump(_sequence_scene(step="10 min")))
+    result = runner.invoke(app, ["render", str(path), "-o", str(out), "--step", "1 ms"])
+    assert result.exit_code == 2, result.output
+    one_line_refusal(result.output, "error: --step: the sequence of 86,400,001 frames")
+    assert not out.exists()
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 0 and "sequence: 145 frames" in result.output, result.output
+
+
+def _thermal_scene(step="1 s"):
+    scene = _scene(size=100.0, spacing=1.0, shape=(8, 8))
+    scene["environment"] = {"sun": {"zenith": 30, "azimuth": 180},
+                            "atmosphere": {"type": "none"}, "time": "2026-06-21T12:00:00Z",
+                            "location": {"latitude": 45.0, "longitude": 5.0}}
+    scene["terrain"] = {"type": "flat", "size": [100, 100], "spacing": 1, "material": "concrete"}
+    scene["bands"].append({"name": "lwir", "min": "8 um", "max": "12 um"})
+    scene["thermal"] = {"start": "2025-06-21T00:00:00Z", "step": step}
+    return scene
+
+
+def test_a_heat_balance_too_large_is_refused_before_its_first_step(tmp_path, one_line_refusal):
+    """10 000 elements × a year of 1 s steps: refused at once, never a MemoryError after
+    minutes of work (it took 162 s to fail so)."""
+    started = time.perf_counter()
+    with pytest.raises(ConfigError, match=r"thermal\.step: the heat balance of 10,000 elements × "
+                                          r"31,579,201 time steps × 20 nodes needs about"):
+        radscene.solve_thermal(_thermal_scene(), progress=False)
+    with pytest.raises(ConfigError, match=r"thermal\.step: the heat balance"):
+        radscene.render(_thermal_scene(), progress=False)
+    assert time.perf_counter() - started < 20.0
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump(_thermal_scene()))
+    runner = CliRunner()
+    for args in (["check", str(path)], ["render", str(path), "-o", str(tmp_path / "out")]):
+        result = runner.invoke(app, args)
+        assert result.exit_code == 2, result.output
+        one_line_refusal(result.output, "error: thermal.step: the heat balance of 10,000")
+    assert not (tmp_path / "out").exists()
+    path.write_text(yaml.safe_dump(_thermal_scene(step="10 min")))
+    nc = tmp_path / "t.nc"
+    result = runner.invoke(app, ["thermal", str(path), "-o", str(nc), "--step", "1 s"])
+    assert result.exit_code == 2 and one_line_refusal(result.output, "error: --step: the heat balance")
+    result = runner.invoke(app, ["thermal", str(path), "-o", str(nc), "--max-memory", "0.5GB"])
+    assert result.exit_code == 2 and one_line_refusal(result.output, "(--max-memory)")
+    assert not nc.exists()

@@ -71,3 +71,38 @@ def test_importing_radscene_leaves_matplotlib_alone():
             "matplotlib.get_backend(); import sys; assert 'matplotlib.pyplot' not in sys.modules")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
+
+
+ENTRY_POINTS = {
+    "render": lambda s: radscene.render(s, progress=False),
+    "render_all": lambda s: radscene.render_all(s, progress=False),
+    "simulate": lambda s: radscene.simulate(s, "map", progress=False),
+    "solve_thermal": lambda s: radscene.solve_thermal(s, progress=False),
+    "Simulation": lambda s: radscene.Simulation(s),
+    "render_sequence": lambda s: radscene.render_sequence(s, progress=False),
+    "render_hyperspectral": lambda s: radscene.render_hyperspectral(s, progress=False),
+}
+
+
+@pytest.mark.parametrize("entry", ENTRY_POINTS)
+def test_every_entry_point_takes_a_dict_or_a_path_with_the_same_errors(tmp_path, entry):
+    import yaml
+
+    call = ENTRY_POINTS[entry]
+    bad = _scene()
+    bad["materials"]["grey"]["reflectance"] = 1.4
+    with pytest.raises(ConfigError, match=r"materials\.grey.*outside \[0, 1\]"):
+        call(bad)
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(bad))
+    with pytest.raises(ConfigError, match=r"materials\.grey.*outside \[0, 1\]"):
+        call(path)
+    with pytest.raises(ConfigError, match=r"scene: no such scene file"):
+        call(str(tmp_path / "missing.yaml"))
+    for other in (3, [1], None, b"scene.yaml"):
+        with pytest.raises(TypeError, match=f"not {type(other).__name__}"):
+            call(other)
+    sized = _scene()  # a memory-sized mistake is a ConfigError naming its key, never MemoryError
+    sized["observers"][0]["shape"] = [200000, 200000]
+    with pytest.raises(ConfigError, match=r"observers\[0\]\.shape: rendering it needs about"):
+        call(sized)

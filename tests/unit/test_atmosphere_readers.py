@@ -149,7 +149,7 @@ def test_tape7_runs_and_units(write):
 @pytest.mark.parametrize("text, match", [
     ("TMF 2    2    0\n 1 2 3\n -9999.\n", "no column header"),
     ("garbage\n  FREQ TRANS\n 1 2\n -9999.\n", "cannot read IEMSCT"),
-    (TAPE7_IRRADIANCE.replace(" 18000.  0.7000", " 18000.  abc"), "not a number"),
+    (TAPE7_IRRADIANCE.replace(" 18000.  0.7000", " 18000.  abc"), "holds something other than numbers"),
     ("TMF 2    2    2\n  FREQ TOT_TRANS\n -9999.\n", "no spectral data"),
 ])
 def test_tape7_bad_files(write, text, match):

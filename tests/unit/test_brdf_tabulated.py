@@ -98,13 +98,13 @@ def test_partial_angle_coverage_needs_extend_edge(tmp_path):
 
 
 @pytest.mark.parametrize(("text", "message"), [
-    ("incidence_zenith,view_zenith,azimuth,brdf\n", r"t\.csv:1: unknown column 'azimuth'"),
+    ("incidence_zenith,view_zenith,azimuth,brdf\n", r"t\.csv:1: column 3 is none of"),
     ("incidence_zenith,view_zenith,brdf\n", r"t\.csv:1: missing column 'relative_azimuth'"),
     ("incidence_zenith,view_zenith,relative_azimuth,brdf,brf\n", r"exactly one of"),
     ("# c\nincidence_zenith,view_zenith,relative_azimuth,brdf\n0,0,0\n",
      r"t\.csv:3: expected 4 columns"),
     ("incidence_zenith,view_zenith,relative_azimuth,brdf\n0,0,zero,0.1\n",
-     r"t\.csv:2: not a number"),
+     r"t\.csv:2: column 3 is not a number"),
     ("incidence_zenith,view_zenith,relative_azimuth,brdf\n0,0,0,-0.1\n",
      r"t\.csv:2: brdf must be finite and >= 0; got -0.1"),
     ("incidence_zenith,view_zenith,relative_azimuth,brdf\n0,0,0,0.1\n95,0,0,0.1\n",

@@ -181,7 +181,7 @@ def test_a_fortran_stop_is_an_engine_error_naming_the_case(fake_exe):
 
 def test_a_hanging_run_times_out(fake_exe):
     runner = LowtranRunner(executable=fake_exe, cache=False, timeout=0.5)
-    with pytest.raises(EngineError, match="'slow' ran past 0.5 s"):
+    with pytest.raises(EngineError, match=r"'slow' ran past its timeout of 0.5 s \(atmosphere\.timeout\)"):
         runner.run([deck(0, "FAKE:HANG")], ["slow"])
 
 

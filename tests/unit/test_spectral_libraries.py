@@ -117,7 +117,7 @@ def test_ecostress_truncated_file_and_bad_units(tmp_path):
     with pytest.raises(ConfigError, match=r"announces 9 rows .* has 6"):
         read_ecostress(write_ecostress(tmp_path / "t.txt", n=9))
     bad = ECOSTRESS_HEADER.replace("Reflectance (percent)", "Radiance (W m-2)")
-    with pytest.raises(ConfigError, match=r"u\.txt:17: .*Y Units 'Radiance"):
+    with pytest.raises(ConfigError, match=r"u\.txt:17: .*Y Units not understood"):
         read_ecostress(write_ecostress(tmp_path / "u.txt", header=bad))
     text = ECOSTRESS_HEADER.format(n=2) + "0.5 10\nabc def\n"
     (tmp_path / "x.txt").write_text(text)

@@ -120,7 +120,7 @@ def test_from_file_errors(tmp_path):
     good.write_text("wl,r\n1,0.1\n2,0.2\n")
     with pytest.raises(ConfigError, match="column 2 is not a value column"):
         Spectrum.from_file(good, column=2)
-    with pytest.raises(ConfigError, match="'x' not found.*columns: r"):
+    with pytest.raises(ConfigError, match=r"'x' is not in the header of .*\(its header names 1 value column\(s\)\)"):
         Spectrum.from_file(good, column="x")
     single = tmp_path / "single.csv"
     single.write_text("1\n2\n")

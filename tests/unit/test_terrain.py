@@ -142,13 +142,14 @@ def test_from_array_flips_to_north_up():
         Heightfield.from_array(z, x=[0.0, 1.0], y=[0.0, 1.0])
 
 
-def _write_geotiff(path, z, nodata=None):
+def _write_geotiff(path, z, nodata=None, crs="EPSG:32633", corner=(500000.0, 4600000.0),
+                   pixel=30.0):
     import rasterio
     from rasterio.transform import from_origin
 
-    transform = from_origin(500000.0, 4600000.0, 30.0, 30.0)  # west edge, north edge, pixel
+    transform = from_origin(*corner, pixel, pixel)  # west edge, north edge, pixel
     with rasterio.open(path, "w", driver="GTiff", height=z.shape[0], width=z.shape[1], count=1,
-                       dtype="float32", crs="EPSG:32633", transform=transform,
+                       dtype="float32", crs=crs, transform=transform,
                        nodata=nodata) as dst:
         dst.write(z.astype(np.float32), 1)
 
@@ -234,3 +235,18 @@ def test_lakes_are_flat_carved_and_contained():
 def test_procedural_terrain_rejects_bad_input(kwargs, match):
     with pytest.raises(ConfigError, match=match):
         procedural_terrain(**{"size": (200.0, 200.0), **kwargs})
+
+
+@pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")
+@pytest.mark.parametrize("crs, corner, pixel, match", [
+    ("EPSG:4326", (5.0, 45.0), 0.001, r"geographic coordinates \(EPSG:4326, degrees\); reproject"),
+    ("EPSG:2263", (1000000.0, 200000.0), 100.0, r"x, y in US survey foot"),
+])
+def test_a_dem_not_in_metres_is_refused_never_read_as_metres(tmp_path, crs, corner, pixel, match):
+    """A DEM in degrees (or feet) would be read as metres: 0.001° pixels, a 3 cm terrain."""
+    path = tmp_path / "dem.tif"
+    _write_geotiff(path, np.arange(12.0).reshape(3, 4), crs=crs, corner=corner, pixel=pixel)
+    with pytest.raises(ConfigError, match=match):
+        Heightfield.from_geotiff(path)
+    _write_geotiff(path, np.arange(12.0).reshape(3, 4), crs=None, corner=corner, pixel=pixel)
+    assert Heightfield.from_geotiff(path).spacing == pytest.approx((pixel, pixel), rel=1e-9)  # as given

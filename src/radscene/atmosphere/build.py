@@ -153,7 +153,10 @@ def load_config(config) -> dict:
         try:
             user = yaml.safe_load(path.read_text()) or {}
         except yaml.YAMLError as err:
-            raise ConfigError(f"not valid YAML: {err}", key="config") from None
+            mark = getattr(err, "problem_mark", None)
+            where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+            raise ConfigError(f"not valid YAML{where}: {getattr(err, 'problem', None) or 'unreadable'}",
+                              key="config") from None
         if not isinstance(user, dict):
             raise ConfigError("a mapping of build settings", key="config")
     unknown = set(user) - set(DEFAULT_CONFIG)

@@ -114,7 +114,7 @@ from radscene.atmosphere.base import (
     SunDependentAtmosphere,
     SunSpectra,
 )
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 
 __all__ = ["DatabaseAtmosphere", "LAYOUT", "shipped_databases", "database_path",
            "AEROSOL_SCALE_HEIGHT", "open_database"]
@@ -249,7 +249,7 @@ def _load(path: str, mtime: float):
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             data = ds.load()
     except (OSError, ValueError) as err:
-        raise ConfigError(f"cannot read the database {path}: {err}",
+        raise ConfigError(f"cannot read the database {path}: {unreadable(err)}",
                           key="atmosphere.file") from None
     if data.attrs.get("layout") != LAYOUT:
         raise ConfigError(f"{path} is not a radscene atmosphere database (layout "

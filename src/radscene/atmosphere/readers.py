@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 
 __all__ = ["read_modtran_tape7", "read_uvspec", "parse_uvspec_input"]
 
@@ -192,8 +192,7 @@ def read_modtran_tape7(path, run: int = 0, iemsct: int | None = None,
         if not tokens or tokens[0] in ("-9999.", "-9999", "-9999.0"):
             continue
         if not all(_is_number(t) for t in tokens):
-            raise ConfigError(f"{p}: not a number in data line {line.strip()[:60]!r}",
-                              key="path")
+            raise ConfigError(f"{p}: a data line holds something other than numbers", key="path")
         rows.append([float(t) for t in tokens])
     if not rows:
         raise ConfigError(f"{p}: no spectral data after the header", key="path")
@@ -404,7 +403,7 @@ def read_uvspec(path, input_file=None, umu=None, phi=None, sza=None, output_quan
                 u0u[i, j] = vals[1]
                 uu[i, j] = vals[2:]
     except ValueError as err:
-        raise ConfigError(f"{p}: {err}", key="path") from None
+        raise ConfigError(f"{p}: {unreadable(err)}", key="path") from None
     if np.any(lam <= 0):
         raise ConfigError(f"{p}: wavelengths must be > 0 nm", key="path")
     wavelength = lam / 1e3

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import typer
 from rich.console import Console
+from rich.markup import escape
 from rich.progress import Progress
 from rich.table import Table
 
@@ -35,8 +36,9 @@ err_console = Console(stderr=True)
 
 
 def _fail(err: Exception) -> None:
-    """One line on stderr; exit code 2 for bad input, 1 for an engine that failed."""
-    err_console.print(f"[bold red]error:[/] {err}", highlight=False, soft_wrap=True)
+    """One line on stderr; exit code 2 for bad input, 1 for an engine that failed. The message
+    is escaped: its brackets ("name [unit]", "[0, 1]") are text, not Rich markup."""
+    err_console.print(f"[bold red]error:[/] {escape(str(err))}", highlight=False, soft_wrap=True)
     raise typer.Exit(code=2 if isinstance(err, ConfigError) else 1)
 
 
@@ -85,7 +87,7 @@ class Report:
     def warn(self, text: str) -> None:
         """A warning (standard error), unless quiet."""
         if not self.quiet:
-            err_console.print(f"warning: {text}", highlight=False)
+            err_console.print(f"warning: {escape(text)}", highlight=False)
 
     def stage(self, text: str, seconds: float | None = None) -> None:
         """With --verbose: a stage, what it did and how long it took (standard error)."""
@@ -203,6 +205,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
                                        help="Also print each stage on standard error: what it "
                                             "does and its time.")):
     """Validate a scene file and summarise what it holds, without rendering."""
+    from radscene.atmosphere import check_engine
     from radscene.pipeline import check_thermal_inputs
     from radscene.render import sun_geometry
     from radscene.scene import load_scene
@@ -212,12 +215,18 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
         t = time.perf_counter()
         scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         report.stage(f"loaded and validated {scene_file}", time.perf_counter() - t)
+        check_engine(scene.atmosphere)
         t = time.perf_counter()
         sun = sun_geometry(scene)
         report.stage("sun position", time.perf_counter() - t)
         t = time.perf_counter()
         check_thermal_inputs(scene)
         report.stage("heat-balance inputs checked", time.perf_counter() - t)
+        frames = None
+        if scene.spec.time is not None:
+            from radscene.pipeline.simulation import check_sequence
+
+            frames = check_sequence(scene)
     except (ConfigError, EngineError) as err:
         _fail(err)
     if quiet:
@@ -241,6 +250,8 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
     need = max((b for b, _, _ in estimate(scene.spec)["observers"]), default=0.0)
     if need:
         report.say(f"  memory: about {need / 1e9:.1f} GB for the largest render (estimate)")
+    if frames is not None:
+        report.say(f"  sequence: {frames:,} frames")
     report.say(f"  atmosphere: {scene.atmosphere.name}")
     report.say(f"  sun: zenith {sun.zenith:.2f}°, azimuth {sun.azimuth:.2f}°, "
                f"{sun.distance:.5f} AU")
@@ -332,7 +343,16 @@ def _register_subcommands() -> None:
 _register_subcommands()
 
 
+def _terminate(signum, frame):
+    """SIGTERM ends a command as Ctrl-C does: the files being written are temporaries, removed
+    on the way out (radscene.io.files.atomic_output), so none is left half written."""
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
 def run() -> None:  # pragma: no cover - console entry
+    import signal
+
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         app()
     except KeyboardInterrupt:

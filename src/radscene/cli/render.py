@@ -79,15 +79,14 @@ class Formats:
         return ", ".join(kinds)
 
 
-def _render_sequence(scene, names, formats, start, end, step, video, report):
-    """``radscene render`` of a sequence: every frame rendered, then one file per observer (and
-    with quicklooks a GIF and/or an MP4 per band, as ``render.video`` or --video says)."""
-    from radscene.io import band_animations, band_videos
+def _sequence_span(scene, names, start, end, step, video, formats):
+    """A sequence's span from the options or the scene's ``time``, checked with its frames'
+    memory (:func:`radscene.pipeline.simulation.check_sequence`) and its animation formats,
+    before the output folder is touched: ((start, end, step), frames, animation kinds). A
+    ConfigError of an option the command line gave names the option (--step, not time.step)."""
     from radscene.io.animation import video_formats
-    from radscene.pipeline.simulation import render_sequence
+    from radscene.pipeline.simulation import check_sequence
 
-    output = formats.output
-    started = time.perf_counter()
     given = {"time.start": start, "time.end": end, "time.step": step}
     try:
         kinds = video_formats(video or scene.spec.render.video,
@@ -96,31 +95,46 @@ def _render_sequence(scene, names, formats, start, end, step, video, report):
         start = _instant(start, "--start") or (span.start if span else None)
         end = _instant(end, "--end") or (span.end if span else None)
         step = step if step is not None else (span.step if span else None)
-        report.stage(f"sequence from {start} to {end} every {step}: render every frame of "
-                     f"{', '.join(names)}")
-        with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
-                             TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                             TimeRemainingColumn(), transient=False) as bar:
-            task = bar.add_task("frames", total=None)
+        frames = check_sequence(scene, start=start, end=end, step=step, observers=names)
+    except ConfigError as err:
+        if given.get(err.key) is not None:
+            raise ConfigError(err.message, key=err.key.replace("time.", "--")) from None
+        raise
+    return (start, end, step), frames, kinds
 
-            def progress(done, total):
-                bar.update(task, completed=done, total=total)
 
-            sequences = render_sequence(scene, start=start, end=end, step=step, observers=names,
-                                        progress=progress)
-        report.stage("frames rendered", time.perf_counter() - started)
-    except (ConfigError, EngineError) as err:
-        if isinstance(err, ConfigError) and given.get(err.key) is not None:  # the command line's
-            err = ConfigError(err.message, key=err.key.replace("time.", "--"))
-        _fail(err)
+def _render_sequence(scene, names, formats, span, frames, kinds, record, report):
+    """``radscene render`` of a sequence: every frame rendered, then per observer its files (one
+    data file, and with quicklooks a GIF and/or an MP4 per band), recorded as they land."""
+    from radscene.io import band_animations, band_videos
+    from radscene.pipeline.simulation import render_sequence
+
+    output = formats.output
+    started = time.perf_counter()
+    start, end, step = span
+    report.stage(f"sequence from {start} to {end} every {step}: render {frames} frame(s) of "
+                 f"{', '.join(names)}")
+    with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
+                         TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
+                         TimeRemainingColumn(), transient=False) as bar:
+        task = bar.add_task("frames", total=frames)
+
+        def progress(done, total):
+            bar.update(task, completed=done, total=total)
+
+        sequences = render_sequence(scene, start=start, end=end, step=step, observers=names,
+                                    progress=progress)
+    report.stage("frames rendered", time.perf_counter() - started)
     for name, ds in sequences.radiance.items():
         t = time.perf_counter()
         path = report.wrote(formats.write(ds, f"{name}_sequence"), t)
+        files = [path]
         report.say(f"{name}: {ds.sizes['time']} frames -> {path}")
         if name in sequences.signal:
             t = time.perf_counter()
             path = report.wrote(formats.write(sequences.signal[name], f"{name}_signal_sequence"),
                                 t)
+            files.append(path)
             report.say(f"{name}: {path}")
         if "band" in ds.dims and kinds:
             t = time.perf_counter()
@@ -129,6 +143,8 @@ def _render_sequence(scene, names, formats, start, end, step, video, report):
             report.stage(f"{name}: {len(written)} animation(s)", time.perf_counter() - t)
             for animation in written:
                 report.say(f"{name}: {animation}")
+            files += written
+        record.finish(name, files)
     report.say(f"{scene.name}: {len(sequences.radiance)} observer(s) in "
                f"{time.perf_counter() - started:.1f} s")
 
@@ -179,18 +195,23 @@ def render(
     radiance as ENVI NAME.img/.hdr. An observer with a spectral grid goes to NAME_spectral.nc
     (NAME_spectral.zarr) and the ENVI NAME_spectral.img/.hdr. OUTPUT is checked before any
     work: a file, a folder under a file or one that cannot be written is refused, and so are
-    earlier results in it unless --overwrite. While the run lasts OUTPUT holds a marker
-    (.radscene-incomplete.json) listing the observers finished; a complete run replaces it
-    with manifest.json (every file, its size and SHA-256). With a sequence (--start/--end/
-    --step, or ``time`` in the scene file) one NAME_sequence.nc (.zarr) per observer with a
-    time axis (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif
-    and/or BAND.mp4 (--video), written after the last frame (so a sequence is rendered again
-    whole, never resumed). With --from out/NAME.nc (or out.zarr/NAME.zarr), the scene that
-    file was rendered from is rendered again (its observer, unless --observer), to the same
-    numbers. --quiet prints only errors; --verbose adds each stage and its time."""
+    earlier results in it unless --overwrite. While the run lasts OUTPUT holds a marker (.radscene-incomplete.json)
+    listing the observers finished; a complete run replaces it with manifest.json (every
+    file, its size and SHA-256). With a sequence (--start/--end/--step, or ``time`` in the
+    scene file) one NAME_sequence.nc (.zarr) per observer with a time axis
+    (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif and/or
+    BAND.mp4 (--video), written after the last frame, under the same marker and manifest
+    (--resume renders the observers a stopped sequence of the same span had not written);
+    its frames are counted and sized against the memory limit before any is rendered. A run
+    of another machine writing into OUTPUT (shared storage) counts as running until its
+    heartbeat in the marker is 10 min old (radscene.io.run_record). With --from out/NAME.nc (or
+    out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its
+    observer, unless --observer), to the same numbers. --quiet prints only errors; --verbose
+    adds each stage and its time."""
+    from radscene.atmosphere import check_engine
     from radscene.io import run_record
     from radscene.io.files import check_output_folder
-    from radscene.pipeline import apply_thermal, solve_thermal, thermal_active
+    from radscene.pipeline import apply_thermal, check_thermal_inputs, solve_thermal, thermal_active
     from radscene.scene import load_scene
 
     try:
@@ -218,22 +239,33 @@ def render(
                      f"object(s), bands {', '.join(b.name for b in scene.bands)}, observers "
                      f"{', '.join(names)}", time.perf_counter() - t)
         if scene.spec.time is not None or any(v is not None for v in (start, end, step)):
-            if resume:
-                raise ConfigError("a sequence is written whole after its last frame, so a "
-                                  "stopped one has nothing to resume; render it again (with "
-                                  "--overwrite if it left files)", key="--resume")
-            check_output_folder(output, formats.sequence_files(names), overwrite)
             sequence = True
+            span, frames, kinds = _sequence_span(scene, names, start, end, step, video, formats)
+            variant = f"sequence {span[0].isoformat()} to {span[1].isoformat()} every {span[2]}"
+            done = run_record.finished(output, scene_file, variant) if resume else []
+            todo = [n for n in names if n not in done]
+            check_output_folder(output, formats.sequence_files(todo), overwrite or resume)
         else:
             sequence = False
             done = run_record.finished(output, scene_file) if resume else []
             todo = [n for n in names if n not in done]
             check_output_folder(output, formats.result_files(scene, todo), overwrite or resume)
+            if todo:  # the heat balance's weather file and size, before the folder is touched
+                check_thermal_inputs(scene)
+        check_engine(scene.atmosphere)
         report.stage(f"output {output}/ checked; writing {formats.describe(sequence)}")
     except (ConfigError, EngineError) as err:
         _fail(err)
     if sequence:
-        return _render_sequence(scene, names, formats, start, end, step, video, report)
+        with run_record.RunRecord(output, scene_file, names, done, variant) as record:
+            try:
+                if todo:
+                    _render_sequence(scene, todo, formats, span, frames, kinds, record, report)
+            except (ConfigError, EngineError) as err:
+                _fail(err)
+        if done:
+            report.say(f"resumed: {', '.join(done)} already written")
+        return None
     started = time.perf_counter()
     results, spectral, written = {}, {}, []
     with run_record.RunRecord(output, scene_file, names, done) as record:

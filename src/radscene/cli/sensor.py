@@ -46,8 +46,8 @@ def apply_command(
     model = load_sensor(sensor)
     try:
         ds = xr.load_dataset(radiance, engine="h5netcdf")
-    except (OSError, ValueError) as exc:
-        raise ConfigError(f"cannot read the radiance file: {exc}", key=str(radiance)) from None
+    except (OSError, ValueError):
+        raise ConfigError("not a readable NetCDF file", key=str(radiance)) from None
     if frames < 1:
         raise ConfigError(f"must be >= 1; got {frames}", key="--frames")
     signal = model.apply(ds, frames=frames, seed=seed, oversample=oversample)

@@ -35,6 +35,12 @@ def thermal(
     step: str = typer.Option(None, "--step", help="Time step, e.g. 60s or 10 min; default thermal.step."),
     plots: bool = typer.Option(True, help="Write the diurnal curves and temperature maps beside the file."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing OUTPUT."),
+    max_memory: str = typer.Option(None, "--max-memory",
+                                   help="Refuse a heat balance (or a scene) that needs more, e.g. "
+                                        "8GB (default: render.max_memory, else the machine's "
+                                        "memory)."),
+    confine: bool = typer.Option(False, "--confine",
+                                 help="Read no file outside the scene file's folder."),
     quiet: bool = typer.Option(False, "--quiet", "-q",
                                help="Print only errors: no progress bars, no list of files."),
     verbose: bool = typer.Option(False, "--verbose", "-v",
@@ -42,14 +48,17 @@ def thermal(
                                       "and its time."),
 ):
     """Solve the heat balance of SCENE_FILE and write the temperatures and flux terms per element
-    and time (CF NetCDF), with PNGs of the diurnal curves and of the terrain's temperature."""
+    and time (CF NetCDF), with PNGs of the diurnal curves and of the terrain's temperature. Its
+    size (elements × time steps) is checked against the memory limit before the first step.
+    The plots are written first and OUTPUT last, each whole or not at all: a run stopped midway
+    leaves no OUTPUT."""
     import time
 
     from rich.progress import BarColumn, TextColumn, TimeElapsedColumn
 
     from radscene.cli import Report
     from radscene.io import write_netcdf
-    from radscene.pipeline import solve_thermal
+    from radscene.pipeline import check_thermal_size, solve_thermal
     from radscene.radiometry.units import parse_quantity
     from radscene.scene import load_scene
 
@@ -64,8 +73,15 @@ def thermal(
 
     check_output_file(output, overwrite)
     t = time.perf_counter()
-    scene = load_scene(scene_file)
+    scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
     report.stage(f"loaded {scene_file}: {len(scene.objects)} object(s)", time.perf_counter() - t)
+    given = {"thermal.start": start, "thermal.end": end, "thermal.step": step}
+    try:
+        check_thermal_size(scene, t0, t1, dt)
+    except ConfigError as err:
+        if given.get(err.key) is None:
+            raise
+        raise ConfigError(err.message, key=err.key.replace("thermal.", "--")) from None
     t = time.perf_counter()
     with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
                          TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
@@ -81,15 +97,16 @@ def thermal(
         ds = solve_thermal(scene, start=t0, end=t1, step=dt, progress=progress)
     report.stage(f"heat balance solved: {ds.sizes.get('time', 1)} time step(s)",
                  time.perf_counter() - t)
-    t = time.perf_counter()
-    written = [report.wrote(write_netcdf(ds, output), t)]
-    if plots:
+    written = []
+    if plots:  # before OUTPUT, whose presence says the run finished
         from radscene.io.thermal_plots import diurnal_figure, temperature_maps
 
         t = time.perf_counter()
         written.append(diurnal_figure(ds, output.with_name(output.stem + "_diurnal.png")))
         written.extend(temperature_maps(ds, output.parent / (output.stem + "_maps")))
-        report.stage(f"{len(written) - 1} plot(s)", time.perf_counter() - t)
+        report.stage(f"{len(written)} plot(s)", time.perf_counter() - t)
+    t = time.perf_counter()
+    written.insert(0, report.wrote(write_netcdf(ds, output), t))
     if not quiet:
         for path in written:
             typer.echo(str(path))

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 
 __all__ = [
     "Mesh",
@@ -308,7 +308,7 @@ def load_mesh(path, name: str | None = None) -> Mesh:
     try:
         loaded = trimesh.load(path, file_type=suffix[1:])
     except Exception as exc:  # trimesh raises many types for a bad file
-        raise ConfigError(f"cannot read mesh {path!r}: {exc}", key="path") from exc
+        raise ConfigError(f"cannot read mesh {path!r}: {unreadable(exc)}", key="path") from None
     if isinstance(loaded, trimesh.Scene):
         loaded = loaded.to_mesh() if loaded.geometry else None
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:

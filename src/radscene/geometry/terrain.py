@@ -15,7 +15,7 @@ import os
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.geometry.mesh import Mesh
 
 __all__ = ["Heightfield", "polyline_distance", "procedural_terrain"]
@@ -45,6 +45,24 @@ def _regular_axis(coords, key: str) -> tuple[float, float, bool]:
     if mean == 0 or np.abs(step - mean).max() > 1e-6 * abs(mean):
         raise ConfigError("coordinates must be regularly spaced and strictly monotonic", key=key)
     return (float(c[0]), mean, False) if mean > 0 else (float(c[-1]), -mean, True)
+
+
+def _check_metres(crs, path) -> None:
+    """Refuse a raster whose x, y are not metres: geographic degrees, or a projected CRS in
+    another unit (feet)."""
+    if crs is None:
+        return
+    if crs.is_geographic:
+        raise ConfigError(f"{path!r} is in geographic coordinates ({crs.to_string()}, degrees); "
+                          "reproject it to a projected CRS in metres first, e.g. gdalwarp "
+                          "-t_srs EPSG:<UTM zone> in.tif out.tif", key="path")
+    try:
+        unit, factor = crs.linear_units_factor
+    except Exception:  # noqa: BLE001 - a CRS without linear units: an engineering frame
+        return
+    if abs(float(factor) - 1.0) > 1e-9:
+        raise ConfigError(f"{path!r} has x, y in {unit} ({crs.to_string()}); reproject it to a "
+                          "CRS in metres first", key="path")
 
 
 class Heightfield:
@@ -129,7 +147,10 @@ class Heightfield:
         """Read a digital elevation model from a GeoTIFF (rioxarray).
 
         Nodata becomes NaN, which is refused (:class:`ConfigError` with the count and the first
-        position): fill holes before. Coordinates are the raster's projected x, y of the pixel
+        position): fill holes before. A raster in geographic coordinates (degrees) or in a
+        projected CRS whose unit is not the metre is refused: reproject it first (e.g.
+        ``gdalwarp -t_srs EPSG:32633 in.tif out.tif``); its pixel spacing would be read as
+        metres. Coordinates are the raster's projected x, y of the pixel
         centres, and the CRS is kept in ``.crs``. Rotated or sheared rasters are refused.
 
         Parameters
@@ -151,7 +172,7 @@ class Heightfield:
         try:
             da = rioxarray.open_rasterio(path, masked=True)
         except Exception as exc:  # rasterio raises its own types
-            raise ConfigError(f"cannot read GeoTIFF {path!r}: {exc}", key="path") from exc
+            raise ConfigError(f"cannot read GeoTIFF {path!r}: {unreadable(exc)}", key="path") from None
         with da:
             if "band" in da.dims:
                 bands = [int(b) for b in da["band"].values]
@@ -163,6 +184,7 @@ class Heightfield:
                 raise ConfigError(f"{path!r} is rotated or sheared (geotransform {transform}); "
                                   "only north-up rasters are accepted", key="path")
             crs = da.rio.crs.to_string() if da.rio.crs is not None else None
+            _check_metres(da.rio.crs, path)
             values = np.asarray(da.values, dtype=float)
             try:
                 return cls.from_array(values, da["x"].values, da["y"].values, crs=crs)

@@ -85,7 +85,18 @@ def _writable_parent(path: Path, key: str) -> None:
                                   key=key)
             if not os.access(parent, os.W_OK | os.X_OK):
                 raise ConfigError(f"cannot write {path}: {parent} is not writable", key=key)
+            _probe(parent, path, key)
             return
+
+
+def _probe(folder: Path, path: Path, key: str) -> None:
+    """Create and remove an empty folder in ``folder``: what the permission bits do not tell
+    (a read-only or special file system, a root-squashed share; root passes every access
+    check) is refused before any work, and nothing is left behind."""
+    try:
+        os.rmdir(tempfile.mkdtemp(prefix=".radscene-probe-", dir=folder))
+    except OSError as err:
+        raise ConfigError(f"cannot write {path}: {err.strerror or err}", key=key) from None
 
 
 def check_output_folder(folder, files=(), overwrite: bool = False, key: str = "--output") -> None:
@@ -114,6 +125,7 @@ def check_output_folder(folder, files=(), overwrite: bool = False, key: str = "-
             raise ConfigError(f"{folder} is a file; give a folder", key=key)
         if not os.access(folder, os.W_OK | os.X_OK):
             raise ConfigError(f"cannot write into {folder}: not writable", key=key)
+        _probe(folder, folder, key)
     else:
         _writable_parent(folder, key)
     existing = sorted(name for name in files if (folder / name).exists())
@@ -132,5 +144,6 @@ def check_output_file(path, overwrite: bool = False, key: str = "--output") -> N
             raise ConfigError(f"{path} exists; give --overwrite to replace it", key=key)
         if not os.access(path.parent, os.W_OK | os.X_OK):
             raise ConfigError(f"cannot write {path}: {path.parent} is not writable", key=key)
+        _probe(path.parent, path, key)
     else:
         _writable_parent(path, key)

@@ -14,6 +14,16 @@ read-modify-write of the marker and the manifest holds an exclusive lock on the 
 (``flock``), so no run overwrites another's record, the folder stays marked incomplete until
 the last one ends, and the manifest lists the observers of all of them. The marker's top level
 (``finished``, ``files``, ``scene``, ``scene_sha256``) summarises its runs.
+
+Whether a run in the marker still lasts is decided by where it runs. Each run records its host
+name, its process id and that process's start time, and a heartbeat, rewritten every
+:data:`HEARTBEAT` seconds while it lasts. A run of this host lasts while a process of its id
+and start time does (a process id reused by another program does not count). A run of
+another host (shared storage) cannot be asked: it counts as lasting until its heartbeat is
+:data:`STALE_AFTER` seconds old, so a run that crashed on another machine is taken over by
+``--resume`` that long after it stopped, and one that still runs is never. To clear a marker
+sooner, remove the folder's :data:`MARKER` and render into the folder again (or into a new
+one): what the stopped run had finished is then rendered again.
 """
 
 from __future__ import annotations
@@ -25,6 +35,8 @@ import hashlib
 import json
 import os
 import signal
+import socket
+import threading
 from pathlib import Path
 
 from radscene.errors import ConfigError
@@ -36,6 +48,10 @@ __all__ = ["MARKER", "MANIFEST", "RunRecord", "finished"]
 MARKER = ".radscene-incomplete.json"
 #: Written when a run has finished.
 MANIFEST = "manifest.json"
+#: How often a lasting run rewrites its heartbeat in the marker [s].
+HEARTBEAT = 60.0
+#: How old the heartbeat of another host's run may grow before the run counts as stopped [s].
+STALE_AFTER = 600.0
 
 
 def _sha256(path: Path) -> str:
@@ -84,15 +100,43 @@ def _read(path: Path) -> dict | None:
         return None
 
 
-def _alive(pid) -> bool:
-    """Whether process ``pid`` runs on this machine (a run of another machine counts as alive)."""
+def _now() -> _dt.datetime:
+    return _dt.datetime.now(_dt.UTC)
+
+
+def _process_started(pid) -> str | None:
+    """When process ``pid`` started, as the kernel counts it (field 22 of /proc/PID/stat, clock
+    ticks since boot), or None where there is no /proc or no such process."""
+    try:
+        text = Path(f"/proc/{int(pid)}/stat").read_text()
+    except (OSError, TypeError, ValueError):
+        return None
+    return text.rsplit(")", 1)[-1].split()[19]  # the name, in brackets, may hold spaces
+
+
+def _alive(run: dict, now: _dt.datetime | None = None) -> bool:
+    """Whether the run ``run`` of a marker still lasts (module docstring)."""
+    if run.get("host", socket.gethostname()) != socket.gethostname():
+        try:
+            beat = _dt.datetime.fromisoformat(run.get("heartbeat") or run["started"])
+        except (KeyError, TypeError, ValueError):
+            return False
+        return ((now or _now()) - beat).total_seconds() < STALE_AFTER
+    pid = run.get("pid")
     try:
         os.kill(int(pid), 0)
     except ProcessLookupError:
         return False
     except (PermissionError, TypeError, ValueError):
-        return True
-    return True
+        pass
+    started = run.get("pid_started")
+    return started is None or _process_started(pid) in (None, started)
+
+
+def _holder(run: dict) -> str:
+    """Who a run is, for messages."""
+    return (f"process {run.get('pid')} on {run.get('host', 'this host')}, last heard from at "
+            f"{run.get('heartbeat', run.get('started'))}")
 
 
 def _summarise(marker: dict) -> dict:
@@ -118,20 +162,29 @@ def _manifest_entries(folder: Path, observer: str, names) -> list[dict]:
     return entries
 
 
-def _stopped_runs(marker: dict, digest: str) -> dict:
-    """The runs of the marker of the scene with SHA-256 ``digest`` that stopped midway."""
+def _stopped_runs(marker: dict, digest: str, variant: str | None = None) -> dict:
+    """The runs of the marker of the scene with SHA-256 ``digest`` (and the same ``variant``:
+    a sequence's span) that stopped midway."""
     return {key: run for key, run in marker.get("runs", {}).items()
-            if run.get("scene_sha256") == digest and not _alive(run.get("pid"))}
+            if run.get("scene_sha256") == digest and run.get("variant") == variant
+            and not _alive(run)}
 
 
-def finished(folder, scene_file) -> list[str]:
+def finished(folder, scene_file, variant: str | None = None) -> list[str]:
     """Observers that stopped runs of ``scene_file`` (and finished ones) completed in
     ``folder``, with their files still there (for --resume).
+
+    Parameters
+    ----------
+    folder, scene_file : path
+    variant : str, optional
+        What else the runs must share: a sequence's span.
 
     Raises
     ------
     radscene.errors.ConfigError
-        When the folder holds no interrupted run, or only runs of another scene file.
+        When the folder holds no interrupted run, only runs of another scene file (or
+        variant), or only runs that still last (:func:`_alive`).
     """
     folder = Path(folder)
     marker_path = folder / MARKER
@@ -145,16 +198,23 @@ def finished(folder, scene_file) -> list[str]:
     if not isinstance(marker, dict) or not isinstance(marker.get("runs"), dict):
         raise ConfigError(f"{marker_path} is not a radscene run marker", key="--resume")
     digest = _sha256(Path(scene_file))
-    stopped = _stopped_runs(marker, digest)
+    stopped = _stopped_runs(marker, digest, variant)
     if not stopped:
+        lasting = [run for run in marker["runs"].values() if _alive(run)]
+        if lasting:
+            raise ConfigError(f"a run still writes into {folder} ({_holder(lasting[0])}); a run "
+                              f"of another host counts as stopped {STALE_AFTER / 60:g} min after "
+                              f"its last heartbeat. To take over sooner, remove {marker_path} "
+                              "(what it finished is rendered again) or render into a new folder",
+                              key="--resume")
         raise ConfigError(f"the run in {folder} was of another scene file (or the file has "
-                          "changed since, or it is still running); render into a new folder",
+                          "changed since, or another span); render into a new folder",
                           key="--resume")
     done = {}
     for run in stopped.values():
         done.update({n: run["files"].get(n, []) for n in run["finished"]})
     done.update({n: c["files"] for n, c in marker.get("completed", {}).items()
-                 if c.get("scene_sha256") == digest})
+                 if c.get("scene_sha256") == digest and c.get("variant") == variant})
     return [name for name, names in done.items() if all((folder / f).exists() for f in names)]
 
 
@@ -164,21 +224,30 @@ class RunRecord:
     out writes the manifest. SIGTERM ends the run as Ctrl-C does, so the temporaries of the
     files being written are removed."""
 
-    def __init__(self, folder, scene_file, observers, done=()):
+    def __init__(self, folder, scene_file, observers, done=(), variant: str | None = None):
         self.folder = Path(folder)
         self.scene_file = Path(scene_file)
-        self.id = f"{os.getpid()}-{_dt.datetime.now(_dt.UTC).strftime('%Y%m%dT%H%M%S.%f')}"
+        started = _now()
+        self.id = f"{socket.gethostname()}-{os.getpid()}-{started.strftime('%Y%m%dT%H%M%S.%f')}"
         self.record = {
             "scene": str(self.scene_file),
             "scene_sha256": _sha256(self.scene_file),
             "observers": list(observers),
             "finished": [],
             "files": {},
-            "started": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+            "started": started.isoformat(timespec="seconds"),
+            "heartbeat": started.isoformat(timespec="seconds"),
+            "host": socket.gethostname(),
             "pid": os.getpid(),
+            "pid_started": _process_started(os.getpid()),
         }
+        if variant is not None:
+            self.record["variant"] = variant
         self.done = list(done)  # observers a stopped run of the same scene finished
         self._handler = None
+        self._stop = threading.Event()
+        self._beat = None
+        self._record_lock = threading.Lock()  # the heartbeat's thread and the run's
 
     def _update(self, change) -> None:
         """Read the marker, apply ``change(marker)``, write it back, under the folder's lock."""
@@ -202,14 +271,14 @@ class RunRecord:
                     item["files"].append(entry["file"])
             (self.folder / MANIFEST).unlink(missing_ok=True)  # no longer describes the folder
             digest = self.record["scene_sha256"]
-            for key in list(_stopped_runs(marker, digest)) if self.done else ():
+            for key in list(_stopped_runs(marker, digest, self.record.get("variant"))) if self.done else ():
                 old = marker["runs"].pop(key)  # a resumed run takes over what it finished
                 for name in old["finished"]:
                     if name in self.done:
                         self.record["finished"].append(name)
                         self.record["files"][name] = old["files"].get(name, [])
             for key, run in list(marker["runs"].items()):  # stopped runs this one redoes
-                if not _alive(run.get("pid")) and set(run["observers"]) <= set(self.record["observers"]):
+                if not _alive(run) and set(run["observers"]) <= set(self.record["observers"]):
                     marker["runs"].pop(key)
             for name in self.record["observers"]:  # rendered again here
                 if name not in self.done:
@@ -225,20 +294,42 @@ class RunRecord:
             self._handler = signal.signal(signal.SIGTERM, terminate)
         except ValueError:  # not the main thread: leave SIGTERM alone
             self._handler = None
+        self._beat = threading.Thread(target=self._heartbeat, name="radscene-heartbeat",
+                                      daemon=True)
+        self._beat.start()
         return self
+
+    def _heartbeat(self) -> None:
+        """Rewrite this run's heartbeat in the marker every HEARTBEAT seconds until the end."""
+        def change(marker):
+            if self.id in marker["runs"]:
+                marker["runs"][self.id] = self.record
+
+        while not self._stop.wait(HEARTBEAT):
+            try:
+                with self._record_lock:
+                    self.record["heartbeat"] = _now().isoformat(timespec="seconds")
+                    self._update(change)
+            except OSError:  # a folder gone or unwritable: the run itself will say so
+                return
 
     def finish(self, observer: str, files) -> None:
         """Record that ``observer``'s files are written."""
         names = [os.path.relpath(f, self.folder) for f in files]
-        self.record["finished"].append(observer)
-        self.record["files"][observer] = names
 
         def change(marker):
             marker["runs"][self.id] = self.record
 
-        self._update(change)
+        with self._record_lock:
+            self.record["finished"].append(observer)
+            self.record["files"][observer] = names
+            self.record["heartbeat"] = _now().isoformat(timespec="seconds")
+            self._update(change)
 
     def __exit__(self, kind, value, traceback):
+        self._stop.set()
+        if self._beat is not None:
+            self._beat.join()
         if self._handler is not None:
             signal.signal(signal.SIGTERM, self._handler)
         if kind is not None:
@@ -252,6 +343,8 @@ class RunRecord:
                                              "scene": self.record["scene"],
                                              "scene_sha256": self.record["scene_sha256"],
                                              "started": self.record["started"]}
+                if "variant" in self.record:
+                    marker["completed"][name]["variant"] = self.record["variant"]
             if marker["runs"]:  # other runs still write here (or stopped midway)
                 _write_json(self.folder / MARKER, _summarise(marker))
                 return False

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 
 __all__ = ["MaterialMap", "MaterialFractions", "mix_materials"]
 
@@ -184,7 +184,7 @@ class MaterialMap(_Placed):
         except ConfigError:
             raise
         except (OSError, ValueError) as exc:
-            raise ConfigError(f"cannot read material map: {exc}", key=str(path)) from exc
+            raise ConfigError(f"cannot read material map: {unreadable(exc)}", key=str(path)) from None
         return cls(image, class_materials, size=size, origin=origin, name=str(path))
 
     @property

@@ -240,15 +240,17 @@ class Spectrum:
             raise ConfigError(f"cannot read spectrum file: {exc.strerror or exc}", key=key) from exc
         except UnicodeDecodeError:
             raise ConfigError(f"{path.name} is not a text file of spectrum rows", key=key) from None
-        header, rows = _parse_table(text, str(path))
+        header, rows = _parse_table(text, str(path), key)
         if not rows:
             raise ConfigError(f"spectrum file {path} has no data rows", key=key)
         ncols = min(len(r) for r in rows)
         if isinstance(column, str):
             if header is None or column not in header:
-                known = ", ".join(header[1:]) if header else "(file has no header)"
+                held = (f"its header names {len(header) - 1} value column(s)" if header
+                        else "it has no header")
                 raise ConfigError(
-                    f"column {column!r} not found in {path}; columns: {known}", key=key
+                    f"column {column!r} is not in the header of {path} ({held})",
+                    key=key,
                 )
             index = header.index(column)
         elif isinstance(column, numbers.Integral) and not isinstance(column, bool):
@@ -586,8 +588,10 @@ def _as_float_array(value, key: str) -> np.ndarray:
         raise ConfigError(f"expected numbers; got {value!r}", key=key) from exc
 
 
-def _parse_table(text: str, label: str) -> tuple[list[str] | None, list[list[float]]]:
-    """Header (or None) and numeric rows of a delimited text table."""
+def _parse_table(text: str, label: str, key: str | None = None
+                 ) -> tuple[list[str] | None, list[list[float]]]:
+    """Header (or None) and numeric rows of the delimited text table ``label``; errors name
+    ``key`` (default ``label``)."""
     header: list[str] | None = None
     rows: list[list[float]] = []
     for lineno, raw in enumerate(text.splitlines(), start=1):
@@ -600,9 +604,9 @@ def _parse_table(text: str, label: str) -> tuple[list[str] | None, list[list[flo
         except ValueError:
             if rows or header is not None:
                 raise ConfigError(
-                    f"line {lineno} of {label} is not numeric: {raw.strip()!r} (only one header "
-                    "line is allowed, before the data)",
-                    key=label,
+                    f"line {lineno} of {label} is not numeric (only one header line is "
+                    "allowed, before the data)",
+                    key=key or label,
                 ) from None
             header = [f.strip().strip('"').strip("'") for f in _split_header(line)]
             continue
@@ -610,7 +614,7 @@ def _parse_table(text: str, label: str) -> tuple[list[str] | None, list[list[flo
             raise ConfigError(
                 f"line {lineno} of {label} has {len(numbers_)} column(s); a spectrum file needs "
                 "a wavelength and at least one value column",
-                key=label,
+                key=key or label,
             )
         rows.append(numbers_)
     return header, rows

@@ -15,7 +15,8 @@ if TYPE_CHECKING:  # the renderer, and xarray with it, are imported by the funct
     import xarray as xr
 
 __all__ = ["as_scene", "render", "render_all", "render_hyperspectral", "spectral_passes", "simulate",
-           "solve_thermal", "thermal_active", "apply_thermal", "record_signal", "check_thermal_inputs"]
+           "solve_thermal", "thermal_active", "apply_thermal", "record_signal", "check_thermal_inputs",
+           "check_thermal_size"]
 
 #: Bands whose response reaches beyond this wavelength make the heat balance run by default [um].
 THERMAL_FROM = 2.5
@@ -74,11 +75,51 @@ def _span(scene, start=None, end=None):
 
 
 def check_thermal_inputs(scene) -> None:
-    """Read what the heat balance will read — its span and its weather file — when it runs
-    (:func:`thermal_active`), so that ``radscene check`` refuses a bad weather file before any
-    render; raises :class:`~radscene.errors.ConfigError` naming the key."""
+    """Read what the heat balance will read — its span and its weather file — and size it
+    against the scene's memory limit (:func:`check_thermal_size`) when it runs
+    (:func:`thermal_active`), so that ``radscene check`` and ``radscene render`` refuse a bad
+    weather file or an oversized balance before any render; raises
+    :class:`~radscene.errors.ConfigError` naming the key."""
     if thermal_active(scene):
+        check_thermal_size(scene)
         _weather(scene, *_span(scene))
+
+
+def _thermal_elements(scene):
+    """The surface elements of the heat balance (radscene.thermal.elements)."""
+    from radscene.thermal.elements import build_elements
+
+    solved = [~o.face_fixed if o.face_fixed is not None else np.zeros(len(o.face_material), bool)
+              for o in scene.objects]
+    terrain = next((k for k, o in enumerate(scene.objects) if o.is_terrain), None)
+    return build_elements([o.mesh for o in scene.objects], [o.face_material for o in scene.objects],
+                          solved, terrain=terrain, heightfield=scene.heightfield,
+                          resolution=scene.spec.thermal.resolution)
+
+
+def check_thermal_size(scene, start=None, end=None, step=None, elements=None) -> float:
+    """Refuse a heat balance from ``start`` to ``end`` every ``step`` [s] (defaults as for
+    :func:`solve_thermal`) whose arrays would exceed the scene's memory limit
+    (:func:`radscene.scene.memory.check_thermal_memory`), before a step of it is taken;
+    returns the bytes estimated.
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        Naming ``thermal.step``, with the elements, steps and figures.
+    """
+    from radscene.scene.memory import check_thermal_memory, memory_limit
+    from radscene.thermal.solve import time_steps
+
+    spec = scene.spec.thermal
+    start, end = _span(scene, start, end)
+    step = spec.step if step is None else float(step)
+    steps = time_steps(np.datetime64(start.astimezone(_dt.UTC).replace(tzinfo=None), "ns"),
+                       np.datetime64(end.astimezone(_dt.UTC).replace(tzinfo=None), "ns"), step)
+    if elements is None:
+        elements = _thermal_elements(scene)
+    return check_thermal_memory(elements.size, steps, spec.nodes, spec.hemisphere_samples,
+                                scene.memory_limit or memory_limit(scene.spec))
 
 
 def _read_weather_file(scene, spec, path, start, end):
@@ -266,7 +307,6 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
         per time; see :func:`radscene.thermal.solve.solve_elements`.
     """
     from radscene.geometry import RayTracer
-    from radscene.thermal.elements import build_elements
     from radscene.thermal.irradiance import shortwave_table
     from radscene.thermal.solve import ThermalOptions, solve_elements, time_axis
 
@@ -278,14 +318,11 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     for name in spec.objects:
         if name not in names:
             raise ConfigError(f"unknown object {name!r}; the scene's: {', '.join(names)}", key=f"thermal.objects.{name}")
+    meshes = [o.mesh for o in scene.objects]
+    elements = _thermal_elements(scene)
+    check_thermal_size(scene, start, end, step, elements)
     times = time_axis(np.datetime64(start.astimezone(_dt.UTC).replace(tzinfo=None), "ns"),
                       np.datetime64(end.astimezone(_dt.UTC).replace(tzinfo=None), "ns"), step)
-    meshes = [o.mesh for o in scene.objects]
-    solved = [~o.face_fixed if o.face_fixed is not None else np.zeros(len(o.face_material), bool)
-              for o in scene.objects]
-    terrain = next((k for k, o in enumerate(scene.objects) if o.is_terrain), None)
-    elements = build_elements(meshes, [o.face_material for o in scene.objects], solved, terrain=terrain,
-                              heightfield=scene.heightfield, resolution=spec.resolution)
     used, stack_index = np.unique(elements.material, return_inverse=True)
     stacks = _stacks(scene, used)
     loc = scene.location
@@ -532,8 +569,17 @@ def render_hyperspectral(scene, observer=None, *, progress=None, **kwargs):
     into one Dataset, ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1]) with the scene's heat
     balance applied first; ``progress`` as for :func:`render`."""
     from radscene.render.hyperspectral import render_hyperspectral as _render_cube
+    from radscene.scene.memory import check_cube_memory, memory_limit
 
     scene = as_scene(scene)
+    setup = scene.observers[0] if observer is None else scene.observer(observer)
+    grid = kwargs.get("grid", setup.spectral)
+    if grid is not None:  # the cube is gathered in memory: sized before the heat balance
+        index = scene.observers.index(setup)
+        rows, columns = setup.camera.shape
+        check_cube_memory(len(grid), rows * columns, scene.memory_limit or memory_limit(scene.spec),
+                          f"observers[{index}].spectral.step",
+                          np.dtype(kwargs.get("dtype", np.float32)).itemsize)
     if thermal_active(scene):
         apply_thermal(scene, progress=None if callable(progress) else progress)
     name = scene.observers[0].name if observer is None else observer

@@ -56,7 +56,8 @@ from radscene.pipeline.progress import progress_callback
 from radscene.pipeline.provenance import stamp
 from radscene.render.integrator import CONSTANT_ANGLES, GEOLOCATION_COORDS
 
-__all__ = ["Frame", "FrameSequence", "Simulation", "frame_times", "parse_duration", "render_sequence"]
+__all__ = ["Frame", "FrameSequence", "Simulation", "check_sequence", "frame_times", "parse_duration",
+           "render_sequence"]
 
 #: Attributes of a render that change from frame to frame: carried along ``time`` as variables
 #: (``frame_<name>``) in a sequence, not as the file's attributes.
@@ -703,6 +704,12 @@ def frame_times(start: _dt.datetime, end: _dt.datetime, step) -> list[_dt.dateti
     ConfigError
         Naming ``time.start``, ``time.end`` or ``time.step``.
     """
+    seconds, count = _frame_count(start, end, step)
+    return [start + _dt.timedelta(seconds=k * seconds) for k in range(count)]
+
+
+def _frame_count(start, end, step) -> tuple[float, int]:
+    """The step [s] and the number of frames of a span, checked (see :func:`frame_times`)."""
     seconds = parse_duration(step, key="time.step")
     for value, key in ((start, "time.start"), (end, "time.end")):
         if not isinstance(value, _dt.datetime) or value.tzinfo is None:
@@ -710,8 +717,41 @@ def frame_times(start: _dt.datetime, end: _dt.datetime, step) -> list[_dt.dateti
     if end < start:
         raise ConfigError(f"{end.isoformat()} lies before the start {start.isoformat()}", key="time.end")
     # whole steps that fit, with a microsecond's grace for steps such as 1/3 s
-    count = int(np.floor((end - start).total_seconds() / seconds + 1e-6 / seconds)) + 1
-    return [start + _dt.timedelta(seconds=k * seconds) for k in range(count)]
+    return seconds, int(np.floor((end - start).total_seconds() / seconds + 1e-6 / seconds)) + 1
+
+
+def check_sequence(scene, *, start=None, end=None, step=None, observers=None) -> int:
+    """Check a sequence before its first frame: its span, its observers and the memory its
+    frames need, all held until the last (:func:`radscene.scene.memory.check_sequence_memory`,
+    against the scene's limit); returns the number of frames.
+
+    Parameters and defaults as for :func:`render_sequence`.
+
+    Raises
+    ------
+    ConfigError
+        No sequence given, a bad span, an unknown observer, or too many frames (naming
+        ``time.step``, with the figures).
+    """
+    from radscene.scene.memory import check_sequence_memory, memory_limit
+
+    scene = as_scene(scene)
+    span = scene.spec.time
+    start = start or (span.start if span else None)
+    end = end or (span.end if span else None)
+    step = step if step is not None else (span.step if span else None)
+    if start is None or end is None or step is None:
+        raise ConfigError("a sequence needs time.start, time.end and time.step (or --start, --end "
+                          "and --step)", key="time")
+    _, count = _frame_count(start, end, step)
+    names = [o.name for o in scene.observers] if observers is None else list(observers)
+    sizes = []
+    for name in names:
+        setup = scene.observer(name)
+        bands = len(setup.spectral) if setup.spectral is not None else len(setup.bands)
+        sizes.append((setup.camera.shape, max(1, bands)))
+    check_sequence_memory(count, sizes, scene.memory_limit or memory_limit(scene.spec))
+    return count
 
 
 def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
@@ -740,16 +780,15 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     Raises
     ------
     ConfigError
-        No sequence given (neither arguments nor ``time`` in the scene file), a bad span.
+        No sequence given (neither arguments nor ``time`` in the scene file), a bad span, frames
+        that would not fit in memory (:func:`check_sequence`).
     """
     scene = as_scene(scene)
+    check_sequence(scene, start=start, end=end, step=step, observers=observers)
     span = scene.spec.time
     start = start or (span.start if span else None)
     end = end or (span.end if span else None)
     step = step if step is not None else (span.step if span else None)
-    if start is None or end is None or step is None:
-        raise ConfigError("a sequence needs time.start, time.end and time.step (or --start, --end "
-                          "and --step)", key="time")
     times = frame_times(start, end, step)
     names = [o.name for o in scene.observers] if observers is None else list(observers)
     for name in names:

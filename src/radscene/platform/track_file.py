@@ -27,13 +27,14 @@ Every error is one line naming ``key`` (the scene key of the file), the file and
 from __future__ import annotations
 
 import csv
+import difflib
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.radiometry.units import UNITS
 
 __all__ = ["Track", "read_track"]
@@ -93,14 +94,14 @@ def _scale(path, name, unit, key) -> float:
     if kind is None:
         if unit not in (None, "", "1", "-"):
             raise ConfigError(f"{path.name}: column {name!r} is a quaternion component, without "
-                              f"unit (or [1]); got [{unit}]", key=key)
+                              "unit (or [1])", key=key)
         return 1.0
     if not unit:
         canonical = {"time": "s", "length": "m", "angle": "deg"}[kind]
         raise ConfigError(f"{path.name}: column {name!r} has no unit; write it as '{name} [{canonical}]'",
                           key=key)
     if unit not in UNITS[kind]:
-        raise ConfigError(f"{path.name}: column {name!r}: [{unit}] is not a unit of {kind}; accepted: "
+        raise ConfigError(f"{path.name}: column {name!r}: its unit is not one of {kind}; accepted: "
                           f"{', '.join(UNITS[kind])}", key=key)
     return UNITS[kind][unit][0]  # lengths, times and angles convert by a factor alone
 
@@ -109,19 +110,25 @@ def _read_csv(path, key):
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError) as err:
-        raise ConfigError(f"{path.name}: not a readable text file ({err})", key=key) from None
+        raise ConfigError(f"{path.name}: not a readable text file ({unreadable(err)})", key=key) from None
     numbered = [(n, line) for n, line in enumerate(lines, start=1)
                 if line.strip() and not line.lstrip().startswith("#")]
     if not numbered:
         raise ConfigError(f"{path.name}: no header line (e.g. 'time [s], x [m], y [m], z [m]')", key=key)
     parsed = list(csv.reader([line for _, line in numbered]))
     columns = []
-    for cell in parsed[0]:
+    for number, cell in enumerate(parsed[0], start=1):
         match = _HEADER.match(cell)
         if match is None:
-            raise ConfigError(f"{path.name}: header cell {cell.strip()!r} is not 'name [unit]' "
+            raise ConfigError(f"{path.name}: header column {number} is not 'name [unit]' "
                               f"(line {numbered[0][0]})", key=key)
-        columns.append((match.group(1).lower(), match.group(2)))
+        name = match.group(1).lower()
+        if name not in KINDS:  # named by its place: the header may be any file's first line
+            close = difflib.get_close_matches(name, list(KINDS), n=1, cutoff=0.8)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ConfigError(f"{path.name}: header column {number} is none of "
+                              f"{', '.join(KINDS)}{hint} (line {numbered[0][0]})", key=key)
+        columns.append((name, match.group(2)))
     rows = parsed[1:]
     where = [f"row {r} (line {n})" for r, (n, _) in enumerate(numbered[1:], start=1)]
     return columns, rows, where
@@ -132,8 +139,8 @@ def _read_netcdf(path, key):
 
     try:
         ds = xr.open_dataset(path, decode_times=False, decode_timedelta=False)
-    except (OSError, ValueError) as err:
-        raise ConfigError(f"{path.name}: not a readable NetCDF file ({err})", key=key) from None
+    except (OSError, ValueError):
+        raise ConfigError(f"{path.name}: not a readable NetCDF file", key=key) from None
     with ds:
         names = [n for n in ds.variables if str(n).lower() in KINDS]
         dims = {ds[n].dims for n in names}
@@ -182,8 +189,8 @@ def _check(path, columns, rows, where, key) -> Track:
             try:
                 value = float(cell.strip() if isinstance(cell, str) else cell)
             except ValueError:
-                raise ConfigError(f"{path.name}: {where[r]}, column {names[c]!r}: {cell.strip()!r} is "
-                                  "not a number", key=key) from None
+                raise ConfigError(f"{path.name}: {where[r]}, column {names[c]!r}: not a number",
+                                  key=key) from None
             if not np.isfinite(value):
                 raise ConfigError(f"{path.name}: {where[r]}, column {names[c]!r}: {value!r} is not "
                                   "finite", key=key)

@@ -439,8 +439,7 @@ class TabulatedResponse(SpectralResponse):
             except (ValueError, IndexError):
                 if rows:
                     raise ConfigError(
-                        f"line {lineno}: expected two numbers (wavelength, response); "
-                        f"got {stripped!r}",
+                        f"line {lineno}: expected two numbers (wavelength, response)",
                         key=str(path),
                     ) from None
         if len(rows) < 2:

@@ -18,7 +18,7 @@ import yaml
 from pydantic import ValidationError
 
 from radscene.atmosphere import Atmosphere, make_atmosphere
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.scene import schema
 
 #: Surface temperature of faces without a given one when the heat balance does not run [K].
@@ -123,6 +123,9 @@ class Scene:
     sea: Any = None
     #: Objects derived from the scene by the renderer (ray tracer, face tables), built once.
     render_cache: dict = field(default_factory=dict, repr=False)
+    #: What a run's memory is checked against: (bytes, where the figure comes from), from
+    #: ``max_memory``, ``render.max_memory`` or the machine (radscene.scene.memory).
+    memory_limit: tuple | None = None
 
     def band(self, name: str) -> Band:
         for band in self.bands:
@@ -265,12 +268,14 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
         spec = schema.SceneSpec.model_validate(data)
     except ValidationError as err:
         raise _validation_error(err) from None
-    from radscene.scene.memory import check_memory, parse_memory
+    from radscene.scene.memory import check_memory, memory_limit, parse_memory
 
-    check_memory(spec, None if max_memory is None else parse_memory(max_memory, "--max-memory"))
+    limit = None if max_memory is None else parse_memory(max_memory, "--max-memory")
+    check_memory(spec, limit, base)
     scene = _Resolver(spec, base, path).resolve()
     scene.document = copy.deepcopy(data)
     scene.base_dir = Path(os.path.realpath(base))
+    scene.memory_limit = memory_limit(spec, limit)
     return scene
 
 
@@ -334,8 +339,16 @@ class _Resolver:
         if lname in custom and brdf_spec is not None:
             from radscene.materials import make_brdf
 
-            self.brdfs[len(self.materials) - 1] = make_brdf(
-                brdf_spec, key=f"materials.{name}.brdf", base_dir=self.base)
+            key = f"materials.{name}.brdf"
+            try:
+                self.brdfs[len(self.materials) - 1] = make_brdf(brdf_spec, key=key,
+                                                                base_dir=self.base)
+            except ConfigError as err:
+                if err.key and err.key.startswith(key):
+                    raise
+                # a table file's error names the file (and line): the message keeps it
+                raise ConfigError(f"{err.key}: {err.message}" if err.key else err.message,
+                                  key=key) from None
         return len(self.materials) - 1
 
     def mixture_index(self, fractions: dict, key: str) -> int:
@@ -709,11 +722,14 @@ class _Resolver:
                     if var.dims != ("z", "y", "x"):
                         raise ConfigError(f"{profile.variable!r} has dims {var.dims}; expected "
                                           "('z', 'y', 'x')", key=f"{key}.file")
+                    if not np.issubdtype(var.dtype, np.number):
+                        raise ConfigError(f"{profile.variable!r} is not numeric", key=f"{key}.file")
                     grid = var.values
-            except (OSError, ValueError) as err:
-                if isinstance(err, ConfigError):
-                    raise
-                raise ConfigError(f"cannot read {path}: {err}", key=f"{key}.file") from None
+            except ConfigError:
+                raise
+            except Exception:  # noqa: BLE001 - whatever the NetCDF libraries raise: a bad file
+                raise ConfigError(f"{path.name}: not a readable NetCDF file",
+                                  key=f"{key}.file") from None
         grid = np.asarray(grid, dtype=float)
         if grid.ndim != 3 or min(grid.shape) < 2:
             raise ConfigError(f"a density grid has three dimensions (z, y, x) of at least two "
@@ -902,10 +918,23 @@ class _Resolver:
                                      grid))
         return out
 
+    def _atmosphere_spec(self) -> dict:
+        """The atmosphere's settings with its files (a database, an engine executable) named
+        relative to the scene file's folder made absolute, as every other file of a scene is
+        (a shipped database's name stays a name)."""
+        out = dict(self.spec.environment.atmosphere or {})
+        for name in ("file", "executable"):
+            value = out.get(name)
+            if isinstance(value, str) and value and not Path(os.path.expanduser(value)).is_absolute():
+                candidate = self.base / value
+                if candidate.exists():
+                    out[name] = str(candidate)
+        return out
+
     def resolve(self) -> Scene:
         spec = self.spec
         try:
-            atmosphere = make_atmosphere(spec.environment.atmosphere)
+            atmosphere = make_atmosphere(self._atmosphere_spec())
         except ConfigError as err:
             key = err.key or ""
             if key.startswith("atmosphere"):
@@ -1064,7 +1093,8 @@ def _read_image(path: Path, key: str) -> np.ndarray:
             if image.ndim == 3:
                 image = image[..., 0]
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
-        raise ConfigError(f"cannot read image {path}: {err}", key=key) from None
+        why = err.message if isinstance(err, ConfigError) else unreadable(err)
+        raise ConfigError(f"cannot read image {path}: {why}", key=key) from None
     if image.ndim != 2:
         raise ConfigError(f"a 2-D single-band image is needed, got shape {image.shape}", key=key)
     return np.asarray(image)

@@ -355,6 +355,17 @@ class DemTerrain(_TerrainCommon):
             raise ValueError("an inline 'elevation' needs 'spacing' [m, m]")
         return self
 
+    @field_validator("elevation")
+    @classmethod
+    def _rectangular(cls, value):
+        if value:
+            lengths = [len(row) for row in value]
+            odd = next((k for k, n in enumerate(lengths) if n != lengths[0]), None)
+            if odd is not None:
+                raise ValueError(f"rows must all have the same length: row 0 has {lengths[0]} "
+                                 f"samples, row {odd} has {lengths[odd]}")
+        return value
+
 
 class SeaTerrain(_Model):
     """A wind-driven sea surface (docs/sea.md): waves drawn from a named spectrum by FFT on a

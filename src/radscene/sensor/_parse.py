@@ -67,7 +67,7 @@ def join(key: str, name: str) -> str:
 def check_keys(cfg: Mapping, accepted, key: str) -> None:
     """Raise if `cfg` holds a key outside `accepted`, listing the accepted ones."""
     if not isinstance(cfg, Mapping):
-        raise ConfigError(f"must be a mapping; got {type(cfg).__name__} {cfg!r}", key=key)
+        raise ConfigError(f"must be a mapping; got a {type(cfg).__name__}", key=key)
     unknown = sorted(set(cfg) - set(accepted))
     if unknown:
         raise ConfigError(f"unknown key(s) {', '.join(map(str, unknown))}; accepted: "

@@ -115,11 +115,11 @@ def read_sensor_file(path) -> dict:
         raise ConfigError(f"unknown part(s) {', '.join(unknown)} beside 'sensor'; accepted: "
                           f"{', '.join(FILE_PARTS)}", key=str(path))
     if not isinstance(spec["sensor"], Mapping):
-        raise ConfigError(f"'sensor' must be a mapping; got {spec['sensor']!r}",
+        raise ConfigError(f"'sensor' must be a mapping; got a {type(spec['sensor']).__name__}",
                           key=f"{path}: sensor")
     observer = spec.get("observer")
     if observer is not None and not isinstance(observer, Mapping):
-        raise ConfigError(f"'observer' must be a mapping; got {observer!r}",
+        raise ConfigError(f"'observer' must be a mapping; got a {type(observer).__name__}",
                           key=f"{path}: observer")
     return {"sensor": dict(spec["sensor"]),
             "observer": None if observer is None else dict(observer)}

@@ -76,7 +76,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.radiometry.srf import TabulatedResponse
 
 __all__ = [
@@ -153,8 +153,8 @@ def _read_table(path: str, scale: float) -> tuple[tuple[str, np.ndarray, np.ndar
     """Bands of a wide or long SRF table: ((name, wavelength [um], response), ...)."""
     try:
         text = Path(path).read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise ConfigError(f"cannot read the SRF table: {exc}", key=path) from None
+    except (OSError, UnicodeError) as exc:
+        raise ConfigError(f"cannot read the SRF table: {unreadable(exc)}", key=path) from None
     header = None
     rows = []
     for lineno, line in enumerate(text.splitlines(), start=1):

@@ -26,7 +26,7 @@ from radscene.thermal.conduction import DAY
 from radscene.thermal.exposure import hemisphere_exposure, sunlit_fraction
 from radscene.thermal.irradiance import shortwave_table, sky_longwave_irradiance
 
-__all__ = ["ThermalOptions", "solve_elements", "sun_vectors", "time_axis"]
+__all__ = ["ThermalOptions", "solve_elements", "sun_vectors", "time_axis", "time_steps"]
 
 
 @dataclass(frozen=True)
@@ -79,6 +79,17 @@ def time_axis(start, end, step):
         A start after the end, a step ≤ 0 or longer than the span.
     """
     t0, t1 = np.datetime64(start, "ns"), np.datetime64(end, "ns")
+    n = _whole_steps(start, end, step)
+    times = t0 + (np.arange(n + 1) * step * 1e9).astype("timedelta64[ns]")
+    if times[-1] < t1:
+        times = np.append(times, t1)
+    return times
+
+
+def _whole_steps(start, end, step) -> int:
+    """The whole steps of [s] that fit from ``start`` to ``end``, checked as :func:`time_axis`
+    says."""
+    t0, t1 = np.datetime64(start, "ns"), np.datetime64(end, "ns")
     span = (t1 - t0) / np.timedelta64(1, "s")
     if span <= 0:
         raise ConfigError(f"the start {start} is not before the end {end}", key="thermal.start")
@@ -86,11 +97,15 @@ def time_axis(start, end, step):
         raise ConfigError(f"must be > 0 s; got {step!r}", key="thermal.step")
     if step > span:
         raise ConfigError(f"{step:g} s is longer than the span {span:g} s", key="thermal.step")
-    n = int(np.floor(span / step + 1e-9))
-    times = t0 + (np.arange(n + 1) * step * 1e9).astype("timedelta64[ns]")
-    if times[-1] < t1:
-        times = np.append(times, t1)
-    return times
+    return int(np.floor(span / step + 1e-9))
+
+
+def time_steps(start, end, step) -> int:
+    """How many times :func:`time_axis` gives (without building them; the same errors): the
+    whole steps and the start, and the end when the last step falls short of it."""
+    n = _whole_steps(start, end, step)
+    last = np.datetime64(start, "ns") + np.timedelta64(int(n * step * 1e9), "ns")
+    return n + 1 + int(last < np.datetime64(end, "ns"))
 
 
 def sun_vectors(zenith, azimuth):

@@ -60,7 +60,7 @@ name                        unit        default              meaning
 ``cache_dir``               -           ~/.cache/radscene/   where results are cached (``cache``: on/off)
                                         lowtran
 ``workers``                 -           CPUs                 parallel LOWTRAN processes
-``timeout``                 s           300                  limit of one run
+``timeout``                 s           300                  limit of one run ("5 min" too)
 ``executable``              -           (found)              the radscene-lowtran7 executable
 ==========================  ==========  ===================  ===============================================
 

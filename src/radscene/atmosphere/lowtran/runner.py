@@ -230,7 +230,8 @@ def _execute(deck: str, name: str, executable: Path, timeout: float,
             proc = subprocess.run([str(executable)], cwd=workdir, capture_output=True,
                                   text=True, timeout=timeout, stdin=subprocess.DEVNULL)
         except subprocess.TimeoutExpired:
-            raise EngineError(f"LOWTRAN case {name!r} ran past {timeout:g} s") from None
+            raise EngineError(f"LOWTRAN case {name!r} ran past its timeout of {timeout:g} s "
+                              "(atmosphere.timeout)") from None
         except OSError as err:
             raise EngineError(f"LOWTRAN case {name!r} could not start {executable}: {err}") \
                 from None
@@ -324,8 +325,9 @@ class LowtranRunner:
         Read and write the disk cache.
     workers : int, optional
         Parallel LOWTRAN processes; default the number of CPUs.
-    timeout : float
-        Wall-clock limit of one run [s].
+    timeout : float or str
+        Wall-clock limit of one run [s], or a duration such as ``"90 s"`` or ``"5 min"``; a
+        run past it is stopped and named (the scene's ``atmosphere.timeout``).
     memory_entries : int
         Results kept in memory (least recently used dropped first).
     """
@@ -335,7 +337,11 @@ class LowtranRunner:
                  memory_entries: int = 256):
         if workers is not None and (not isinstance(workers, int) or workers < 1):
             raise ConfigError(f"a positive integer; got {workers!r}", key="workers")
-        if not (isinstance(timeout, int | float) and timeout > 0):
+        if isinstance(timeout, str):
+            from radscene.radiometry.units import parse_quantity
+
+            timeout = parse_quantity(timeout, "time", key="timeout")
+        if not (isinstance(timeout, int | float) and not isinstance(timeout, bool) and timeout > 0):
             raise ConfigError(f"must be > 0 s; got {timeout!r}", key="timeout")
         self._executable_arg = executable
         self._executable: Path | None = None

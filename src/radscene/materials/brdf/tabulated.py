@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, unreadable
 from radscene.materials.brdf.base import BRDF, Parameter
 
 __all__ = ["Tabulated", "read_table", "write_table"]
@@ -63,6 +63,14 @@ _SPLIT = re.compile(r"[,;\s]+")
 _COORDS = ("wavelength", "incidence_zenith", "view_zenith", "relative_azimuth")
 _RANGES = {"incidence_zenith": (0.0, 90.0), "view_zenith": (0.0, 90.0),
            "relative_azimuth": (0.0, 180.0)}
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def read_table(path) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -91,9 +99,9 @@ def read_table(path) -> tuple[dict[str, np.ndarray], np.ndarray]:
     path = Path(path)
     label = str(path)
     try:
-        text = path.read_text()
-    except OSError as exc:
-        raise ConfigError(f"cannot read BRDF table: {exc.strerror}", key=label) from None
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeError) as exc:
+        raise ConfigError(f"cannot read BRDF table: {unreadable(exc)}", key=label) from None
     header = None
     rows: list[list[float]] = []
     lines: list[int] = []
@@ -114,7 +122,8 @@ def read_table(path) -> tuple[dict[str, np.ndarray], np.ndarray]:
         try:
             values = [float(f) for f in fields]
         except ValueError:
-            raise ConfigError(f"not a number in {line!r}", key=f"{label}:{number}") from None
+            bad = next(k for k, f in enumerate(fields, start=1) if not _is_float(f))
+            raise ConfigError(f"column {bad} is not a number", key=f"{label}:{number}") from None
         rows.append(values)
         lines.append(number)
     if header is None or not rows:
@@ -166,10 +175,10 @@ def read_table(path) -> tuple[dict[str, np.ndarray], np.ndarray]:
 
 def _check_header(header: list[str], where: str) -> None:
     known = set(_COORDS) | {"brdf", "brf"}
-    unknown = [h for h in header if h not in known]
-    if unknown:
+    unknown = [k for k, h in enumerate(header, start=1) if h not in known]
+    if unknown:  # named by its place: the header may be any file's first line
         raise ConfigError(
-            f"unknown column {unknown[0]!r}; accepted: {', '.join(_COORDS)}, and brdf or brf",
+            f"column {unknown[0]} is none of {', '.join(_COORDS)}, brdf, brf",
             key=where,
         )
     missing = [c for c in _COORDS[1:] if c not in header]

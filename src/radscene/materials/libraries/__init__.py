@@ -126,9 +126,8 @@ def detect_format(path) -> str:
         return "usgs"
     if sniff_ecostress(head):
         return "ecostress"
-    first = next((ln.strip() for ln in head if ln.strip()), "(binary or empty)")
     raise ConfigError(
-        f"unknown spectral library format (first line {first[:60]!r}); accepted: ECOSTRESS/ASTER "
+        "unknown spectral library format (by its first line); accepted: ECOSTRESS/ASTER "
         "text ('Name: ...'), USGS splib07 ASCII ('splib07a Record=N: ...'), ENVI .sli + .hdr",
         key=f"{path}:1",
     )

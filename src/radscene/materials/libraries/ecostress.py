@@ -71,7 +71,7 @@ def _x_scale(units: str, where: str):
     if "micromet" in u or "micron" in u or re.search(r"\bum\b|µm", u):
         return 1.0
     raise ConfigError(
-        f"X Units {units!r} not understood; accepted: micrometers/microns, nanometers, "
+        "X Units not understood; accepted: micrometers/microns, nanometers, "
         "wavenumber (cm-1)",
         key=where,
     )
@@ -82,7 +82,7 @@ def _y_units(units: str, where: str) -> tuple[str, float]:
     quantity = next((q for q in ("reflectance", "emissivity", "transmittance") if u.startswith(q)), None)
     if quantity is None:
         raise ConfigError(
-            f"Y Units {units!r} not understood; accepted: Reflectance, Emissivity or "
+            "Y Units not understood; accepted: Reflectance, Emissivity or "
             "Transmittance, in percent or as a fraction",
             key=where,
         )
@@ -162,7 +162,7 @@ def read_ecostress(path) -> LibrarySpectrum:
             continue
         if rows:
             raise ConfigError(
-                f"non-numeric line inside the data: {line[:60]!r}", key=f"{path}:{lineno}"
+                "non-numeric line inside the data", key=f"{path}:{lineno}"
             )
         match = _KEY_RE.match(line)
         if match and not (last_key == "description" and " " in match.group(1).strip()
@@ -173,7 +173,7 @@ def read_ecostress(path) -> LibrarySpectrum:
         elif last_key is not None:
             header[last_key] = (header[last_key] + " " + line).strip()
         else:
-            raise ConfigError(f"header line not understood: {line[:60]!r}", key=f"{path}:{lineno}")
+            raise ConfigError("header line not understood", key=f"{path}:{lineno}")
     for needed in ("x units", "y units"):
         if needed not in header:
             raise ConfigError(
@@ -190,7 +190,7 @@ def read_ecostress(path) -> LibrarySpectrum:
             expected = int(float(header["number of x values"]))
         except ValueError:
             raise ConfigError(
-                f"Number of X Values {header['number of x values']!r} is not a number",
+                "Number of X Values is not a number",
                 key=f"{path}:{header_line['number of x values']}",
             ) from None
         if expected != len(rows):

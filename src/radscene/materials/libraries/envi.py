@@ -131,7 +131,7 @@ def read_envi_header(path) -> tuple[dict[str, str], dict[str, int]]:
         if not line or line.startswith(";"):
             continue
         if "=" not in line:
-            raise ConfigError(f"header line is not 'key = value': {line[:60]!r}", key=f"{path}:{lineno}")
+            raise ConfigError("header line is not 'key = value'", key=f"{path}:{lineno}")
         key, value = line.split("=", 1)
         key = key.strip().lower()
         value = value.strip()
@@ -155,7 +155,7 @@ def _int_field(fields, where, key, path, default=None) -> int:
     try:
         return int(fields[key])
     except ValueError:
-        raise ConfigError(f"'{key}' must be an integer; got {fields[key]!r}", key=f"{path}:{where[key]}") from None
+        raise ConfigError(f"'{key}' must be an integer", key=f"{path}:{where[key]}") from None
 
 
 def _list(value: str) -> list[str]:
@@ -180,7 +180,7 @@ def _read_arrays(path):
         )
     if "library" not in fields.get("file type", "spectral library").lower():
         raise ConfigError(
-            f"file type = {fields['file type']!r}; expected 'ENVI Spectral Library'",
+            "file type is not 'ENVI Spectral Library'",
             key=f"{hp}:{where['file type']}",
         )
     if dtype_code not in ENVI_DATA_TYPES:
@@ -239,7 +239,7 @@ def _read_arrays(path):
             factor = float("nan")
         if not (factor > 0 and np.isfinite(factor)):
             raise ConfigError(
-                f"reflectance scale factor must be > 0; got {fields['reflectance scale factor']!r}",
+                "reflectance scale factor must be a number > 0",
                 key=f"{hp}:{where['reflectance scale factor']}",
             )
         data = data / factor

@@ -85,7 +85,7 @@ def _read_column(path: Path, what: str) -> tuple[str, np.ndarray, np.ndarray]:
             values.append(float(line.split()[0]))
         except ValueError:
             raise ConfigError(
-                f"line is not a number: {line[:60]!r} (a splib07 ASCII file has one value per line)",
+                "line is not a number (a splib07 ASCII file has one value per line)",
                 key=f"{path}:{lineno}",
             ) from None
         numbers.append(lineno)

@@ -97,7 +97,7 @@ def unit_factor(path, column, unit, where):
     unit = " ".join(unit.split())
     if unit not in table:
         raise ConfigError(
-            f"{path}: {where} {column!r} has unit {unit!r}, not a {kind} unit; accepted: {', '.join(table)}",
+            f"{path}: {where} {column!r} has a unit that is not a unit of {kind}; accepted: {', '.join(table)}",
             key=column,
         )
     return table[unit]

@@ -28,6 +28,7 @@ air; ``relative_humidity`` (%, 1, fraction) or ``dew_point`` (K, degC, ...), one
 from __future__ import annotations
 
 import csv
+import difflib
 import re
 from pathlib import Path
 
@@ -84,7 +85,8 @@ def _zone_offset(path, unit):
         return None
     match = _ZONE.match(unit.strip())
     if match is None:
-        raise ConfigError(f"{path}: time column unit {unit!r}: give a zone such as UTC, UTC+02:00, UTC-05:00", key="time")
+        raise ConfigError(f"{path}: the time column's unit is not a zone: give one such as UTC, UTC+02:00, "
+                          "UTC-05:00", key="time")
     sign, hours, minutes = match.groups()
     if sign is None:
         return 0
@@ -134,13 +136,16 @@ def read_weather_csv(path, *, max_gap=None):
         raise ConfigError(f"{path}: no header line naming the columns", key="weather")
     header_line, cells = header
     names, units = [], []
-    for cell in cells:
+    for number, cell in enumerate(cells, start=1):
         match = _HEADER.match(cell)
         if match is None:
-            raise ConfigError(f"{path}: line {header_line}: column {cell!r} is not 'name [unit]'", key="weather")
+            raise ConfigError(f"{path}: line {header_line}: column {number} is not 'name [unit]'", key="weather")
         name = "_".join(match.group(1).lower().split())
         if name != "time" and name not in COLUMNS:
-            raise ConfigError(f"{path}: line {header_line}: unknown column {name!r}; known: time, {', '.join(COLUMNS)}", key=name)
+            close = difflib.get_close_matches(name, ["time", *COLUMNS], n=1, cutoff=0.8)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise ConfigError(f"{path}: line {header_line}: column {number} is none of time, "
+                              f"{', '.join(COLUMNS)}{hint}", key="weather")
         if name in names:
             raise ConfigError(f"{path}: line {header_line}: column {name!r} appears twice", key=name)
         names.append(name)
@@ -170,9 +175,9 @@ def read_weather_csv(path, *, max_gap=None):
             try:
                 number = float(cell)
             except ValueError:
-                raise ConfigError(f"{path}: {label}: {name} {cell!r} is not a number", key=name) from None
+                raise ConfigError(f"{path}: {label}: the {name} is not a number", key=name) from None
             if not np.isfinite(number):
-                raise ConfigError(f"{path}: {label}: {name} {cell!r} is not finite", key=name)
+                raise ConfigError(f"{path}: {label}: the {name} is not finite", key=name)
             factor, offset = conversions[name]
             values[name][k] = number * factor + offset
     latitude, longitude = (_place(path, meta, name) for name in ("latitude", "longitude"))
@@ -183,12 +188,12 @@ def _parse_time(path, label, cell, zone):
     try:
         stamp = pd.Timestamp(cell)
     except (ValueError, TypeError):
-        raise ConfigError(f"{path}: {label}: time {cell!r} is not an ISO 8601 time", key="time") from None
+        raise ConfigError(f"{path}: {label}: the time is not an ISO 8601 time", key="time") from None
     if stamp.tzinfo is not None:
         return stamp.tz_convert("UTC").tz_localize(None).to_datetime64()
     if zone is None:
         raise ConfigError(
-            f"{path}: {label}: time {cell!r} has no zone; write it with one ('...Z', '...+02:00') or "
+            f"{path}: {label}: the time has no zone; write it with one ('...Z', '...+02:00') or "
             "name the column's zone in the header: time [UTC]",
             key="time",
         )
@@ -201,8 +206,9 @@ def _place(path, meta, name):
     value, lineno = meta[name]
     try:
         return parse_quantity(value, "angle", key=name)
-    except ConfigError as exc:
-        raise ConfigError(f"{path}: line {lineno}: {exc.message}", key=name) from None
+    except ConfigError:
+        raise ConfigError(f"{path}: line {lineno}: the {name} is not an angle such as '45.2' or "
+                          "'45.2 deg'", key=name) from None
 
 
 def _max_gap(max_gap):
@@ -234,8 +240,8 @@ def read_weather_netcdf(path, *, max_gap=None):
 
     try:
         ds = xr.load_dataset(path)
-    except (OSError, ValueError) as exc:
-        raise ConfigError(f"{path}: not a readable NetCDF file ({exc})", key="weather") from None
+    except (OSError, ValueError):
+        raise ConfigError(f"{path}: not a readable NetCDF file", key="weather") from None
     if "time" not in ds.variables:
         raise ConfigError(f"{path}: no 'time' coordinate", key="time")
     if not np.issubdtype(ds["time"].dtype, np.datetime64) or ds["time"].ndim != 1:
@@ -275,7 +281,7 @@ def _netcdf_place(path, ds, name):
         try:
             return float(np.asarray(ds.attrs[name]).ravel()[0])
         except (TypeError, ValueError):
-            raise ConfigError(f"{path}: global attribute {name} = {ds.attrs[name]!r} is not a number", key=name) from None
+            raise ConfigError(f"{path}: global attribute {name} is not a number", key=name) from None
     raise ConfigError(f"{path}: no {name} (a global attribute or a scalar variable); a weather file states its place", key=name)
 
 

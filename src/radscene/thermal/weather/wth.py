@@ -54,9 +54,9 @@ DECLARABLE = ("global_shortwave", "direct_normal_shortwave", "diffuse_shortwave"
 
 def _numbers(line, path, lineno):
     values = _NUMBER.findall(line)
-    rest = _NUMBER.sub(" ", line).strip()
-    if rest:
-        raise ConfigError(f"{path}: line {lineno}: {rest.split()[0]!r} is not a number", key="weather")
+    if _NUMBER.sub(" ", line).strip():
+        raise ConfigError(f"{path}: line {lineno}: not all numbers (a .wth file holds numbers only)",
+                          key="weather")
     return [float(v) for v in values]
 
 
@@ -164,7 +164,7 @@ def read_wth(path, *, start, latitude, longitude, cloud_cover=None, fields=None,
     lineno, header = rows[0]
     head = _numbers(header, path, lineno)
     if len(head) != 2 or head[0] != int(head[0]):
-        raise ConfigError(f"{path}: line {lineno}: expected '<number of entries> <hours between entries>'; got {header.strip()!r}", key="weather")
+        raise ConfigError(f"{path}: line {lineno}: expected '<number of entries> <hours between entries>'", key="weather")
     count, step = int(head[0]), head[1]
     if step <= 0:
         raise ConfigError(f"{path}: line {lineno}: hours between entries must be > 0; got {step:g}", key="weather")
