@@ -39,7 +39,7 @@ def _page(site: Path, name: str) -> str:
 
 def test_no_raw_restructuredtext_on_any_api_page(site):
     pages = sorted((site / "api").glob("*/index.html"))
-    assert len(pages) >= 8
+    assert len(pages) >= 11
     for page in pages:
         html = page.read_text(encoding="utf-8")
         found = RAW.findall(html)
@@ -79,3 +79,34 @@ def test_roles_become_links_or_code(site):
     materials = _page(site, "materials")
     assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="\.\./brdf_models/#'
                      r'radscene\.materials\.brdf\.rpv\.RPV"><code>RPV</code></a>', materials)
+
+
+#: The API pages of the heat balance, the platforms and the sensor chain, and a module each
+#: must document.
+NEW_PAGES = {
+    "thermal": ("solve", "balance", "conduction", "convection", "evaporation", "exposure",
+                "canopy", "radiation", "exchange", "lateral", "weather"),
+    "platform": ("cameras", "scanners", "orbit", "geolocation", "trajectory", "motion"),
+    "sensor_chain": ("chain", "channel", "sampling", "electronics", "processing", "config"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(NEW_PAGES))
+def test_heat_balance_platform_and_sensor_chain_pages(site, name):
+    html = _page(site, name)
+    package = {"thermal": "thermal", "platform": "platform", "sensor_chain": "sensor"}[name]
+    for module in NEW_PAGES[name]:
+        assert f'id="radscene.{package}.{module}"' in html, f"{name}: {module}"
+    assert not RAW.findall(html), RAW.findall(html)[:5]
+    # in the navigation of every page
+    assert f'href="../{name}/"' in _page(site, "pipeline")
+    # the numpydoc sections are parsed, not left as text
+    assert "<td><code>" in html and not re.search(r"^-{4,}$", re.sub(r"<[^>]+>", "", html), re.M)
+
+
+def test_heat_balance_page_typesets_its_equations(site):
+    html = _page(site, "thermal")
+    assert html.count('<div class="arithmatex">') >= 5
+    for anchor in ("solve.solve_elements", "solve.ThermalOptions", "canopy",
+                   "conduction"):
+        assert f'id="radscene.thermal.{anchor}"' in html, anchor

@@ -57,6 +57,33 @@ def test_spectral_observer_writes_netcdf_and_envi(tmp_path):
     assert "fwhm = {0.005000, 0.010000," in header
 
 
+def test_terms_true_writes_each_term_as_a_spectral_variable(tmp_path):
+    result, out = _run(tmp_path, GOOD.replace("step: 10 nm}", "step: 10 nm, terms: true}"))
+    assert result.exit_code == 0, result.output
+    cube = read_netcdf(out / "hsi_spectral.nc")
+    names = ["sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected",
+             "path_radiance", "background_reflected", "multiple_reflection",
+             "diffuse_transmitted", "adjacency"]
+    assert set(names) <= set(cube.data_vars)
+    total = sum(cube[n].values.astype(float) for n in names)
+    for name in names:
+        assert cube[name].dims == ("wavelength", "y", "x") and cube[name].shape == (61, 4, 6)
+        assert cube[name].dtype == np.float32
+        assert cube[name].attrs["units"] == "W m-2 sr-1 um-1"
+    assert float(cube["sun_diffuse"].min()) > 0.0 and float(cube["path_radiance"].min()) > 0.0
+    size = sum(np.abs(cube[n].values.astype(float)) for n in names)
+    np.testing.assert_array_less(np.abs(total - cube["radiance"].values),
+                                 float(np.finfo(np.float32).eps) * size)
+    # the ENVI image stays the radiance alone
+    image = np.fromfile(out / "hsi_spectral.img", dtype="<f4")
+    np.testing.assert_array_equal(image.reshape(61, 4, 6), cube["radiance"].values)
+    # without terms, none
+    (tmp_path / "plain").mkdir()
+    result, out = _run(tmp_path / "plain", GOOD)
+    assert result.exit_code == 0, result.output
+    assert "sun_diffuse" not in read_netcdf(out / "hsi_spectral.nc").data_vars
+
+
 def test_envi_file_reads_back_with_the_spectral_package(tmp_path):
     envi = pytest.importorskip("spectral.io.envi")
     result, out = _run(tmp_path, GOOD)
@@ -96,6 +123,8 @@ BAD = {
     "bands and a grid": (GOOD.replace("spectral:", "bands: [vis], spectral:").replace(
         "observers:", "bands: [{name: vis, min: 0.5, max: 0.6}]\nobservers:"),
         "observers[0].bands: a spectral observer renders its grid"),
+    "terms not a boolean": (GOOD.replace("step: 10 nm}", "step: 10 nm, terms: sometimes}"),
+                            "observers[0].spectral.terms"),
     "no bands and no grid": (GOOD.replace(",\n     spectral: {min: 400 nm, max: 1000 nm, "
                                           "step: 10 nm}", ""), "bands: give at least one band"),
 }

@@ -99,11 +99,12 @@ def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True)
     """A spectral cube's Zarr store, filled a pass of channels at a time (for
     :func:`radscene.io.write_spectral`).
 
-    Yields ``start(maps, cube)``: given the band-free maps (a Dataset, with the attributes of
-    the store) and the first pass ``cube`` (``radiance(wavelength, y, x)`` with ``wavelength``
-    and ``fwhm``), it writes the maps, the ``wavelength`` axis and its ``fwhm`` [um] into a
-    temporary store beside ``path`` and returns the empty float32 ``radiance`` array of every
-    channel (chunks of one channel, NaN until written) for the passes to fill by slices.
+    Yields ``start(maps, cubes)``: given the band-free maps (a Dataset, with the attributes of
+    the store) and the first pass's spectral variables ``cubes`` by name (``radiance(wavelength,
+    y, x)`` with ``wavelength`` and ``fwhm`` first, then any term layers), it writes the maps,
+    the ``wavelength`` axis and its ``fwhm`` [um] into a temporary store beside ``path`` and
+    returns, by name, the empty float32 array of every channel of each (chunks of one channel,
+    NaN until written) for the passes to fill by slices.
     When the block ends without error the metadata is consolidated and the store takes
     ``path``'s place; otherwise the temporary store is removed.
 
@@ -122,24 +123,28 @@ def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True)
     wavelength = np.asarray(wavelength, dtype=float)
     fwhm = np.asarray(fwhm, dtype=float)
 
-    def start(maps: xr.Dataset, cube: xr.DataArray):
+    def start(maps: xr.Dataset, cubes: dict[str, xr.DataArray]):
         maps.to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
                      encoding=_encoding(maps, compress))
         group = zarr.open_group(tmp, mode="a", zarr_format=2)
         for name, values in (("wavelength", wavelength), ("fwhm", fwhm)):
             axis = group.create_array(name, shape=values.shape, dtype="f8", fill_value=None,
-                                      attributes={**cube[name].attrs,
+                                      attributes={**cubes["radiance"][name].attrs,
                                                   "_ARRAY_DIMENSIONS": ["wavelength"]})
             axis[:] = values
-        dims = ("wavelength",) + tuple(cube.dims[1:])
-        attrs = {**cube.attrs, "coordinates": "fwhm", "_ARRAY_DIMENSIONS": list(dims)}
-        if (mapping := grid_mapping(maps)) is not None:
-            attrs["grid_mapping"] = mapping
-        shape = (wavelength.size,) + tuple(cube.shape[1:])
-        chunks = (1,) + tuple(min(size, TILE) for size in cube.shape[1:])
-        return group.create_array("radiance", shape=shape, chunks=chunks, dtype="f4",
-                                  fill_value=np.nan, attributes=attrs,
-                                  compressors=(_codec(),) if compress else None)
+        mapping = grid_mapping(maps)
+        arrays = {}
+        for name, cube in cubes.items():
+            dims = ("wavelength",) + tuple(cube.dims[1:])
+            attrs = {**cube.attrs, "coordinates": "fwhm", "_ARRAY_DIMENSIONS": list(dims)}
+            if mapping is not None:
+                attrs["grid_mapping"] = mapping
+            shape = (wavelength.size,) + tuple(cube.shape[1:])
+            chunks = (1,) + tuple(min(size, TILE) for size in cube.shape[1:])
+            arrays[name] = group.create_array(name, shape=shape, chunks=chunks, dtype="f4",
+                                              fill_value=np.nan, attributes=attrs,
+                                              compressors=(_codec(),) if compress else None)
+        return arrays
 
     with atomic_output_dir(path) as tmp:
         yield start

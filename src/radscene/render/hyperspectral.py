@@ -26,9 +26,12 @@ import xarray as xr
 
 from radscene.errors import ConfigError
 from radscene.radiometry import ChannelGrid
+from radscene.render.outputs import BACKGROUND_TERM, COUPLING_TERMS, TERMS
+from radscene.render.volumes import VOLUME_TERMS
 
 __all__ = ["Channel", "channels", "pass_size", "render_passes", "render_hyperspectral",
-           "band_radiance", "spectral_attributes", "PASS_MEMORY"]
+           "band_radiance", "spectral_attributes", "term_attributes", "spectral_variables",
+           "PASS_MEMORY", "LAYERS_PER_CHANNEL", "TERM_LAYERS"]
 
 #: Memory a pass may hold in its per-channel image layers [bytes]; with the eleven float64
 #: layers a render keeps per band (five terms, three coupling layers, the total, the
@@ -37,6 +40,10 @@ PASS_MEMORY = 1.5e9
 #: Per-band image layers of one render (see PASS_MEMORY) and their bytes per value.
 LAYERS_PER_CHANNEL = 11
 _BYTES = 8
+#: The layers of a band render that sum to its ``radiance``, in the order they are summed
+#: (those a render lacks, such as the volume layers of a scene without volumes or sheets, are
+#: skipped); with ``terms`` each is a spectral variable of the cube.
+TERM_LAYERS = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS + VOLUME_TERMS
 
 
 @dataclass(frozen=True)
@@ -52,10 +59,17 @@ def channels(grid: ChannelGrid) -> list[Channel]:
     return [Channel(r.name, r) for r in grid.responses()]
 
 
-def pass_size(grid: ChannelGrid, pixels: int, memory: float = PASS_MEMORY) -> int:
+def pass_size(grid: ChannelGrid, pixels: int, memory: float = PASS_MEMORY, *,
+              terms: bool = False) -> int:
     """How many channels one pass renders so that its image layers fit in ``memory`` [bytes]
-    for ``pixels`` ray samples (at least one, at most all)."""
-    per_channel = LAYERS_PER_CHANNEL * _BYTES * max(int(pixels), 1)
+    for ``pixels`` ray samples (at least one, at most all).
+
+    With ``terms`` a pass hands on its term layers (:data:`TERM_LAYERS`, float64) besides the
+    radiance, and they stay alive in the consumer's hands while the next pass renders: each
+    channel counts ``len(TERM_LAYERS)`` layers more than :data:`LAYERS_PER_CHANNEL`.
+    """
+    layers = LAYERS_PER_CHANNEL + (len(TERM_LAYERS) if terms else 0)
+    per_channel = layers * _BYTES * max(int(pixels), 1)
     return int(min(len(grid), max(1, memory // per_channel)))
 
 
@@ -92,6 +106,19 @@ def spectral_attributes(grid: ChannelGrid) -> dict:
     }
 
 
+def term_attributes(grid: ChannelGrid, attrs: dict) -> dict:
+    """CF attributes of a term layer of a spectral cube on ``grid``, from the band render's
+    attributes ``attrs`` of that layer (its ``long_name``)."""
+    what = "spectral radiance, the channel's response-weighted mean"
+    return {
+        "units": "W m-2 sr-1 um-1",
+        "long_name": f"{attrs['long_name']}: {what}" if attrs.get("long_name") else what,
+        "comment": "one of the layers that sum to radiance, channel by channel; integrated "
+                   "with a band response as radiance is",
+        "grid_step_um": float(grid.step),
+    }
+
+
 def _coords(grid: ChannelGrid, part=slice(None)) -> dict:
     return {
         "wavelength": ("wavelength", grid.wavelength[part],
@@ -105,6 +132,7 @@ def _coords(grid: ChannelGrid, part=slice(None)) -> dict:
 
 def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None = None, *,
                   channels_per_pass: int | None = None, memory: float = PASS_MEMORY,
+                  terms: bool | None = None,
                   progress: Callable[[int, int], None] | None = None
                   ) -> Iterator[xr.Dataset]:
     """Render an observer's spectral grid a group of channels at a time.
@@ -120,6 +148,10 @@ def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None =
         Channels per pass; default from ``memory`` (:func:`pass_size`).
     memory : float
         Bytes a pass may hold in its image layers.
+    terms : bool, optional
+        Keep every layer that sums to the radiance (:data:`TERM_LAYERS`) as spectral radiance
+        too; default the observer's ``spectral.terms`` (false). Counted in the pass's
+        memory (:func:`pass_size`).
     progress : callable, optional
         ``progress(done, total)`` in ray samples over all passes.
 
@@ -127,9 +159,10 @@ def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None =
     ------
     xarray.Dataset
         One per pass, in grid order: ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1]
-        (float64) of its channels with their ``wavelength`` and ``fwhm`` [um], and the
-        render's per-pixel maps that do not depend on the band (``object_id``, ``range``,
-        geolocation, ...), the same in every pass.
+        (float64) of its channels with their ``wavelength`` and ``fwhm`` [um], with
+        ``terms`` each term layer ``<term>(wavelength, y, x)`` [W m-2 sr-1 um-1] the render
+        has (their sum is the radiance), and the render's per-pixel maps that do not depend
+        on the band (``object_id``, ``range``, geolocation, ...), the same in every pass.
 
     Raises
     ------
@@ -146,9 +179,14 @@ def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None =
             raise ConfigError(f"observer {setup.name!r} has no spectral grid: give "
                               "spectral: {min, max, step}", key=key)
     scene.atmosphere.check_wavelength(grid.wavelength[[0, -1]], key=key)
+    if terms is None:
+        terms = bool(getattr(setup, "spectral_terms", False))
+    if not isinstance(terms, bool | np.bool_):
+        raise ConfigError(f"must be true or false; got {terms!r}", key="terms")
     bands = channels(grid)
     samples = int(np.prod(setup.camera.shape)) * setup.supersample**2
-    per_pass = pass_size(grid, samples, memory) if channels_per_pass is None else channels_per_pass
+    per_pass = (pass_size(grid, samples, memory, terms=bool(terms)) if channels_per_pass is None
+                else channels_per_pass)
     if isinstance(per_pass, bool) or not isinstance(per_pass, int | np.integer) or per_pass < 1:
         raise ConfigError(f"must be a whole number >= 1; got {per_pass!r}",
                           key="channels_per_pass")
@@ -162,7 +200,7 @@ def render_passes(scene, observer: str | None = None, grid: ChannelGrid | None =
                 progress(n * total + done, len(starts) * total)
 
         ds = render(scene, setup.name, bands=bands[part], specular=specular, progress=report)
-        yield _spectral_part(ds, grid, part)
+        yield _spectral_part(ds, grid, part, terms=bool(terms))
         del ds
 
 
@@ -171,15 +209,23 @@ _BAND_VARIABLES = ("band", "wavelength_center", "wavelength_min", "wavelength_ma
                    "equivalent_width")
 
 
-def _spectral_part(ds: xr.Dataset, grid: ChannelGrid, part: slice) -> xr.Dataset:
-    """A band render of channels ``part`` as spectral radiance, with its band-free maps."""
-    width = grid.width[part]
+def _spectral_part(ds: xr.Dataset, grid: ChannelGrid, part: slice, terms: bool = False
+                   ) -> xr.Dataset:
+    """A band render of channels ``part`` as spectral radiance (and, with ``terms``, each of
+    its term layers), with its band-free maps."""
+    width = grid.width[part][:, None, None]
     radiance = ds["radiance"].values
-    radiance /= width[:, None, None]  # the render's own array, no copy
+    radiance /= width  # the render's own array, no copy
     keep = {name: var for name, var in ds.data_vars.items() if "band" not in var.dims}
     out = xr.Dataset(keep, coords={k: v for k, v in ds.coords.items()
                                    if k not in _BAND_VARIABLES})
     out["radiance"] = xr.Variable(("wavelength", "y", "x"), radiance, spectral_attributes(grid))
+    for name in TERM_LAYERS if terms else ():
+        if name in ds.data_vars:
+            layer = ds[name].values
+            layer /= width  # in place, as the radiance
+            out[name] = xr.Variable(("wavelength", "y", "x"), layer,
+                                    term_attributes(grid, ds[name].attrs))
     out = out.assign_coords(_coords(grid, part))
     out.attrs = dict(ds.attrs)
     out.attrs.pop("band_radiance_definition", None)
@@ -198,38 +244,51 @@ def render_hyperspectral(scene, observer: str | None = None, grid: ChannelGrid |
         Of the cube; float32 (seven significant digits) holds 1024 × 1024 × 200 channels in
         0.84 GB.
     **kwargs
-        ``channels_per_pass``, ``memory``, ``progress`` of :func:`render_passes`.
+        ``channels_per_pass``, ``memory``, ``terms``, ``progress`` of :func:`render_passes`.
 
     Returns
     -------
     xarray.Dataset
-        ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1], coordinates ``wavelength`` and
-        ``fwhm`` [um], and the per-pixel truth and geolocation maps.
+        ``radiance(wavelength, y, x)`` [W m-2 sr-1 um-1], with ``terms`` each term layer
+        ``<term>(wavelength, y, x)`` [W m-2 sr-1 um-1] (of the same dtype; their sum is the
+        radiance to its rounding), coordinates ``wavelength`` and ``fwhm`` [um], and the
+        per-pixel truth and geolocation maps.
 
     Examples
     --------
     >>> ds = render_hyperspectral(scene, "hsi")                        # doctest: +SKIP
     >>> band_radiance(ds, scene.band("red").response)                  # doctest: +SKIP
     """
-    cube, first, done = None, None, 0
+    cubes, first, done = None, None, 0
     for part in render_passes(scene, observer, grid, **kwargs):
-        values = part["radiance"].values
-        if cube is None:
+        spectral = spectral_variables(part)
+        k = part.sizes["wavelength"]
+        if cubes is None:
             if grid is None:
                 setup = scene.observers[0] if observer is None else scene.observer(observer)
                 grid = setup.spectral
-            cube = np.empty((len(grid),) + values.shape[1:], dtype=dtype)
-            first = part.drop_vars(["radiance", "wavelength", "fwhm"])
-        cube[done:done + len(values)] = values
-        done += len(values)
-    out = first.assign(radiance=xr.Variable(("wavelength", "y", "x"), cube,
-                                            spectral_attributes(grid)))
+            cubes = {name: xr.Variable(("wavelength", "y", "x"),
+                                       np.empty((len(grid),) + part[name].shape[1:], dtype=dtype),
+                                       part[name].attrs) for name in spectral}
+            first = part.drop_vars(spectral + ["wavelength", "fwhm"])
+        for name in spectral:
+            cubes[name].values[done:done + k] = part[name].values
+        done += k
+        del part
+    out = first.assign(cubes)
     out = out.assign_coords(_coords(grid))
     out.attrs["spectral_mode"] = "hyperspectral"
     return out
 
 
-def band_radiance(cube: xr.Dataset, response) -> xr.DataArray:
+def spectral_variables(part: xr.Dataset) -> list[str]:
+    """The names of a pass's (or cube's) spectral variables: ``radiance``, then its term
+    layers in :data:`TERM_LAYERS` order."""
+    return ["radiance"] + [name for name in TERM_LAYERS
+                           if name in part.data_vars and "wavelength" in part[name].dims]
+
+
+def band_radiance(cube: xr.Dataset, response, variable: str = "radiance") -> xr.DataArray:
     """Integrate a spectral cube with a band's response: Σ_c S(λ_c) fwhm_c L_c.
 
     Parameters
@@ -239,12 +298,15 @@ def band_radiance(cube: xr.Dataset, response) -> xr.DataArray:
         [W m-2 sr-1 um-1] over ``wavelength`` with ``fwhm`` [um].
     response : radscene.radiometry.SpectralResponse
         The band's response S; its support inside the grid.
+    variable : str
+        The spectral variable to integrate: ``radiance``, or one of its term layers in a cube
+        rendered with ``terms`` (``sun_diffuse``, ...).
 
     Returns
     -------
     xarray.DataArray
-        Band radiance (y, x) [W m-2 sr-1]: ∫ S L dλ, exact when S is linear between the
-        centres (accumulated in float64, channel by channel).
+        Band radiance (y, x) [W m-2 sr-1] (of ``variable``): ∫ S L dλ, exact when S is linear
+        between the centres (accumulated in float64, channel by channel).
 
     Raises
     ------
@@ -256,14 +318,17 @@ def band_radiance(cube: xr.Dataset, response) -> xr.DataArray:
     if lo < wl[0] - 1e-12 or hi > wl[-1] + 1e-12:
         raise ConfigError(f"response {response.name!r} spans {lo:g}–{hi:g} um, beyond the "
                           f"cube's {wl[0]:g}–{wl[-1]:g} um", key="response")
+    if variable not in cube.data_vars or "wavelength" not in cube[variable].dims:
+        raise ConfigError(f"the cube has no spectral variable {variable!r}; it has "
+                          f"{', '.join(spectral_variables(cube))}", key="variable")
     weights = np.asarray(response(wl), dtype=float) * np.asarray(cube["fwhm"].values, float)
-    radiance = cube["radiance"]
+    radiance = cube[variable]
     total = np.zeros(radiance.shape[1:])
     for c in np.flatnonzero(weights):
         total += weights[c] * np.asarray(radiance[c].values, dtype=float)
     dims = radiance.dims[1:]
     return xr.DataArray(total, dims=dims, coords={d: cube[d] for d in dims if d in cube.coords},
-                        name="radiance",
+                        name=variable,
                         attrs={"units": "W m-2 sr-1",
                                "long_name": f"band radiance of {response.name!r} from the "
-                                            "spectral cube"})
+                                            f"spectral cube's {variable}"})

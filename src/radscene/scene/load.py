@@ -84,6 +84,8 @@ class ObserverSetup:
     frames: int = 1
     #: The hyperspectral grid (radscene.radiometry.ChannelGrid), None for a band observer.
     spectral: Any = None
+    #: Whether a spectral observer's cube keeps its term layers (``spectral.terms``).
+    spectral_terms: bool = False
 
 
 @dataclass
@@ -915,7 +917,7 @@ class _Resolver:
                 grid = channel_grid(g.min, g.max, g.step, key=f"{key}.spectral")
                 bands = []
             out.append(ObserverSetup(o.name, cam, o.supersample, bands, o.type, sensor, o.frames,
-                                     grid))
+                                     grid, bool(o.spectral is not None and o.spectral.terms)))
         return out
 
     def _atmosphere_spec(self) -> dict:
