@@ -62,12 +62,23 @@ def test_off_node_geometries_from_the_top(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "known gap: an aircraft 3 km up under thick aerosol at a low sun (rural AOT550 0.6, sun "
-    "67 deg, between the aircraft levels' coarse nodes 60 and 85 deg): path reflectance "
-    "+7.0 to +9.9 % at 0.45 um, +0.9 to +3.6 % at 0.55 um (+15.6 to +23.3 and +3 to +10 % read "
-    "linearly in sun angle); the tables' own 75 deg node, carried from 60 and 85 deg by the "
-    "build, is +30 % at 0.45 um 1 km up (docs/physics.md, 'The atmosphere database')"))
 def test_aircraft_under_thick_aerosol_at_a_low_sun(tmp_path):
+    """An aircraft 3 km up under thick aerosol at a low sun (rural AOT550 0.6, sun 67 deg,
+    between the sun nodes 60 and 75 deg): measured with the 75 deg node among the aircraft
+    levels' own 6S runs (coarse zeniths 0, 40, 60, 75, 85 deg), +2.2 to +4.8 % at 0.45 um and
+    +0.8 to +3.3 % at 0.55 um (+7.0 to +9.9 % and +0.9 to +3.6 % when the build carried the
+    75 deg node from 60 and 85 deg)."""
     errors = _errors("rural", 0.6, 3000.0, 67.0, VIEWS, tmp_path)
+    assert np.abs(errors).max() < 0.05, errors
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "known gap: 1 km up under thick aerosol (rural AOT550 0.6) with the sun at 67 deg, between "
+    "the aircraft levels' sun nodes 60 and 75 deg, the path reflectance is +9.2 to +14.7 % at "
+    "0.45 um and +4.2 to +8.0 % at 0.55 um (at the 75 deg node itself +0.4 % at 0.45 um, view "
+    "60 deg): the level's ratio to the top of the atmosphere is read in the sun's airmass "
+    "between nodes, and there it is not smooth enough"))
+def test_low_aircraft_under_thick_aerosol_at_a_low_sun(tmp_path):
+    errors = _errors("rural", 0.6, 1000.0, 67.0, VIEWS, tmp_path)
     assert np.abs(errors).max() < 0.05, errors
