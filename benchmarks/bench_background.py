@@ -5,8 +5,9 @@ terrain, 8 bands, nadir map camera, 16 sky samples) with a block of buildings on
 rendered without the ``background_reflected`` term and with one bounce at 16 paths per pixel,
 in alternating rounds (the median of each is reported, wall and CPU time); then, on a smaller
 image, the term's noise against the paths per pixel N: the standard deviation of the
-difference of two renders with different seeds, over √2, relative to the term's mean (it
-falls as 1/√N, so σ·√N stays constant).
+difference of two renders with different seeds, over √2, relative to the term's mean. It falls
+as 1/√N or faster: σ·√N is constant for independent paths, lower where the paths take the
+sky fan's stratified directions (N up to ``sky_samples``, 16 here).
 
 Target (issue 15, on 2 cores): one bounce at 16 samples per pixel costs ≤ 3 x the render
 without it.

@@ -330,11 +330,11 @@ class AtmosphereTimer:
         timer = self
         packet = function.__name__ == "packet_sky_sums"
 
-        def wrapped(*args):
+        def wrapped(*args, **kwargs):
             from radscene.render import kernels, node_mixing
 
             t0 = time.perf_counter()
-            result = function(*args)
+            result = function(*args, **kwargs)
             t1 = time.perf_counter()
             *head, table, sums, view = args
             if packet:

@@ -22,23 +22,31 @@ the whole exchange between the surfaces (the geometric series of two facing plat
 
 Estimator
 ---------
-Each hit draws ``samples`` paths. At every vertex the incident direction is drawn from the
-vertex's BRDF through the registry's ``sample`` (:mod:`radscene.materials.brdf`), weighted by
-f cos θ / pdf. The sun at a vertex is a shadow ray (next-event estimation); its sky is the
-sampled direction itself: the ray that continues the path, or at the last vertex an occlusion
-ray, sees the sky where it leaves the scene upwards. From x itself only the scene counts
-(sky directions are ``sky_reflected``'s). The random numbers are independent uniforms,
-counter-based (SplitMix64 of the path, vertex and dimension under a key from the scene's
-``seed`` and the tile; Steele, Lea & Flood 2014): the noise falls as 1/√samples, a render is
-repeatable, and a path's numbers are drawn only while it lives.
+Each hit draws ``samples`` paths. At every vertex beyond x the incident direction is drawn
+from the vertex's BRDF through the registry's ``sample`` (:mod:`radscene.materials.brdf`),
+weighted by f cos θ / pdf. At x itself a plain material's BRDF is split into its Lambertian
+part and its Phong lobe, each drawn with its own density
+(:mod:`radscene.render.background_first`): the diffuse directions of the first ``sky_samples``
+paths are the render's own sky fan — the stratified, per-hit rotated cosine-weighted
+directions whose visible sky ``sky_reflected`` counts —, those of further paths are drawn;
+the lobe is drawn with probability ρ_s / (ρ_d + ρ_s). A material with a BRDF model draws
+every first direction through its model. The sun at a vertex is a shadow ray (next-event
+estimation); its sky is the sampled direction itself: the ray that continues the path, or at
+the last vertex an occlusion ray, sees the sky where it leaves the scene upwards. From x
+itself only the scene counts (sky directions are ``sky_reflected``'s). The other random
+numbers are independent uniforms, counter-based (SplitMix64 of the path, vertex and dimension
+under a key from the scene's ``seed`` and the tile; Steele, Lea & Flood 2014): a render is
+repeatable, and a path's numbers are drawn only while it lives. The noise falls as
+1/√samples or faster: the fan's directions are stratified.
 
 Cost: most first directions leave the scene (93.5 % of the 16.8 M of the background
-benchmark, ``benchmarks/bench_background.py``). Where Embree's packets are available, a
-compiled pass (:func:`radscene.render.background_kernels.first_blocked`) draws every path's
-first direction and traces it as an occlusion query, eight rays of a point to a packet; only
-the directions that meet the scene are traced again for their hit. The numbers are those of
-drawing every direction and intersecting it (:func:`reflected_reference`; the same without
-packets).
+benchmark, ``benchmarks/bench_background.py``). The sky pass has already traced the fan's
+directions, and flagged those that do not see the sky: only those are intersected here, for
+their hit. Directions drawn beyond the fan (and the lobes') are drawn and traced as occlusion
+queries in one compiled pass where Embree's packets are available
+(:func:`radscene.render.background_kernels.first_blocked`, eight rays of a point to a packet),
+then only those that meet the scene are intersected. The numbers are those of drawing every
+direction and intersecting it (:func:`reflected_reference`).
 
 Assumptions
 -----------
@@ -56,6 +64,8 @@ References
 ----------
 J. T. Kajiya, "The rendering equation", SIGGRAPH '86, 143-150 (1986),
 doi:10.1145/15886.15902.
+R. Cranley, T. N. L. Patterson, "Randomization of number theoretic methods for multiple
+integration", SIAM J. Numer. Anal. 13(6), 904-914 (1976), doi:10.1137/0713071.
 G. L. Steele, D. Lea, C. H. Flood, "Fast splittable pseudorandom number generators",
 OOPSLA 2014, 453-472, doi:10.1145/2660193.2660195.
 """
@@ -69,7 +79,9 @@ from functools import partial
 import numpy as np
 
 from radscene.atmosphere import sky_node_weights
+from radscene.render import background_first as first
 from radscene.render import background_kernels as kernels
+from radscene.render.background_first import Fan
 from radscene.render.background_tables import (
     WEIGHTING_TEMPERATURE,
     BackgroundTables,
@@ -84,8 +96,8 @@ from radscene.render.background_tables import (
 
 __all__ = ["BackgroundTables", "band_tables", "draws", "reflected", "reflected_reference",
            "sky_radiance", "brdf", "brdf_reference", "brdf_weight", "brdf_weight_reference",
-           "directions", "Draws", "Pass", "for_render", "render_tables", "WEIGHTING_TEMPERATURE",
-           "CHUNK_SAMPLES"]
+           "directions", "Draws", "Fan", "Pass", "for_render", "render_tables",
+           "WEIGHTING_TEMPERATURE", "CHUNK_SAMPLES"]
 
 #: Paths (hits × samples) handled at once; the results do not depend on it.
 CHUNK_SAMPLES = 1 << 18
@@ -205,7 +217,7 @@ def _segment(media, origin, direction, distance, beta, out, rows, sky=None):
 
 
 def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, shadows=True,
-              texture: Callable | None = None, media=None) -> np.ndarray:
+              texture: Callable | None = None, media=None, fan: Fan | None = None) -> np.ndarray:
     """Background radiance reflected by surface points, at the surface: (N, n_b).
 
     Vectorised over the paths; the same estimator and random numbers as
@@ -227,6 +239,9 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
         "emissivity": Δε} (N,) each, at vertices
     media : radscene.render.media.Media, optional — the volumes every segment crosses (its
         transmittance and their own radiance) and that dim the vertices' sun
+    fan : Fan, optional — the points' sky fans (from ``origin`` about ``normal``): the first
+        diffuse directions of their first paths (:mod:`radscene.render.background_first`);
+        without it every direction is drawn
 
     Returns
     -------
@@ -243,12 +258,9 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     origin, normal, wo = (np.ascontiguousarray(a, dtype=np.float64) for a in (origin, normal, wo))
     material = np.ascontiguousarray(material, dtype=np.int64)
     for start in range(0, n, step):
-        # every path's first direction; the weights only of those that meet the scene
-        paths, d, hits = _first_vertices(tracer, tables, origin, normal, wo, material, u,
-                                         start, min(start + step, n))
-        point = paths // samples  # each path's point
-        _, beta = brdf_weight(tables, material[point], wo[point], normal[point],
-                              u.at(paths, 0))
+        # the first directions that meet the scene, with their weights
+        paths, point, d, hits, beta = first.first_vertices(
+            tracer, tables, origin, normal, wo, material, u, fan, start, min(start + step, n))
         alive = np.arange(len(paths))  # rows of paths
         beta = _segment(media, origin[point], d, hits.distance, beta, out, point)
         for bounce in range(1, bounces + 1):
@@ -278,64 +290,10 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
                 _segment(media, o[sky], d[sky], None, beta[sky], out, point[alive[sky]],
                          sky_radiance(tables, d[sky]))
             keep = hits.hit
-            alive, beta, d, hits = alive[keep], beta[keep], d[keep], _take(hits, keep)
+            alive, beta, d, hits = alive[keep], beta[keep], d[keep], first.take(hits, keep)
             beta = _segment(media, o[keep], d, hits.distance, beta, out, point[alive])
     out /= samples
     return out
-
-
-def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi):
-    """The paths of points ``lo`` to ``hi`` whose first direction meets the scene, in the
-    order of their indices: (paths (P,), their directions (P, 3), their Hits)."""
-    samples = u.samples
-    packets = tracer.packets
-    modelled = np.zeros(len(tables.exponent), dtype=bool)
-    modelled[list(tables.brdfs)] = True
-    if packets is None or np.all(modelled[material[lo:hi]]):  # embreex: draw all, then trace
-        return _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u,
-                                     np.arange(lo * samples, hi * samples))
-    n = (hi - lo) * samples
-    direction, blocked = np.empty((n, 3)), np.empty(n, dtype=bool)
-    reflects = np.any((tables.diffuse > 0.0) | (tables.specular > 0.0), axis=1)
-    kernels.first_blocked(packets.occluded8, packets.handle, np.uint64(u.key), u.bounces + 1,
-                          lo, hi, samples, wo, normal, origin, material, reflects & ~modelled,
-                          tables.p_lobe, tables.exponent, tracer.center, tracer.half_size,
-                          direction, blocked)
-    # the few that meet the scene, traced again for their first hit
-    rows = np.flatnonzero(blocked)
-    hits = tracer.intersect(origin[lo + rows // samples], direction[rows])
-    rows = rows[hits.hit]
-    paths, d, hits = lo * samples + rows, direction[rows], _take(hits, hits.hit)
-    if not np.any(modelled[material[lo:hi]]):
-        return paths, d, hits
-    # the paths of materials with a BRDF model: drawn through the registry, merged in order
-    others = np.flatnonzero(modelled[material[lo:hi]])
-    more = (lo + others)[:, None] * samples + np.arange(samples)
-    m_paths, m_d, m_hits = _first_vertices_drawn(tracer, tables, origin, normal, wo,
-                                                 material, u, more.ravel())
-    order = np.argsort(np.concatenate([paths, m_paths]), kind="stable")
-    both = _concat(hits, m_hits)
-    return (np.concatenate([paths, m_paths])[order], np.concatenate([d, m_d])[order],
-            _take(both, order))
-
-
-def _first_vertices_drawn(tracer, tables, origin, normal, wo, material, u, paths):
-    """:func:`_first_vertices` of some paths, their directions drawn first, then traced by
-    :meth:`RayTracer.intersect`."""
-    point = paths // u.samples
-    wi, valid = directions(tables, material, wo, normal, point, u.at(paths, 0))
-    alive = np.flatnonzero(valid)
-    hits = tracer.intersect(origin[point[alive]], wi[alive])
-    keep = alive[hits.hit]
-    return paths[keep], wi[keep], _take(hits, hits.hit)
-
-
-def _concat(a, b):
-    """Two Hits batches, one after the other."""
-    from radscene.geometry.raytracer import Hits
-
-    return Hits(*(np.concatenate([getattr(a, f), getattr(b, f)]) for f in
-                  ("distance", "object", "primitive", "u", "v", "normal", "position", "hit")))
 
 
 def _add(out, rows, values):
@@ -357,53 +315,55 @@ def _occluded(tracer, origins, directions) -> np.ndarray:
     return tracer.occluded_local(local, np.ascontiguousarray(d, dtype=np.float32))
 
 
-def _take(hits, keep):
-    """The rows ``keep`` of a Hits batch (object, primitive, normal, position, hit)."""
-    from radscene.geometry.raytracer import Hits
-
-    return Hits(hits.distance[keep], hits.object[keep], hits.primitive[keep], hits.u[keep],
-                hits.v[keep], hits.normal[keep], hits.position[keep], hits.hit[keep])
-
-
 def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon,
-                        shadows=True, texture: Callable | None = None,
-                        media=None) -> np.ndarray:
-    """:func:`reflected`, one path at a time: the slow, obvious version (the tests' oracle)."""
-    n, samples, depth = u.points, u.samples, u.bounces + 1
+                        shadows=True, texture: Callable | None = None, media=None,
+                        fan: Fan | None = None) -> np.ndarray:
+    """:func:`reflected`, one path at a time: the slow, obvious version (the tests' oracle).
+    Every first direction is intersected (the fan's ``blocked`` flags are not used)."""
+    n, samples = u.points, u.samples
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     out = np.zeros((n, tables.bands))
     for i in range(n):
         s_dir = sun[0] if len(sun) == 1 else sun[i]
         for s in range(samples):
-            # the first direction, from x: only the scene counts
-            wi, beta = brdf_weight_reference(tables, material[i:i + 1], wo[i:i + 1],
-                                             normal[i:i + 1], u.at([i * samples + s], 0))
-            if not np.any(beta > 0.0):
-                continue
-            o, d = origin[i:i + 1], wi
-            for bounce in range(1, depth):
-                hits = tracer.intersect(o, d)
-                if not hits.hit[0]:
-                    if bounce > 1 and d[0, 2] > 0.0:
-                        trans, light = _along_reference(media, o, d, None)
-                        out[i] += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
-                    break
-                trans, light = _along_reference(media, o, d, hits.distance)
-                out[i] += beta[0] * light
-                beta = beta * trans
-                v = _vertices(tables, hits, d, epsilon, texture)
-                out[i] += beta[0] * _own(tracer, tables, v, s_dir[None], shadows,
-                                         brdf_reference, media, tracer.occluded)[0]
-                d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
-                                             u.at([i * samples + s], bounce))
-                beta = beta * w * v.reflectance[0]
-                if not np.any(beta > 0.0):
-                    break
-                o = v.origin
-                if bounce == depth - 1 and d[0, 2] > 0.0 and not tracer.occluded(o, d)[0]:
-                    trans, light = _along_reference(media, o, d, None)
-                    out[i] += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
+            # the first directions, from x: only the scene counts
+            for path, wi, beta in first.first_reference(tables, material, wo, normal, u, fan,
+                                                        i, s):
+                if np.any(beta > 0.0):
+                    out[i] += _path_reference(tracer, tables, origin[i:i + 1], wi, beta, u,
+                                              path, s_dir, epsilon, shadows, texture, media)
         out[i] /= max(samples, 1)
+    return out
+
+
+def _path_reference(tracer, tables, o, d, beta, u, path, sun, epsilon, shadows, texture,
+                    media) -> np.ndarray:
+    """The radiance (n_b,) that one path brings back along its first direction ``d`` (1, 3)
+    from ``o``, with its first weight ``beta`` (1, n_b)."""
+    out = np.zeros(tables.bands)
+    depth = u.bounces + 1
+    for bounce in range(1, depth):
+        hits = tracer.intersect(o, d)
+        if not hits.hit[0]:
+            if bounce > 1 and d[0, 2] > 0.0:
+                trans, light = _along_reference(media, o, d, None)
+                out += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
+            break
+        trans, light = _along_reference(media, o, d, hits.distance)
+        out += beta[0] * light
+        beta = beta * trans
+        v = _vertices(tables, hits, d, epsilon, texture)
+        out += beta[0] * _own(tracer, tables, v, sun[None], shadows, brdf_reference, media,
+                              tracer.occluded)[0]
+        d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
+                                     u.at([path], bounce))
+        beta = beta * w * v.reflectance[0]
+        if not np.any(beta > 0.0):
+            break
+        o = v.origin
+        if bounce == depth - 1 and d[0, 2] > 0.0 and not tracer.occluded(o, d)[0]:
+            trans, light = _along_reference(media, o, d, None)
+            out += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
     return out
 
 
@@ -438,13 +398,14 @@ class Pass:
         self.epsilon, self.shadows, self.texture = float(epsilon), bool(shadows), texture
         self.media = media if media is not None and media.volumes else None
 
-    def __call__(self, origin, normal, wo, material, sun, first_sample) -> np.ndarray:
+    def __call__(self, origin, normal, wo, material, sun, first_sample, fan=None) -> np.ndarray:
         """(N, n_b) background radiance at the surface of a tile's hits (:func:`reflected`);
-        ``first_sample`` is the index of the tile's first ray sample."""
+        ``first_sample`` is the index of the tile's first ray sample, ``fan`` the hits' sky
+        fans (:class:`Fan`) or None."""
         u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
         return reflected(self.tracer, self.tables, origin, normal, wo, material, sun, u,
                          epsilon=self.epsilon, shadows=self.shadows, texture=self.texture,
-                         media=self.media)
+                         media=self.media, fan=fan)
 
 
 def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,

@@ -4,7 +4,10 @@ A plain material (ρ_d, ρ_s, n) is the registry's ``phong`` model
 (:class:`radscene.materials.brdf.Phong`); these kernels draw its directions and weigh them
 in one pass per path, with the same formulas and the same random numbers as its ``sample``,
 ``pdf`` and ``f``, which :func:`radscene.render.background_tables.brdf_weight_reference` calls and
-the tests hold them to.
+the tests hold them to. The first vertex's kernels (:func:`fan_directions`,
+:func:`first_blocked`, :func:`first_directions`, :func:`lobe_weights`) draw its diffuse part
+and its lobe apart (:mod:`radscene.render.background_first`), against
+:func:`radscene.render.background_first.first_reference`.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from radscene.geometry.raytracer import clip_ray
 from radscene.render.kernels import _basis
 
 __all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms",
-           "first_blocked", "add_rows"]
+           "first_blocked", "first_directions", "fan_directions", "lobe_weights", "add_rows"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -192,6 +195,20 @@ _POINT_BLOCK = 256
 
 
 @numba.njit(inline="always")
+def _first_direction(ox, oy, oz, nx, ny, nz, u1, u2, lobe, q, n):
+    """The first direction of a path from a plain material, from its uniforms: cosine-
+    weighted (``lobe`` False), or, with probability ``q``, from the Phong lobe of exponent
+    ``n`` (its ``u1`` rescaled to u1 / q). Returns (ω_i, whether its weight may be non-zero)."""
+    if lobe:
+        if not u1 < q:
+            return 0.0, 0.0, 0.0, False
+        dx, dy, dz, pdf, mu_i, mu_o, _ = _draw(ox, oy, oz, nx, ny, nz, u1 / q, u2, 1.0, n)
+    else:
+        dx, dy, dz, pdf, mu_i, mu_o, _ = _draw(ox, oy, oz, nx, ny, nz, u1, u2, 0.0, 0.0)
+    return dx, dy, dz, mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0 and math.isfinite(pdf)
+
+
+@numba.njit(inline="always")
 def _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked):
     """Trace the first ``lanes`` lanes of a packet; flag rows ``slot`` that are blocked."""
     for lane in range(lanes, LANES):
@@ -202,25 +219,28 @@ def _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked):
 
 
 @numba.njit(parallel=True, cache=True, error_model="numpy")
-def first_blocked(occluded8, scene, key, depth, lo, hi, samples, wo, normal, origin, material,
-                  traced, p_lobe, exponent, center, half, direction, blocked):
-    """The first directions of the paths from points ``lo`` to ``hi`` and whether they meet
-    the scene, in one pass: each path's uniforms (:func:`counter_uniforms`, vertex 0), its
-    direction from the point's Phong model (as :func:`phong_directions`), its ray clipped as
-    :meth:`RayTracer.intersect` clips it and traced by Embree's ``rtcOccluded8``, the valid
-    rays packed eight to a packet (a point's paths share their origin).
+def first_blocked(occluded8, scene, key, depth, lo, hi, samples, first, offset, lobe, wo,
+                  normal, origin, material, traced, q, exponent, center, half, direction,
+                  blocked):
+    """The drawn first directions of the paths from points ``lo`` to ``hi`` and whether they
+    meet the scene, in one pass: each path's uniforms (:func:`counter_uniforms`, vertex 0),
+    its direction (:func:`_first_direction`), its ray clipped as :meth:`RayTracer.intersect`
+    clips it and traced by Embree's ``rtcOccluded8``, the valid rays packed eight to a packet
+    (a point's paths share their origin).
 
-    Row k of the outputs is path lo · samples + k, of point lo + k // samples.
+    Row k of the outputs is sample k % samples of point lo + k // samples; its path index is
+    ``offset`` + (lo · samples + k). Samples below ``first`` are not drawn.
 
     Parameters
     ----------
     occluded8, scene : Embree's ``rtcOccluded8`` and the packet scene's handle
     key : uint64 — the tile's key; depth : vertices per path (bounces + 1)
+    samples, first, offset : int — paths per point, the first drawn, the path index offset
+    lobe : bool — draw from the Phong lobes (else cosine-weighted)
     wo, normal, origin : (N, 3) float64 — each point's ω_o, normal facing it, ray origin [m]
     material : (N,) int64
-    traced : (M,) bool — materials drawn here (plain and reflecting); the paths of the
-        others are not blocked
-    p_lobe, exponent : (M,) — as for :func:`phong_weights`
+    traced : (M,) bool — materials drawn here; the paths of the others are not blocked
+    q, exponent : (M,) — the lobe's probability and Phong exponent
     center, half : (3,) — the tracer's box (:attr:`RayTracer.center`, ``half_size``) [m]
     direction : ((hi - lo) · samples, 3) float64 out — the drawn directions (rows of traced
         paths whose weight may be non-zero)
@@ -236,14 +256,14 @@ def first_blocked(occluded8, scene, key, depth, lo, hi, samples, wo, normal, ori
             for s in range(samples):
                 k = (i - lo) * samples + s
                 blocked[k] = False
-                if not traced[m]:
+                if s < first or not traced[m]:
                     continue
-                path = i * samples + s
-                dx, dy, dz, pdf, mu_i, mu_o, _ = _draw(
+                path = offset + i * samples + s
+                dx, dy, dz, ok = _first_direction(
                     wo[i, 0], wo[i, 1], wo[i, 2], normal[i, 0], normal[i, 1], normal[i, 2],
-                    _uniform(key, path, 0, depth, 0), _uniform(key, path, 0, depth, 1),
-                    p_lobe[m], exponent[m])
-                if not (mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0 and math.isfinite(pdf)):
+                    _uniform(key, path, 0, depth, 0), _uniform(key, path, 0, depth, 1), lobe,
+                    q[m], exponent[m])
+                if not ok:
                     continue
                 length = math.sqrt(dx * dx + dy * dy + dz * dz)
                 ux, uy, uz = dx / length, dy / length, dz / length
@@ -262,6 +282,83 @@ def first_blocked(occluded8, scene, key, depth, lo, hi, samples, wo, normal, ori
                     lanes = 0
         if lanes:
             _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked)
+
+
+@numba.njit(parallel=True, cache=True)
+def first_directions(wo, normal, point, u, material, traced, q, exponent, lobe, wi, valid):
+    """The directions of :func:`first_blocked` for paths from points, drawn, not traced.
+
+    ``point`` (P,) is each path's point (a row of ``wo``, ``normal`` and ``material``), ``u``
+    (P, 2) its uniforms; ``valid`` (P,) is set where the weight may be non-zero.
+    """
+    for i in numba.prange(len(point)):
+        j = point[i]
+        m = material[j]
+        wi[i, 0], wi[i, 1], wi[i, 2], ok = _first_direction(
+            wo[j, 0], wo[j, 1], wo[j, 2], normal[j, 0], normal[j, 1], normal[j, 2], u[i, 0],
+            u[i, 1], lobe, q[m], exponent[m])
+        valid[i] = ok and traced[m]
+
+
+@numba.njit(cache=True)
+def fan_directions(blocked, shift, base, order, count, lo, hi, samples, wo, normal, material,
+                   traced, path, direction):
+    """The first directions that points ``lo`` to ``hi`` take from their sky fans.
+
+    Path s < ``count`` of point i takes the fan's sample ``order[s]``: the cosine-weighted
+    direction about ``normal[i]`` of the pattern point ``base[order[s]]`` rotated by
+    ``shift[i]`` (modulo 1), as the fan draws it. Only the samples flagged in ``blocked``
+    (N, M) are kept (all where it has no rows), and only those of materials ``traced``.
+
+    Writes the kept paths' indices (i · samples + s) into ``path`` and their directions into
+    ``direction``, in the order of the points and their samples; returns their number.
+    """
+    flags = blocked.shape[0] > 0
+    kept = 0
+    for i in range(lo, hi):
+        if not traced[material[i]]:
+            continue
+        for s in range(count):
+            j = order[s]
+            if flags and not blocked[i, j]:
+                continue
+            u1 = base[j, 0] + shift[i, 0]
+            u1 = u1 - 1.0 if u1 >= 1.0 else u1
+            u2 = base[j, 1] + shift[i, 1]
+            u2 = u2 - 1.0 if u2 >= 1.0 else u2
+            dx, dy, dz, ok = _first_direction(wo[i, 0], wo[i, 1], wo[i, 2], normal[i, 0],
+                                              normal[i, 1], normal[i, 2], u1, u2, False, 1.0,
+                                              0.0)
+            if not ok:
+                continue
+            path[kept] = i * samples + s
+            direction[kept, 0], direction[kept, 1], direction[kept, 2] = dx, dy, dz
+            kept += 1
+    return kept
+
+
+@numba.njit(parallel=True, cache=True)
+def lobe_weights(wi, wo, normal, material, q, exponent, specular, weight):
+    """The weights of directions drawn from the Phong lobes alone with probability q:
+    ρ_s f_lobe cos θ_i / (q · pdf_lobe) per band into ``weight`` (N, B), f_lobe and pdf_lobe
+    those of a lobe of unit albedo (0 below the horizon or at pdf 0)."""
+    n_b = specular.shape[1]
+    for i in numba.prange(len(material)):
+        m = material[i]
+        mu_i = wi[i, 0] * normal[i, 0] + wi[i, 1] * normal[i, 1] + wi[i, 2] * normal[i, 2]
+        mu_o = wo[i, 0] * normal[i, 0] + wo[i, 1] * normal[i, 1] + wo[i, 2] * normal[i, 2]
+        cos_g = min(max(wi[i, 0] * wo[i, 0] + wi[i, 1] * wo[i, 1] + wi[i, 2] * wo[i, 2],
+                        -1.0), 1.0)
+        n = exponent[m]
+        cos_a = 2.0 * mu_i * mu_o - cos_g
+        pdf = (max(cos_a, 0.0) ** n) * ((n + 1.0) / _TWO_PI) if cos_a >= 0.0 else 0.0
+        if not (mu_i > 0.0 and mu_o > 0.0 and pdf > 0.0 and math.isfinite(pdf)):
+            for b in range(n_b):
+                weight[i, b] = 0.0
+            continue
+        scale = _lobe_f(mu_i, mu_o, cos_g, n) * mu_i / (q[m] * pdf)
+        for b in range(n_b):
+            weight[i, b] = specular[m, b] * scale
 
 
 @numba.njit(cache=True)

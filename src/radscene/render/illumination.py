@@ -184,7 +184,7 @@ def _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift, scra
 
 
 def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes, rng,
-                   check_normal, shift=None, scratch=None):
+                   check_normal, shift=None, scratch=None, blocked=None):
     from radscene.render import kernels
 
     n = len(origins)
@@ -199,16 +199,24 @@ def _fan_fractions(tracer, fan, origins, normals, extra, n_samples, zenith_nodes
         kernels.packet_fractions(packets, pos, nrm, np.ascontiguousarray(axis, np.float64),
                                  np.ascontiguousarray(exponent, np.float64), bool(extra),
                                  tracer.center, 0.0, shift, base, side, check_normal, zen_nodes,
-                                 az_nodes, out)
+                                 az_nodes, out, blocked=blocked)
         return out
     occluded, d32, nrm = _trace_fan(tracer, fan, origins, normals, extra, n_samples, rng, shift,
                                     scratch)
     kernels.fold_fractions(occluded, d32, nrm, check_normal, zen_nodes, az_nodes, n_samples, out)
+    _not_sky(occluded, d32, blocked)
     return out
 
 
+def _not_sky(occluded, directions, blocked):
+    """Fill ``blocked`` (N, M), where given, with the traced fan's directions that are not
+    sky: occluded, or at or below the horizon."""
+    if blocked is not None:
+        blocked[...] = (occluded | (directions[:, 2] <= 0.0)).reshape(blocked.shape)
+
+
 def sky_sums(tracer, origins, normals, n_samples, sky_nodes, rng, *, rank, material, index,
-             weight, table, shift=None, scratch=None):
+             weight, table, shift=None, scratch=None, blocked=None):
     """The reflected-sky band sums and the sky-view factor of each point, from the same fan
     as :func:`sky_fractions`, without storing the fractions.
 
@@ -219,7 +227,7 @@ def sky_sums(tracer, origins, normals, n_samples, sky_nodes, rng, *, rank, mater
 
     Parameters
     ----------
-    tracer, origins, normals, n_samples, sky_nodes, rng, shift, scratch
+    tracer, origins, normals, n_samples, sky_nodes, rng, shift, scratch, blocked
         As for :func:`sky_fractions`.
     rank : (N,) int — each point's row of ``index`` and ``weight``
     material : (N,) int — each point's row of ``table``
@@ -253,16 +261,17 @@ def sky_sums(tracer, origins, normals, n_samples, sky_nodes, rng, *, rank, mater
     if packets is not None:  # each point's fan traced as Embree packets inside the kernel
         shift, base, side, pos, nrm = _fan_setup(origins, normals, n_samples, rng, shift)
         kernels.packet_sky_sums(packets, pos, nrm, tracer.center, 0.0, shift, base, side,
-                                zen_nodes, az_nodes, *mix)
+                                zen_nodes, az_nodes, *mix, blocked=blocked)
         return sums, view
     occluded, d32, nrm = _trace_fan(tracer, kernels.cosine_fan, origins, normals, (), n_samples,
                                     rng, shift, scratch)
     kernels.fold_sky_sums(occluded, d32, nrm, False, zen_nodes, az_nodes, n_samples, *mix)
+    _not_sky(occluded, d32, blocked)
     return sums, view
 
 
 def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng, *, shift=None,
-                  scratch=None):
+                  scratch=None, blocked=None):
     """Cosine-weighted visible-sky fractions F_k per sky zenith node (compiled fan).
 
     Same estimator and the same random numbers as :func:`sky_fractions_reference`: F_k =
@@ -283,6 +292,11 @@ def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng, *, shi
         them in a fixed order and trace on another thread; ``rng`` is then not used.
     scratch : dict, optional
         Kept by the caller between calls: the float32 ray buffers are reused from it.
+    blocked : (N, n_samples) bool array, optional
+        Filled with the fan's directions that are not sky — occluded by the scene, or at or
+        below the horizon (those are not traced) — for the reflected background, which
+        intersects them (:mod:`radscene.render.background`); sample j of point i at [i, j],
+        in the pattern's order (:func:`stratified_pattern`).
 
     Returns
     -------
@@ -292,7 +306,7 @@ def sky_fractions(tracer, origins, normals, n_samples, zenith_nodes, rng, *, shi
     from radscene.render import kernels
 
     return _fan_fractions(tracer, kernels.cosine_fan, origins, normals, (), n_samples,
-                          zenith_nodes, rng, False, shift, scratch)
+                          zenith_nodes, rng, False, shift, scratch, blocked)
 
 
 def lobe_sky_fractions(tracer, origins, normals, axes, exponents, n_samples, zenith_nodes, rng,

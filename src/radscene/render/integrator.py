@@ -193,6 +193,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     # random rotations are drawn here, tile by tile, in the order of a serial render.
     rng = np.random.default_rng(settings.seed)
     scratch = {}
+    reflecting = settings.background_bounces > 0  # the background pass will run
 
     def launch(sl):
         state = surface_state(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
@@ -203,6 +204,9 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         n_specular = int(np.count_nonzero(state.specular))
         shifts = (rng.random((len(state.mat), 2)),
                   rng.random((n_specular, 2)) if n_specular else None)
+        # the sky fan's blocked directions, for the reflected background's first bounce
+        state.fan = background.Fan(shifts[0], settings.sky_samples, np.empty(
+            (len(state.mat), settings.sky_samples), dtype=bool)) if reflecting else None
         job = worker.submit(secondary_rays, tables, state, settings, bset.sky_nodes, shifts,
                             scratch, fused_sky, shadow_pass)
         # the sky rays through volumes and sheets: the same fan, traced again (media.py)

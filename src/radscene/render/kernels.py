@@ -285,15 +285,20 @@ _PACKET_CHUNK = 64
 
 @numba.njit(inline="always")
 def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, normal, i,
-                 check_normal, zenith_nodes, azimuth_nodes, row):
+                 check_normal, zenith_nodes, azimuth_nodes, row, blocked):
     """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
     visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
-    ``zen`` (M,) is scratch for the directions' zenith angles. Returns the number of rays
-    traced."""
+    ``zen`` (M,) is scratch for the directions' zenith angles. Where ``blocked`` has rows
+    (N, M), row ``i`` gets the directions that are not sky: traced and occluded, or at or
+    below the horizon (not traced). Returns the number of rays traced."""
     m = dirs.shape[0]
     traced = 0
+    flags = blocked.shape[0] > 0
     for k in range(row.shape[0]):
         row[k] = 0.0
+    if flags:
+        for j in range(m):
+            blocked[i, j] = dirs[j, 2] <= 0.0
     for j in range(m):  # independent of each other: the compiler takes them four at a time
         zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
     for start in range(0, m, _LANES):
@@ -316,9 +321,13 @@ def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, nor
         traced += lanes
         occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
         for lane in range(_LANES):
-            if valid[lane] != 0 and ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
-                j = start + lane
+            if valid[lane] == 0:
+                continue
+            j = start + lane
+            if ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
                 _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
+            elif flags:
+                blocked[i, j] = True
     for k in range(row.shape[0]):
         row[k] /= m
     return traced
@@ -326,7 +335,8 @@ def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, nor
 
 @numba.njit(parallel=True, cache=True)
 def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon,
-                      shift, base, side, check_normal, zenith_nodes, azimuth_nodes, out):
+                      shift, base, side, check_normal, zenith_nodes, azimuth_nodes, out,
+                      blocked):
     n = position.shape[0]
     m = base.shape[0]
     levels = side if side > 0 else m
@@ -341,14 +351,14 @@ def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, 
                                     shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
             traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
                                    np.float32(oy), np.float32(oz), normal, i, check_normal,
-                                   zenith_nodes, azimuth_nodes, out[i])
+                                   zenith_nodes, azimuth_nodes, out[i], blocked)
     return traced
 
 
 @numba.njit(parallel=True, cache=True)
 def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift, base, side,
                      zenith_nodes, azimuth_nodes, rank, material, index, weight, table, sums,
-                     view):
+                     view, blocked):
     n = position.shape[0]
     m = base.shape[0]
     levels = side if side > 0 else m
@@ -367,7 +377,7 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
                                     dirs, 0)
             traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
                                    np.float32(oy), np.float32(oz), normal, i, False,
-                                   zenith_nodes, azimuth_nodes, rows[i - lo])
+                                   zenith_nodes, azimuth_nodes, rows[i - lo], blocked)
             total = 0.0
             for k in range(n_k):
                 total += rows[i - lo, k]
@@ -447,24 +457,32 @@ def packet_shadows(packets, position, normal, view, center, half, epsilon, sun, 
     return int(traced), int(outside)
 
 
+def _flags(blocked, n_samples):
+    """``blocked`` as the kernels take it: (N, M) bool, or no rows where none is wanted."""
+    return np.zeros((0, n_samples), dtype=np.bool_) if blocked is None else blocked
+
+
 def packet_fractions(packets, position, normal, axis, exponent, lobe, center, epsilon, shift,
-                     base, side, check_normal, zenith_nodes, azimuth_nodes, out):
+                     base, side, check_normal, zenith_nodes, azimuth_nodes, out, blocked=None):
     """:func:`cosine_fan` (or :func:`lobe_fan`) then :func:`fold_fractions`, tracing each
     point's fan as Embree packets in ``packets`` (a
     :class:`radscene.geometry.embree.PacketScene` of the same local frame): writes ``out``
-    (N, K·L) without any ray arrays. Returns the number of rays traced."""
+    (N, K·L) without any ray arrays, and where given ``blocked`` (N, M) bool: the fan's
+    directions that are not sky (occluded, or at or below the horizon). Returns the number
+    of rays traced."""
     return _packet_fractions(packets.occluded8, packets.handle, position, normal, axis, exponent, lobe,
                       center, epsilon, shift, base, side, check_normal, zenith_nodes,
-                      azimuth_nodes, out)
+                      azimuth_nodes, out, _flags(blocked, len(base)))
 
 
 def packet_sky_sums(packets, position, normal, center, epsilon, shift, base, side, zenith_nodes,
-                    azimuth_nodes, rank, material, index, weight, table, sums, view):
-    """:func:`cosine_fan` then :func:`fold_sky_sums`, as :func:`packet_fractions` traces.
-    Returns the number of rays traced."""
+                    azimuth_nodes, rank, material, index, weight, table, sums, view,
+                    blocked=None):
+    """:func:`cosine_fan` then :func:`fold_sky_sums`, as :func:`packet_fractions` traces
+    (``blocked`` alike). Returns the number of rays traced."""
     return _packet_sky_sums(packets.occluded8, packets.handle, position, normal, center, epsilon, shift,
                      base, side, zenith_nodes, azimuth_nodes, rank, material, index, weight,
-                     table, sums, view)
+                     table, sums, view, _flags(blocked, len(base)))
 
 
 def empty_fan(n_rays: int, scratch: dict | None = None):

@@ -196,15 +196,19 @@ class RealtimeRenderer:
             p = rays.pixel[st.hidx]
             key.material[p] = st.mat
             key.object[p] = st.obj
+            fan = None if reflect is None else background.Fan(
+                sky_shift, settings.sky_samples,
+                np.empty((len(st.mat), settings.sky_samples), dtype=bool))
+            sky = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
+                                             settings.sky_samples, bset.sky_nodes, None,
+                                             shift=sky_shift, scratch=scratch,
+                                             blocked=None if fan is None else fan.blocked)
             if reflect is not None:  # at the surface, then through τ_a and Δρ, as the render
-                values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start)
+                values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start, fan)
                 values *= node_mixing.gather_band(bset.coefficients.transmittance,
                                        nodes_all.subset(st.rank))
                 values *= textures(scene, st.obj, st.pos)["reflectance"][:, None]
                 key.background[:, p] = values.T
-            sky = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
-                                             settings.sky_samples, bset.sky_nodes, None,
-                                             shift=sky_shift, scratch=scratch)
             key.sky_fractions[p] = sky
             key.lobe_fractions[p] = sky  # what a surface that was not specular lends the lobe
             if n_spec:

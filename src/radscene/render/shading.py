@@ -63,7 +63,8 @@ class TileShader:
         if self.medium is not None:  # the sky rays' change by volumes and sheets
             self._media(st, tex, out, p, wh, sky_view)
         if self.reflect is not None:  # at the surface, then through τ_a and Δρ
-            values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start)
+            values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
+                                  getattr(st, "fan", None))
             values *= node_mixing.gather_band(self.bset.coefficients.transmittance,
                                               self.nodes.nodes_all.subset(st.rank))
             values *= tex["reflectance"][:, None]

@@ -151,19 +151,23 @@ def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow
     sky fan is folded straight into the reflected-sky band sums and the second item is
     (sums (N, n_b), sky view (N,)) instead of the fractions (N, K). The lobe fractions have
     no rows where the tile has no specular hit. ``shadow_pass`` is the future of
-    :func:`shadows` for every hit of the render (run earlier on the same thread).
+    :func:`shadows` for every hit of the render (run earlier on the same thread). Where the
+    state has a ``fan`` (:class:`radscene.render.background.Fan`), its ``blocked`` flags are
+    filled with the sky fan's directions that are not sky.
     """
     lit = shadow_pass.result()[st.rank]
+    fan = getattr(st, "fan", None)
+    blocked = None if fan is None else fan.blocked
     if sky is None:
         sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, sky_nodes, None,
-                                             shift=shifts[0], scratch=scratch)
+                                             shift=shifts[0], scratch=scratch, blocked=blocked)
     else:
         table, index, weight = sky
         sky_out = illumination.sky_sums(tables.tracer, st.origin, st.nrm, settings.sky_samples,
                                         sky_nodes, None, rank=st.rank, material=st.mat,
                                         index=index, weight=weight, table=table,
-                                        shift=shifts[0], scratch=scratch)
+                                        shift=shifts[0], scratch=scratch, blocked=blocked)
     n_k = len(sky_nodes[0]) * len(sky_nodes[1])
     if shifts[1] is None:
         return lit, sky_out, np.zeros((0, n_k))

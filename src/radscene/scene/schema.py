@@ -881,7 +881,9 @@ class RenderSettings(_Model):
         "tracer of N bounces, 0 off")
     background_samples: Annotated[int, Field(ge=1, le=65536)] = Field(
         16, description="background paths per pixel, shared among its supersamples (at least "
-        "one each); the term's noise falls as 1/sqrt(samples)")
+        "one each); the first sky_samples of a supersample take their diffuse first direction "
+        "from its stratified sky rays, the others draw their own; the term's noise falls as "
+        "1/sqrt(samples) or faster")
     max_memory: float | str | None = Field(
         None, description="the memory a render may need, e.g. '8 GB': a scene estimated above "
         "it is refused before work; default the machine's memory")
