@@ -156,3 +156,23 @@ def test_animations_refuse_a_frame_rate_gif_cannot_play(tmp_path):
         with pytest.raises(ConfigError, match="fps: must lie in"):
             band_animations(ds, tmp_path, fps=fps)
     assert not list(tmp_path.iterdir())
+
+
+def test_check_accepts_a_thermal_sequence_without_an_instant_of_its_own(tmp_path):
+    """A thermal band (heat balance by default) and a ``time:`` span but no
+    ``environment.time``: ``radscene check`` sizes the balance over the sequence's span, as the
+    render does, instead of asking for an instant (it refused the scene with exit 2 before)."""
+    spec = {
+        "name": "span",
+        "environment": {"sun": {"zenith": 30.0, "azimuth": 180.0}, "atmosphere": {"type": "none"}},
+        "terrain": {"type": "flat", "size": [20, 20], "spacing": 2, "material": "asphalt"},
+        "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+        "observers": [{"name": "map", "type": "orthographic", "center": [10, 10], "gsd": 2,
+                       "shape": [4, 4], "altitude": 500}],
+        "time": {"start": "2024-06-21T12:00:00Z", "end": "2024-06-21T14:00:00Z", "step": "1 h"},
+    }
+    scene = tmp_path / "span.yaml"
+    scene.write_text(yaml.safe_dump(spec))
+    result = CliRunner().invoke(app, ["check", str(scene)])
+    assert result.exit_code == 0, result.output
+    assert "sequence: 3 frames" in result.output

@@ -81,8 +81,15 @@ def check_thermal_inputs(scene) -> None:
     weather file or an oversized balance before any render; raises
     :class:`~radscene.errors.ConfigError` naming the key."""
     if thermal_active(scene):
-        check_thermal_size(scene)
-        _weather(scene, *_span(scene))
+        start = end = None
+        span = scene.spec.time
+        if span is not None and scene.time is None:
+            # a sequence without an instant of its own: the balance runs from a day before its
+            # first frame (or thermal.start) to its last (or thermal.end), as the frames ask
+            start = scene.spec.thermal.start or (span.start - _dt.timedelta(days=1))
+            end = max(span.end, scene.spec.thermal.end or span.end)
+        check_thermal_size(scene, start, end)
+        _weather(scene, *_span(scene, start, end))
 
 
 def _thermal_elements(scene):
