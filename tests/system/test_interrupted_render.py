@@ -177,5 +177,8 @@ def test_a_stopped_heat_balance_leaves_no_output(tmp_path):
     nc = out / "day.nc"
     proc = subprocess.Popen(_cli("thermal", scene, "-o", nc), stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
-    assert _stop_when(proc, lambda: (out / "day_diurnal.png").is_file()) != 0
+    # stopped as soon as the first plot's temporary (or the plot) appears: the earliest moment
+    # of the writing, so that the rest of it (the maps, then OUTPUT) is still to come
+    assert _stop_when(proc, lambda: any(p.name.startswith((".day_diurnal", "day_diurnal"))
+                                        for p in out.iterdir())) != 0
     assert not nc.exists() and not _temporaries(out)
