@@ -61,6 +61,7 @@ from radscene.render.spectral import breakpoints
 from radscene.render.sun_track import sun_track
 from radscene.render.surface import (
     SceneTables,
+    fan_shifts,
     hit_temperature,
     scene_tables,
     secondary_rays,
@@ -190,8 +191,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         sky_diffuse, geo.nodes_all.index, geo.nodes_all.weight)
     # The shadow, sky and lobe rays of the next tiles are traced on a worker thread while this
     # thread evaluates the terms of tile i (Embree and the numba kernels release the GIL). The
-    # random rotations are drawn here, tile by tile, in the order of a serial render.
-    rng = np.random.default_rng(settings.seed)
+    # random rotations are drawn here, per ray sample of each tile (surface.fan_shifts).
     scratch = {}
 
     def launch(sl):
@@ -200,9 +200,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         if state is None:
             return None
         state.specular = specular_material[state.mat]
-        n_specular = int(np.count_nonzero(state.specular))
-        shifts = (rng.random((len(state.mat), 2)),
-                  rng.random((n_specular, 2)) if n_specular else None)
+        shifts = fan_shifts(settings.seed, sl, state.hidx, state.specular)
         job = worker.submit(secondary_rays, tables, state, settings, bset.sky_nodes, shifts,
                             scratch, fused_sky, shadow_pass)
         # the sky rays through volumes and sheets: the same fan, traced again (media.py)

@@ -17,7 +17,7 @@ from radscene.render import illumination, sheets
 from radscene.render.sun_track import sun_geometry
 
 __all__ = ["SceneTables", "scene_tables", "surface_state", "hit_temperature", "textures",
-           "shadows", "secondary_rays"]
+           "shadows", "secondary_rays", "fan_shifts"]
 
 
 class SceneTables:
@@ -103,6 +103,33 @@ def surface_state(tables, rays, hits, hit, hit_rank, sl, sun_dir, material, temp
         hidx=hidx, rank=rank, obj=hits.object[hidx], mat=material[rank],
         temp=temperature[rank], pos=hits.position[hidx], nrm=nrm, wo=wo, cos_v=cos_v,
         cos_i=cos_i, origin=origin, sun=sun)
+
+
+def fan_shifts(seed, sl, hidx, specular):
+    """The rotations of the sky and lobe fans of a tile's hits (Cranley–Patterson).
+
+    Two uniforms per ray sample of the tile ``sl`` and fan, from a generator keyed by the
+    scene's ``seed`` and the tile's first sample: a hit's rotations depend on its sample
+    alone, not on what the tile's other samples hit, so a sequence's frames can keep the fans
+    of the samples that nothing moved into (:mod:`radscene.render.frame_cache`).
+
+    Parameters
+    ----------
+    seed : int — the scene's ``render.seed``
+    sl : slice — the tile's ray samples
+    hidx : (N,) int — the samples of its hits
+    specular : (N,) bool — the hits that trace a lobe
+
+    Returns
+    -------
+    sky : (N, 2) [-]
+    lobe : (count of specular, 2) [-], or None where no hit is specular
+    """
+    key = np.random.SeedSequence([int(seed) % (1 << 64), 0x66616E73, int(sl.start)])
+    draws = np.random.default_rng(key).random((2, sl.stop - sl.start, 2))
+    at = np.asarray(hidx) - sl.start
+    lobe = at[np.asarray(specular, dtype=bool)]
+    return draws[0, at], (draws[1, lobe] if len(lobe) else None)
 
 
 def shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.ndarray:
