@@ -170,6 +170,10 @@ class Simulation:
         frame, the reflected background that of the first frame where a pixel sees the same
         object; no coupling layers, supersampling or geolocation.
         Default False (every frame a full render). See ``docs/simulation.md``.
+    incremental : bool
+        Frames after the first keep the rays of the observer's last frame that nothing moved
+        through (:mod:`radscene.render.frame_cache`) and trace only the others: the same
+        images as full frames. Default True; False traces every ray of every frame.
 
     Examples
     --------
@@ -180,7 +184,8 @@ class Simulation:
     >>> frame.radiance["map"].object_id                                  # doctest: +SKIP
     """
 
-    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON, realtime: bool = False):
+    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON, realtime: bool = False,
+                 incremental: bool = True):
         from radscene.geometry import RayTracer
         from radscene.render.integrator import scene_tables
 
@@ -230,6 +235,12 @@ class Simulation:
         self._follow_motions()
         tables = scene_tables(self.scene, self.tracer)
         self._realtime = None
+        # per observer the rays of its last frame (none with motion blur: sub-frame renders)
+        self._caches = {}
+        if incremental and not realtime and self.scene.settings.motion_blur is None:
+            from radscene.render.frame_cache import FrameCache
+
+            self._caches = {setup.name: FrameCache() for setup in self.scene.observers}
         if realtime:
             from radscene.render.realtime import RealtimeRenderer
 
@@ -297,7 +308,8 @@ class Simulation:
                     return render_hyperspectral(scene, setup.name, progress=report)
                 if self._scans_motion(setup):
                     return self._scan(setup, tables, report)
-                return render_observer(scene, setup.name, progress=report, _tables=tables)
+                return render_observer(scene, setup.name, progress=report, _tables=tables,
+                                       _cache=self._caches.get(setup.name))
             with progress_callback(progress, f"frame {self._index} {setup.name}",
                                    when_interactive=False) as report:
                 images = self._expose(setup, partial(one, report=report), tables)
@@ -466,6 +478,8 @@ class Simulation:
             return
         k = self._sea_index
         mesh = self._sea.mesh(t, name=self.scene.objects[k].mesh.name)
+        for cache in self._caches.values():  # the terrain moved: every ray may change
+            cache.reset()
         self.tracer.update(k, mesh)
         self.scene.objects[k].mesh = mesh
         self._sea_time = t
@@ -490,6 +504,13 @@ class Simulation:
                                  np.asarray(attitude[0], float) if attitude else None, rotation)
             self.scene.poses[name] = (self._poses[name][0], rotation)
         if moved:
+            if self._caches:  # where each stood and stands: the rays to trace again
+                from radscene.render.frame_cache import moved_spheres
+
+                spheres = [s for k, mesh in moved.items()
+                           for s in moved_spheres(self.scene.objects[k].mesh.vertices, mesh.vertices)]
+                for cache in self._caches.values():
+                    cache.moved(spheres)
             self.tracer.move(moved)
             for k, mesh in moved.items():
                 self.scene.objects[k].mesh = mesh
@@ -656,6 +677,8 @@ class Simulation:
         from radscene.platform import OrthographicCamera, PerspectiveCamera
 
         cam = setup.camera
+        if setup.name in self._caches:  # its rays change
+            self._caches[setup.name].reset()
         if setup.kind == "perspective":
             setup.camera = PerspectiveCamera(cam.position if position is None else position, cam.shape,
                                              fov=cam.fov, attitude=cam.attitude if attitude is None else attitude)

@@ -205,7 +205,7 @@ def _segment(media, origin, direction, distance, beta, out, rows, sky=None):
 
 
 def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, shadows=True,
-              texture: Callable | None = None, media=None) -> np.ndarray:
+              texture: Callable | None = None, media=None, kept=None) -> np.ndarray:
     """Background radiance reflected by surface points, at the surface: (N, n_b).
 
     Vectorised over the paths; the same estimator and random numbers as
@@ -245,7 +245,7 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     for start in range(0, n, step):
         # every path's first direction; the weights only of those that meet the scene
         paths, d, hits = _first_vertices(tracer, tables, origin, normal, wo, material, u,
-                                         start, min(start + step, n))
+                                         start, min(start + step, n), kept)
         point = paths // samples  # each path's point
         _, beta = brdf_weight(tables, material[point], wo[point], normal[point],
                               u.at(paths, 0))
@@ -284,9 +284,10 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     return out
 
 
-def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi):
+def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi, kept=None):
     """The paths of points ``lo`` to ``hi`` whose first direction meets the scene, in the
-    order of their indices: (paths (P,), their directions (P, 3), their Hits)."""
+    order of their indices: (paths (P,), their directions (P, 3), their Hits); ``kept`` as
+    for :func:`reflected`."""
     samples = u.samples
     packets = tracer.packets
     modelled = np.zeros(len(tables.exponent), dtype=bool)
@@ -300,7 +301,11 @@ def _first_vertices(tracer, tables, origin, normal, wo, material, u, lo, hi):
     kernels.first_blocked(packets.occluded8, packets.handle, np.uint64(u.key), u.bounces + 1,
                           lo, hi, samples, wo, normal, origin, material, reflects & ~modelled,
                           tables.p_lobe, tables.exponent, tracer.center, tracer.half_size,
-                          direction, blocked)
+                          direction, blocked, *(() if kept is None else
+                                                (kept.retrace, kept.known, kept.spheres)))
+    if kept is not None:
+        kept.out.blocked[lo * samples:hi * samples] = blocked
+        kept.out.filled[lo:hi] = True
     # the few that meet the scene, traced again for their first hit
     rows = np.flatnonzero(blocked)
     hits = tracer.intersect(origin[lo + rows // samples], direction[rows])
@@ -438,13 +443,14 @@ class Pass:
         self.epsilon, self.shadows, self.texture = float(epsilon), bool(shadows), texture
         self.media = media if media is not None and media.volumes else None
 
-    def __call__(self, origin, normal, wo, material, sun, first_sample) -> np.ndarray:
+    def __call__(self, origin, normal, wo, material, sun, first_sample, kept=None) -> np.ndarray:
         """(N, n_b) background radiance at the surface of a tile's hits (:func:`reflected`);
-        ``first_sample`` is the index of the tile's first ray sample."""
+        ``first_sample`` is the index of the tile's first ray sample, ``kept`` as for
+        :func:`reflected`."""
         u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
         return reflected(self.tracer, self.tables, origin, normal, wo, material, sun, u,
                          epsilon=self.epsilon, shadows=self.shadows, texture=self.texture,
-                         media=self.media)
+                         media=self.media, kept=kept)
 
 
 def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,

@@ -41,6 +41,7 @@ from radscene.render.band_setup import (
     sun_irradiance,
 )
 from radscene.render.coupling_pass import coupling_layers, coupling_pass
+from radscene.render.frame_cache import FrameCache
 from radscene.render.outputs import (
     BACKGROUND_LONG_NAME,
     BACKGROUND_TERM,
@@ -83,7 +84,7 @@ TILES_AHEAD = 2
 
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
            bands=None, specular=None, _tables: SceneTables | None = None, _rays=None,
-           _depth: int = 0) -> xr.Dataset:
+           _depth: int = 0, _cache: FrameCache | None = None) -> xr.Dataset:
     """Render one observer of a scene.
 
     Parameters
@@ -101,6 +102,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         Per material, whether its samples trace specular lobes; default: those with a
         nonzero specular coefficient in some band. Renders of one observer split over
         several band sets pass the same flags, so that they draw the same random numbers.
+    _cache : FrameCache, optional
+        The rays of the observer's last frame (a sequence's): traced again only where
+        something moved through them (:mod:`radscene.render.frame_cache`).
 
     Returns
     -------
@@ -124,8 +128,13 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     # the sun at each ray's time (scanners), or the scene's
     track = sun_track(scene, rays.time, getattr(setup.camera, "epoch", None))
 
+    cache = _cache if _cache is not None and _rays is None and FrameCache.usable(
+        scene, tables, track, rays) else None
+    if _cache is not None and cache is None:
+        _cache.reset()
     # first pass: primary hits, for the path nodes of the whole image
-    hits = tables.tracer.intersect(rays.origins, rays.directions)
+    hits = (tables.tracer.intersect(rays.origins, rays.directions) if cache is None
+            else cache.primary(tables.tracer, rays))
     hit = hits.hit
     hit_time = rays.time[hit] if track.moving else None
     sun_dir = track.direction(hit_time)  # per hit, or one row for all
@@ -137,7 +146,7 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                                     settings.shadows, track.up)
         ds = _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
                           settings, rays, hits, hit, shadow_pass, worker, started, progress,
-                          specular)
+                          specular, cache)
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
     layers = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS
@@ -158,12 +167,14 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
 
 
 def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, settings, rays,
-                 hits, hit, shadow_pass, worker, started, progress, specular=None) -> xr.Dataset:
+                 hits, hit, shadow_pass, worker, started, progress, specular=None,
+                 cache=None) -> xr.Dataset:
     """:func:`render` after the primary rays: the path nodes, the band tables and the tiles.
 
     ``sun`` is the scene's sun (the Dataset's attributes), ``track`` the sun at the rays'
     times, ``sun_dir`` the unit vector towards the sun of each hit (one row: of every hit),
-    ``shadow_pass`` the future of :func:`~radscene.render.surface.shadows` on ``worker``.
+    ``shadow_pass`` the future of :func:`~radscene.render.surface.shadows` on ``worker``,
+    ``cache`` the observer's :class:`~radscene.render.frame_cache.FrameCache` or None.
     """
     n_pix = rays.shape[0] * rays.shape[1]
     geo = path_setup(scene, rays, hits, hit, track, hit_time)
@@ -202,7 +213,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         state.specular = specular_material[state.mat]
         shifts = fan_shifts(settings.seed, sl, state.hidx, state.specular)
         job = worker.submit(secondary_rays, tables, state, settings, bset.sky_nodes, shifts,
-                            scratch, fused_sky, shadow_pass)
+                            scratch, fused_sky, shadow_pass, cache)
         # the sky rays through volumes and sheets: the same fan, traced again (media.py)
         state.media = None if medium is None else worker.submit(
             media.sky_fan, tables, medium, state.origin, state.nrm, settings.sky_samples,
@@ -228,7 +239,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     image = TileSums(bands, n_pix, central, direct, medium is not None, reflect is not None)
     shade = TileShader(scene, tables, bset, bands, rays, hits, image, geo,
                        mix_tables(coef, emission_tables, sky_diffuse), emission_pair,
-                       fused_sky is not None, medium, reflect, per_pixel)
+                       fused_sky is not None, medium, reflect, per_pixel, cache)
     geolocation = pixel_coords = None
     for i, sl in enumerate(tiles):
         if i + TILES_AHEAD < len(tiles):

@@ -170,7 +170,8 @@ def shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.nd
     return lit
 
 
-def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow_pass):
+def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow_pass,
+                   cache=None):
     """Lit flags, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
 
     ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
@@ -178,10 +179,15 @@ def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow
     sky fan is folded straight into the reflected-sky band sums and the second item is
     (sums (N, n_b), sky view (N,)) instead of the fractions (N, K). The lobe fractions have
     no rows where the tile has no specular hit. ``shadow_pass`` is the future of
-    :func:`shadows` for every hit of the render (run earlier on the same thread).
+    :func:`shadows` for every hit of the render (run earlier on the same thread). ``cache``,
+    where given, keeps the fans of the observer's last frame
+    (:class:`radscene.render.frame_cache.FrameCache`): the same answers, traced again only
+    where something moved through them.
     """
     lit = shadow_pass.result()[st.rank]
-    if sky is None:
+    if cache is not None:
+        sky_out = cache.sky(tables.tracer, st, settings.sky_samples, sky_nodes, shifts[0], sky)
+    elif sky is None:
         sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, sky_nodes, None,
                                              shift=shifts[0], scratch=scratch)
@@ -197,6 +203,10 @@ def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow
     lobe_f = np.zeros((len(st.mat), n_k))
     sel = st.specular
     axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
+    if cache is not None:
+        lobe_f[sel] = cache.lobe(tables.tracer, st, sel, axis, tables.exponent[st.mat[sel]],
+                                 settings.specular_samples, sky_nodes, shifts[1])
+        return lit, sky_out, lobe_f
     lobe_f[sel] = illumination.lobe_sky_fractions(
         tables.tracer, st.origin[sel], st.nrm[sel], axis, tables.exponent[st.mat[sel]],
         settings.specular_samples, sky_nodes, None, shift=shifts[1], scratch=scratch)
