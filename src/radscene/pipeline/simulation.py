@@ -12,6 +12,11 @@ The ray tracer is built once, for moving geometry (``RayTracer(dynamic=True)``):
 object writes its new vertices into the tracer and refits that object's acceleration structure
 alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved, not the scene.
 
+Frames after the first of each observer are incremental (``incremental=True``, the default):
+they keep the rays of the observer's last frame that nothing moved through and trace only the
+others (:mod:`radscene.render.frame_cache`), shading every ray sample with the frame's own sun
+and temperatures: the same frames as tracing every ray.
+
 Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
 ``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
 (straight or a cubic spline; attitude fixed, along the path or the terrain's slope, or
@@ -738,7 +743,7 @@ def frame_times(start: _dt.datetime, end: _dt.datetime, step) -> list[_dt.dateti
 
 
 def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
-                    progress=None) -> FrameSequence:
+                    progress=None, incremental: bool = True) -> FrameSequence:
     """Render a sequence of frames: every observer at every instant, stacked along ``time``.
 
     Parameters
@@ -754,6 +759,9 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     progress : callable(done, total) or bool, optional
         A callable is called after each frame; True shows a bar of the frames, False none;
         by default a bar when Python runs interactively (:mod:`radscene.pipeline.progress`).
+    incremental : bool
+        As for :class:`Simulation`: frames after the first trace only the rays that something
+        moved through (the same frames); False: every frame traced in full.
 
     Returns
     -------
@@ -782,7 +790,7 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
         scene.document = {**scene.document, "time": {
             "start": start.isoformat(), "end": end.isoformat(),
             "step": parse_duration(step, key="time.step")}}
-    sim = Simulation(scene)
+    sim = Simulation(scene, incremental=incremental)
     frames = {name: [] for name in names}
     signals = {name: [] for name in names}
     with progress_callback(progress, "frames") as report:

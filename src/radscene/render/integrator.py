@@ -147,6 +147,10 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         ds = _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
                           settings, rays, hits, hit, shadow_pass, worker, started, progress,
                           specular, cache)
+    except BaseException:
+        if cache is not None:  # a frame left half done keeps nothing
+            cache.reset()
+        raise
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
     layers = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS
