@@ -20,9 +20,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from radscene.geometry.embree import LANES as _LANES
-from radscene.geometry.embree import RAY8_FLOATS, packet_buffers, set_lane
-from radscene.render.kernels import _PACKET_CHUNK, _fan_point, _fold_zenith, _zenith_degrees
+from radscene.geometry.embree import RAY8_FLOATS, packet_buffers
+from radscene.render.kernels import _PACKET_CHUNK, _fan_point, _fold_visible, _trace_visible
 from radscene.render.node_mixing import _sky_sample
 
 __all__ = ["MAX_FAN", "kept_fans", "meets_spheres", "bounding_sphere"]
@@ -75,54 +74,6 @@ def meets_spheres(origins, directions, spheres) -> np.ndarray:
     return out
 
 
-@numba.njit(inline="always")
-def _trace_bits(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i, check_normal):
-    """Trace point ``i``'s fan as :func:`radscene.render.kernels._trace_point` does; returns
-    (the bits of its visible directions, the rays traced)."""
-    m = dirs.shape[0]
-    traced = 0
-    seen = np.uint64(0)
-    for start in range(0, m, _LANES):
-        lanes = 0
-        for lane in range(_LANES):
-            j = start + lane
-            valid[lane] = 0
-            if j >= m:
-                continue
-            dx, dy, dz = dirs[j, 0], dirs[j, 1], dirs[j, 2]
-            if dz <= 0.0:
-                continue
-            if check_normal and dx * normal[i, 0] + dy * normal[i, 1] + dz * normal[i, 2] <= 0.0:
-                continue
-            valid[lane] = -1
-            set_lane(ray, words, lane, ox, oy, oz, dx, dy, dz)
-            lanes += 1
-        if lanes == 0:
-            continue
-        traced += lanes
-        occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
-        for lane in range(_LANES):
-            if valid[lane] != 0 and ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
-                seen |= np.uint64(1) << np.uint64(start + lane)
-    return seen, traced
-
-
-@numba.njit(inline="always")
-def _fold_bits(seen, dirs, zen, zenith_nodes, azimuth_nodes, row):
-    """The fractions of a fan from the bits of its visible directions, folded in the order
-    and with the arithmetic of :func:`radscene.render.kernels._trace_point`."""
-    m = dirs.shape[0]
-    for k in range(row.shape[0]):
-        row[k] = 0.0
-    for j in range(m):
-        zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
-    for j in range(m):
-        if (seen >> np.uint64(j)) & np.uint64(1):
-            _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
-    for k in range(row.shape[0]):
-        row[k] /= m
-
-
 @numba.njit(parallel=True, cache=True)
 def _kept_fans(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon, shift,
                base, side, check_normal, zenith_nodes, azimuth_nodes, spheres, retrace, bits,
@@ -138,6 +89,7 @@ def _kept_fans(occluded8, scene, position, normal, axis, exponent, lobe, center,
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
+        visible = np.empty(m, np.bool_)
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         rows = np.empty((hi - lo, n_k))
         for i in range(lo, hi):
@@ -149,12 +101,18 @@ def _kept_fans(occluded8, scene, position, normal, axis, exponent, lobe, center,
             while not again and j < m:
                 again = _meets(fx, fy, fz, dirs[j, 0], dirs[j, 1], dirs[j, 2], spheres)
                 j += 1
-            if again:
-                seen, count = _trace_bits(occluded8, scene, ray, words, valid, dirs, fx, fy, fz,
-                                          normal, i, check_normal)
+            if again:  # traced, its answers kept as one bit per direction
+                traced += _trace_visible(occluded8, scene, ray, words, valid, dirs, fx, fy, fz,
+                                         normal, i, check_normal, visible)
+                seen = np.uint64(0)
+                for j in range(m):
+                    if visible[j]:
+                        seen |= np.uint64(1) << np.uint64(j)
                 bits[i] = seen
-                traced += count
-            _fold_bits(bits[i], dirs, zen, zenith_nodes, azimuth_nodes, rows[i - lo])
+            else:
+                for j in range(m):
+                    visible[j] = (bits[i] >> np.uint64(j)) & np.uint64(1) != 0
+            _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, rows[i - lo])
             if not fused:
                 for k in range(n_k):
                     fractions[i, k] = rows[i - lo, k]

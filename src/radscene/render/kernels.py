@@ -284,18 +284,15 @@ _PACKET_CHUNK = 64
 
 
 @numba.njit(inline="always")
-def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, normal, i,
-                 check_normal, zenith_nodes, azimuth_nodes, row):
-    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
-    visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
-    ``zen`` (M,) is scratch for the directions' zenith angles. Returns the number of rays
-    traced."""
+def _trace_visible(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i, check_normal,
+                   visible):
+    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets: ``visible[j]``
+    (M,) whether direction j sees the sky — above the horizon (and, with ``check_normal``,
+    the surface) and not occluded. Returns the number of rays traced."""
     m = dirs.shape[0]
     traced = 0
-    for k in range(row.shape[0]):
-        row[k] = 0.0
-    for j in range(m):  # independent of each other: the compiler takes them four at a time
-        zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
+    for j in range(m):
+        visible[j] = False
     for start in range(0, m, _LANES):
         lanes = 0
         for lane in range(_LANES):
@@ -317,10 +314,35 @@ def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, nor
         occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
         for lane in range(_LANES):
             if valid[lane] != 0 and ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
-                j = start + lane
-                _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
+                visible[start + lane] = True
+    return traced
+
+
+@numba.njit(inline="always")
+def _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, row):
+    """Fold a fan's visible directions into ``row``: the mean over its M samples, as
+    :func:`_fold_point`; ``zen`` (M,) is scratch for the directions' zenith angles."""
+    m = dirs.shape[0]
+    for k in range(row.shape[0]):
+        row[k] = 0.0
+    for j in range(m):  # independent of each other: the compiler takes them four at a time
+        zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
+    for j in range(m):
+        if visible[j]:
+            _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
     for k in range(row.shape[0]):
         row[k] /= m
+
+
+@numba.njit(inline="always")
+def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, normal, i,
+                 check_normal, zenith_nodes, azimuth_nodes, row, visible):
+    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
+    visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
+    ``zen`` and ``visible`` (M,) are scratch. Returns the number of rays traced."""
+    traced = _trace_visible(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i,
+                            check_normal, visible)
+    _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, row)
     return traced
 
 
@@ -335,13 +357,14 @@ def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, 
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
+        visible = np.empty(m, np.bool_)
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         for i in range(c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)):
             ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
                                     shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
             traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
                                    np.float32(oy), np.float32(oz), normal, i, check_normal,
-                                   zenith_nodes, azimuth_nodes, out[i])
+                                   zenith_nodes, azimuth_nodes, out[i], visible)
     return traced
 
 
@@ -359,6 +382,7 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
+        visible = np.empty(m, np.bool_)
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         rows = np.empty((hi - lo, n_k))
         for i in range(lo, hi):
@@ -367,7 +391,7 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
                                     dirs, 0)
             traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
                                    np.float32(oy), np.float32(oz), normal, i, False,
-                                   zenith_nodes, azimuth_nodes, rows[i - lo])
+                                   zenith_nodes, azimuth_nodes, rows[i - lo], visible)
             total = 0.0
             for k in range(n_k):
                 total += rows[i - lo, k]
