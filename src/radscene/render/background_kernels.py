@@ -16,8 +16,7 @@ import numpy as np
 
 from radscene.geometry.embree import LANES, RAY8_FLOATS, packet_buffers, set_lane
 from radscene.geometry.raytracer import clip_ray
-from radscene.render.kept_fans import _meets
-from radscene.render.kernels import _basis
+from radscene.render.kernels import _basis, _meets
 
 __all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms",
            "first_blocked", "add_rows"]

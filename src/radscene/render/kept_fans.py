@@ -10,9 +10,10 @@ such a sphere (a ray–sphere test per direction, far cheaper than a trace); eve
 folded again from its bits into its sky-node fractions, and, for the cosine fan, into the
 reflected-sky band sums with the frame's own tables (which follow the sun).
 
-The folds are those of :func:`radscene.render.kernels.packet_sky_sums` and
-:func:`~radscene.render.kernels.packet_fractions`, the same directions visited in the same
-order: a kept fan gives the numbers of tracing it again, bit for bit.
+Kept or traced, a fan goes through the kernel of every render's fans
+(:func:`radscene.render.kernels.packet_sky_sums`, :func:`~radscene.render.kernels.packet_fractions`),
+its visible directions folded in the same order: a kept fan gives the numbers of tracing it
+again, bit for bit.
 """
 
 from __future__ import annotations
@@ -20,9 +21,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from radscene.geometry.embree import RAY8_FLOATS, packet_buffers
-from radscene.render.kernels import _PACKET_CHUNK, _fan_point, _fold_visible, _trace_visible
-from radscene.render.node_mixing import _sky_sample
+from radscene.render.kernels import _fan_outputs, _meets, _packet_fans
 
 __all__ = ["MAX_FAN", "kept_fans", "meets_spheres", "bounding_sphere"]
 
@@ -36,24 +35,6 @@ def bounding_sphere(vertices) -> np.ndarray:
     v = np.asarray(vertices, dtype=float)
     centre = 0.5 * (v.min(axis=0) + v.max(axis=0))
     return np.array([*centre, float(np.sqrt(np.max(np.sum((v - centre) ** 2, axis=1))))])
-
-
-@numba.njit(inline="always")
-def _meets(ox, oy, oz, dx, dy, dz, spheres):
-    """Whether the ray o + t d (t ≥ 0; d need not be a unit vector) passes within one of
-    ``spheres`` (S, 4): centre and radius."""
-    for s in range(spheres.shape[0]):
-        wx, wy, wz = spheres[s, 0] - ox, spheres[s, 1] - oy, spheres[s, 2] - oz
-        r2 = spheres[s, 3] * spheres[s, 3]
-        w2 = wx * wx + wy * wy + wz * wz
-        if w2 <= r2:
-            return True
-        b = wx * dx + wy * dy + wz * dz
-        if b <= 0.0:
-            continue
-        if w2 - b * b / (dx * dx + dy * dy + dz * dz) <= r2:
-            return True
-    return False
 
 
 @numba.njit(parallel=True, cache=True)
@@ -72,59 +53,6 @@ def meets_spheres(origins, directions, spheres) -> np.ndarray:
                        np.ascontiguousarray(directions, dtype=np.float64),
                        np.ascontiguousarray(spheres, dtype=np.float64), out)
     return out
-
-
-@numba.njit(parallel=True, cache=True)
-def _kept_fans(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon, shift,
-               base, side, check_normal, zenith_nodes, azimuth_nodes, spheres, retrace, bits,
-               fractions, rank, material, index, weight, table, sums, view):
-    n = position.shape[0]
-    m = base.shape[0]
-    levels = side if side > 0 else m
-    n_k = zenith_nodes.shape[0] * azimuth_nodes.shape[0]
-    fused = table.shape[0] > 0
-    traced = 0
-    for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
-        lo, hi = c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)
-        sin_t, cos_t = np.empty(levels), np.empty(levels)
-        cos_phi, sin_phi = np.empty(levels), np.empty(levels)
-        dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
-        visible = np.empty(m, np.bool_)
-        ray, words, valid = packet_buffers(RAY8_FLOATS)
-        rows = np.empty((hi - lo, n_k))
-        for i in range(lo, hi):
-            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
-                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
-            fx, fy, fz = np.float32(ox), np.float32(oy), np.float32(oz)
-            again = retrace[i]
-            j = 0
-            while not again and j < m:
-                again = _meets(fx, fy, fz, dirs[j, 0], dirs[j, 1], dirs[j, 2], spheres)
-                j += 1
-            if again:  # traced, its answers kept as one bit per direction
-                traced += _trace_visible(occluded8, scene, ray, words, valid, dirs, fx, fy, fz,
-                                         normal, i, check_normal, visible)
-                seen = np.uint64(0)
-                for j in range(m):
-                    if visible[j]:
-                        seen |= np.uint64(1) << np.uint64(j)
-                bits[i] = seen
-            else:
-                for j in range(m):
-                    visible[j] = (bits[i] >> np.uint64(j)) & np.uint64(1) != 0
-            _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, rows[i - lo])
-            if not fused:
-                for k in range(n_k):
-                    fractions[i, k] = rows[i - lo, k]
-                continue
-            total = 0.0
-            for k in range(n_k):
-                total += rows[i - lo, k]
-            view[i] = total
-            for b in range(table.shape[2]):
-                sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
-                                         i - lo, b)
-    return traced
 
 
 def kept_fans(tracer, origins, normals, n_samples, sky_nodes, shift, bits, retrace, spheres, *,
@@ -168,23 +96,20 @@ def kept_fans(tracer, origins, normals, n_samples, sky_nodes, shift, bits, retra
     n = len(pos)
     if sky is None:
         fractions = np.empty((n, n_k))
-        rank = material = np.zeros(0, np.int64)
-        index, weight, table = np.zeros((0, 0), np.int64), np.zeros((0, 0)), np.zeros((0, 0, 0, 0))
-        sums, view = np.zeros((0, 0)), np.zeros(0)
+        outputs = _fan_outputs(n_k, fractions=fractions)
     else:
-        fractions = np.zeros((0, n_k))
         rank, material, index, weight, table = sky
-        rank, material, index = (np.ascontiguousarray(a, dtype=np.int64)
-                                 for a in (rank, material, index))
-        weight = np.ascontiguousarray(weight, dtype=np.float64)
         table = np.ascontiguousarray(table, dtype=np.float64)
         sums, view = np.empty((n, table.shape[2])), np.empty(n)
+        outputs = _fan_outputs(n_k, sky=(*(np.ascontiguousarray(a, dtype=np.int64)
+                                           for a in (rank, material, index)),
+                                         np.ascontiguousarray(weight, dtype=np.float64), table,
+                                         sums, view))
     packets = tracer.packets
     traced = 0
     if n:
-        traced = _kept_fans(packets.occluded8, packets.handle, pos, nrm, axis, exponent,
-                            lobe is not None, tracer.center, 0.0, shift, base, side,
-                            lobe is not None, zen_nodes, az_nodes, local,
-                            np.ascontiguousarray(retrace, dtype=np.bool_), bits, fractions, rank,
-                            material, index, weight, table, sums, view)
+        traced = _packet_fans(packets.occluded8, packets.handle, pos, nrm, axis, exponent,
+                              lobe is not None, tracer.center, 0.0, shift, base, side,
+                              lobe is not None, zen_nodes, az_nodes, local,
+                              np.ascontiguousarray(retrace, dtype=np.bool_), bits, *outputs)
     return (fractions if sky is None else (sums, view)), int(traced)

@@ -335,47 +335,38 @@ def _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, row):
 
 
 @numba.njit(inline="always")
-def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, normal, i,
-                 check_normal, zenith_nodes, azimuth_nodes, row, visible):
-    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
-    visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
-    ``zen`` and ``visible`` (M,) are scratch. Returns the number of rays traced."""
-    traced = _trace_visible(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i,
-                            check_normal, visible)
-    _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, row)
-    return traced
+def _meets(ox, oy, oz, dx, dy, dz, spheres):
+    """Whether the ray o + t d (t ≥ 0; d need not be a unit vector) passes within one of
+    ``spheres`` (S, 4): centre and radius."""
+    for s in range(spheres.shape[0]):
+        wx, wy, wz = spheres[s, 0] - ox, spheres[s, 1] - oy, spheres[s, 2] - oz
+        r2 = spheres[s, 3] * spheres[s, 3]
+        w2 = wx * wx + wy * wy + wz * wz
+        if w2 <= r2:
+            return True
+        b = wx * dx + wy * dy + wz * dz
+        if b <= 0.0:
+            continue
+        if w2 - b * b / (dx * dx + dy * dy + dz * dz) <= r2:
+            return True
+    return False
 
 
 @numba.njit(parallel=True, cache=True)
-def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon,
-                      shift, base, side, check_normal, zenith_nodes, azimuth_nodes, out):
+def _packet_fans(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon, shift,
+                 base, side, check_normal, zenith_nodes, azimuth_nodes, spheres, retrace, bits,
+                 fractions, rank, material, index, weight, table, sums, view):
+    """:func:`packet_fractions` (``table`` empty: the fractions into ``fractions``) and
+    :func:`packet_sky_sums` (into ``sums`` and ``view``); with ``bits`` (N,) uint64 not empty,
+    the fans kept between frames (:mod:`radscene.render.kept_fans`): a fan is traced where
+    ``retrace`` says or a direction passes through one of ``spheres``, its answers written
+    into ``bits``, else folded from them."""
     n = position.shape[0]
     m = base.shape[0]
     levels = side if side > 0 else m
-    traced = 0
-    for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
-        sin_t, cos_t = np.empty(levels), np.empty(levels)
-        cos_phi, sin_phi = np.empty(levels), np.empty(levels)
-        dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
-        visible = np.empty(m, np.bool_)
-        ray, words, valid = packet_buffers(RAY8_FLOATS)
-        for i in range(c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)):
-            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
-                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
-            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
-                                   np.float32(oy), np.float32(oz), normal, i, check_normal,
-                                   zenith_nodes, azimuth_nodes, out[i], visible)
-    return traced
-
-
-@numba.njit(parallel=True, cache=True)
-def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift, base, side,
-                     zenith_nodes, azimuth_nodes, rank, material, index, weight, table, sums,
-                     view):
-    n = position.shape[0]
-    m = base.shape[0]
-    levels = side if side > 0 else m
-    n_k = table.shape[3]
+    n_k = zenith_nodes.shape[0] * azimuth_nodes.shape[0]
+    fused = table.shape[0] > 0
+    keep = bits.shape[0] > 0
     traced = 0
     for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
         lo, hi = c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)
@@ -386,12 +377,31 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         rows = np.empty((hi - lo, n_k))
         for i in range(lo, hi):
-            ox, oy, oz = _fan_point(i, position, normal, normal, np.zeros(0), False, center,
-                                    epsilon, shift, base, side, sin_t, cos_t, cos_phi, sin_phi,
-                                    dirs, 0)
-            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
-                                   np.float32(oy), np.float32(oz), normal, i, False,
-                                   zenith_nodes, azimuth_nodes, rows[i - lo], visible)
+            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
+                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
+            fx, fy, fz = np.float32(ox), np.float32(oy), np.float32(oz)
+            again = not keep or retrace[i]
+            j = 0
+            while not again and j < m:
+                again = _meets(fx, fy, fz, dirs[j, 0], dirs[j, 1], dirs[j, 2], spheres)
+                j += 1
+            if again:
+                traced += _trace_visible(occluded8, scene, ray, words, valid, dirs, fx, fy, fz,
+                                         normal, i, check_normal, visible)
+                if keep:  # one bit per direction
+                    seen = np.uint64(0)
+                    for j in range(m):
+                        if visible[j]:
+                            seen |= np.uint64(1) << np.uint64(j)
+                    bits[i] = seen
+            else:
+                for j in range(m):
+                    visible[j] = (bits[i] >> np.uint64(j)) & np.uint64(1) != 0
+            _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, rows[i - lo])
+            if not fused:
+                for k in range(n_k):
+                    fractions[i, k] = rows[i - lo, k]
+                continue
             total = 0.0
             for k in range(n_k):
                 total += rows[i - lo, k]
@@ -400,6 +410,15 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
                 sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
                                          i - lo, b)
     return traced
+
+
+def _fan_outputs(n_k, fractions=None, sky=None):
+    """The arguments of :func:`_packet_fans` from ``fractions`` (N, K·L) out or
+    ``sky`` = (rank, material, index, weight, table, sums, view); the other left empty."""
+    if sky is None:
+        return (fractions, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 0), np.int64),
+                np.zeros((0, 0)), np.zeros((0, 0, 0, 0)), np.zeros((0, 0)), np.zeros(0))
+    return (np.zeros((0, n_k)), *sky)
 
 
 #: Hits per parallel work item of :func:`_packet_shadows`.
@@ -477,18 +496,22 @@ def packet_fractions(packets, position, normal, axis, exponent, lobe, center, ep
     point's fan as Embree packets in ``packets`` (a
     :class:`radscene.geometry.embree.PacketScene` of the same local frame): writes ``out``
     (N, K·L) without any ray arrays. Returns the number of rays traced."""
-    return _packet_fractions(packets.occluded8, packets.handle, position, normal, axis, exponent, lobe,
-                      center, epsilon, shift, base, side, check_normal, zenith_nodes,
-                      azimuth_nodes, out)
+    none = np.zeros(0, np.uint64)
+    return _packet_fans(packets.occluded8, packets.handle, position, normal, axis, exponent, lobe,
+                        center, epsilon, shift, base, side, check_normal, zenith_nodes,
+                        azimuth_nodes, np.zeros((0, 4)), np.zeros(0, np.bool_), none,
+                        *_fan_outputs(out.shape[1], fractions=out))
 
 
 def packet_sky_sums(packets, position, normal, center, epsilon, shift, base, side, zenith_nodes,
                     azimuth_nodes, rank, material, index, weight, table, sums, view):
     """:func:`cosine_fan` then :func:`fold_sky_sums`, as :func:`packet_fractions` traces.
     Returns the number of rays traced."""
-    return _packet_sky_sums(packets.occluded8, packets.handle, position, normal, center, epsilon, shift,
-                     base, side, zenith_nodes, azimuth_nodes, rank, material, index, weight,
-                     table, sums, view)
+    return _packet_fans(packets.occluded8, packets.handle, position, normal, normal, np.zeros(0),
+                        False, center, epsilon, shift, base, side, False, zenith_nodes,
+                        azimuth_nodes, np.zeros((0, 4)), np.zeros(0, np.bool_),
+                        np.zeros(0, np.uint64), *_fan_outputs(
+                            table.shape[3], sky=(rank, material, index, weight, table, sums, view)))
 
 
 def empty_fan(n_rays: int, scratch: dict | None = None):
