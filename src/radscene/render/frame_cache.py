@@ -25,10 +25,11 @@ ray tracer's local frame changes (its clipping box grew), and where the render c
 its rays: Embree's packets unavailable, more than :data:`~radscene.render.kept_fans.MAX_FAN`
 sky or specular samples, volumes, semi-transparent sheets, scanners, motion blur.
 
-Memory: per ray sample its hit (about 90 bytes: distance, object, face, barycentrics,
-normal and position), two uint64 of fan bits and ``background_samples / supersample²``
-flags: about 110 bytes a sample, 150 MB for the demo's two observers at supersample 2
-(1.33 M samples).
+Memory: per ray sample its ray (48 bytes: the origin and direction it compares the next
+frame's with), its hit (73 bytes: distance, object, face, barycentrics, normal, position),
+two uint64 of fan bits, a few flags and, per tile of hits, their sample indices (8 bytes) and a
+flag per background path: about 150 bytes a sample with the demo's 4 paths a sample, 200 MB
+for its two observers at supersample 2 (1.33 M samples).
 """
 
 from __future__ import annotations
