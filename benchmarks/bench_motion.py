@@ -5,10 +5,13 @@ terrain, refit against rebuild.
 **Sequence** (the default). The bundled ``demo`` with its truck driven along its heading at
 10 m/s (a ``trajectory``, attitude along the path, on the terrain), rendered as a sequence of
 ``--frames`` frames 40 ms apart (:func:`radscene.render_sequence`, every frame a full render of
-both observers: the map and the oblique camera). Reported: the single render of the same scene
-(``radscene.render_all`` after its heat balance, the second of two: warm), the sequence's first
-frame (its heat balance included) and the median and 90th percentile of the later frames, and
-their ratio to the single render (the goal: at most 0.3 after the first frame). The same with
+both observers: the map and the oblique camera), twice: with incremental frames (the default:
+each frame after the first traces only the rays that something moved through,
+:mod:`radscene.render.frame_cache`) and with full frames (``incremental=False``). Reported:
+the single render of the same scene (``radscene.render_all`` after its heat balance, the second
+of two: warm), each sequence's first frame (its heat balance included) and the median and 90th
+percentile of the later frames, and their ratio to the single render (the goal: at most 0.3
+after the first frame), and the largest difference between the two sequences' frames. The same with
 ``radscene.Simulation(scene, realtime=True)`` (``--realtime-frames`` frames; real-time frames
 take no supersampling, so both the single render and the frames of that part are of the demo
 with ``supersample: 1``).
@@ -107,21 +110,53 @@ def _frames(times: list[float], single: float) -> dict:
             "frame_over_single": round(median / single, 3)}
 
 
+def _kept_maps(sequence) -> dict:
+    """Per observer the radiance and the label maps of a sequence's frames (what the two
+    sequences are compared on; the rest is let go: 20 frames of the demo hold about 5 GB)."""
+    return {name: {var: ds[var].values for var in ("radiance", "object_id", "material_id")}
+            for name, ds in sequence.radiance.items()}
+
+
+def _largest_difference(a, b) -> float:
+    """The largest relative difference of radiance between two sequences' frames
+    (:func:`_kept_maps`) [-]; the label maps must match exactly (an error otherwise)."""
+    import numpy as np
+
+    worst = 0.0
+    for name, maps in a.items():
+        other = b[name]
+        for var in ("object_id", "material_id"):
+            if not np.array_equal(maps[var], other[var]):
+                raise AssertionError(f"{name}: {var} differs between the sequences")
+        x, y = maps["radiance"], other["radiance"]
+        worst = max(worst, float(np.max(np.abs(x - y) / np.maximum(np.abs(x), 1e-30))))
+    return worst
+
+
 def run_sequence(args) -> dict:
     import radscene
 
     load_before = os.getloadavg()
     scene, base = demo_scene(args.frames)
     thermal, single = _single(scene, base)
-    loaded = radscene.load_scene(scene, base_dir=base)
-    start = loaded.time
-    stamps = [time.perf_counter()]
-    radscene.render_sequence(loaded, start=start, end=start + dt.timedelta(seconds=(args.frames - 1) * STEP),
-                             step=STEP, progress=lambda done, total: stamps.append(time.perf_counter()))
-    sequence = _frames([b - a for a, b in itertools.pairwise(stamps)], single)
     result = {"machine": machine(), "source": source_version(), "load_before": load_before,
-              "step_s": STEP, "heat_balance_s": round(thermal, 2), "single_render_s": round(single, 3),
-              "sequence": sequence}
+              "step_s": STEP, "heat_balance_s": round(thermal, 2), "single_render_s": round(single, 3)}
+    runs = {}
+    for key, incremental in (("sequence", True), ("sequence_full_frames", False)):
+        if key == "sequence_full_frames" and args.no_full_frames:
+            continue
+        loaded = radscene.load_scene(scene, base_dir=base)
+        start = loaded.time
+        stamps = [time.perf_counter()]
+        runs[key] = _kept_maps(radscene.render_sequence(
+            loaded, start=start, end=start + dt.timedelta(seconds=(args.frames - 1) * STEP), step=STEP,
+            progress=lambda done, total, stamps=stamps: stamps.append(time.perf_counter()),
+            incremental=incremental))
+        result[key] = _frames([b - a for a, b in itertools.pairwise(stamps)], single)
+        result[f"load_after_{key}"] = os.getloadavg()
+        print(key, result[key], result[f"load_after_{key}"], flush=True)
+    if len(runs) == 2:
+        result["incremental_vs_full_max_rel"] = _largest_difference(*runs.values())
     if args.realtime_frames:
         scene, base = demo_scene(args.realtime_frames, supersample=1)
         _, single1 = _single(scene, base)
@@ -198,6 +233,8 @@ def main() -> None:
     parser.add_argument("--sky-samples", type=int, default=16, help="--refit: sky samples")
     parser.add_argument("--frames", type=int, default=None,
                         help="frames of the sequence (default 100; --refit: 10)")
+    parser.add_argument("--no-full-frames", action="store_true",
+                        help="the incremental sequence only, not the one of full frames")
     parser.add_argument("--realtime-frames", type=int, default=100,
                         help="frames of the real-time part of the sequence (0: none)")
     args = parser.parse_args()

@@ -12,6 +12,11 @@ The ray tracer is built once, for moving geometry (``RayTracer(dynamic=True)``):
 object writes its new vertices into the tracer and refits that object's acceleration structure
 alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved, not the scene.
 
+Frames after the first of each observer are incremental (``incremental=True``, the default):
+they keep the rays of the observer's last frame that nothing moved through and trace only the
+others (:mod:`radscene.render.frame_cache`), shading every ray sample with the frame's own sun
+and temperatures: the same frames as tracing every ray.
+
 Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
 ``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
 (straight or a cubic spline; attitude fixed, along the path or the terrain's slope, or
@@ -171,6 +176,10 @@ class Simulation:
         frame, the reflected background that of the first frame where a pixel sees the same
         object; no coupling layers, supersampling or geolocation.
         Default False (every frame a full render). See ``docs/simulation.md``.
+    incremental : bool
+        Frames after the first keep the rays of the observer's last frame that nothing moved
+        through (:mod:`radscene.render.frame_cache`) and trace only the others: the same
+        images as full frames. Default True; False traces every ray of every frame.
 
     Examples
     --------
@@ -181,7 +190,8 @@ class Simulation:
     >>> frame.radiance["map"].object_id                                  # doctest: +SKIP
     """
 
-    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON, realtime: bool = False):
+    def __init__(self, scene, *, thermal_horizon=THERMAL_HORIZON, realtime: bool = False,
+                 incremental: bool = True):
         from radscene.geometry import RayTracer
         from radscene.render.integrator import scene_tables
 
@@ -231,6 +241,12 @@ class Simulation:
         self._follow_motions()
         tables = scene_tables(self.scene, self.tracer)
         self._realtime = None
+        # per observer the rays of its last frame (none with motion blur: sub-frame renders)
+        self._caches = {}
+        if incremental and not realtime and self.scene.settings.motion_blur is None:
+            from radscene.render.frame_cache import FrameCache
+
+            self._caches = {setup.name: FrameCache() for setup in self.scene.observers}
         if realtime:
             from radscene.render.realtime import RealtimeRenderer
 
@@ -298,7 +314,8 @@ class Simulation:
                     return render_hyperspectral(scene, setup.name, progress=report)
                 if self._scans_motion(setup):
                     return self._scan(setup, tables, report)
-                return render_observer(scene, setup.name, progress=report, _tables=tables)
+                return render_observer(scene, setup.name, progress=report, _tables=tables,
+                                       _cache=self._caches.get(setup.name))
             with progress_callback(progress, f"frame {self._index} {setup.name}",
                                    when_interactive=False) as report:
                 images = self._expose(setup, partial(one, report=report), tables)
@@ -467,6 +484,8 @@ class Simulation:
             return
         k = self._sea_index
         mesh = self._sea.mesh(t, name=self.scene.objects[k].mesh.name)
+        for cache in self._caches.values():  # the terrain moved: every ray may change
+            cache.reset()
         self.tracer.update(k, mesh)
         self.scene.objects[k].mesh = mesh
         self._sea_time = t
@@ -491,6 +510,13 @@ class Simulation:
                                  np.asarray(attitude[0], float) if attitude else None, rotation)
             self.scene.poses[name] = (self._poses[name][0], rotation)
         if moved:
+            if self._caches:  # where each stood and stands: the rays to trace again
+                from radscene.render.frame_cache import moved_spheres
+
+                spheres = [s for k, mesh in moved.items()
+                           for s in moved_spheres(self.scene.objects[k].mesh.vertices, mesh.vertices)]
+                for cache in self._caches.values():
+                    cache.moved(spheres)
             self.tracer.move(moved)
             for k, mesh in moved.items():
                 self.scene.objects[k].mesh = mesh
@@ -657,6 +683,8 @@ class Simulation:
         from radscene.platform import OrthographicCamera, PerspectiveCamera
 
         cam = setup.camera
+        if setup.name in self._caches:  # its rays change
+            self._caches[setup.name].reset()
         if setup.kind == "perspective":
             setup.camera = PerspectiveCamera(cam.position if position is None else position, cam.shape,
                                              fov=cam.fov, attitude=cam.attitude if attitude is None else attitude)
@@ -755,7 +783,7 @@ def check_sequence(scene, *, start=None, end=None, step=None, observers=None) ->
 
 
 def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
-                    progress=None) -> FrameSequence:
+                    progress=None, incremental: bool = True) -> FrameSequence:
     """Render a sequence of frames: every observer at every instant, stacked along ``time``.
 
     Parameters
@@ -771,6 +799,9 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     progress : callable(done, total) or bool, optional
         A callable is called after each frame; True shows a bar of the frames, False none;
         by default a bar when Python runs interactively (:mod:`radscene.pipeline.progress`).
+    incremental : bool
+        As for :class:`Simulation`: frames after the first trace only the rays that something
+        moved through (the same frames); False: every frame traced in full.
 
     Returns
     -------
@@ -798,7 +829,7 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
         scene.document = {**scene.document, "time": {
             "start": start.isoformat(), "end": end.isoformat(),
             "step": parse_duration(step, key="time.step")}}
-    sim = Simulation(scene)
+    sim = Simulation(scene, incremental=incremental)
     frames = {name: [] for name in names}
     signals = {name: [] for name in names}
     with progress_callback(progress, "frames") as report:

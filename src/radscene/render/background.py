@@ -217,7 +217,8 @@ def _segment(media, origin, direction, distance, beta, out, rows, sky=None):
 
 
 def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, shadows=True,
-              texture: Callable | None = None, media=None, fan: Fan | None = None) -> np.ndarray:
+              texture: Callable | None = None, media=None, fan: Fan | None = None,
+              kept=None) -> np.ndarray:
     """Background radiance reflected by surface points, at the surface: (N, n_b).
 
     Vectorised over the paths; the same estimator and random numbers as
@@ -242,6 +243,9 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     fan : Fan, optional — the points' sky fans (from ``origin`` about ``normal``): the first
         diffuse directions of their first paths (:mod:`radscene.render.background_first`);
         without it every direction is drawn
+    kept : optional — a sequence's last frame (:meth:`radscene.render.frame_cache.FrameCache.
+        background`): whether each drawn first direction met the scene, taken where nothing
+        moved through it; the fan's blocked directions come kept or traced with the fan
 
     Returns
     -------
@@ -260,7 +264,8 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
     for start in range(0, n, step):
         # the first directions that meet the scene, with their weights
         paths, point, d, hits, beta = first.first_vertices(
-            tracer, tables, origin, normal, wo, material, u, fan, start, min(start + step, n))
+            tracer, tables, origin, normal, wo, material, u, fan, start, min(start + step, n),
+            kept)
         alive = np.arange(len(paths))  # rows of paths
         beta = _segment(media, origin[point], d, hits.distance, beta, out, point)
         for bounce in range(1, bounces + 1):
@@ -398,14 +403,15 @@ class Pass:
         self.epsilon, self.shadows, self.texture = float(epsilon), bool(shadows), texture
         self.media = media if media is not None and media.volumes else None
 
-    def __call__(self, origin, normal, wo, material, sun, first_sample, fan=None) -> np.ndarray:
+    def __call__(self, origin, normal, wo, material, sun, first_sample, fan=None,
+                 kept=None) -> np.ndarray:
         """(N, n_b) background radiance at the surface of a tile's hits (:func:`reflected`);
         ``first_sample`` is the index of the tile's first ray sample, ``fan`` the hits' sky
-        fans (:class:`Fan`) or None."""
+        fans (:class:`Fan`) or None, ``kept`` as for :func:`reflected`."""
         u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
         return reflected(self.tracer, self.tables, origin, normal, wo, material, sun, u,
                          epsilon=self.epsilon, shadows=self.shadows, texture=self.texture,
-                         media=self.media, fan=fan)
+                         media=self.media, fan=fan, kept=kept)
 
 
 def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,

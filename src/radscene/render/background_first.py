@@ -129,8 +129,13 @@ def _parts(tables):
             np.any(tables.specular > 0.0, axis=1) & ~modelled)
 
 
-def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi):
+def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi, kept=None):
     """The first vertices of the paths of points ``lo`` to ``hi`` that meet the scene.
+
+    ``kept`` (:meth:`radscene.render.frame_cache.FrameCache.background`), where given: the
+    last frame's answers of the drawn directions (diffuse and lobe), taken where nothing moved
+    through them, and this frame's written into ``kept.out``. The fan's directions come with
+    the fan's ``blocked`` flags (kept or traced by the sky pass).
 
     Returns (path indices (P,), their points (P,), directions (P, 3), Hits, weights
     (P, n_b)): the fan's diffuse directions, the drawn diffuse ones, the lobes' and those of
@@ -145,19 +150,21 @@ def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi)
         size = (hi - lo) * count
         path, d = np.empty(size, np.int64), np.empty((size, 3))
         blocked = np.zeros((0, fan.samples), dtype=bool) if fan.blocked is None else fan.blocked
-        kept = kernels.fan_directions(blocked, np.ascontiguousarray(fan.shift, np.float64),
-                                      _pattern(fan.samples), fan_order(fan.samples), count, lo,
-                                      hi, samples, wo, normal, material, diffuse, path, d)
-        groups.append((path[:kept], path[:kept] // samples, d[:kept]))
+        taken = kernels.fan_directions(blocked, np.ascontiguousarray(fan.shift, np.float64),
+                                       _pattern(fan.samples), fan_order(fan.samples), count, lo,
+                                       hi, samples, wo, normal, material, diffuse, path, d)
+        groups.append((path[:taken], path[:taken] // samples, d[:taken]))
     offset = u.points * samples  # the lobes' path indices
     n_diffuse = 0
     for lobes, parts, first, at in ((False, diffuse, count, 0), (True, lobe, 0, offset)):
         if first < samples and np.any(parts[material[lo:hi]]):
             path, d = _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first,
-                             at, lobes, parts, q)
+                             at, lobes, parts, q, kept)
             groups.append((path, (path - at) // samples, d))
         if not lobes:
             n_diffuse = sum(len(g[0]) for g in groups)
+    if kept is not None:
+        kept.out.filled[lo:hi] = True
     if groups:
         paths, point, d = (np.concatenate(part) for part in zip(*groups, strict=True))
     else:
@@ -197,10 +204,11 @@ def _pattern(n_samples):
 
 
 def _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first, offset, lobe,
-           traced, q):
+           traced, q, kept=None):
     """The drawn first directions of samples ``first`` … of points ``lo`` to ``hi`` that may
     meet the scene: (path indices, directions). With Embree's packets only the blocked ones
-    (:func:`~radscene.render.background_kernels.first_blocked`); else every valid one."""
+    (:func:`~radscene.render.background_kernels.first_blocked`, with ``kept`` as
+    :func:`first_vertices` takes it); else every valid one."""
     samples = u.samples
     packets = tracer.packets
     if packets is None:
@@ -215,7 +223,10 @@ def _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first, offse
     kernels.first_blocked(packets.occluded8, packets.handle, np.uint64(u.key), u.bounces + 1,
                           lo, hi, samples, first, offset, lobe, wo, normal, origin, material,
                           traced, q, tables.exponent, tracer.center, tracer.half_size,
-                          direction, blocked)
+                          direction, blocked, *(() if kept is None else
+                                                (kept.retrace, kept.known, kept.spheres)))
+    if kept is not None:  # path indices: the diffuse paths', then the lobes' (offset)
+        kept.out.blocked[offset + lo * samples:offset + hi * samples] = blocked
     rows = np.flatnonzero(blocked)
     return offset + lo * samples + rows, direction[rows]
 

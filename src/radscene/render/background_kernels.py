@@ -19,7 +19,7 @@ import numpy as np
 
 from radscene.geometry.embree import LANES, RAY8_FLOATS, packet_buffers, set_lane
 from radscene.geometry.raytracer import clip_ray
-from radscene.render.kernels import _basis
+from radscene.render.kernels import _basis, _meets
 
 __all__ = ["phong_weights", "phong_directions", "phong_values", "counter_uniforms",
            "first_blocked", "first_directions", "fan_directions", "lobe_weights", "add_rows"]
@@ -218,10 +218,9 @@ def _trace_lanes(occluded8, scene, ray, valid, slot, lanes, blocked):
         blocked[slot[lane]] = ray[8 * LANES + lane] < 0.0
 
 
-@numba.njit(parallel=True, cache=True, error_model="numpy")
 def first_blocked(occluded8, scene, key, depth, lo, hi, samples, first, offset, lobe, wo,
                   normal, origin, material, traced, q, exponent, center, half, direction,
-                  blocked):
+                  blocked, retrace=None, known=None, spheres=None):
     """The drawn first directions of the paths from points ``lo`` to ``hi`` and whether they
     meet the scene, in one pass: each path's uniforms (:func:`counter_uniforms`, vertex 0),
     its direction (:func:`_first_direction`), its ray clipped as :meth:`RayTracer.intersect`
@@ -245,7 +244,23 @@ def first_blocked(occluded8, scene, key, depth, lo, hi, samples, first, offset, 
     direction : ((hi - lo) · samples, 3) float64 out — the drawn directions (rows of traced
         paths whose weight may be non-zero)
     blocked : ((hi - lo) · samples,) bool out — the direction meets the scene
+    retrace, known, spheres : optional — a sequence's last frame
+        (:mod:`radscene.render.frame_cache`): ``known`` its answers, indexed by path index
+        (``offset`` included: (2 · N · samples,) for the diffuse and the lobe paths), taken
+        where ``retrace`` (N,) bool is False for the point and the ray passes through none of ``spheres`` (S, 4) (centre in the tracer's local frame [m], radius
+        [m]); by default every path is traced
     """
+    if retrace is None:
+        retrace, known, spheres = np.ones(len(material), np.bool_), np.zeros(0, np.bool_), np.zeros((0, 4))
+    _first_blocked(occluded8, scene, key, depth, lo, hi, samples, first, offset, lobe, wo, normal,
+                   origin, material, traced, q, exponent, center, half, direction, blocked,
+                   retrace, known, spheres)
+
+
+@numba.njit(parallel=True, cache=True, error_model="numpy")
+def _first_blocked(occluded8, scene, key, depth, lo, hi, samples, first, offset, lobe, wo, normal,
+                   origin, material, traced, q, exponent, center, half, direction, blocked,
+                   retrace, known, spheres):
     n_blocks = (hi - lo + _POINT_BLOCK - 1) // _POINT_BLOCK
     for c in numba.prange(n_blocks):
         ray, words, valid = packet_buffers(RAY8_FLOATS)
@@ -272,6 +287,9 @@ def first_blocked(occluded8, scene, key, depth, lo, hi, samples, first, offset, 
                 if not enter <= leave:
                     continue
                 direction[k, 0], direction[k, 1], direction[k, 2] = dx, dy, dz
+                if not retrace[i] and not _meets(sx, sy, sz, ux, uy, uz, spheres):
+                    blocked[k] = known[path]  # nothing moved through it: as it was
+                    continue
                 set_lane(ray, words, lanes, sx, sy, sz, np.float32(ux), np.float32(uy),
                          np.float32(uz))
                 valid[lanes] = -1

@@ -41,6 +41,7 @@ from radscene.render.band_setup import (
     sun_irradiance,
 )
 from radscene.render.coupling_pass import coupling_layers, coupling_pass
+from radscene.render.frame_cache import FrameCache
 from radscene.render.outputs import (
     BACKGROUND_LONG_NAME,
     BACKGROUND_TERM,
@@ -61,6 +62,7 @@ from radscene.render.spectral import breakpoints
 from radscene.render.sun_track import sun_track
 from radscene.render.surface import (
     SceneTables,
+    fan_shifts,
     hit_temperature,
     scene_tables,
     secondary_rays,
@@ -82,7 +84,7 @@ TILES_AHEAD = 2
 
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
            bands=None, specular=None, _tables: SceneTables | None = None, _rays=None,
-           _depth: int = 0) -> xr.Dataset:
+           _depth: int = 0, _cache: FrameCache | None = None) -> xr.Dataset:
     """Render one observer of a scene.
 
     Parameters
@@ -100,6 +102,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         Per material, whether its samples trace specular lobes; default: those with a
         nonzero specular coefficient in some band. Renders of one observer split over
         several band sets pass the same flags, so that they draw the same random numbers.
+    _cache : FrameCache, optional
+        The rays of the observer's last frame (a sequence's): traced again only where
+        something moved through them (:mod:`radscene.render.frame_cache`).
 
     Returns
     -------
@@ -123,8 +128,13 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
     # the sun at each ray's time (scanners), or the scene's
     track = sun_track(scene, rays.time, getattr(setup.camera, "epoch", None))
 
+    cache = _cache if _cache is not None and _rays is None and FrameCache.usable(
+        scene, tables, track, rays) else None
+    if _cache is not None and cache is None:
+        _cache.reset()
     # first pass: primary hits, for the path nodes of the whole image
-    hits = tables.tracer.intersect(rays.origins, rays.directions)
+    hits = (tables.tracer.intersect(rays.origins, rays.directions) if cache is None
+            else cache.primary(tables.tracer, rays))
     hit = hits.hit
     hit_time = rays.time[hit] if track.moving else None
     sun_dir = track.direction(hit_time)  # per hit, or one row for all
@@ -136,7 +146,11 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                                     settings.shadows, track.up)
         ds = _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
                           settings, rays, hits, hit, shadow_pass, worker, started, progress,
-                          specular)
+                          specular, cache)
+    except BaseException:
+        if cache is not None:  # a frame left half done keeps nothing
+            cache.reset()
+        raise
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
     layers = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS
@@ -157,12 +171,14 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
 
 
 def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, settings, rays,
-                 hits, hit, shadow_pass, worker, started, progress, specular=None) -> xr.Dataset:
+                 hits, hit, shadow_pass, worker, started, progress, specular=None,
+                 cache=None) -> xr.Dataset:
     """:func:`render` after the primary rays: the path nodes, the band tables and the tiles.
 
     ``sun`` is the scene's sun (the Dataset's attributes), ``track`` the sun at the rays'
     times, ``sun_dir`` the unit vector towards the sun of each hit (one row: of every hit),
-    ``shadow_pass`` the future of :func:`~radscene.render.surface.shadows` on ``worker``.
+    ``shadow_pass`` the future of :func:`~radscene.render.surface.shadows` on ``worker``,
+    ``cache`` the observer's :class:`~radscene.render.frame_cache.FrameCache` or None.
     """
     n_pix = rays.shape[0] * rays.shape[1]
     geo = path_setup(scene, rays, hits, hit, track, hit_time)
@@ -190,8 +206,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         sky_diffuse, geo.nodes_all.index, geo.nodes_all.weight)
     # The shadow, sky and lobe rays of the next tiles are traced on a worker thread while this
     # thread evaluates the terms of tile i (Embree and the numba kernels release the GIL). The
-    # random rotations are drawn here, tile by tile, in the order of a serial render.
-    rng = np.random.default_rng(settings.seed)
+    # random rotations are drawn here, per ray sample of each tile (surface.fan_shifts).
     scratch = {}
     reflecting = settings.background_bounces > 0  # the background pass will run
 
@@ -201,14 +216,12 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         if state is None:
             return None
         state.specular = specular_material[state.mat]
-        n_specular = int(np.count_nonzero(state.specular))
-        shifts = (rng.random((len(state.mat), 2)),
-                  rng.random((n_specular, 2)) if n_specular else None)
+        shifts = fan_shifts(settings.seed, sl, state.hidx, state.specular)
         # the sky fan's blocked directions, for the reflected background's first bounce
         state.fan = background.Fan(shifts[0], settings.sky_samples, np.empty(
             (len(state.mat), settings.sky_samples), dtype=bool)) if reflecting else None
         job = worker.submit(secondary_rays, tables, state, settings, bset.sky_nodes, shifts,
-                            scratch, fused_sky, shadow_pass)
+                            scratch, fused_sky, shadow_pass, cache)
         # the sky rays through volumes and sheets: the same fan, traced again (media.py)
         state.media = None if medium is None else worker.submit(
             media.sky_fan, tables, medium, state.origin, state.nrm, settings.sky_samples,
@@ -234,7 +247,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     image = TileSums(bands, n_pix, central, direct, medium is not None, reflect is not None)
     shade = TileShader(scene, tables, bset, bands, rays, hits, image, geo,
                        mix_tables(coef, emission_tables, sky_diffuse), emission_pair,
-                       fused_sky is not None, medium, reflect, per_pixel)
+                       fused_sky is not None, medium, reflect, per_pixel, cache)
     geolocation = pixel_coords = None
     for i, sl in enumerate(tiles):
         if i + TILES_AHEAD < len(tiles):

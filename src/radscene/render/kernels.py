@@ -284,23 +284,15 @@ _PACKET_CHUNK = 64
 
 
 @numba.njit(inline="always")
-def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, normal, i,
-                 check_normal, zenith_nodes, azimuth_nodes, row, blocked):
-    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets and fold the
-    visible directions into ``row``: the mean over the M samples, as :func:`_fold_point`.
-    ``zen`` (M,) is scratch for the directions' zenith angles. Where ``blocked`` has rows
-    (N, M), row ``i`` gets the directions that are not sky: traced and occluded, or at or
-    below the horizon (not traced). Returns the number of rays traced."""
+def _trace_visible(occluded8, scene, ray, words, valid, dirs, ox, oy, oz, normal, i, check_normal,
+                   visible):
+    """Trace point ``i``'s fan ``dirs`` (M, 3) from (ox, oy, oz) in packets: ``visible[j]``
+    (M,) whether direction j sees the sky — above the horizon (and, with ``check_normal``,
+    the surface) and not occluded. Returns the number of rays traced."""
     m = dirs.shape[0]
     traced = 0
-    flags = blocked.shape[0] > 0
-    for k in range(row.shape[0]):
-        row[k] = 0.0
-    if flags:
-        for j in range(m):
-            blocked[i, j] = dirs[j, 2] <= 0.0
-    for j in range(m):  # independent of each other: the compiler takes them four at a time
-        zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
+    for j in range(m):
+        visible[j] = False
     for start in range(0, m, _LANES):
         lanes = 0
         for lane in range(_LANES):
@@ -321,63 +313,101 @@ def _trace_point(occluded8, scene, ray, words, valid, dirs, zen, ox, oy, oz, nor
         traced += lanes
         occluded8(valid.ctypes.data, scene, ray.ctypes.data, 0)
         for lane in range(_LANES):
-            if valid[lane] == 0:
-                continue
-            j = start + lane
-            if ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
-                _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
-            elif flags:
-                blocked[i, j] = True
+            if valid[lane] != 0 and ray[8 * _LANES + lane] >= 0.0:  # occluded: tfar = -inf
+                visible[start + lane] = True
+    return traced
+
+
+@numba.njit(inline="always")
+def _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, row):
+    """Fold a fan's visible directions into ``row``: the mean over its M samples, as
+    :func:`_fold_point`; ``zen`` (M,) is scratch for the directions' zenith angles."""
+    m = dirs.shape[0]
+    for k in range(row.shape[0]):
+        row[k] = 0.0
+    for j in range(m):  # independent of each other: the compiler takes them four at a time
+        zen[j] = _zenith_degrees(max(np.float64(dirs[j, 2]), 0.0))
+    for j in range(m):
+        if visible[j]:
+            _fold_zenith(row, dirs[j, 0], dirs[j, 1], zen[j], zenith_nodes, azimuth_nodes)
     for k in range(row.shape[0]):
         row[k] /= m
-    return traced
+
+
+@numba.njit(inline="always")
+def _meets(ox, oy, oz, dx, dy, dz, spheres):
+    """Whether the ray o + t d (t ≥ 0; d need not be a unit vector) passes within one of
+    ``spheres`` (S, 4): centre and radius."""
+    for s in range(spheres.shape[0]):
+        wx, wy, wz = spheres[s, 0] - ox, spheres[s, 1] - oy, spheres[s, 2] - oz
+        r2 = spheres[s, 3] * spheres[s, 3]
+        w2 = wx * wx + wy * wy + wz * wz
+        if w2 <= r2:
+            return True
+        b = wx * dx + wy * dy + wz * dz
+        if b <= 0.0:
+            continue
+        if w2 - b * b / (dx * dx + dy * dy + dz * dz) <= r2:
+            return True
+    return False
 
 
 @numba.njit(parallel=True, cache=True)
-def _packet_fractions(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon,
-                      shift, base, side, check_normal, zenith_nodes, azimuth_nodes, out,
-                      blocked):
+def _packet_fans(occluded8, scene, position, normal, axis, exponent, lobe, center, epsilon, shift,
+                 base, side, check_normal, zenith_nodes, azimuth_nodes, spheres, retrace, bits,
+                 blocked, fractions, rank, material, index, weight, table, sums, view):
+    """:func:`packet_fractions` (``table`` empty: the fractions into ``fractions``) and
+    :func:`packet_sky_sums` (into ``sums`` and ``view``); with ``bits`` (N,) uint64 not empty,
+    the fans kept between frames (:mod:`radscene.render.kept_fans`): a fan is traced where
+    ``retrace`` says or a direction passes through one of ``spheres``, its answers written
+    into ``bits``, else folded from them. Where ``blocked`` has rows (N, M), row i gets the
+    directions of fan i that are not sky (traced or kept alike): occluded, or at or below the
+    horizon (and, with ``check_normal``, the surface), for the reflected background."""
     n = position.shape[0]
     m = base.shape[0]
     levels = side if side > 0 else m
-    traced = 0
-    for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
-        sin_t, cos_t = np.empty(levels), np.empty(levels)
-        cos_phi, sin_phi = np.empty(levels), np.empty(levels)
-        dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
-        ray, words, valid = packet_buffers(RAY8_FLOATS)
-        for i in range(c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)):
-            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
-                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
-            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
-                                   np.float32(oy), np.float32(oz), normal, i, check_normal,
-                                   zenith_nodes, azimuth_nodes, out[i], blocked)
-    return traced
-
-
-@numba.njit(parallel=True, cache=True)
-def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift, base, side,
-                     zenith_nodes, azimuth_nodes, rank, material, index, weight, table, sums,
-                     view, blocked):
-    n = position.shape[0]
-    m = base.shape[0]
-    levels = side if side > 0 else m
-    n_k = table.shape[3]
+    n_k = zenith_nodes.shape[0] * azimuth_nodes.shape[0]
+    fused = table.shape[0] > 0
+    keep = bits.shape[0] > 0
+    flags = blocked.shape[0] > 0
     traced = 0
     for c in numba.prange((n + _PACKET_CHUNK - 1) // _PACKET_CHUNK):
         lo, hi = c * _PACKET_CHUNK, min(n, (c + 1) * _PACKET_CHUNK)
         sin_t, cos_t = np.empty(levels), np.empty(levels)
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs, zen = np.empty((m, 3), np.float32), np.empty(m)
+        visible = np.empty(m, np.bool_)
         ray, words, valid = packet_buffers(RAY8_FLOATS)
         rows = np.empty((hi - lo, n_k))
         for i in range(lo, hi):
-            ox, oy, oz = _fan_point(i, position, normal, normal, np.zeros(0), False, center,
-                                    epsilon, shift, base, side, sin_t, cos_t, cos_phi, sin_phi,
-                                    dirs, 0)
-            traced += _trace_point(occluded8, scene, ray, words, valid, dirs, zen, np.float32(ox),
-                                   np.float32(oy), np.float32(oz), normal, i, False,
-                                   zenith_nodes, azimuth_nodes, rows[i - lo], blocked)
+            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon,
+                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
+            fx, fy, fz = np.float32(ox), np.float32(oy), np.float32(oz)
+            again = not keep or retrace[i]
+            j = 0
+            while not again and j < m:
+                again = _meets(fx, fy, fz, dirs[j, 0], dirs[j, 1], dirs[j, 2], spheres)
+                j += 1
+            if again:
+                traced += _trace_visible(occluded8, scene, ray, words, valid, dirs, fx, fy, fz,
+                                         normal, i, check_normal, visible)
+                if keep:  # one bit per direction
+                    seen = np.uint64(0)
+                    for j in range(m):
+                        if visible[j]:
+                            seen |= np.uint64(1) << np.uint64(j)
+                    bits[i] = seen
+            else:
+                for j in range(m):
+                    visible[j] = (bits[i] >> np.uint64(j)) & np.uint64(1) != 0
+            if flags:
+                for j in range(m):
+                    blocked[i, j] = not visible[j]
+            _fold_visible(visible, dirs, zen, zenith_nodes, azimuth_nodes, rows[i - lo])
+            if not fused:
+                for k in range(n_k):
+                    fractions[i, k] = rows[i - lo, k]
+                continue
             total = 0.0
             for k in range(n_k):
                 total += rows[i - lo, k]
@@ -386,6 +416,15 @@ def _packet_sky_sums(occluded8, scene, position, normal, center, epsilon, shift,
                 sums[i, b] = _sky_sample(table, material[i], index, weight, rank[i], rows,
                                          i - lo, b)
     return traced
+
+
+def _fan_outputs(n_k, fractions=None, sky=None):
+    """The arguments of :func:`_packet_fans` from ``fractions`` (N, K·L) out or
+    ``sky`` = (rank, material, index, weight, table, sums, view); the other left empty."""
+    if sky is None:
+        return (fractions, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 0), np.int64),
+                np.zeros((0, 0)), np.zeros((0, 0, 0, 0)), np.zeros((0, 0)), np.zeros(0))
+    return (np.zeros((0, n_k)), *sky)
 
 
 #: Hits per parallel work item of :func:`_packet_shadows`.
@@ -470,9 +509,11 @@ def packet_fractions(packets, position, normal, axis, exponent, lobe, center, ep
     (N, K·L) without any ray arrays, and where given ``blocked`` (N, M) bool: the fan's
     directions that are not sky (occluded, or at or below the horizon). Returns the number
     of rays traced."""
-    return _packet_fractions(packets.occluded8, packets.handle, position, normal, axis, exponent, lobe,
-                      center, epsilon, shift, base, side, check_normal, zenith_nodes,
-                      azimuth_nodes, out, _flags(blocked, len(base)))
+    none = np.zeros(0, np.uint64)
+    return _packet_fans(packets.occluded8, packets.handle, position, normal, axis, exponent, lobe,
+                        center, epsilon, shift, base, side, check_normal, zenith_nodes,
+                        azimuth_nodes, np.zeros((0, 4)), np.zeros(0, np.bool_), none,
+                        _flags(blocked, len(base)), *_fan_outputs(out.shape[1], fractions=out))
 
 
 def packet_sky_sums(packets, position, normal, center, epsilon, shift, base, side, zenith_nodes,
@@ -480,9 +521,11 @@ def packet_sky_sums(packets, position, normal, center, epsilon, shift, base, sid
                     blocked=None):
     """:func:`cosine_fan` then :func:`fold_sky_sums`, as :func:`packet_fractions` traces
     (``blocked`` alike). Returns the number of rays traced."""
-    return _packet_sky_sums(packets.occluded8, packets.handle, position, normal, center, epsilon, shift,
-                     base, side, zenith_nodes, azimuth_nodes, rank, material, index, weight,
-                     table, sums, view, _flags(blocked, len(base)))
+    return _packet_fans(packets.occluded8, packets.handle, position, normal, normal, np.zeros(0),
+                        False, center, epsilon, shift, base, side, False, zenith_nodes,
+                        azimuth_nodes, np.zeros((0, 4)), np.zeros(0, np.bool_),
+                        np.zeros(0, np.uint64), _flags(blocked, len(base)), *_fan_outputs(
+                            table.shape[3], sky=(rank, material, index, weight, table, sums, view)))
 
 
 def empty_fan(n_rays: int, scratch: dict | None = None):

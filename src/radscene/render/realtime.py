@@ -47,7 +47,7 @@ from radscene.render.outputs import (
     THERMAL_BAND_START,
 )
 from radscene.render.sun_track import sun_track
-from radscene.render.surface import shadows, surface_state, textures
+from radscene.render.surface import fan_shifts, shadows, surface_state, textures
 
 __all__ = ["RealtimeRenderer", "check_realtime", "SERIAL_PIXELS"]
 
@@ -180,7 +180,6 @@ class RealtimeRenderer:
         hit_rank = np.cumsum(hit) - 1
         hit_face = tables.face_offset[hits.object[hit]] + hits.primitive[hit]
         hit_material = tables.face_material[hit_face]
-        rng = np.random.default_rng(settings.seed)
         total = len(rays.pixel)
         scratch = {}
         for start in range(0, total, TILE_SAMPLES):
@@ -191,8 +190,7 @@ class RealtimeRenderer:
                 continue
             spec = key.specular[st.mat]
             n_spec = int(np.count_nonzero(spec))
-            sky_shift = rng.random((len(st.mat), 2))
-            lobe_shift = rng.random((n_spec, 2)) if n_spec else None
+            sky_shift, lobe_shift = fan_shifts(settings.seed, sl, st.hidx, spec)
             p = rays.pixel[st.hidx]
             key.material[p] = st.mat
             key.object[p] = st.obj

@@ -39,15 +39,18 @@ class TileShader:
     medium : :class:`~radscene.render.media.Media` or None
     reflect : :class:`~radscene.render.background.Pass` or None
     per_pixel : int — ray samples per pixel
+    cache : :class:`~radscene.render.frame_cache.FrameCache` or None — the observer's last
+        frame, whose background paths' first rays are kept where nothing moved through them
     """
 
     def __init__(self, scene, tables, bset, bands, rays, hits, image, nodes, mix_tables,
-                 emission_pair, fused_sky, medium, reflect, per_pixel):
+                 emission_pair, fused_sky, medium, reflect, per_pixel, cache=None):
         self.scene, self.tables, self.bset, self.bands = scene, tables, bset, bands
         self.rays, self.hits, self.image, self.nodes = rays, hits, image, nodes
         self.mix_tables, self.emission_pair = mix_tables, emission_pair
         self.fused_sky, self.medium, self.reflect = fused_sky, medium, reflect
         self.per_pixel = per_pixel
+        self.cache = cache
         self.unit_weight = bool(np.all(rays.weight == 1.0))  # then weighting changes nothing
         self.media_tables = None  # the band-mean BRDFs that reflect the volumes' own radiance
 
@@ -63,8 +66,10 @@ class TileShader:
         if self.medium is not None:  # the sky rays' change by volumes and sheets
             self._media(st, tex, out, p, wh, sky_view)
         if self.reflect is not None:  # at the surface, then through τ_a and Δρ
+            kept = None if self.cache is None else self.cache.background(
+                self.tables.tracer, st, sl, self.reflect.samples)
             values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
-                                  getattr(st, "fan", None))
+                                  getattr(st, "fan", None), kept)
             values *= node_mixing.gather_band(self.bset.coefficients.transmittance,
                                               self.nodes.nodes_all.subset(st.rank))
             values *= tex["reflectance"][:, None]

@@ -17,7 +17,7 @@ from radscene.render import illumination, sheets
 from radscene.render.sun_track import sun_geometry
 
 __all__ = ["SceneTables", "scene_tables", "surface_state", "hit_temperature", "textures",
-           "shadows", "secondary_rays"]
+           "shadows", "secondary_rays", "fan_shifts"]
 
 
 class SceneTables:
@@ -105,6 +105,33 @@ def surface_state(tables, rays, hits, hit, hit_rank, sl, sun_dir, material, temp
         cos_i=cos_i, origin=origin, sun=sun)
 
 
+def fan_shifts(seed, sl, hidx, specular):
+    """The rotations of the sky and lobe fans of a tile's hits (Cranley–Patterson).
+
+    Two uniforms per ray sample of the tile ``sl`` and fan, from a generator keyed by the
+    scene's ``seed`` and the tile's first sample: a hit's rotations depend on its sample
+    alone, not on what the tile's other samples hit, so a sequence's frames can keep the fans
+    of the samples that nothing moved into (:mod:`radscene.render.frame_cache`).
+
+    Parameters
+    ----------
+    seed : int — the scene's ``render.seed``
+    sl : slice — the tile's ray samples
+    hidx : (N,) int — the samples of its hits
+    specular : (N,) bool — the hits that trace a lobe
+
+    Returns
+    -------
+    sky : (N, 2) [-]
+    lobe : (count of specular, 2) [-], or None where no hit is specular
+    """
+    key = np.random.SeedSequence([int(seed) % (1 << 64), 0x66616E73, int(sl.start)])
+    draws = np.random.default_rng(key).random((2, sl.stop - sl.start, 2))
+    at = np.asarray(hidx) - sl.start
+    lobe = at[np.asarray(specular, dtype=bool)]
+    return draws[0, at], (draws[1, lobe] if len(lobe) else None)
+
+
 def shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.ndarray:
     """1.0 for each hit (in hit order) where the sun is above its face (the normal turned to
     face the viewer) and, with ``trace``, seen from it; else 0.0. ``sun_dir`` is the unit
@@ -143,7 +170,8 @@ def shadows(tables, hits, hit, directions, sun_dir, trace, sun_up=True) -> np.nd
     return lit
 
 
-def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow_pass):
+def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow_pass,
+                   cache=None):
     """Lit flags, sky and lobe rays of one tile's hits: (lit, sky, lobe fractions).
 
     ``shifts`` are the sky and lobe fans' rotations, drawn by the caller; ``scratch`` holds
@@ -153,12 +181,18 @@ def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow
     no rows where the tile has no specular hit. ``shadow_pass`` is the future of
     :func:`shadows` for every hit of the render (run earlier on the same thread). Where the
     state has a ``fan`` (:class:`radscene.render.background.Fan`), its ``blocked`` flags are
-    filled with the sky fan's directions that are not sky.
+    filled with the sky fan's directions that are not sky. ``cache``, where given, keeps the
+    fans of the observer's last frame (:class:`radscene.render.frame_cache.FrameCache`): the
+    same answers, traced again only where something moved through them (the ``blocked``
+    flags of a kept fan are its kept answers).
     """
     lit = shadow_pass.result()[st.rank]
     fan = getattr(st, "fan", None)
     blocked = None if fan is None else fan.blocked
-    if sky is None:
+    if cache is not None:
+        sky_out = cache.sky(tables.tracer, st, settings.sky_samples, sky_nodes, shifts[0], sky,
+                            blocked=blocked)
+    elif sky is None:
         sky_out = illumination.sky_fractions(tables.tracer, st.origin, st.nrm,
                                              settings.sky_samples, sky_nodes, None,
                                              shift=shifts[0], scratch=scratch, blocked=blocked)
@@ -174,6 +208,10 @@ def secondary_rays(tables, st, settings, sky_nodes, shifts, scratch, sky, shadow
     lobe_f = np.zeros((len(st.mat), n_k))
     sel = st.specular
     axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
+    if cache is not None:
+        lobe_f[sel] = cache.lobe(tables.tracer, st, sel, axis, tables.exponent[st.mat[sel]],
+                                 settings.specular_samples, sky_nodes, shifts[1])
+        return lit, sky_out, lobe_f
     lobe_f[sel] = illumination.lobe_sky_fractions(
         tables.tracer, st.origin[sel], st.nrm[sel], axis, tables.exponent[st.mat[sel]],
         settings.specular_samples, sky_nodes, None, shift=shifts[1], scratch=scratch)
