@@ -97,8 +97,9 @@ class Report:
                               highlight=False, soft_wrap=True)
 
     def progress(self, *columns, **kwargs) -> Progress:
-        """A rich progress display on standard error, disabled when quiet."""
-        return Progress(*columns, console=err_console, disable=self.quiet, **kwargs)
+        """A rich progress display on standard error, disabled when quiet; each update raises
+        a stop that a signal asked for (radscene.io.stop)."""
+        return _StoppableProgress(*columns, console=err_console, disable=self.quiet, **kwargs)
 
     def wrote(self, path, started: float) -> Path:
         """With --verbose: the file (or store) just written, its size and the time taken."""
@@ -108,6 +109,22 @@ class Report:
                     if path.is_dir() else path.stat().st_size)
             self.stage(f"wrote {path} ({_size(size)})", time.perf_counter() - started)
         return Path(path)
+
+
+class _StoppableProgress(Progress):
+    """A progress display whose updates raise a stop whose exception was dropped."""
+
+    def update(self, *args, **kwargs) -> None:
+        from radscene.io import stop
+
+        stop.check()
+        super().update(*args, **kwargs)
+
+    def advance(self, *args, **kwargs) -> None:
+        from radscene.io import stop
+
+        stop.check()
+        super().advance(*args, **kwargs)
 
 
 def _size(count: int) -> str:
@@ -343,17 +360,19 @@ def _register_subcommands() -> None:
 _register_subcommands()
 
 
-def _terminate(signum, frame):
-    """SIGTERM ends a command as Ctrl-C does: the files being written are temporaries, removed
-    on the way out (radscene.io.files.atomic_output), so none is left half written."""
-    raise KeyboardInterrupt(f"signal {signum}")
-
-
 def run() -> None:  # pragma: no cover - console entry
-    import signal
+    """The console entry. SIGTERM ends a command as Ctrl-C does: the files being written are
+    temporaries, removed on the way out (radscene.io.files.atomic_output), so none is left half
+    written; a stop whose exception was dropped (radscene.io.stop) is raised again at the next
+    progress update, and a command that got to its end anyway exits 130 too."""
+    from radscene.io import stop
 
-    signal.signal(signal.SIGTERM, _terminate)
+    stop.install()
     try:
         app()
     except KeyboardInterrupt:
         sys.exit(130)
+    except SystemExit as end:
+        if stop.requested() is not None and end.code in (0, None):
+            sys.exit(130)
+        raise

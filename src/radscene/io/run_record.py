@@ -34,12 +34,12 @@ import fcntl
 import hashlib
 import json
 import os
-import signal
 import socket
 import threading
 from pathlib import Path
 
 from radscene.errors import ConfigError
+from radscene.io import stop
 from radscene.io.files import atomic_output
 
 __all__ = ["MARKER", "MANIFEST", "RunRecord", "finished"]
@@ -244,7 +244,7 @@ class RunRecord:
         if variant is not None:
             self.record["variant"] = variant
         self.done = list(done)  # observers a stopped run of the same scene finished
-        self._handler = None
+        self._handlers = {}
         self._stop = threading.Event()
         self._beat = None
         self._record_lock = threading.Lock()  # the heartbeat's thread and the run's
@@ -287,13 +287,7 @@ class RunRecord:
 
         self._update(enter)
 
-        def terminate(signum, frame):
-            raise KeyboardInterrupt(f"signal {signum}")
-
-        try:
-            self._handler = signal.signal(signal.SIGTERM, terminate)
-        except ValueError:  # not the main thread: leave SIGTERM alone
-            self._handler = None
+        self._handlers = stop.install()
         self._beat = threading.Thread(target=self._heartbeat, name="radscene-heartbeat",
                                       daemon=True)
         self._beat.start()
@@ -315,6 +309,7 @@ class RunRecord:
 
     def finish(self, observer: str, files) -> None:
         """Record that ``observer``'s files are written."""
+        stop.check()  # a stop whose exception was dropped: not finished
         names = [os.path.relpath(f, self.folder) for f in files]
 
         def change(marker):
@@ -330,10 +325,10 @@ class RunRecord:
         self._stop.set()
         if self._beat is not None:
             self._beat.join()
-        if self._handler is not None:
-            signal.signal(signal.SIGTERM, self._handler)
+        stop.restore(self._handlers)
         if kind is not None:
             return False  # this run's entry stays: the folder is incomplete
+        stop.check()  # a stop whose exception was dropped ends the run as stopped
         with _locked(self.folder):
             marker = _read(self.folder / MARKER) or {"runs": {}, "completed": {}}
             marker.setdefault("completed", {})
