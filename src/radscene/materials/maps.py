@@ -157,6 +157,9 @@ class MaterialMap(_Placed):
         Parameters
         ----------
         path : str or path-like
+            Pillow's pixel-count limit does not apply (:mod:`radscene.materials.imagefile`):
+            the image's size is the caller's to check (a scene's images are sized from their
+            headers by :mod:`radscene.scene.memory`).
         class_materials, size, origin : see :class:`MaterialMap`.
 
         Raises
@@ -172,7 +175,9 @@ class MaterialMap(_Placed):
             elif suffix == ".png":
                 from PIL import Image
 
-                with Image.open(path) as im:
+                from radscene.materials.imagefile import pil_unlimited
+
+                with pil_unlimited(), Image.open(path) as im:
                     if im.mode not in ("L", "P", "I", "I;16", "1"):
                         raise ConfigError(
                             f"a classified image must be single-band (grey or palette); got mode {im.mode}",
@@ -183,7 +188,7 @@ class MaterialMap(_Placed):
                 raise ConfigError(f"unknown material-map format {suffix!r}; accepted: .png, .npy", key=str(path))
         except ConfigError:
             raise
-        except (OSError, ValueError) as exc:
+        except Exception as exc:  # noqa: BLE001 - any reader failure is a bad file
             raise ConfigError(f"cannot read material map: {unreadable(exc)}", key=str(path)) from None
         return cls(image, class_materials, size=size, origin=origin, name=str(path))
 

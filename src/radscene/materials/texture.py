@@ -114,7 +114,9 @@ class Texture:
             ``.png``, ``.jpg``/``.jpeg`` (read with :func:`matplotlib.image.imread`) or ``.npy``.
             Colour images become luminance with the BT.709 weights :data:`LUMINANCE_WEIGHTS`
             (alpha dropped); integer images are divided by their type's maximum (uint8: 255)
-            so pixel values lie in [0, 1].
+            so pixel values lie in [0, 1]. Pillow's pixel-count limit does not apply
+            (:mod:`radscene.materials.imagefile`): :func:`radscene.load_scene` sizes a scene's
+            textures from their headers against its memory limit before reading them.
         size : (float, float)
             ``(width, height)`` on the ground [m].
         origin : (float, float), optional
@@ -145,7 +147,10 @@ class Texture:
             elif suffix in _IMAGE_SUFFIXES:
                 import matplotlib.image as mpimg
 
-                image = mpimg.imread(path)
+                from radscene.materials.imagefile import pil_unlimited
+
+                with pil_unlimited():  # sized beforehand: radscene.scene.memory
+                    image = mpimg.imread(path)
             else:
                 raise ConfigError(
                     f"unknown texture format {suffix!r}; accepted: .png, .jpg, .jpeg, .npy",

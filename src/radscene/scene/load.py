@@ -1079,7 +1079,9 @@ def _load_npy(path: Path, key: str) -> np.ndarray:
 
 
 def _read_image(path: Path, key: str) -> np.ndarray:
-    """Read a single-band image (.npy, GeoTIFF, PNG/JPEG: first channel)."""
+    """Read a single-band image (.npy, GeoTIFF, PNG/JPEG: first channel), sized beforehand
+    against the memory limit (radscene.scene.memory.image_header): Pillow's own pixel-count
+    limit is lifted while it is read."""
     suffix = path.suffix.lower()
     try:
         if suffix == ".npy":
@@ -1091,7 +1093,10 @@ def _read_image(path: Path, key: str) -> np.ndarray:
         else:
             import matplotlib.image as mpimg
 
-            image = mpimg.imread(path)
+            from radscene.materials.imagefile import pil_unlimited
+
+            with pil_unlimited():
+                image = mpimg.imread(path)
             if image.ndim == 3:
                 image = image[..., 0]
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
