@@ -202,3 +202,171 @@ def test_a_heat_balance_too_large_is_refused_before_its_first_step(tmp_path, one
     result = runner.invoke(app, ["thermal", str(path), "-o", str(nc), "--max-memory", "0.5GB"])
     assert result.exit_code == 2 and one_line_refusal(result.output, "(--max-memory)")
     assert not nc.exists()
+
+
+# -- images a scene names: sized from their headers, none of their pixels read ---------------
+
+def _png_header(path, width, height, colour=0):
+    """A PNG whose header says ``width`` × ``height`` (8-bit; colour type 0 grey, 2 RGB) with
+    four rows of pixels: a few hundred bytes, whatever the size it claims."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data)))
+
+    channels = {0: 1, 2: 3}[colour]
+    rows = zlib.compress(bytes(width * channels + 1) * 4)
+    path.write_bytes(b"\x89PNG\r\n\x1a\n"
+                     + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, colour, 0, 0, 0))
+                     + chunk(b"IDAT", rows) + chunk(b"IEND", b""))
+
+
+def _npy_header(path, shape, dtype="float64"):
+    """A .npy file of only a header that says ``shape``: its values are absent."""
+    import numpy as np
+
+    header = np.lib.format.header_data_from_array_1_0(np.zeros((2, 2), dtype))
+    header["shape"] = tuple(shape)
+    with open(path, "wb") as f:
+        np.lib.format.write_array_header_1_0(f, header)
+
+
+def _sparse_geotiff(path, width, height):
+    """A tiled GeoTIFF of ``width`` × ``height`` float32 pixels none of whose tiles is written."""
+    import rasterio
+    from rasterio.transform import from_origin
+
+    with rasterio.open(path, "w", driver="GTiff", height=height, width=width, count=1,
+                       dtype="float32", tiled=True, sparse_ok=True, crs="EPSG:32631",
+                       transform=from_origin(6e5, 5e6, 1.0, 1.0)):
+        pass
+
+
+def _with_texture(scene, name):
+    scene["objects"] = [{"name": "plate", "shape": {"type": "plate", "width": 20, "length": 20},
+                         "material": "soil", "temperature": "300 K",
+                         "textures": {"reflectance": {"file": name, "size": [10, 10]}}}]
+
+
+#: image → (how the scene names it, how to write a huge one, the key the refusal names,
+#: the figure: GB to read it with the default 300 MB base and the terrain's 4 MB)
+IMAGES = {
+    "object texture PNG": (_with_texture, lambda p: _png_header(p, 30000, 30000, colour=2),
+                           "objects[0].textures.reflectance.file", "50.7"),
+    "terrain tile texture .npy": (
+        lambda s, f: s["terrain"].update(textures={"emissivity": {
+            "type": "tile", "file": f, "texel_size": 1}}),
+        lambda p: _npy_header(p, (30000, 30000)), "terrain.textures.emissivity.file", "43.5"),
+    "material map PNG": (
+        lambda s, f: s["terrain"].update(material_map={"type": "file", "file": f,
+                                                       "classes": {0: "soil"}}),
+        lambda p: _png_header(p, 30000, 30000), "terrain.material_map.file", "36.3"),
+    "temperature map GeoTIFF": (
+        lambda s, f: s["terrain"].update(temperature_map=f),
+        lambda p: _sparse_geotiff(p, 30000, 30000), "terrain.temperature_map", "36.3"),
+    "temperature map .npy": (
+        lambda s, f: s["terrain"].update(temperature_map=f),
+        lambda p: _npy_header(p, (30000, 30000), "float32"), "terrain.temperature_map", "36.3"),
+}
+
+
+@pytest.mark.parametrize("case", IMAGES)
+def test_an_image_is_sized_from_its_header_before_it_is_read(tmp_path, case):
+    """30 000 × 30 000 pixels (900 M, more than Pillow's own limit of 179 M), their values
+    absent: refused for their size with radscene's message, not for the missing pixels, so none
+    was read, and never with Pillow's."""
+    put, make, key, figure = IMAGES[case]
+    suffix = {"PNG": ".png", ".npy": ".npy", "GeoTIFF": ".tif"}[case.rsplit(" ", 1)[1]]
+    make(tmp_path / f"big{suffix}")
+    scene = _scene()
+    put(scene, f"big{suffix}")
+    started = time.perf_counter()
+    with pytest.raises(ConfigError) as err:
+        radscene.load_scene(scene, base_dir=tmp_path, max_memory="1 GB")
+    assert time.perf_counter() - started < 5.0
+    assert str(err.value).startswith(f"{key}: the image big{suffix} (30,000 × 30,000 pixels) "
+                                     f"needs about {figure} GB to read, with the terrain; the "
+                                     "limit is 1.0 GB (--max-memory): an image resampled "
+                                     "coarser or cropped"), str(err.value)
+    assert err.value.key == key
+    assert "decompression" not in str(err.value).lower()
+    # without --max-memory the machine's memory is the limit, or the scene's own
+    scene["render"] = {"max_memory": "2 GB"}
+    with pytest.raises(ConfigError, match=r"the limit is 2\.0 GB \(render\.max_memory\)"):
+        radscene.load_scene(scene, base_dir=tmp_path)
+
+
+def _plate_scene(texture):
+    return {
+        "name": "plate",
+        "environment": {"sun": {"zenith": 30, "azimuth": 180}, "atmosphere": {"type": "none"}},
+        "materials": {"paint": {"reflectance": 0.4}},
+        "objects": [{"name": "plate", "shape": {"type": "plate", "width": 50, "length": 50},
+                     "material": "paint", "temperature": "300 K",
+                     "textures": {"reflectance": {"file": texture, "size": [10, 10]}}}],
+        "bands": [{"name": "vis", "min": "0.5 um", "max": "0.6 um"}],
+        "observers": [{"name": "nadir", "type": "orthographic", "center": [0, 0], "gsd": 1,
+                       "shape": [4, 4], "altitude": 1000}],
+    }
+
+
+def test_cli_refuses_a_huge_texture_before_work(tmp_path, one_line_refusal):
+    """`radscene check` and `radscene render`: exit code 2, one line naming the key and the
+    figures, nothing written; the same scene with a small texture passes the same limit."""
+    import numpy as np
+    from PIL import Image
+
+    _png_header(tmp_path / "huge.png", 40000, 40000)
+    Image.fromarray(np.full((16, 16), 200, np.uint8)).save(tmp_path / "small.png")
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump(_plate_scene("huge.png")))
+    runner = CliRunner()
+    out = tmp_path / "out"
+    for args in (["check", str(path), "--max-memory", "2GB"],
+                 ["render", str(path), "-o", str(out), "--max-memory", "2GB"]):
+        result = runner.invoke(app, args)
+        assert result.exit_code == 2, result.output
+        one_line_refusal(result.output, "error: objects[0].textures.reflectance.file: the image "
+                         "huge.png (40,000 × 40,000 pixels) needs about 64.3 GB to read; the limit "
+                         "is 2.0 GB (--max-memory)")
+        assert "decompression" not in result.output.lower()
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["huge.png", "s.yaml", "small.png"]
+    path.write_text(yaml.safe_dump(_plate_scene("small.png")))
+    result = runner.invoke(app, ["check", str(path), "--max-memory", "2GB"])
+    assert result.exit_code == 0, result.output
+
+
+def test_images_over_pillows_limit_within_the_memory_limit_are_read(tmp_path, monkeypatch):
+    """Pillow's pixel-count limit (here lowered to 300 so that a 32 × 32 image passes it
+    three times over; Pillow applies it to a JPEG it opens, and to any image
+    radscene.materials.MaterialMap opens) neither refuses nor warns: radscene sized the images
+    itself, and the limit is Pillow's again afterwards."""
+    import warnings
+
+    import numpy as np
+    from PIL import Image
+
+    from radscene.materials import MaterialMap
+
+    monkeypatch.setattr(Image, "MAX_IMAGE_PIXELS", 300)
+    Image.fromarray(np.full((32, 32), 200, np.uint8)).save(tmp_path / "grey.jpg")
+    Image.fromarray(np.full((32, 32), 1, np.uint8)).save(tmp_path / "classes.jpg")
+    Image.fromarray(np.full((32, 32), 1, np.uint8)).save(tmp_path / "classes.png")
+    scene = _scene(shape=(8, 8))
+    scene["terrain"].update(material_map={"type": "file", "file": "classes.jpg",
+                                          "classes": {0: "soil", 1: "soil", 2: "soil"}},
+                            temperature_map="grey.jpg",
+                            textures={"reflectance": {"file": "grey.jpg", "size": [10, 10]}})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", Image.DecompressionBombWarning)
+        loaded = radscene.load_scene(scene, base_dir=tmp_path, max_memory="2 GB")
+        classes = MaterialMap.from_image(tmp_path / "classes.png", {1: "soil"}, size=(1, 1))
+    terrain = loaded.objects[0]
+    assert terrain.textures["reflectance"].values.shape == (32, 32)
+    assert np.allclose(terrain.textures["reflectance"].values, 200 / 255, atol=2 / 255)
+    assert terrain.face_fixed.all()  # the temperature map was read
+    assert classes.shape == (32, 32)
+    assert Image.MAX_IMAGE_PIXELS == 300

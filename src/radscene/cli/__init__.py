@@ -264,7 +264,8 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
         report.stage(f"traced one ray per pixel of {obs.name}", time.perf_counter() - t)
     from radscene.scene.memory import estimate
 
-    need = max((b for b, _, _ in estimate(scene.spec)["observers"]), default=0.0)
+    need = max((b for b, _, _ in estimate(scene.spec, scene.base_dir)["observers"]),
+               default=0.0)
     if need:
         report.say(f"  memory: about {need / 1e9:.1f} GB for the largest render (estimate)")
     if frames is not None:

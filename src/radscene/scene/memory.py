@@ -13,6 +13,19 @@ base of about 300 MB (Python, numpy, the libraries). The estimate rounds each up
 key that sets the size and the figures. A DEM file's grid is sized from its header (a .npy
 file's, a GeoTIFF's) before a sample of it is read.
 
+So is every image a scene names (:func:`image_files`: the terrain's and the objects' textures,
+the terrain's material and temperature maps), by :func:`image_header` (a PNG's or JPEG's
+width and height as Pillow reads them without decoding a pixel, a .npy file's shape and dtype,
+a GeoTIFF's width, height, bands and dtype): its reading is refused, naming the image's key,
+when it would exceed the limit. Reading 4000 × 4000 images took (peak resident memory,
+2026-11-25): as a texture, 17 B a texel grey (25 B with a contrast), 36 B RGB, 48 B RGBA,
+palette or JPEG, 17 B from a .npy array of one band whatever its dtype, 64 B from one of four
+float64 bands; as a temperature or material map, 9–20 B a pixel of one band, 24 B an RGBA or
+palette PNG's, 73–80 B a GeoTIFF's of four float64 bands (each band is read). The estimate
+takes 32 B a texel plus twice the bytes of the decoded values (:data:`IMAGE_TEXEL_BYTES`,
+:data:`IMAGE_VALUE_COPIES`). A texture's multipliers are held for the whole render, 8 B a
+texel (:data:`TEXTURE_TEXEL_BYTES`), and count in every observer's estimate.
+
 Two sizes are known only once the run is: a frame sequence (:func:`check_sequence_memory`:
 every frame's layers are held until the last, about 200 B per pixel and 200 B per pixel and
 band, measured on 64 × 64 frames of one and four bands) and a heat balance
@@ -25,13 +38,15 @@ check`` too, against the same limit (:func:`memory_limit`).
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
 from radscene.errors import ConfigError
 
 __all__ = ["estimate", "available_memory", "check_memory", "parse_memory", "memory_limit",
-           "check_sequence_memory", "check_thermal_memory", "check_cube_memory", "dem_file_cells"]
+           "check_sequence_memory", "check_thermal_memory", "check_cube_memory", "dem_file_cells",
+           "image_files", "image_header"]
 
 BASE_BYTES = 300e6
 TERRAIN_BYTES_PER_CELL = 400.0
@@ -51,6 +66,17 @@ FRAME_PIXEL_BAND_BYTES = 200.0
 THERMAL_ELEMENT_STEP_BYTES = 200.0
 THERMAL_ELEMENT_NODE_BYTES = 100.0
 THERMAL_ELEMENT_RAY_BYTES = 100.0
+#: An image a scene names, while it is read: per texel, and a multiple of the bytes of its
+#: decoded values (PNG/JPEG: 4 B a channel, a palette as four channels; .npy and GeoTIFF: its
+#: dtype, every band). Measured on 4000 × 4000 images (peak resident memory, 2026-11-25):
+#: 17–48 B a texel for a texture of one to four 8-bit channels, 64 B from four float64 bands;
+#: 9–25 B a pixel for a temperature or material map of one 8-bit channel to four, 80 B from
+#: four float64 bands.
+IMAGE_TEXEL_BYTES = 32.0
+IMAGE_VALUE_COPIES = 2.0
+#: A texture's multipliers, held for the whole render (float64; measured 8.0 B a texel,
+#: 2026-11-25).
+TEXTURE_TEXEL_BYTES = 8.0
 
 _UNITS = {"b": 1.0, "kb": 1e3, "mb": 1e6, "gb": 1e9, "tb": 1e12,
           "kib": 1024.0, "mib": 1024.0 ** 2, "gib": 1024.0 ** 3, "tib": 1024.0 ** 4}
@@ -106,6 +132,18 @@ def _terrain_cells(spec, base_dir=None) -> tuple[float, str]:
     return 0.0, ""
 
 
+def _npy_header(path: Path) -> tuple[tuple, object]:
+    """The shape and dtype a .npy file's header declares (none of its values is read)."""
+    import numpy as np
+
+    with open(path, "rb") as f:
+        major, _ = np.lib.format.read_magic(f)
+        read = (np.lib.format.read_array_header_1_0 if major == 1
+                else np.lib.format.read_array_header_2_0)
+        shape, _, dtype = read(f)
+    return tuple(shape), dtype
+
+
 def dem_file_cells(path) -> float:
     """The number of samples of a DEM file from its header, reading none of them: a .npy
     array's shape, a GeoTIFF's width × height (0 when the header cannot be read: the reader
@@ -113,14 +151,8 @@ def dem_file_cells(path) -> float:
     path = Path(path)
     try:
         if path.suffix.lower() == ".npy":
-            import numpy as np
-
-            with open(path, "rb") as f:
-                major, _ = np.lib.format.read_magic(f)
-                read = (np.lib.format.read_array_header_1_0 if major == 1
-                        else np.lib.format.read_array_header_2_0)
-                shape = read(f)[0]
-            return float(np.prod(shape, dtype=float))
+            shape, _ = _npy_header(path)
+            return float(math.prod(float(n) for n in shape))
         import rasterio
 
         with rasterio.open(path) as raster:
@@ -129,16 +161,129 @@ def dem_file_cells(path) -> float:
         return 0.0
 
 
+def image_header(path) -> tuple[int, int, float] | None:
+    """An image file's size from its header, reading none of its pixels.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A .npy array (rows, columns[, bands]), a GeoTIFF (``.tif``, ``.tiff``) or any image
+        Pillow opens (PNG, JPEG, ...).
+
+    Returns
+    -------
+    tuple of (int, int, float) or None
+        ``(rows, columns, value_bytes)``: the image's height and width [pixels] and the bytes
+        of its values as the readers decode them (a .npy array's or a GeoTIFF's dtype, every
+        band; PNG/JPEG as 4 B a channel, a palette as four channels). None when the header
+        cannot be read: the reader then says what is wrong with the file.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".npy":
+            shape, dtype = _npy_header(path)
+            rows = int(shape[0]) if len(shape) > 0 else 1
+            columns = int(shape[1]) if len(shape) > 1 else 1
+            return rows, columns, math.prod(float(n) for n in shape) * float(dtype.itemsize)
+        if suffix in (".tif", ".tiff"):
+            import numpy as np
+            import rasterio
+
+            with rasterio.open(path) as raster:
+                itemsize = max(np.dtype(d).itemsize for d in raster.dtypes)
+                return (int(raster.height), int(raster.width),
+                        float(raster.height) * float(raster.width) * raster.count * itemsize)
+        from PIL import Image
+
+        from radscene.materials.imagefile import pil_unlimited
+
+        with pil_unlimited(), Image.open(path) as image:
+            columns, rows = image.size
+            channels = 4 if image.mode in ("P", "PA") else len(image.getbands())
+        return int(rows), int(columns), float(rows) * float(columns) * channels * 4.0
+    except Exception:  # noqa: BLE001 - an unreadable header: the reader reports the file
+        return None
+
+
+def image_files(spec, base_dir) -> list[tuple[str, Path, bool]]:
+    """The image files a validated scene spec names, with the keys that name them.
+
+    Parameters
+    ----------
+    spec : radscene.scene.schema.SceneSpec
+    base_dir : str or path-like or None
+        Folder of relative file names; None: no image is listed (none can be found).
+
+    Returns
+    -------
+    list of (str, pathlib.Path, bool)
+        ``(key, path, held)``: ``terrain.textures.<kind>.file``,
+        ``objects[i].textures.<kind>.file`` (held: a texture is kept for the whole render),
+        ``terrain.material_map.file`` and ``terrain.temperature_map`` (resampled onto the
+        terrain's grid, then dropped).
+    """
+    if base_dir is None:
+        return []
+
+    def where(name) -> Path:
+        path = Path(name)
+        return path if path.is_absolute() else Path(base_dir) / path
+
+    out = []
+
+    def textures(tset, key):
+        for kind in ("reflectance", "emissivity", "transmittance"):
+            texture = getattr(tset, kind, None)
+            if getattr(texture, "file", None) is not None:
+                out.append((f"{key}.textures.{kind}.file", where(texture.file), True))
+
+    terrain = spec.terrain
+    if terrain is not None:
+        textures(getattr(terrain, "textures", None), "terrain")
+        material_map = getattr(terrain, "material_map", None)
+        if getattr(material_map, "file", None) is not None:
+            out.append(("terrain.material_map.file", where(material_map.file), False))
+        if getattr(terrain, "temperature_map", None) is not None:
+            out.append(("terrain.temperature_map", where(terrain.temperature_map), False))
+    for i, obj in enumerate(spec.objects):
+        textures(obj.textures, f"objects[{i}]")
+    return out
+
+
 def estimate(spec, base_dir=None) -> dict:
     """Estimated peak bytes of rendering each observer of a validated scene spec.
+
+    Parameters
+    ----------
+    spec : radscene.scene.schema.SceneSpec
+    base_dir : str or path-like, optional
+        Folder of the scene's relative file names: a DEM file and the images
+        (:func:`image_files`) are sized from their headers only when it is given.
 
     Returns
     -------
     dict
-        ``terrain`` (bytes, key), and ``observers``: per observer (bytes, key, what).
+        ``terrain`` (bytes, key); ``images``: per image file (bytes to read it, with the
+        terrain; key; what); ``textures``: the bytes of the textures' multipliers, held for
+        the whole render; ``observers``: per observer (bytes, key, what), the terrain and the
+        textures included.
     """
     cells, terrain_key = _terrain_cells(spec, base_dir)
     terrain = cells * TERRAIN_BYTES_PER_CELL
+    images, held = [], 0.0
+    for key, path, keep in image_files(spec, base_dir):
+        header = image_header(path)
+        if header is None:
+            continue
+        rows, columns, values = header
+        texels = float(rows) * float(columns)
+        images.append((BASE_BYTES + terrain + texels * IMAGE_TEXEL_BYTES
+                       + IMAGE_VALUE_COPIES * values, key,
+                       f"the image {path.name} ({columns:,} × {rows:,} pixels)"))
+        if keep:
+            held += texels * TEXTURE_TEXEL_BYTES
+    terrain += held  # the textures are held alongside the terrain for every render
     n_bands = max(1, len(spec.bands or []))
     observers = []
     for i, obs in enumerate(spec.observers):
@@ -163,7 +308,8 @@ def estimate(spec, base_dir=None) -> dict:
             image = pixels * n_bands * PIXEL_BAND_BYTES
             what = f"{pixels:.3g} pixels × {obs.supersample}² samples × {n_bands} bands"
         observers.append((BASE_BYTES + terrain + samples * SAMPLE_BYTES + image, key, what))
-    return {"terrain": (BASE_BYTES + terrain, terrain_key), "observers": observers}
+    return {"terrain": (BASE_BYTES + cells * TERRAIN_BYTES_PER_CELL, terrain_key),
+            "images": images, "textures": held, "observers": observers}
 
 
 def _channel_count(grid) -> float:
@@ -229,8 +375,9 @@ def check_thermal_memory(elements: int, steps: int, nodes: int, rays: int,
 
 def check_memory(spec, limit=None, base_dir=None) -> None:
     """Refuse a scene whose estimated render exceeds ``limit`` [bytes] (default:
-    ``render.max_memory``, else the machine's memory, :func:`available_memory`); a DEM file's
-    header is read from ``base_dir`` (relative names)."""
+    ``render.max_memory``, else the machine's memory, :func:`available_memory`): its terrain
+    grid, then each image it names, then each observer. A DEM file's and the images' headers
+    are read from ``base_dir`` (relative names)."""
     limit, source = memory_limit(spec, limit)
     est = estimate(spec, base_dir)
     terrain, key = est["terrain"]
@@ -240,11 +387,18 @@ def check_memory(spec, limit=None, base_dir=None) -> None:
                   else "a coarser spacing or a smaller area")
         raise ConfigError(f"the terrain grid needs about {terrain / gb:.1f} GB; the limit is "
                           f"{limit / gb:.1f} GB ({source}): {advice}", key=key)
+    with_terrain = ", with the terrain" if terrain > BASE_BYTES else ""
+    for need, key, what in est["images"]:
+        if need > limit:
+            raise ConfigError(f"{what} needs about {need / gb:.1f} GB to read{with_terrain}; "
+                              f"the limit is {limit / gb:.1f} GB ({source}): an image resampled "
+                              "coarser or cropped", key=key)
     for need, key, what in est["observers"]:
         if need > limit:
             advice = ("a coarser spectral step (fewer channels) or fewer pixels"
                       if key.endswith("spectral.step")
                       else "fewer pixels, a lower supersample or fewer bands")
+            textures = " and textures" if est["textures"] else ""
             raise ConfigError(f"rendering it needs about {need / gb:.1f} GB ({what}, with the "
-                              f"terrain); the limit is {limit / gb:.1f} GB ({source}): "
-                              f"{advice}", key=key)
+                              f"terrain{textures}); the limit is {limit / gb:.1f} GB "
+                              f"({source}): {advice}", key=key)
