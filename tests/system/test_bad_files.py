@@ -177,6 +177,10 @@ READERS = {
     "material map": (".npy", lambda s, f: _flat(s, material_map={"type": "file", "file": f,
                                                                  "classes": {1: "paint"}}),
                      "terrain.material_map.file"),
+    "temperature map PNG": (".png", lambda s, f: _flat(s, temperature_map=f),
+                            "terrain.temperature_map"),
+    "material map PNG": (".png", lambda s, f: _flat(s, material_map={
+        "type": "file", "file": f, "classes": {1: "paint"}}), "terrain.material_map.file"),
     "density grid .npy": (".npy", _volume_grid, "volumes[0].profile.file"),
     "density grid NetCDF": (".nc", _volume_grid, "volumes[0].profile.file"),
     "spectral library": (".txt", lambda s, f: s["materials"].update(
