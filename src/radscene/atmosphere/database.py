@@ -57,8 +57,11 @@ cubic spline; an aircraft level's factor as the top's times its quotient, or plu
 difference, to the top's, linear in view zenith and in the sun's airmass 1/cos θ_s, the
 quotient in its logarithm — as the build carries the aircraft levels from their coarse
 zeniths; linearly in angle instead, a 3 km aircraft's path reflectance at sun 67 deg, rural
-AOT550 0.6, 0.45 um, came out +23.3 % against 6S, now +9.9 %), by a three-term cosine series in relative
-azimuth (Simpson's rule for the azimuthal mean), log-linearly in airmass for the gases. Beyond
+AOT550 0.6, 0.45 um, came out +23.3 % against 6S, then +9.9 %; under a sun lower than 50-60 deg
+an aircraft level's path reflectance is the top's at the exact geometry times the level's
+quotient to it, log-linear in the sun's and the view's airmass between the nodes:
+:meth:`DatabaseAtmosphere._levels_by_quotient`, -2.2 to -1.0 % for that case), by a three-term
+cosine series in relative azimuth (Simpson's rule for the azimuthal mean), log-linearly in airmass for the gases. Beyond
 the table's zenith nodes the end node's factor is used (stated rule); targets may lie up to
 500 m below the lowest surface-altitude node (that node's values then). The spectra are
 combined with the formulas of :mod:`radscene.atmosphere.sixs_model`; wavelengths the file
@@ -137,6 +140,10 @@ _GLORY_DEPTH = (0.1, 0.3)
 #: Which levels read their path-reflectance factors through a cubic spline in sun and view
 #: zenith ("top": the top of the atmosphere; "all"; "none": linear everywhere).
 _SPLINE_LEVELS = "top"
+#: Sun zeniths [deg] over which an aircraft level's path reflectance goes from the factor
+#: interpolated between the nodes to the quotient of the level's to the top's
+#: (:meth:`DatabaseAtmosphere._levels_by_quotient`), linearly in the sun's airmass.
+_LEVEL_QUOTIENT = (50.0, 60.0)
 
 
 #: Radius [deg] of the cap over which the aerosol phase function of the single-scattering
@@ -723,12 +730,15 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         in sun zenith (:data:`_SPLINE_LEVELS`), and each level's relative to it (λs, h, x, θv,
         φ; :func:`_relative`), linear in the sun's airmass 1/cos θ_s (a quotient: in its
         logarithm), as the build derives the aircraft levels from their coarse nodes. Kept
-        for the sun last asked for (a configured engine's queries share its sun)."""
+        for the last four suns asked for (a configured engine's queries share its sun; an
+        aircraft level under a low sun also reads the two nodes about it)."""
         sun = (float(sz), _SPLINE_LEVELS)
-        held, tables = self.__dict__.get("_sun_tables") or (None, None)
-        if held != sun:
-            held, tables = sun, {}
-            self._sun_tables = (held, tables)
+        held = self.__dict__.setdefault("_sun_tables", {})
+        if sun not in held:
+            if len(held) >= 4:  # the sun asked for and the nodes about it
+                held.pop(next(iter(held)))
+            held[sun] = {}
+        tables = held[sun]
         if (kind, name) not in tables:
             tab = getattr(self, kind)[name]  # (λs, h, x, θs, θv, φ)
             nodes = self.axes["sun_zenith"]
@@ -748,46 +758,19 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             tables[kind, name] = (top, level)
         return tables[kind, name]
 
-    # -- the whole set of quantities ----------------------------------------------------------
-    def components(self, observer_altitude, target_altitude, view_zenith, wavelength,
-                   sun_zenith=None, relative_azimuth=None) -> dict:
-        """Reflective-range quantities of lines of sight, each (N, n) (see ``SixSAtmosphere``).
-
-        Returns a dict of arrays over (geometry, wavelength): ``path_reflectance``,
-        ``transmittance``, ``direct_transmittance_up``, ``diffuse_transmittance_up``,
-        ``gas_transmittance_up``, ``sun_transmittance``, ``direct_transmittance_down``,
-        ``diffuse_transmittance_down``, ``gas_transmittance_down``, ``spherical_albedo``,
-        ``optical_depth_rayleigh``, ``optical_depth_aerosol``, ``optical_depth_view``,
-        ``toa_irradiance``, ``direct_irradiance``, ``diffuse_irradiance``, ``path_radiance``.
-        """
-        wl = np.atleast_1d(np.asarray(wavelength, dtype=float))
-        sz = self.sun_zenith if sun_zenith is None else float(sun_zenith)
-        if sz is None:
-            raise ConfigError("the database engine needs the sun position for path radiance: "
-                              "give sun_zenith or call set_sun()", key="atmosphere.sun_zenith")
-        upper, lower, zen = self._geometry(observer_altitude, target_altitude, view_zenith)
-        u, h_t, vz = upper.ravel(), lower.ravel(), zen.ravel()
-        n = u.size
+    def _scattering(self, sz_eff, u, h_t, vz, phis, simpson, wl) -> dict:
+        """The scattering path reflectances ``rho_mixture`` and ``rho_rayleigh``, each (N, n) at
+        ``wl``, of observers at ``u`` over targets at ``h_t`` [m] seen at view zeniths ``vz``
+        [deg], the sun at ``sz_eff`` [deg]; averaged over the relative azimuths ``phis`` [deg]
+        with the weights ``simpson``: the single-scattering normaliser at the exact geometry
+        times (or plus) the factor interpolated between the nodes."""
+        a = self.axes
         dh = u - h_t
         space = u >= model.TOP_OF_ATMOSPHERE
         x = np.where(space, 1.0, -np.expm1(-np.maximum(dh, 0.0) / AEROSOL_SCALE_HEIGHT))
-        sz_eff = min(sz, 89.0)
-        mu_s = np.cos(np.radians(sz_eff))
-        mu_v = np.cos(np.radians(np.minimum(vz, 89.0)))
-        a = self.axes
-        # --- scattering tables at λ_s ---------------------------------------------------------
-        i_s, f_s = model.axis_weights(sz_eff, a["sun_zenith"])
         ih, fh = model.axis_weights(h_t, a["surface_altitude"])
         ix, fx = model.axis_weights(x, self._x_nodes)
-        iv, fv = model.axis_weights(vz, a["view_zenith"])
-        nh, nx, nv = a["surface_altitude"].size, self._x_nodes.size, a["view_zenith"].size
-        if relative_azimuth is not None:
-            phis = np.array([float(relative_azimuth)])
-        elif self.view_azimuth is not None:
-            phis = np.array([self.view_azimuth - self.sun_azimuth])
-        else:  # the azimuthal mean: Simpson's rule over 0..180 deg
-            phis = np.linspace(0.0, 180.0, 13)
-        simpson = np.ones(phis.size) if phis.size == 1 else _simpson(phis.size)
+        nh, nx = a["surface_altitude"].size, self._x_nodes.size
         tr_s = self.t["tau_rayleigh"]
         ta_s = self.t["tau_aerosol"]
         tau_r_q = tr_s[:, ih] * (1 - fh) + tr_s[:, np.minimum(ih + 1, nh - 1)] * fh  # (λs, N)
@@ -848,6 +831,108 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                     value = value * (1.0 - mixes[phi]) + extra * mixes[phi]
                 total = total + w * value
             rho[name] = self._spectral(total.T, wl)  # (N, n)
+        return rho
+
+    def _levels_by_quotient(self, rho, sz_eff, u, h_t, vz, phis, simpson, wl) -> dict:
+        """``rho`` with the observers inside the atmosphere under a low sun read as the top of
+        the atmosphere's path reflectance at the exact geometry times the level's quotient to
+        it, log-linear in the sun's and the view's airmass between the nodes.
+
+        Under a low sun the factor :meth:`_scattering` interpolates for an aircraft level (its
+        excess over single scattering held over the layer's share, which falls with the
+        sunlight left above the observer) grows steeply between the nodes while the path
+        reflectance itself does not: 1 km up, continental AOT550 0.6, 0.45 um, nadir, 6S gives
+        ρ = 0.02716, 0.02691 and 0.02354 at sun 60, 67 and 75 deg, while that factor goes
+        0.119, 0.163, 0.311. Read linearly between 60 and 75 deg it came out +9 to +15 % off
+        6S at sun 67 deg (and +270 to +670 % at 80 deg); the quotient ρ_level/ρ_top, in its
+        logarithm, +0.5 to -0.8 % at 67 deg. Under a high sun the quotient misses the
+        phase function's structure that the factor carries (maritime AOT550 0.3, 1 km, sun
+        10 deg: +5.7 % against +1.2 %), so the quotient takes over between the sun zeniths of
+        :data:`_LEVEL_QUOTIENT`."""
+        m_s = 1.0 / np.cos(np.radians(sz_eff))
+        lo, hi = (1.0 / np.cos(np.radians(z)) for z in _LEVEL_QUOTIENT)
+        weight = float(np.clip((m_s - lo) / (hi - lo), 0.0, 1.0))
+        inside = (u < model.TOP_OF_ATMOSPHERE) & (u - h_t > 0.5)
+        if weight == 0.0 or not np.any(inside):
+            return rho
+        rows = np.nonzero(inside)[0]
+        h, v = h_t[rows], vz[rows]
+        top = np.full(rows.size, model.TOP_OF_ATMOSPHERE)
+        level = u[rows]
+
+        def airmass(z):
+            return 1.0 / np.cos(np.radians(np.minimum(z, 89.0)))
+
+        def bracket(values, nodes):
+            m, mn = airmass(values), airmass(nodes)
+            i, f = model.axis_weights(m, mn)
+            return nodes[i], nodes[np.minimum(i + 1, nodes.size - 1)], f
+
+        s0, s1, fs = bracket(np.array([sz_eff]), self.axes["sun_zenith"])
+        v0, v1, fv = bracket(v, self.axes["view_zenith"])
+        log_q = {name: 0.0 for name in rho}
+        for sun, ws in ((float(s0[0]), 1.0 - float(fs[0])), (float(s1[0]), float(fs[0]))):
+            for view, wv in ((v0, 1.0 - fv), (v1, fv)):
+                if ws == 0.0 or not np.any(wv > 0.0):
+                    continue
+                below = self._scattering(sun, level, h, view, phis, simpson, wl)
+                above = self._scattering(sun, top, h, view, phis, simpson, wl)
+                for name in rho:
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        log_q[name] = log_q[name] + ws * wv[:, None] * np.log(
+                            below[name] / above[name])
+        at_top = self._scattering(sz_eff, top, h, v, phis, simpson, wl)
+        out = {}
+        for name, value in rho.items():
+            quotient = at_top[name] * np.exp(log_q[name])
+            good = np.isfinite(quotient)
+            mixed = value[rows] * (1.0 - weight) + np.where(good, quotient, value[rows]) * weight
+            out[name] = value.copy()
+            out[name][rows] = mixed
+        return out
+
+    # -- the whole set of quantities ----------------------------------------------------------
+    def components(self, observer_altitude, target_altitude, view_zenith, wavelength,
+                   sun_zenith=None, relative_azimuth=None) -> dict:
+        """Reflective-range quantities of lines of sight, each (N, n) (see ``SixSAtmosphere``).
+
+        Returns a dict of arrays over (geometry, wavelength): ``path_reflectance``,
+        ``transmittance``, ``direct_transmittance_up``, ``diffuse_transmittance_up``,
+        ``gas_transmittance_up``, ``sun_transmittance``, ``direct_transmittance_down``,
+        ``diffuse_transmittance_down``, ``gas_transmittance_down``, ``spherical_albedo``,
+        ``optical_depth_rayleigh``, ``optical_depth_aerosol``, ``optical_depth_view``,
+        ``toa_irradiance``, ``direct_irradiance``, ``diffuse_irradiance``, ``path_radiance``.
+        """
+        wl = np.atleast_1d(np.asarray(wavelength, dtype=float))
+        sz = self.sun_zenith if sun_zenith is None else float(sun_zenith)
+        if sz is None:
+            raise ConfigError("the database engine needs the sun position for path radiance: "
+                              "give sun_zenith or call set_sun()", key="atmosphere.sun_zenith")
+        upper, lower, zen = self._geometry(observer_altitude, target_altitude, view_zenith)
+        u, h_t, vz = upper.ravel(), lower.ravel(), zen.ravel()
+        n = u.size
+        dh = u - h_t
+        space = u >= model.TOP_OF_ATMOSPHERE
+        x = np.where(space, 1.0, -np.expm1(-np.maximum(dh, 0.0) / AEROSOL_SCALE_HEIGHT))
+        sz_eff = min(sz, 89.0)
+        mu_s = np.cos(np.radians(sz_eff))
+        mu_v = np.cos(np.radians(np.minimum(vz, 89.0)))
+        a = self.axes
+        # --- scattering tables at λ_s ---------------------------------------------------------
+        i_s, f_s = model.axis_weights(sz_eff, a["sun_zenith"])
+        ih, fh = model.axis_weights(h_t, a["surface_altitude"])
+        ix, fx = model.axis_weights(x, self._x_nodes)
+        iv, fv = model.axis_weights(vz, a["view_zenith"])
+        nh, nx, nv = a["surface_altitude"].size, self._x_nodes.size, a["view_zenith"].size
+        if relative_azimuth is not None:
+            phis = np.array([float(relative_azimuth)])
+        elif self.view_azimuth is not None:
+            phis = np.array([self.view_azimuth - self.sun_azimuth])
+        else:  # the azimuthal mean: Simpson's rule over 0..180 deg
+            phis = np.linspace(0.0, 180.0, 13)
+        simpson = np.ones(phis.size) if phis.size == 1 else _simpson(phis.size)
+        rho = self._scattering(sz_eff, u, h_t, vz, phis, simpson, wl)
+        rho = self._levels_by_quotient(rho, sz_eff, u, h_t, vz, phis, simpson, wl)
         # total transmittances (through their diffuse shares) and spherical albedo
         tdown = self.share_down  # (λs, h, θs)
         td = tdown[:, :, i_s] * (1 - f_s) + tdown[:, :, min(i_s + 1, tdown.shape[2] - 1)] * f_s

@@ -1,0 +1,102 @@
+"""Radiometric closure under a low sun: a plate rendered from 1 km and from the top of the
+atmosphere with the sun at 67 deg (between the database's sun nodes 60 and 75 deg), against
+6S's apparent reflectance (``low_sun_references.py``, made by
+``scripts/make_low_sun_references.py``).
+
+A scene file goes through ``radscene render`` with the ``database`` engine (continental AOT550
+0.5, between its nodes 0.3 and 0.6) and with the ``sixs`` engine; the image's band radiance, as
+an apparent reflectance π L / (μ_s E_0), is compared with 6S's. Tolerances as in
+``test_closure_6s.py``: 3 % for the database, 1 % for the ``sixs`` engine, or 2·10⁻⁵ in ρ*.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from radscene.sun import toa_solar_irradiance
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, Path(__file__).with_name(f"{name}.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+ref = _load("low_sun_references")
+ABSOLUTE = 2e-5
+ENGINES = {"database": 0.03, "sixs": 0.01}
+SENSORS = dict(ref.SENSORS_KM)
+
+
+def _scene(rho, sensor, view, engine):
+    zenith, azimuth = view
+    altitude = "700 km" if SENSORS[sensor] is None else f"{SENSORS[sensor]} km"
+    return {
+        "name": "low_sun_plate",
+        "environment": {
+            "location": {"latitude": 0.0, "longitude": 0.0, "altitude": "0 m"},
+            "sun": {"zenith": ref.SUN_ZENITH, "azimuth": ref.SUN_AZIMUTH, "distance": 1.0},
+            "atmosphere": {"type": engine, "profile": "us_standard", "aerosol": "rural",
+                           "aot550": ref.AOT550},
+        },
+        "materials": {"plate": {"reflectance": rho}},
+        "objects": [{"name": "plate", "shape": {"type": "plate", "width": "20 km",
+                                                "length": "20 km"},
+                     "material": "plate", "temperature": "290 K"}],
+        "bands": [{"name": f"b{lo:.2f}", "min": f"{lo} um", "max": f"{hi} um"}
+                  for lo, hi in ref.BANDS_UM],
+        "observers": [{"name": "cam", "type": "orthographic", "center": [0, 0], "gsd": "50 m",
+                       "shape": [12, 12], "altitude": altitude, "zenith": zenith,
+                       # 6S's view azimuth 0 at nadir is any; 270 deg at 40 deg
+                       "azimuth": azimuth if zenith else 270.0}],
+        "render": {"sky_samples": 64},
+    }
+
+
+def _failures(render, tmp_path, engine, sensor, view):
+    mu_s = np.cos(np.radians(ref.SUN_ZENITH))
+    failures = []
+    for rho in ref.RHOS:
+        ds = render(tmp_path / f"r{rho}", _scene(rho, sensor, view, engine))
+        for lo, hi in ref.BANDS_UM:
+            wl = np.linspace(lo, hi, 4001)
+            e0 = np.trapezoid(toa_solar_irradiance(wl, 1.0), wl)
+            value = np.pi * float(ds["radiance"].sel(band=f"b{lo:.2f}").mean()) / (mu_s * e0)
+            case = f"{sensor}-vz{view[0]:02.0f}-b{(lo + hi) / 2:.2f}-r{rho:.2f}"
+            expected = ref.CASES[case]["apparent_reflectance"]
+            error = value / expected - 1.0
+            if abs(error) > ENGINES[engine] and abs(value - expected) > ABSOLUTE:
+                failures.append(f"{case}: radscene {value:.5f}, 6S {expected:.5f} "
+                                f"({100 * error:+.2f} %)")
+    return failures
+
+
+#: Cases beyond tolerance, measured 2026-11-25. The database between its AOT550 nodes 0.3 and
+#: 0.6 mixes the aircraft level's factors linearly in AOT550, which under a low sun leaves the
+#: path radiance high: black plate, 1 km, nadir, 0.45 um +3.60 % (+10.11 % before the level was
+#: read as a quotient to the top, database._levels_by_quotient; at 40 deg +9.22 % then, within
+#: 3 % now). The same component at the AOT550 node 0.6 is within 0.5 %.
+GAPS = {("database", "air1km", "nadir"): "+3.60 % at 0.45 um (black plate)"}
+
+
+def _cases():
+    for engine in ENGINES:
+        for sensor in SENSORS:
+            for view, name in zip(ref.VIEWS, ("nadir", "vz40"), strict=True):
+                gap = GAPS.get((engine, sensor, name))
+                marks = [pytest.mark.slow] + ([pytest.mark.xfail(
+                    strict=True, reason=f"known gap: the database's path radiance {gap}")]
+                    if gap else [])
+                yield pytest.param(engine, sensor, view, marks=marks,
+                                   id=f"{engine}-{sensor}-{name}")
+
+
+@pytest.mark.parametrize("engine, sensor, view", list(_cases()))
+def test_plate_under_a_low_sun_equals_6s(render_scene, tmp_path, engine, sensor, view):
+    failures = _failures(render_scene, tmp_path, engine, sensor, view)
+    assert not failures, "\n".join(failures)
