@@ -358,7 +358,6 @@ def test_images_over_pillows_limit_within_the_memory_limit_are_read(tmp_path, mo
     scene = _scene(shape=(8, 8))
     scene["terrain"].update(material_map={"type": "file", "file": "classes.jpg",
                                           "classes": {0: "soil", 1: "soil", 2: "soil"}},
-                            temperature_map="grey.jpg",
                             textures={"reflectance": {"file": "grey.jpg", "size": [10, 10]}})
     with warnings.catch_warnings():
         warnings.simplefilter("error", Image.DecompressionBombWarning)
@@ -367,6 +366,5 @@ def test_images_over_pillows_limit_within_the_memory_limit_are_read(tmp_path, mo
     terrain = loaded.objects[0]
     assert terrain.textures["reflectance"].values.shape == (32, 32)
     assert np.allclose(terrain.textures["reflectance"].values, 200 / 255, atol=2 / 255)
-    assert terrain.face_fixed.all()  # the temperature map was read
     assert classes.shape == (32, 32)
     assert Image.MAX_IMAGE_PIXELS == 300

@@ -77,3 +77,71 @@ def test_unknown_key_is_named():
     scene = _base({"type": "procedural", "size": [100, 100], "spacing": 5, "hills": 3})
     with pytest.raises(ConfigError, match=r"terrain.hills: unknown key"):
         load_scene(scene)
+
+
+# -- a temperature map holds kelvin, never image levels ---------------------------------------
+
+def _flat(temperature_map):
+    return _base({"type": "flat", "size": [100, 100], "spacing": 10,
+                  "temperature_map": temperature_map})
+
+
+@pytest.mark.parametrize("name, levels", [("temps.png", np.uint8), ("temps.png", np.uint16),
+                                          ("temps.jpg", np.uint8), ("temps.JPEG", np.uint8)])
+def test_a_png_or_jpeg_temperature_map_is_refused_naming_the_key(tmp_path, name, levels):
+    """An 8-bit PNG of 200 came out as 0.78 K, a 16-bit one of 300 as 0.0046 K, a JPEG of 200
+    as 200 K (its levels): refused before the file is read, whatever it holds."""
+    from PIL import Image
+
+    Image.fromarray(np.full((8, 8), 200, levels)).save(tmp_path / name, format=(
+        "PNG" if name.endswith(".png") else "JPEG"))
+    with pytest.raises(ConfigError) as err:
+        load_scene(_flat(name), base_dir=tmp_path)
+    assert err.value.key == "terrain.temperature_map"
+    assert str(err.value) == (
+        "terrain.temperature_map: a temperature map holds kelvin: give a .npy array or a GeoTIFF "
+        f"(.tif, .tiff) of temperatures; {name!r} is neither (a PNG or JPEG holds 8- or 16-bit "
+        "levels, not temperatures)")
+    with pytest.raises(ConfigError, match=r"^terrain\.temperature_map: a temperature map holds"):
+        load_scene(_flat("missing.png"), base_dir=tmp_path)
+
+
+@pytest.mark.parametrize("values, match", [
+    (np.full((4, 4), 0.5), r"every value is at most 1 K \(the largest 0\.5\): these are image "
+                           r"levels scaled to 0-1, not temperatures"),
+    (np.linspace(0.01, 1.0, 16).reshape(4, 4), r"every value is at most 1 K"),
+    (np.array([[300.0, 0.0], [300.0, 300.0]]), r"finite and > 0 K everywhere; the map holds 0 K"),
+    (np.array([[300.0, -5.0], [300.0, 300.0]]), r"the map holds -5 K"),
+    (np.array([[300.0, np.nan], [300.0, 300.0]]), r"values that are not finite"),
+    (np.array([[300.0, np.inf], [300.0, 300.0]]), r"values that are not finite"),
+])
+def test_temperatures_not_above_0_k_or_levels_are_refused(tmp_path, values, match):
+    np.save(tmp_path / "temps.npy", values)
+    with pytest.raises(ConfigError, match=r"^terrain\.temperature_map: .*" + match) as err:
+        load_scene(_flat("temps.npy"), base_dir=tmp_path)
+    assert err.value.key == "terrain.temperature_map"
+
+
+def test_integer_kelvin_in_a_npy_or_a_geotiff_is_read_as_kelvin(tmp_path):
+    """Integer kelvin is legitimate; a map with one cold pixel among warm ones (below 1 K, not
+    levels) is accepted too: no physical bound is imposed beyond > 0 K."""
+    import rasterio
+    from rasterio.transform import from_origin
+
+    temps = np.full((10, 10), 290, np.uint16)
+    temps[:5] = 310  # the north half
+    np.save(tmp_path / "temps.npy", temps)
+    with rasterio.open(tmp_path / "temps.tif", "w", driver="GTiff", height=10, width=10,
+                       count=1, dtype="uint16", crs="EPSG:32631",
+                       transform=from_origin(6e5, 5e6, 10.0, 10.0)) as dst:
+        dst.write(temps, 1)
+    cold = temps.astype(float)
+    cold[9, 9] = 0.5
+    np.save(tmp_path / "cold.npy", cold)
+    for name in ("temps.npy", "temps.tif", "cold.npy"):
+        terrain = load_scene(_flat(name), base_dir=tmp_path).objects[0]
+        centroid = terrain.mesh.vertices[terrain.mesh.faces].mean(axis=1)
+        assert set(terrain.face_temperature[centroid[:, 1] > 60]) == {310.0}, name
+        assert set(terrain.face_temperature[(centroid[:, 1] < 40) & (centroid[:, 0] < 60)]) == {
+            290.0}, name
+        assert terrain.face_fixed.all()

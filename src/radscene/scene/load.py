@@ -462,9 +462,7 @@ class _Resolver:
             face_fixed[face_material == idx] = True
         if tspec.temperature_map is not None:
             key = "terrain.temperature_map"
-            image = _read_image(self.file(tspec.temperature_map, key), key).astype(float)
-            if not np.all(np.isfinite(image)) or np.any(image <= 0):
-                raise ConfigError("temperatures must be finite and > 0 K everywhere", key=key)
+            image = _read_temperatures(self.file(tspec.temperature_map, key), key)
             face_temperature = self._face_values(mesh, hf, _resample_nearest(image, (ny, nx)))
             face_fixed[:] = True
         return hf, SceneObject(
@@ -1105,3 +1103,31 @@ def _read_image(path: Path, key: str) -> np.ndarray:
     if image.ndim != 2:
         raise ConfigError(f"a 2-D single-band image is needed, got shape {image.shape}", key=key)
     return np.asarray(image)
+
+
+#: A temperature map none of whose values exceeds this [K] holds image levels scaled to 0-1.
+LEVELS_KELVIN = 1.0
+
+
+def _read_temperatures(path: Path, key: str) -> np.ndarray:
+    """A temperature map [K] (a .npy array or a GeoTIFF, integer or floating-point kelvin;
+    the scene schema refuses the other formats) as float64.
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        Naming ``key``: a value not finite or not above 0 K, or every value at most
+        :data:`LEVELS_KELVIN` (image levels scaled to 0-1, not temperatures).
+    """
+    image = _read_image(path, key).astype(float)
+    if not np.all(np.isfinite(image)):
+        raise ConfigError("temperatures must be finite and > 0 K everywhere; the map holds "
+                          "values that are not finite", key=key)
+    if np.any(image <= 0.0):
+        raise ConfigError("temperatures must be finite and > 0 K everywhere; the map holds "
+                          f"{image.min():g} K", key=key)
+    if image.max() <= LEVELS_KELVIN:
+        raise ConfigError(f"every value is at most {LEVELS_KELVIN:g} K (the largest "
+                          f"{image.max():g}): these are image levels scaled to 0-1, not "
+                          "temperatures; give the temperatures [K]", key=key)
+    return image
