@@ -145,3 +145,63 @@ def test_integer_kelvin_in_a_npy_or_a_geotiff_is_read_as_kelvin(tmp_path):
         assert set(terrain.face_temperature[(centroid[:, 1] < 40) & (centroid[:, 0] < 60)]) == {
             290.0}, name
         assert terrain.face_fixed.all()
+
+
+# -- a material map's class values are the numbers the file stores --------------------------
+
+def _classes(name):
+    return _base({"type": "flat", "size": [100, 100], "spacing": 10, "material_map": {
+        "type": "file", "file": name, "classes": {0: "sand", 3: "asphalt", 1000: "concrete"}}})
+
+
+def _east_west(scene):
+    terrain = scene.objects[0]
+    centroid = terrain.mesh.vertices[terrain.mesh.faces].mean(axis=1)
+    names = np.array(scene.material_names)[terrain.face_material]
+    return set(names[centroid[:, 0] < 40]), set(names[centroid[:, 0] > 60])
+
+
+@pytest.mark.parametrize("values", [(0, 3), (3, 1000)])
+def test_a_16_bit_png_material_map_gives_its_levels(tmp_path, values):
+    """16-bit levels 0 and 3 were read as 0 and 0 (scaled to 0-1, then times 255): every face
+    took class 0's material without a word."""
+    from PIL import Image
+
+    classes = np.full((10, 10), values[0], np.uint16)
+    classes[:, 5:] = values[1]
+    Image.fromarray(classes).save(tmp_path / "classes.png")
+    names = {0: "sand", 3: "asphalt", 1000: "concrete"}
+    scene = load_scene(_classes("classes.png"), base_dir=tmp_path)
+    assert _east_west(scene) == ({names[values[0]]}, {names[values[1]]})
+
+
+def test_8_bit_palette_and_float_material_maps_give_their_class_values(tmp_path):
+    """A palette PNG's indices (not its colours), an 8-bit grey PNG's levels, and a float
+    array's values (0 and 1 were read as 0 and 255)."""
+    from PIL import Image
+
+    classes = np.zeros((10, 10), np.uint8)
+    classes[:, 5:] = 3
+    palette = Image.fromarray(classes, mode="L").convert("P")
+    palette.putpalette([200, 0, 0] * 3 + [10, 10, 10] + [0, 0, 0] * 252)
+    palette.save(tmp_path / "palette.png")
+    Image.fromarray(classes).save(tmp_path / "grey.png")
+    np.save(tmp_path / "float.npy", classes.astype(float))
+    for name in ("palette.png", "grey.png", "float.npy"):
+        scene = load_scene(_classes(name), base_dir=tmp_path)
+        assert _east_west(scene) == ({"sand"}, {"asphalt"}), name
+    ones = (classes > 0).astype(float)
+    np.save(tmp_path / "ones.npy", ones)
+    scene = _classes("ones.npy")
+    scene["terrain"]["material_map"]["classes"] = {0: "sand", 1: "asphalt"}
+    assert _east_west(load_scene(scene, base_dir=tmp_path)) == ({"sand"}, {"asphalt"})
+
+
+@pytest.mark.parametrize("value", [0.5, np.nan])
+def test_a_material_map_of_other_numbers_than_integers_is_refused(tmp_path, value):
+    classes = np.zeros((4, 4))
+    classes[0, 0] = value
+    np.save(tmp_path / "classes.npy", classes)
+    with pytest.raises(ConfigError, match=r"^terrain\.material_map\.file: class values are "
+                                          r"integers; the image holds other numbers"):
+        load_scene(_classes("classes.npy"), base_dir=tmp_path)

@@ -175,8 +175,9 @@ def image_header(path) -> tuple[int, int, float] | None:
     tuple of (int, int, float) or None
         ``(rows, columns, value_bytes)``: the image's height and width [pixels] and the bytes
         of its values as the readers decode them (a .npy array's or a GeoTIFF's dtype, every
-        band; PNG/JPEG as 4 B a channel, a palette as four channels). None when the header
-        cannot be read: the reader then says what is wrong with the file.
+        band; PNG/JPEG as 4 B a channel, a palette as four channels, as a texture's reader
+        decodes them: a material map's levels, read as they are, take fewer). None when the
+        header cannot be read: the reader then says what is wrong with the file.
     """
     path = Path(path)
     suffix = path.suffix.lower()

@@ -210,8 +210,10 @@ class MaterialMapFile(_Model):
 
     type: Literal["file"] = Field("file", description="`file`: a classified image")
     file: str = Field(
-        description="classified image over the terrain extent (.npy, GeoTIFF or PNG/JPEG, first "
-        "channel), resampled by nearest neighbour onto the terrain grid")
+        description="classified image over the terrain extent, resampled by nearest neighbour "
+        "onto the terrain grid: a .npy array or a GeoTIFF (first band) of integer class values, "
+        "or a PNG/JPEG whose 8- or 16-bit levels are the class values (a palette image's "
+        "indices, a colour image's first channel)")
     classes: dict[int, str | dict[str, float]] = Field(
         description="pixel value -> a material name, or the fractions of several materials that "
         "sum to 1 (a linear areal mixture); every value in the image must be mapped")
