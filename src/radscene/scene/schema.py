@@ -621,7 +621,8 @@ class DensityProfile(_Model):
         None, description="gaussian: standard deviation about the centre [m], one or one per axis "
         "(east, north, up)")
     file: str | None = Field(None, description="grid: a .npy array or a NetCDF variable of "
-                             "relative density, dims (z, y, x), nodes spanning the volume's box")
+                             "relative density, dims (z, y, x), nodes spanning the volume's box; "
+                             "sized from its header against the memory limit before it is read")
     variable: str = Field("density", description="grid: the NetCDF variable")
 
     @model_validator(mode="after")
