@@ -453,15 +453,19 @@ def test_a_second_grid_counts_the_first_and_the_terrain(tmp_path):
         radscene.load_scene(scene, base_dir=tmp_path, max_memory="1.2 GB")
 
 
-def test_cli_refuses_a_huge_density_grid_before_work(tmp_path, one_line_refusal):
+@pytest.mark.parametrize("huge", ["huge.npy", "huge.nc"])
+def test_cli_refuses_a_huge_density_grid_before_work(tmp_path, one_line_refusal, huge):
     """`radscene check` and `radscene render`: exit code 2, one line naming the key and the
     figures, no output folder; the same scene with a small grid renders within that limit."""
     import numpy as np
 
-    _npy_header(tmp_path / "huge.npy", (2000, 2000, 2000), "float32")
+    if huge.endswith(".npy"):
+        _npy_header(tmp_path / huge, (2000, 2000, 2000), "float32")
+    else:
+        _netcdf_header(tmp_path / huge, (2000, 2000, 2000))
     np.save(tmp_path / "small.npy", np.linspace(0.0, 2.0, 6 * 5 * 4).reshape(6, 5, 4))
     path = tmp_path / "s.yaml"
-    path.write_text(yaml.safe_dump(_grid_scene("huge.npy")))
+    path.write_text(yaml.safe_dump(_grid_scene(huge)))
     runner = CliRunner()
     out = tmp_path / "out"
     for args in (["check", str(path), "--max-memory", "2GB"],
@@ -469,10 +473,10 @@ def test_cli_refuses_a_huge_density_grid_before_work(tmp_path, one_line_refusal)
         result = runner.invoke(app, args)
         assert result.exit_code == 2, result.output
         one_line_refusal(result.output, "error: volumes[0].profile.file: the density grid "
-                         "huge.npy (2,000 × 2,000 × 2,000 nodes) needs about 104.3 GB to read; "
+                         f"{huge} (2,000 × 2,000 × 2,000 nodes) needs about 104.3 GB to read; "
                          "the limit is 2.0 GB (--max-memory)")
     assert not out.exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["huge.npy", "s.yaml", "small.npy"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([huge, "s.yaml", "small.npy"])
     path.write_text(yaml.safe_dump(_grid_scene("small.npy")))
     result = runner.invoke(app, ["render", str(path), "-o", str(out), "--max-memory", "2GB"])
     assert result.exit_code == 0, result.output
