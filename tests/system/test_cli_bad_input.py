@@ -269,3 +269,39 @@ def test_brackets_in_a_message_are_printed_not_taken_for_markup(tmp_path, one_li
     result, out = _run(tmp_path, text)
     assert result.exit_code == 2, result.output
     one_line_refusal(result.output, "a .npy DEM needs 'spacing' [m, m]")
+
+
+@pytest.mark.parametrize("name, message", [
+    ("temps.png", "a temperature map holds kelvin: give a .npy array or a GeoTIFF (.tif, .tiff) "
+                  "of temperatures; 'temps.png' is neither (a PNG or JPEG holds 8- or 16-bit "
+                  "levels, not temperatures)"),
+    ("temps.jpg", "a temperature map holds kelvin: give a .npy array or a GeoTIFF"),
+    ("temps.npy", "every value is at most 1 K (the largest 0.784314): these are image levels "
+                  "scaled to 0-1, not temperatures"),
+])
+def test_a_temperature_map_of_image_levels_is_refused(tmp_path, one_line_refusal, name, message):
+    """`radscene check` and `radscene render`: exit code 2, one line naming
+    terrain.temperature_map, nothing written; the same map as kelvin renders."""
+    import numpy as np
+    from PIL import Image
+
+    levels = np.full((8, 8), 200, np.uint8)
+    if name.endswith(".npy"):
+        np.save(tmp_path / name, levels / 255.0)  # an 8-bit image as it is read into 0-1
+    else:
+        Image.fromarray(levels).save(tmp_path / name)
+    text = GOOD.replace("bands:", "terrain: {type: flat, size: [20 m, 20 m], spacing: 1 m, "
+                        f"material: paint, temperature_map: {name}}}\nbands:", 1)
+    (tmp_path / "scene.yaml").write_text(text)
+    result = runner.invoke(app, ["check", str(tmp_path / "scene.yaml")])
+    assert result.exit_code == 2, result.output
+    one_line_refusal(result.output, f"error: terrain.temperature_map: {message}")
+    result, out = _run(tmp_path, text)
+    assert result.exit_code == 2, result.output
+    one_line_refusal(result.output, f"error: terrain.temperature_map: {message}")
+    assert not out.exists()
+    np.save(tmp_path / "kelvin.npy", np.full((8, 8), 300.0))
+    result, out = _run(tmp_path, text.replace(f"temperature_map: {name}",
+                                              "temperature_map: kelvin.npy"))
+    assert result.exit_code == 0, result.output
+    assert (out / "nadir.nc").is_file()

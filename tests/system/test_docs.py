@@ -152,6 +152,7 @@ def _demo():
     (lambda s: s["thermal"]["weather"].__setitem__("relative_humidity", 1.5),
      ["thermal", "weather", "relative_humidity"]),
     (lambda s: s.pop("observers"), []),
+    (lambda s: s["terrain"].__setitem__("temperature_map", "temps.png"), ["terrain"]),
 ])
 def test_json_schema_refuses_what_the_loader_refuses(edit, path, validator):
     scene = _demo()

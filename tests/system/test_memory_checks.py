@@ -358,7 +358,6 @@ def test_images_over_pillows_limit_within_the_memory_limit_are_read(tmp_path, mo
     scene = _scene(shape=(8, 8))
     scene["terrain"].update(material_map={"type": "file", "file": "classes.jpg",
                                           "classes": {0: "soil", 1: "soil", 2: "soil"}},
-                            temperature_map="grey.jpg",
                             textures={"reflectance": {"file": "grey.jpg", "size": [10, 10]}})
     with warnings.catch_warnings():
         warnings.simplefilter("error", Image.DecompressionBombWarning)
@@ -367,6 +366,118 @@ def test_images_over_pillows_limit_within_the_memory_limit_are_read(tmp_path, mo
     terrain = loaded.objects[0]
     assert terrain.textures["reflectance"].values.shape == (32, 32)
     assert np.allclose(terrain.textures["reflectance"].values, 200 / 255, atol=2 / 255)
-    assert terrain.face_fixed.all()  # the temperature map was read
     assert classes.shape == (32, 32)
     assert Image.MAX_IMAGE_PIXELS == 300
+
+
+# -- volumes' density grids: sized from their headers, none of their values read -------------
+
+def _netcdf_header(path, shape, dtype="f4"):
+    """A NetCDF-4 file whose variable ``density`` is declared ``shape`` (dims z, y, x) and
+    never written: its chunks are not stored, the file holds a few kB."""
+    import h5netcdf
+
+    with h5netcdf.File(path, "w") as f:
+        f.dimensions = dict(zip(("z", "y", "x"), shape, strict=True))
+        f.create_variable("density", ("z", "y", "x"), dtype, chunks=(50, 50, 50))
+
+
+def _grid_scene(name):
+    scene = _plate_scene("small.png")
+    scene["objects"][0].pop("textures")
+    scene["volumes"] = [{"name": "smoke", "shape": {"type": "box", "size": [20, 20, 10]},
+                         "position": [0, 0, 8], "extinction": 0.05, "temperature": "320 K",
+                         "profile": {"type": "grid", "file": name}}]
+    return scene
+
+
+@pytest.mark.parametrize("name, make, figure", [
+    ("big.npy", lambda p: _npy_header(p, (2000, 2000, 2000), "float32"), "104.3"),
+    ("big.nc", lambda p: _netcdf_header(p, (2000, 2000, 2000)), "104.3"),
+    ("big64.npy", lambda p: _npy_header(p, (1000, 1000, 1000), "float64"), "9.3"),
+])
+def test_a_density_grid_is_sized_from_its_header_before_it_is_read(tmp_path, name, make,
+                                                                   figure):
+    """8 000 M nodes (1 000 M of float64), their values absent: refused for their size in
+    well under a second, naming the key the loader names for the file, so none was read."""
+    make(tmp_path / name)
+    assert (tmp_path / name).stat().st_size < 100_000
+    scene = _grid_scene(name)
+    started = time.perf_counter()
+    with pytest.raises(ConfigError) as err:
+        radscene.load_scene(scene, base_dir=tmp_path, max_memory="2 GB")
+    assert time.perf_counter() - started < 5.0
+    side = name.startswith("big64") and "1,000" or "2,000"
+    assert str(err.value) == (
+        f"volumes[0].profile.file: the density grid {name} ({side} × {side} × {side} nodes) "
+        f"needs about {figure} GB to read; the limit is 2.0 GB (--max-memory): a grid "
+        "resampled coarser or cropped")
+    assert err.value.key == "volumes[0].profile.file"
+    scene["render"] = {"max_memory": "3 GB"}
+    with pytest.raises(ConfigError, match=r"the limit is 3\.0 GB \(render\.max_memory\)"):
+        radscene.load_scene(scene, base_dir=tmp_path)
+
+
+def test_a_second_grid_counts_the_first_and_the_terrain(tmp_path):
+    """Read after the terrain and the grids before it, which stay held: the figure and the
+    message say so; the grids count in every observer's estimate."""
+    _npy_header(tmp_path / "a.npy", (500, 500, 500), "float32")  # 1.0 GB held
+    _npy_header(tmp_path / "b.npy", (500, 500, 400), "float32")
+    scene = _grid_scene("a.npy")
+    scene["volumes"].append({**scene["volumes"][0], "name": "plume",
+                             "profile": {"type": "grid", "file": "b.npy"}})
+    scene["terrain"] = {"type": "flat", "size": [100, 100], "spacing": 1, "material": "paint"}
+    with pytest.raises(ConfigError) as err:
+        radscene.load_scene(scene, base_dir=tmp_path, max_memory="2.5 GB")
+    assert str(err.value).startswith(
+        "volumes[1].profile.file: the density grid b.npy (500 × 500 × 400 nodes) needs about "
+        "2.6 GB to read, with the terrain and the density grids before it; the limit is 2.5 GB")
+    from radscene.scene.memory import GRID_HELD_BYTES
+    from radscene.scene.schema import SceneSpec
+
+    spec = SceneSpec.model_validate(scene)
+    est = estimate(spec, tmp_path)
+    assert [key for _, key, _ in est["grids"]] == ["volumes[0].profile.file",
+                                                   "volumes[1].profile.file"]
+    assert est["grids_held"] == 225e6 * GRID_HELD_BYTES
+    bare = estimate(SceneSpec.model_validate({**scene, "volumes": []}), tmp_path)
+    assert est["observers"][0][0] == pytest.approx(bare["observers"][0][0] + 1.8e9)
+    # grids of 512 MB and 8 MB held: read within 1.2 GB, but not rendered with 1024² pixels
+    _npy_header(tmp_path / "c.npy", (400, 400, 400), "float64")
+    _npy_header(tmp_path / "d.npy", (100, 100, 100), "float32")
+    scene["volumes"][0]["profile"]["file"] = "c.npy"
+    scene["volumes"][1]["profile"]["file"] = "d.npy"
+    scene["observers"][0]["shape"] = [1024, 1024]
+    with pytest.raises(ConfigError, match=r"^observers\[0\]\.shape: rendering it needs about "
+                                          r"1\.4 GB \(.*, with the terrain and density grids\)"):
+        radscene.load_scene(scene, base_dir=tmp_path, max_memory="1.2 GB")
+
+
+@pytest.mark.parametrize("huge", ["huge.npy", "huge.nc"])
+def test_cli_refuses_a_huge_density_grid_before_work(tmp_path, one_line_refusal, huge):
+    """`radscene check` and `radscene render`: exit code 2, one line naming the key and the
+    figures, no output folder; the same scene with a small grid renders within that limit."""
+    import numpy as np
+
+    if huge.endswith(".npy"):
+        _npy_header(tmp_path / huge, (2000, 2000, 2000), "float32")
+    else:
+        _netcdf_header(tmp_path / huge, (2000, 2000, 2000))
+    np.save(tmp_path / "small.npy", np.linspace(0.0, 2.0, 6 * 5 * 4).reshape(6, 5, 4))
+    path = tmp_path / "s.yaml"
+    path.write_text(yaml.safe_dump(_grid_scene(huge)))
+    runner = CliRunner()
+    out = tmp_path / "out"
+    for args in (["check", str(path), "--max-memory", "2GB"],
+                 ["render", str(path), "-o", str(out), "--max-memory", "2GB"]):
+        result = runner.invoke(app, args)
+        assert result.exit_code == 2, result.output
+        one_line_refusal(result.output, "error: volumes[0].profile.file: the density grid "
+                         f"{huge} (2,000 × 2,000 × 2,000 nodes) needs about 104.3 GB to read; "
+                         "the limit is 2.0 GB (--max-memory)")
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([huge, "s.yaml", "small.npy"])
+    path.write_text(yaml.safe_dump(_grid_scene("small.npy")))
+    result = runner.invoke(app, ["render", str(path), "-o", str(out), "--max-memory", "2GB"])
+    assert result.exit_code == 0, result.output
+    assert (out / "nadir.nc").is_file()

@@ -462,9 +462,7 @@ class _Resolver:
             face_fixed[face_material == idx] = True
         if tspec.temperature_map is not None:
             key = "terrain.temperature_map"
-            image = _read_image(self.file(tspec.temperature_map, key), key).astype(float)
-            if not np.all(np.isfinite(image)) or np.any(image <= 0):
-                raise ConfigError("temperatures must be finite and > 0 K everywhere", key=key)
+            image = _read_temperatures(self.file(tspec.temperature_map, key), key)
             face_temperature = self._face_values(mesh, hf, _resample_nearest(image, (ny, nx)))
             face_fixed[:] = True
         return hf, SceneObject(
@@ -571,8 +569,9 @@ class _Resolver:
         # classified image resampled by nearest neighbour onto the grid
         fpath = self.file(mmap.file, "terrain.material_map.file")
         image = _read_image(fpath, "terrain.material_map.file")
-        if image.dtype.kind == "f":
-            image = np.round(image * 255 if image.max() <= 1.0 else image)
+        if image.dtype.kind == "f" and not np.all(np.isfinite(image) & (image == np.round(image))):
+            raise ConfigError("class values are integers; the image holds other numbers",
+                              key="terrain.material_map.file")
         image = image.astype(np.int64)
         lut = {}
         for value, mname in mmap.classes.items():
@@ -1079,9 +1078,28 @@ def _load_npy(path: Path, key: str) -> np.ndarray:
 
 
 def _read_image(path: Path, key: str) -> np.ndarray:
-    """Read a single-band image (.npy, GeoTIFF, PNG/JPEG: first channel), sized beforehand
-    against the memory limit (radscene.scene.memory.image_header): Pillow's own pixel-count
-    limit is lifted while it is read."""
+    """Read a single-band image as the numbers it stores, sized beforehand against the memory
+    limit (radscene.scene.memory.image_header).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        A .npy array, a GeoTIFF (``.tif``, ``.tiff``: its first band) or an image Pillow
+        opens (PNG, JPEG, ...: its levels, 8- or 16-bit, a palette's indices, the first
+        channel of a colour image), read with Pillow's pixel-count limit lifted.
+    key : str
+        The scene key that names the file, for errors.
+
+    Returns
+    -------
+    numpy.ndarray
+        The 2-D image, in the file's own dtype: levels are never rescaled.
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        Naming ``key``: an unreadable file, or not one band of two dimensions.
+    """
     suffix = path.suffix.lower()
     try:
         if suffix == ".npy":
@@ -1091,12 +1109,12 @@ def _read_image(path: Path, key: str) -> np.ndarray:
 
             image = rioxarray.open_rasterio(path).values[0]
         else:
-            import matplotlib.image as mpimg
+            from PIL import Image
 
             from radscene.materials.imagefile import pil_unlimited
 
-            with pil_unlimited():
-                image = mpimg.imread(path)
+            with pil_unlimited(), Image.open(path) as opened:
+                image = np.asarray(opened)
             if image.ndim == 3:
                 image = image[..., 0]
     except Exception as err:  # noqa: BLE001 - any reader failure is a bad file
@@ -1105,3 +1123,31 @@ def _read_image(path: Path, key: str) -> np.ndarray:
     if image.ndim != 2:
         raise ConfigError(f"a 2-D single-band image is needed, got shape {image.shape}", key=key)
     return np.asarray(image)
+
+
+#: A temperature map none of whose values exceeds this [K] holds image levels scaled to 0-1.
+LEVELS_KELVIN = 1.0
+
+
+def _read_temperatures(path: Path, key: str) -> np.ndarray:
+    """A temperature map [K] (a .npy array or a GeoTIFF, integer or floating-point kelvin;
+    the scene schema refuses the other formats) as float64.
+
+    Raises
+    ------
+    radscene.errors.ConfigError
+        Naming ``key``: a value not finite or not above 0 K, or every value at most
+        :data:`LEVELS_KELVIN` (image levels scaled to 0-1, not temperatures).
+    """
+    image = _read_image(path, key).astype(float)
+    if not np.all(np.isfinite(image)):
+        raise ConfigError("temperatures must be finite and > 0 K everywhere; the map holds "
+                          "values that are not finite", key=key)
+    if np.any(image <= 0.0):
+        raise ConfigError("temperatures must be finite and > 0 K everywhere; the map holds "
+                          f"{image.min():g} K", key=key)
+    if image.max() <= LEVELS_KELVIN:
+        raise ConfigError(f"every value is at most {LEVELS_KELVIN:g} K (the largest "
+                          f"{image.max():g}): these are image levels scaled to 0-1, not "
+                          "temperatures; give the temperatures [K]", key=key)
+    return image

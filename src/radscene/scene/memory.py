@@ -26,6 +26,20 @@ takes 32 B a texel plus twice the bytes of the decoded values (:data:`IMAGE_TEXE
 :data:`IMAGE_VALUE_COPIES`). A texture's multipliers are held for the whole render, 8 B a
 texel (:data:`TEXTURE_TEXEL_BYTES`), and count in every observer's estimate.
 
+A volume's density grid (:func:`grid_files`: ``volumes[i].profile.file``, a .npy array or
+a NetCDF variable) is sized the same way by :func:`grid_header` (the .npy header's shape and
+dtype, the NetCDF variable's shape and stored and decoded dtypes, none of its values read):
+the loader turns it into float64 and checks it, and the render holds it. Peak resident
+memory over a 200 × 200 × 200 grid (8 M nodes) against a 2 × 2 × 2 one, the scene otherwise
+the same (2026-11-25): to load it, 11.6 B a node from a float32 .npy, 12.4 B from a float32
+NetCDF variable, 9.6 B from an int16 .npy, 8.7 B from a float64 or uint8 one; through the load
+and a render, 9.2 B a node from float32, 7.5 B from float64, int16 or uint8 (the render marches
+rays through the grid and copies none of it). The estimate takes, to read it, 9 B a node (the float64 grid
+and the checks' one-byte masks, :data:`GRID_NODE_BYTES`) plus the bytes of every other array
+the reader makes on the way (the stored values, and the decoded ones where they differ; none
+when they are float64 already); it is held for the whole render, 8 B a node
+(:data:`GRID_HELD_BYTES`), and counts in every observer's estimate.
+
 Two sizes are known only once the run is: a frame sequence (:func:`check_sequence_memory`:
 every frame's layers are held until the last, about 200 B per pixel and 200 B per pixel and
 band, measured on 64 × 64 frames of one and four bands) and a heat balance
@@ -46,7 +60,7 @@ from radscene.errors import ConfigError
 
 __all__ = ["estimate", "available_memory", "check_memory", "parse_memory", "memory_limit",
            "check_sequence_memory", "check_thermal_memory", "check_cube_memory", "dem_file_cells",
-           "image_files", "image_header"]
+           "image_files", "image_header", "grid_files", "grid_header"]
 
 BASE_BYTES = 300e6
 TERRAIN_BYTES_PER_CELL = 400.0
@@ -77,6 +91,14 @@ IMAGE_VALUE_COPIES = 2.0
 #: A texture's multipliers, held for the whole render (float64; measured 8.0 B a texel,
 #: 2026-11-25).
 TEXTURE_TEXEL_BYTES = 8.0
+#: A volume's density grid while it is read: per node, the float64 grid and the one-byte masks
+#: of its checks, on top of the bytes of the arrays read on the way (:func:`grid_header`).
+#: Measured on a 200³ grid (peak resident memory, 2026-11-25): 8.7 B a node from a float64
+#: .npy, 11.6 B from float32, 12.4 B from a float32 NetCDF variable.
+GRID_NODE_BYTES = 9.0
+#: A density grid held for the whole render (float64; measured 7.5-9.2 B a node through a
+#: load and a render, 2026-11-25).
+GRID_HELD_BYTES = 8.0
 
 _UNITS = {"b": 1.0, "kb": 1e3, "mb": 1e6, "gb": 1e9, "tb": 1e12,
           "kib": 1024.0, "mib": 1024.0 ** 2, "gib": 1024.0 ** 3, "tib": 1024.0 ** 4}
@@ -175,8 +197,9 @@ def image_header(path) -> tuple[int, int, float] | None:
     tuple of (int, int, float) or None
         ``(rows, columns, value_bytes)``: the image's height and width [pixels] and the bytes
         of its values as the readers decode them (a .npy array's or a GeoTIFF's dtype, every
-        band; PNG/JPEG as 4 B a channel, a palette as four channels). None when the header
-        cannot be read: the reader then says what is wrong with the file.
+        band; PNG/JPEG as 4 B a channel, a palette as four channels, as a texture's reader
+        decodes them: a material map's levels, read as they are, take fewer). None when the
+        header cannot be read: the reader then says what is wrong with the file.
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -251,6 +274,84 @@ def image_files(spec, base_dir) -> list[tuple[str, Path, bool]]:
     return out
 
 
+def grid_files(spec, base_dir) -> list[tuple[str, Path, str]]:
+    """The density grids a validated scene spec names, with the keys that name them.
+
+    Parameters
+    ----------
+    spec : radscene.scene.schema.SceneSpec
+    base_dir : str or path-like or None
+        Folder of relative file names; None: no grid is listed (none can be found).
+
+    Returns
+    -------
+    list of (str, pathlib.Path, str)
+        ``(key, path, variable)``: ``volumes[i].profile.file``, the file, and the NetCDF
+        variable the grid is read from (``profile.variable``; unused for a .npy array).
+    """
+    if base_dir is None:
+        return []
+    out = []
+    for i, volume in enumerate(getattr(spec, "volumes", None) or []):
+        profile = volume.profile
+        if profile.type == "grid" and profile.file is not None:
+            path = Path(profile.file)
+            out.append((f"volumes[{i}].profile.file",
+                        path if path.is_absolute() else Path(base_dir) / path, profile.variable))
+    return out
+
+
+def grid_header(path, variable: str = "density") -> tuple[tuple[int, ...], float] | None:
+    """A density grid's shape from its file's header, reading none of its values.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A .npy array, or a NetCDF file (any other suffix).
+    variable : str
+        The NetCDF variable.
+
+    Returns
+    -------
+    tuple of (tuple of int, float) or None
+        ``(shape, read_bytes)``: the grid's shape [nodes] and the bytes a node of the arrays
+        the reader makes before its float64 grid: the values as stored (a .npy array's
+        dtype, a NetCDF variable's) and, where decoding (a scale factor) gives another dtype,
+        as decoded; the last of them is the grid itself when it is float64. None when the
+        header cannot be read or does not hold the variable: the reader then says what is
+        wrong with the file.
+    """
+    import numpy as np
+
+    path = Path(path)
+    try:
+        if path.suffix.lower() == ".npy":
+            shape, dtype = _npy_header(path)
+            steps = [np.dtype(dtype)]
+        else:
+            import xarray as xr
+
+            with xr.open_dataset(path) as ds:
+                if variable not in ds.variables:
+                    return None
+                var = ds[variable]  # lazily: only its header is read
+                shape = var.shape
+                steps = [np.dtype(var.encoding.get("dtype", var.dtype))]
+                if np.dtype(var.dtype) != steps[0]:
+                    steps.append(np.dtype(var.dtype))
+        if steps[-1] == np.dtype(np.float64):
+            steps.pop()  # read as it is: the grid itself, no copy
+        return tuple(int(n) for n in shape), float(sum(d.itemsize for d in steps))
+    except Exception:  # noqa: BLE001 - an unreadable header: the reader reports the file
+        return None
+
+
+def _joined(parts) -> str:
+    """``a``, ``a and b``, ``a, b and c``."""
+    parts = list(parts)
+    return ", ".join(parts[:-1]) + " and " + parts[-1] if len(parts) > 1 else "".join(parts)
+
+
 def estimate(spec, base_dir=None) -> dict:
     """Estimated peak bytes of rendering each observer of a validated scene spec.
 
@@ -258,16 +359,19 @@ def estimate(spec, base_dir=None) -> dict:
     ----------
     spec : radscene.scene.schema.SceneSpec
     base_dir : str or path-like, optional
-        Folder of the scene's relative file names: a DEM file and the images
-        (:func:`image_files`) are sized from their headers only when it is given.
+        Folder of the scene's relative file names: a DEM file, the images
+        (:func:`image_files`) and the density grids (:func:`grid_files`) are sized from
+        their headers only when it is given.
 
     Returns
     -------
     dict
         ``terrain`` (bytes, key); ``images``: per image file (bytes to read it, with the
         terrain; key; what); ``textures``: the bytes of the textures' multipliers, held for
-        the whole render; ``observers``: per observer (bytes, key, what), the terrain and the
-        textures included.
+        the whole render; ``grids``: per density grid (bytes to read it, with the terrain,
+        the textures and the grids read before it; key; what); ``grids_held``: the bytes of
+        the grids, held for the whole render; ``observers``: per observer (bytes, key, what),
+        the terrain, the textures and the grids included.
     """
     cells, terrain_key = _terrain_cells(spec, base_dir)
     terrain = cells * TERRAIN_BYTES_PER_CELL
@@ -283,7 +387,19 @@ def estimate(spec, base_dir=None) -> dict:
                        f"the image {path.name} ({columns:,} × {rows:,} pixels)"))
         if keep:
             held += texels * TEXTURE_TEXEL_BYTES
-    terrain += held  # the textures are held alongside the terrain for every render
+    grids, grids_held = [], 0.0
+    for key, path, variable in grid_files(spec, base_dir):
+        header = grid_header(path, variable)
+        if header is None:
+            continue
+        shape, read = header
+        nodes = math.prod(float(n) for n in shape)
+        grids.append((BASE_BYTES + terrain + held + grids_held + nodes * (GRID_NODE_BYTES + read),
+                      key, f"the density grid {path.name} "
+                           f"({' × '.join(f'{n:,}' for n in shape)} nodes)"))
+        grids_held += nodes * GRID_HELD_BYTES
+    # the textures and the grids are held alongside the terrain for every render
+    terrain += held + grids_held
     n_bands = max(1, len(spec.bands or []))
     observers = []
     for i, obs in enumerate(spec.observers):
@@ -309,7 +425,8 @@ def estimate(spec, base_dir=None) -> dict:
             what = f"{pixels:.3g} pixels × {obs.supersample}² samples × {n_bands} bands"
         observers.append((BASE_BYTES + terrain + samples * SAMPLE_BYTES + image, key, what))
     return {"terrain": (BASE_BYTES + cells * TERRAIN_BYTES_PER_CELL, terrain_key),
-            "images": images, "textures": held, "observers": observers}
+            "images": images, "textures": held, "grids": grids, "grids_held": grids_held,
+            "observers": observers}
 
 
 def _channel_count(grid) -> float:
@@ -376,8 +493,9 @@ def check_thermal_memory(elements: int, steps: int, nodes: int, rays: int,
 def check_memory(spec, limit=None, base_dir=None) -> None:
     """Refuse a scene whose estimated render exceeds ``limit`` [bytes] (default:
     ``render.max_memory``, else the machine's memory, :func:`available_memory`): its terrain
-    grid, then each image it names, then each observer. A DEM file's and the images' headers
-    are read from ``base_dir`` (relative names)."""
+    grid, then each image it names, then each density grid, then each observer. A DEM file's,
+    the images' and the density grids' headers are read from ``base_dir`` (relative
+    names)."""
     limit, source = memory_limit(spec, limit)
     est = estimate(spec, base_dir)
     terrain, key = est["terrain"]
@@ -393,12 +511,22 @@ def check_memory(spec, limit=None, base_dir=None) -> None:
             raise ConfigError(f"{what} needs about {need / gb:.1f} GB to read{with_terrain}; "
                               f"the limit is {limit / gb:.1f} GB ({source}): an image resampled "
                               "coarser or cropped", key=key)
+    held = [name for name, size in (("the terrain", terrain > BASE_BYTES),
+                                    ("textures", est["textures"])) if size]
+    for j, (need, key, what) in enumerate(est["grids"]):
+        if need > limit:
+            parts = held + ["the density grids before it"] * (j > 0)
+            with_held = f", with {_joined(parts)}" if parts else ""
+            raise ConfigError(f"{what} needs about {need / gb:.1f} GB to read{with_held}; the "
+                              f"limit is {limit / gb:.1f} GB ({source}): a grid resampled "
+                              "coarser or cropped", key=key)
     for need, key, what in est["observers"]:
         if need > limit:
             advice = ("a coarser spectral step (fewer channels) or fewer pixels"
                       if key.endswith("spectral.step")
                       else "fewer pixels, a lower supersample or fewer bands")
-            textures = " and textures" if est["textures"] else ""
-            raise ConfigError(f"rendering it needs about {need / gb:.1f} GB ({what}, with the "
-                              f"terrain{textures}); the limit is {limit / gb:.1f} GB "
+            parts = ["the terrain"] + ["textures"] * bool(est["textures"]) + [
+                "density grids"] * bool(est["grids_held"])
+            raise ConfigError(f"rendering it needs about {need / gb:.1f} GB ({what}, with "
+                              f"{_joined(parts)}); the limit is {limit / gb:.1f} GB "
                               f"({source}): {advice}", key=key)

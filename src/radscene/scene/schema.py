@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import math
+from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
@@ -36,6 +37,8 @@ def _quantity(kind: str, minimum: float | None = None, exclusive: bool = False):
 
 
 Temperature = Annotated[float, _quantity("temperature", 0.0, exclusive=True)]
+#: The formats of a temperature map: numbers as they are (kelvin), never image levels.
+TEMPERATURE_MAP_SUFFIXES = (".npy", ".tif", ".tiff")
 Length = Annotated[float, _quantity("length")]
 PositiveLength = Annotated[float, _quantity("length", 0.0, exclusive=True)]
 Angle = Annotated[float, _quantity("angle")]
@@ -207,8 +210,10 @@ class MaterialMapFile(_Model):
 
     type: Literal["file"] = Field("file", description="`file`: a classified image")
     file: str = Field(
-        description="classified image over the terrain extent (.npy, GeoTIFF or PNG/JPEG, first "
-        "channel), resampled by nearest neighbour onto the terrain grid")
+        description="classified image over the terrain extent, resampled by nearest neighbour "
+        "onto the terrain grid: a .npy array or a GeoTIFF (first band) of integer class values, "
+        "or a PNG/JPEG whose 8- or 16-bit levels are the class values (a palette image's "
+        "indices, a colour image's first channel)")
     classes: dict[int, str | dict[str, float]] = Field(
         description="pixel value -> a material name, or the fractions of several materials that "
         "sum to 1 (a linear areal mixture); every value in the image must be mapped")
@@ -290,14 +295,28 @@ class _TerrainCommon(_Model):
         default_factory=dict, description="fixed surface temperatures [K] by material name: the "
         "terrain faces of that material keep it instead of being solved; default none")
     temperature_map: str | None = Field(
-        None, description="image of surface temperature [K] over the terrain extent"
-    )
+        None, description="surface temperatures [K] over the terrain extent: a .npy array or a "
+        "GeoTIFF (first band) of kelvin, every value finite and > 0 K, resampled by nearest "
+        "neighbour onto the terrain grid; its faces keep them instead of being solved. A PNG "
+        "or JPEG is refused: it holds 8- or 16-bit levels, not temperatures",
+        # the same rule for editors that read the JSON schema (a string's suffix)
+        json_schema_extra={"pattern": r"\.([nN][pP][yY]|[tT][iI][fF][fF]?)$"})
     textures: TextureSet = Field(
         TextureSet(), description="multipliers of the terrain's reflectance, emissivity and "
         "transmittance laid on the ground plane; default none (every multiplier 1)")
     roads: list[RoadSpec] = Field(
         default_factory=list, description="roads painted onto the terrain over its land cover "
         "and lakes, each a polyline with a width and its own material; default none")
+
+    @field_validator("temperature_map")
+    @classmethod
+    def _kelvin_file(cls, value):
+        if value is not None and Path(value).suffix.lower() not in TEMPERATURE_MAP_SUFFIXES:
+            raise ValueError(
+                "a temperature map holds kelvin: give a .npy array or a GeoTIFF (.tif, .tiff) "
+                f"of temperatures; {Path(value).name!r} is neither (a PNG or JPEG holds 8- or "
+                "16-bit levels, not temperatures)")
+        return value
 
 
 class FlatTerrain(_TerrainCommon):
@@ -602,7 +621,8 @@ class DensityProfile(_Model):
         None, description="gaussian: standard deviation about the centre [m], one or one per axis "
         "(east, north, up)")
     file: str | None = Field(None, description="grid: a .npy array or a NetCDF variable of "
-                             "relative density, dims (z, y, x), nodes spanning the volume's box")
+                             "relative density, dims (z, y, x), nodes spanning the volume's box; "
+                             "sized from its header against the memory limit before it is read")
     variable: str = Field("density", description="grid: the NetCDF variable")
 
     @model_validator(mode="after")
