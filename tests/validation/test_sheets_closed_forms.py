@@ -142,3 +142,53 @@ def test_the_heat_balance_sees_the_partial_shadow_of_a_sheet(tau):
     np.testing.assert_allclose(lit[open_], 1.0, atol=1e-12)
     t = solved.surface_temperature.isel(time=-1).values
     assert t[under].mean() < t[open_].mean() - 1.0  # K
+
+
+def _view_factor_to_rectangle(x, y, x0, x1, y0, y1, h):
+    """View factor from a horizontal point (x, y) to a parallel rectangle [x0, x1] × [y0, y1]
+    h above it: the sum over the four sub-rectangles with a corner above the point of the
+    corner form (Howell, *A Catalog of Radiation Heat Transfer Configuration Factors*, B-4)."""
+    def corner(a, b):  # signed extents from the point
+        sa, sb = np.sign(a), np.sign(b)
+        a, b = np.abs(a) / h, np.abs(b) / h
+        value = (a / np.sqrt(1 + a * a) * np.arctan(b / np.sqrt(1 + a * a))
+                 + b / np.sqrt(1 + b * b) * np.arctan(a / np.sqrt(1 + b * b))) / (2 * np.pi)
+        return sa * sb * value
+    return (corner(x1 - x, y1 - y) - corner(x0 - x, y1 - y) - corner(x1 - x, y0 - y)
+            + corner(x0 - x, y0 - y))
+
+
+@pytest.mark.parametrize("tau", [0.0, 0.3, 0.7])
+def test_the_heat_balance_sky_view_passes_a_sheet(tau):
+    """Under a net of grey transmittance τ the heat balance's sky view is 1 − F (1 − τ), F the
+    view factor from the cell to the net (closed form): the net hides 1 − τ of its part of the
+    hemisphere, not all of it; the rest of that part is the net's own (view factor F (1 − τ))."""
+    import radscene
+
+    scene = {
+        "name": "net",
+        "environment": {"sun": {"zenith": 20.0, "azimuth": 180.0},
+                        "time": "2024-06-21T12:00:00+00:00",
+                        "location": {"latitude": 45.0, "longitude": 0.0},
+                        "atmosphere": {"type": "uniform", "transmittance": 1.0}},
+        "terrain": {"type": "flat", "size": [40, 40], "spacing": 2, "material": "asphalt"},
+        "materials": {"net": {"reflectance": 0.1, "transmittance": tau}},
+        "objects": [{"name": "net", "shape": {"type": "plate", "width": 20, "length": 40},
+                     "position": [10, 20, 2], "material": "net", "temperature": 300.0,
+                     "transmissive": tau > 0.0}],
+        "bands": [LWIR],
+        "observers": [{"name": "cam", "type": "orthographic", "center": [20, 20], "gsd": 1.0,
+                       "shape": [4, 4], "altitude": 1000}],
+        "thermal": {"start": "2024-06-21T11:00:00+00:00", "end": "2024-06-21T12:00:00+00:00",
+                    "step": "30 min", "hemisphere_samples": 256, "spin_up": False},
+    }
+    solved = radscene.solve_thermal(scene)
+    ground = solved.object.values == "terrain"
+    x, y = solved.x.values, solved.y.values
+    under = ground & (x < 19.0) & (x > 1.0) & (np.abs(y - 20.0) < 15.0)
+    f = _view_factor_to_rectangle(x[under], y[under], 0.0, 20.0, 0.0, 40.0, 2.0)
+    sky = solved.sky_view.values[under]
+    # 256 cosine rays a cell: a view factor's standard error is about 0.03; over the cells'
+    # mean about 0.005
+    assert sky.mean() == pytest.approx(np.mean(1.0 - f * (1.0 - tau)), abs=0.015)
+    assert f.mean() > 0.6  # the net hides much of the sky: the test can tell τ from 0

@@ -359,6 +359,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     tracer = RayTracer(meshes)
     shadow_tracer, sun_transmittance = _media_sun_transmittance(
         scene, tracer, table.wavelength, table.daily_spectrum(zenith))
+    see_through = _sheet_see_through(scene)
     index = stack_index.ravel()
     sources = _sources(scene, elements, used, stacks, index)
     with progress_callback(progress, "heat balance", stages=True) as report:
@@ -368,7 +369,8 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
                             fixed_face_exitance=_fixed_exitance(scene, elements), meshes=meshes, options=options,
                             **sources, names={"material": scene.material_names, "object": names},
                             sun_override=override, progress=report,
-                            sun_transmittance=sun_transmittance, shadow_tracer=shadow_tracer)
+                            sun_transmittance=sun_transmittance, shadow_tracer=shadow_tracer,
+                            see_through=see_through)
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
     stamp(ds, scene)
     scene.render_cache["thermal_elements"] = elements
@@ -461,13 +463,7 @@ def _media_sun_transmittance(scene, tracer, wavelength, spectrum):
                                face_offset=np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int),
                                face_material=np.concatenate([o.face_material for o in scene.objects]))
 
-    def multiplier(obj, pos):  # Δτ of a textured sheet
-        out = np.ones(len(obj))
-        for k, o in enumerate(scene.objects):
-            texture = o.textures.get("transmittance") if o.textures else None
-            if texture is not None and np.any(obj == k):
-                out[obj == k] = texture.sample(pos[obj == k, 0], pos[obj == k, 1])
-        return out
+    multiplier = _textured_sheet_multiplier(scene)
 
     def transmittance(points, sun):
         points = np.asarray(points, float)
@@ -477,6 +473,59 @@ def _media_sun_transmittance(scene, tracer, wavelength, spectrum):
         out = sheets.sun_transmittance(geometry, tau, points, normals, sun, multiplier)[:, 0]
         return out if through_volumes is None else out * through_volumes(points, sun)
     return shadow_tracer, transmittance
+
+
+#: The long-wave weighting of a sheet's transmittance in the heat balance's hemisphere: a
+#: blackbody at this temperature [K] over :data:`_LONGWAVE_UM` [um].
+_LONGWAVE_TEMPERATURE = 300.0
+_LONGWAVE_UM = (4.0, 50.0)
+
+
+def _textured_sheet_multiplier(scene):
+    """``multiplier(object, position)``: Δτ of textured sheets at hit points (1 elsewhere)."""
+    def multiplier(obj, pos):
+        out = np.ones(len(obj))
+        for k, o in enumerate(scene.objects):
+            texture = o.textures.get("transmittance") if o.textures else None
+            if texture is not None and np.any(obj == k):
+                out[obj == k] = texture.sample(pos[obj == k, 0], pos[obj == k, 1])
+        return out
+    return multiplier
+
+
+def _sheet_see_through(scene):
+    """``see_through(object, primitive, position)``: the share of the heat balance's
+    hemisphere a sheet passes, Δτ τ with τ its material's transmittance weighted by a 300 K
+    blackbody over 4–50 um (the sky's and the scene's long-wave exchange, which the hemisphere
+    carries; the diffuse short-wave sky takes the same share); 0 for other faces. None without
+    sheets (every face opaque)."""
+    from radscene.render import sheets
+
+    is_sheet = np.array([bool(getattr(o, "transmissive", False)) for o in scene.objects])
+    if not is_sheet.any():
+        return None
+    from types import SimpleNamespace
+
+    from radscene.radiometry import TabulatedResponse, spectral_radiance
+
+    wl = np.linspace(*_LONGWAVE_UM, 941)
+    band = SimpleNamespace(response=TabulatedResponse(wl, spectral_radiance(wl, _LONGWAVE_TEMPERATURE),
+                                                      name="longwave"))
+    tau = sheets.band_transmittance(scene.materials, [band])[:, 0]
+    counts = [len(o.face_material) for o in scene.objects]
+    offset = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
+    material = np.concatenate([o.face_material for o in scene.objects])
+    multiplier = _textured_sheet_multiplier(scene)
+
+    def see_through(obj, primitive, position):
+        obj = np.asarray(obj, int)
+        out = np.zeros(obj.size)
+        on = is_sheet[obj]
+        if on.any():
+            out[on] = (tau[material[offset[obj[on]] + np.asarray(primitive)[on]]]
+                       * multiplier(obj[on], np.asarray(position)[on]))
+        return out
+    return see_through
 
 
 def _volume_sun_transmittance(scene, wavelength, spectrum):

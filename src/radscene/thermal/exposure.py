@@ -173,8 +173,14 @@ def _cosine_directions(normal, u):
     return x[:, None] * t + y[:, None] * bb + z[:, None] * n
 
 
-def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, batch=65536):
+def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, batch=65536,
+                        see_through=None, max_crossings=8):
     """Sky view factor and view factors between elements, by cosine-weighted hemisphere rays.
+
+    A ray that meets a semi-transparent sheet (a net, a foliage layer) gives the sheet the share
+    1 − τ of its weight and goes on through it with the share τ, to the sky or to what lies
+    behind (up to ``max_crossings`` sheets; a ray still inside a sheet after those gives its
+    remaining weight to the last sheet).
 
     Parameters
     ----------
@@ -189,6 +195,12 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
         Distance the ray origins are raised off the faces [m].
     batch : int, optional
         Rays traced per call.
+    see_through : callable, optional
+        ``see_through(object, primitive, position) -> τ`` (N,) [-]: the share of the
+        hemisphere a face passes, per hit (object and primitive indices of ``tracer``, hit
+        points (N, 3)); 0 for opaque faces. Default: every face opaque.
+    max_crossings : int, optional
+        Sheets a ray may pass.
 
     Returns
     -------
@@ -219,21 +231,36 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
         source = by_element[pick.ravel()]
         d = _cosine_directions(elements.face_normal[source], _stratified(els.size, n_samples, rng).reshape(-1, 2))
         r = rng.random((2, source.size))
-        hits = tracer.intersect(_points(elements, source, r[0], r[1], epsilon), d)
+        origin = _points(elements, source, r[0], r[1], epsilon)
         element_i = np.repeat(els, n_samples)
-        sky[els] = np.bincount(element_i[~hits.hit] - start, minlength=els.size) / n_samples
-        hit = hits.hit
-        target = face_offset[hits.object[hit]] + hits.primitive[hit]
-        element_i = element_i[hit]
-        element_j = elements.face_element[target]
-        to_element = element_j >= 0
         weight = np.full(element_i.size, 1.0 / n_samples)
-        rows.append(element_i[to_element])
-        cols.append(element_j[to_element])
-        vals.append(weight[to_element])
-        frows.append(element_i[~to_element])
-        fcols.append(target[~to_element])
-        fvals.append(weight[~to_element])
+        for crossing in range(max_crossings + 1):
+            hits = tracer.intersect(origin, d)
+            sky[els] += np.bincount(element_i[~hits.hit] - start, weights=weight[~hits.hit],
+                                    minlength=els.size)
+            hit = hits.hit
+            target = face_offset[hits.object[hit]] + hits.primitive[hit]
+            tau = np.zeros(target.size)
+            if see_through is not None and crossing < max_crossings:
+                tau = np.clip(np.asarray(see_through(hits.object[hit], hits.primitive[hit],
+                                                     hits.position[hit]), float), 0.0, 1.0)
+            element_j = elements.face_element[target]
+            to_element = element_j >= 0
+            stays = weight[hit] * (1.0 - tau)
+            rows.append(element_i[hit][to_element])
+            cols.append(element_j[to_element])
+            vals.append(stays[to_element])
+            frows.append(element_i[hit][~to_element])
+            fcols.append(target[~to_element])
+            fvals.append(stays[~to_element])
+            on = tau > 0.0
+            if not on.any():
+                break
+            # through the sheet: on from just past the hit, with the share τ
+            d = d[hit][on]
+            origin = hits.position[hit][on] + epsilon * d
+            element_i = element_i[hit][on]
+            weight = weight[hit][on] * tau[on]
 
     def matrix(r, c, v, shape):
         if not r:

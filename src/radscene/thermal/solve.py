@@ -142,7 +142,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
                    *, absorptance=None, emissivity=None, fixed_face_exitance=None, moisture_availability=None,
                    internal_flux=0.0, air_speed=None, characteristic_length=1.0, meshes=None,
                    options=ThermalOptions(), names=None, sun_override=None, progress=None,
-                   sun_transmittance=None, shadow_tracer=None):
+                   sun_transmittance=None, shadow_tracer=None, see_through=None):
     """Surface temperatures and flux terms of every element at every time.
 
     Parameters
@@ -191,6 +191,9 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     shadow_tracer : radscene.geometry.RayTracer, optional
         The ray engine of the shadow rays, when they must not see some surfaces (the
         semi-transparent sheets, whose share ``sun_transmittance`` gives); default ``tracer``.
+    see_through : callable(object, primitive, position), optional
+        The share of the hemisphere a face of ``tracer`` passes (a sheet's long-wave Δτ τ;
+        :func:`radscene.thermal.exposure.hemisphere_exposure`); default every face opaque.
 
     Returns
     -------
@@ -238,7 +241,8 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         clear = sky_longwave_irradiance(atmosphere, alt, air)
         longwave = _cloudy_longwave(clear, air, np.asarray(w["relative_humidity"], float), cloud)
 
-    hemisphere = hemisphere_exposure(tracer, elements, options.hemisphere_samples, options.seed)
+    hemisphere = hemisphere_exposure(tracer, elements, options.hemisphere_samples, options.seed,
+                                     see_through=see_through)
     if progress is not None:
         progress("hemisphere", 1, 1)
     lit = _shadow_history(tracer if shadow_tracer is None else shadow_tracer, elements, times, sun_dir, options.shadow_interval, progress,
