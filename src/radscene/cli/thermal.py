@@ -69,9 +69,11 @@ def thermal(
         raise ConfigError(f"must be > 0; got {step!r}", key="--step")
     if output.suffix.lower() != ".nc":
         raise ConfigError(f"give a .nc file; got {output}", key="--output")
-    from radscene.io.files import check_output_file
+    from radscene.io.files import check_output_file, remove_stale_temporaries
 
     check_output_file(output, overwrite)
+    remove_stale_temporaries(output.parent, [output.name, output.stem + "_diurnal.png"])
+    remove_stale_temporaries(output.parent / (output.stem + "_maps"))
     t = time.perf_counter()
     scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
     report.stage(f"loaded {scene_file}: {len(scene.objects)} object(s)", time.perf_counter() - t)

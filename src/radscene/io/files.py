@@ -1,16 +1,72 @@
-"""Writing output files whole or not at all."""
+"""Writing output files whole or not at all.
+
+Each file is written under a temporary name beside its own, ``.NAME.~HOST~PID~<random><suffix>``,
+and moved into place when whole; a run that stops (an error, Ctrl-C, SIGTERM) removes its
+temporaries on the way out. A run killed outright (SIGKILL, the machine's power) cannot: the
+name records the host and process that wrote it, and :func:`remove_stale_temporaries`, called
+by the next run into the folder, removes those of this host whose process is gone.
+"""
 
 from __future__ import annotations
 
 import contextlib
+import glob
 import os
+import re
 import shutil
+import socket
 import tempfile
 from pathlib import Path
 
 from radscene.errors import ConfigError
 
-__all__ = ["atomic_output", "atomic_output_dir", "check_output_folder", "check_output_file"]
+__all__ = ["atomic_output", "atomic_output_dir", "check_output_folder", "check_output_file",
+           "remove_stale_temporaries"]
+
+#: A temporary's name: '.', the file's name, '.~HOST~PID~', a random part and a suffix.
+_TEMPORARY = re.compile(r"^\..+\.~(?P<host>[^~/]+)~(?P<pid>\d+)~")
+
+
+def _owner() -> str:
+    """The part of a temporary's name that says which host and process writes it."""
+    return f"~{socket.gethostname()}~{os.getpid()}~"
+
+
+def _running(pid: int) -> bool:
+    """Whether a process of this id runs on this host (one of another user's counts)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def remove_stale_temporaries(folder, names=None) -> list[Path]:
+    """Remove the temporaries under ``folder`` that runs of this host left when they were
+    killed outright: those whose writing process no longer runs. Those of running processes
+    and of other hosts (a shared folder) are left. With ``names`` (file names), only the
+    temporaries of those files directly in ``folder`` are looked for. Returns what was
+    removed."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    host = socket.gethostname()
+    stale = []
+    found_paths = (folder.rglob(".*") if names is None
+                   else (p for name in names for p in folder.glob(f".{glob.escape(name)}.~*")))
+    for path in sorted(found_paths):
+        found = _TEMPORARY.match(path.name)
+        if (found and found["host"] == host and not _running(int(found["pid"]))
+                and not any(path.is_relative_to(p) for p in stale)):
+            stale.append(path)
+    for path in stale:
+        if path.is_dir() and not path.is_symlink():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink(missing_ok=True)
+    return stale
 
 
 def _umask() -> int:
@@ -30,7 +86,8 @@ def atomic_output(path, suffix=".tmp"):
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{_owner()}", suffix=suffix,
+                               dir=path.parent)
     os.close(fd)
     try:
         yield tmp
@@ -53,7 +110,7 @@ def atomic_output_dir(path, suffix=".tmp"):
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix=f".{path.name}.", suffix=suffix, dir=path.parent)
+    tmp = tempfile.mkdtemp(prefix=f".{path.name}.{_owner()}", suffix=suffix, dir=path.parent)
     old = None
     try:
         yield tmp
@@ -63,7 +120,8 @@ def atomic_output_dir(path, suffix=".tmp"):
             for name in files:
                 os.chmod(os.path.join(root, name), 0o666 & ~mask)
         if path.exists() or path.is_symlink():
-            old = tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".old", dir=path.parent)
+            old = tempfile.mkdtemp(prefix=f".{path.name}.{_owner()}", suffix=".old",
+                                   dir=path.parent)
             os.replace(path, os.path.join(old, path.name))
         os.replace(tmp, path)
     except BaseException:

@@ -40,7 +40,7 @@ from pathlib import Path
 
 from radscene.errors import ConfigError
 from radscene.io import stop
-from radscene.io.files import atomic_output
+from radscene.io.files import atomic_output, remove_stale_temporaries
 
 __all__ = ["MARKER", "MANIFEST", "RunRecord", "finished"]
 
@@ -260,6 +260,8 @@ class RunRecord:
 
     def __enter__(self):
         self.folder.mkdir(parents=True, exist_ok=True)
+        with _locked(self.folder):  # what runs killed outright (SIGKILL) left half written
+            remove_stale_temporaries(self.folder)
 
         def enter(marker):
             previous = _read(self.folder / MANIFEST)
