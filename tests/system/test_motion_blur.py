@@ -134,3 +134,29 @@ def test_exposure_from_the_sensor_or_given():
     assert exposure_offsets(1, 0.01).tolist() == [0.0]
     with pytest.raises(ConfigError, match=r"render.motion_blur.exposure.*no sensor"):
         radscene.Simulation(_scene({"samples": 4}))
+
+
+def _at_start(blur):
+    """The scene with the box at x = 0.1 m at t = 0, the instant of a single render."""
+    scene = _scene(blur)
+    scene["objects"][1]["trajectory"]["waypoints"] = [[-1.0, 0.1 - SPEED, 0.2, 0.0],
+                                                      [1.0, 0.1 + SPEED, 0.2, 0.0]]
+    return scene
+
+
+def test_a_single_render_is_blurred_as_the_first_frame():
+    """``radscene.render`` of a scene with ``render.motion_blur`` gives the image a
+    simulation's frame at the same instant gives (to 1e-6), a streak, not the sharp box."""
+    blur = {"samples": SAMPLES, "exposure": f"{EXPOSURE * 1e3:g} ms"}
+    single = radscene.render(_at_start(blur))
+    frame = radscene.Simulation(_at_start(blur)).render().radiance["map"]
+    np.testing.assert_allclose(single.radiance.values, frame.radiance.values, rtol=1e-6)
+    sharp = radscene.render(_at_start(None))
+    background = float(sharp.radiance.values[0, 0, 0])
+    lit = np.abs(single.radiance.values[0] - background) > 1e-9 * background
+    cols = np.flatnonzero(lit.any(axis=0))
+    assert abs((cols[-1] - cols[0] + 1) - WIDTH - SPEED * EXPOSURE) <= STREAK_PX
+    assert np.count_nonzero(np.abs(sharp.radiance.values[0] - background)
+                            > 1e-9 * background) == 9
+    assert single.radiance.values.sum() == pytest.approx(sharp.radiance.values.sum(),
+                                                         rel=ENERGY_REL)

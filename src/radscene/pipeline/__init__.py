@@ -568,31 +568,55 @@ def render(scene, observer=None, *, progress=None, **kwargs):
     if thermal_active(scene):
         apply_thermal(scene, progress=None if callable(progress) else progress)
     with progress_callback(progress, f"render {setup.name}") as report:
-        if _scans_motion(scene, setup) and not kwargs:
-            images = _render_scan(scene, setup, report)
+        if _blurs_motion(scene, setup) and not kwargs:
+            images = _through_simulation(scene, setup, report, blur=True)
+        elif _scans_motion(scene, setup) and not kwargs:
+            images = _through_simulation(scene, setup, report)
         else:
             images = render_observer(scene, observer, progress=report, **kwargs)
     return stamp(images, scene, setup.name)
 
 
+def _moves(scene) -> bool:
+    """Whether anything in the scene moves (objects on trajectories, a wavy sea)."""
+    return any(m.moves for m in scene.motions.values()) or (
+        scene.sea is not None and scene.sea.moves)
+
+
+def _blurs_motion(scene, setup) -> bool:
+    """Whether a band observer's image is blurred by what moves during its exposure
+    (``render.motion_blur``)."""
+    return (scene.settings.motion_blur is not None and setup.spectral is None
+            and _moves(scene))
+
+
 def _scans_motion(scene, setup) -> bool:
     """Whether a band observer is a scanner over something that moves during its scan."""
-    return setup.kind in ("pushbroom", "whiskbroom") and setup.spectral is None and (
-        any(m.moves for m in scene.motions.values()) or (scene.sea is not None and scene.sea.moves))
+    return setup.kind in ("pushbroom", "whiskbroom") and setup.spectral is None and _moves(scene)
 
 
-def _render_scan(scene, setup, progress=None):
-    """A scanner's image over a moving scene, each group of pixels at its time
-    (:mod:`radscene.pipeline.scan_motion`), through a :class:`Simulation` at the scene's
-    instant; the scene's meshes, poses and tables are left as they were."""
+def _through_simulation(scene, setup, progress=None, blur=False):
+    """The image of an observer over a moving scene through a :class:`Simulation` at the
+    scene's instant, as frame 0 of a sequence renders it: a scanner's pixels each at its time
+    (:mod:`radscene.pipeline.scan_motion`), and with ``blur`` the mean over the exposure's
+    sub-instants (:mod:`radscene.pipeline.motion_blur`). The scene's meshes, poses and tables
+    are left as they were."""
     from radscene.pipeline.simulation import Simulation
+    from radscene.render.integrator import render as render_observer
 
     meshes = [obj.mesh for obj in scene.objects]
     poses = dict(scene.poses)
     cached = scene.render_cache.get("tables")
     try:
-        sim = Simulation(scene)
-        return sim._scan(setup, scene.render_cache["tables"], progress)
+        sim = Simulation(scene, incremental=False)
+        tables = scene.render_cache["tables"]
+
+        def once(tables=tables):
+            if sim._scans_motion(setup):
+                return sim._scan(setup, tables, progress)
+            return render_observer(scene, setup.name, progress=progress, _tables=tables)
+
+        return sim._expose(setup, once, tables) if blur else sim._scan(setup, tables, progress)
     finally:
         for obj, mesh in zip(scene.objects, meshes, strict=True):
             obj.mesh = mesh
@@ -611,7 +635,8 @@ def render_all(scene, *, progress=None, **kwargs):
     from radscene.render.integrator import render_all as render_observers
 
     scene = as_scene(scene)
-    if any(o.spectral is not None or _scans_motion(scene, o) for o in scene.observers):
+    if any(o.spectral is not None or _scans_motion(scene, o) or _blurs_motion(scene, o)
+           for o in scene.observers):
         return {o.name: render(scene, o.name, progress=progress, **kwargs) for o in scene.observers}
     if thermal_active(scene):
         apply_thermal(scene, progress=None if callable(progress) else progress)
