@@ -103,15 +103,11 @@ def test_partial_shadow_of_a_sheet(tau, sun_zenith):
                                                              rel=EXACT_REL)
 
 
-@pytest.mark.parametrize("tau", [0.0, 0.3, 0.7])
-def test_the_heat_balance_sees_the_partial_shadow_of_a_sheet(tau):
-    """``radscene.solve_thermal`` of a flat asphalt ground half under a net of grey
-    transmittance τ, the sun fixed at 20 deg: the cells under the net are sunlit τ (the share
-    of the direct sun the net lets through; 0 for an opaque plate), the open cells 1; and
-    the ground under the net ends cooler than the open ground, the more so the smaller τ."""
-    import radscene
-
-    scene = {
+def _net_over_asphalt(tau, start, hemisphere_samples):
+    """A flat asphalt ground, 40 m square, half under a 20 × 40 m net of grey transmittance τ
+    2 m up (an opaque plate for τ = 0), the sun fixed at 20 deg; the heat balance from
+    ``start`` (HH:MM) to noon of 21 June 2024."""
+    return {
         "name": "net",
         "environment": {"sun": {"zenith": 20.0, "azimuth": 180.0},
                         "time": "2024-06-21T12:00:00+00:00",
@@ -125,10 +121,21 @@ def test_the_heat_balance_sees_the_partial_shadow_of_a_sheet(tau):
         "bands": [LWIR],
         "observers": [{"name": "cam", "type": "orthographic", "center": [20, 20], "gsd": 1.0,
                        "shape": [4, 4], "altitude": 1000}],
-        "thermal": {"start": "2024-06-21T09:00:00+00:00", "end": "2024-06-21T12:00:00+00:00",
-                    "step": "30 min", "hemisphere_samples": 4, "spin_up": False},
+        "thermal": {"start": f"2024-06-21T{start}:00+00:00", "end": "2024-06-21T12:00:00+00:00",
+                    "step": "30 min", "hemisphere_samples": hemisphere_samples,
+                    "spin_up": False},
     }
-    solved = radscene.solve_thermal(scene)
+
+
+@pytest.mark.parametrize("tau", [0.0, 0.3, 0.7])
+def test_the_heat_balance_sees_the_partial_shadow_of_a_sheet(tau):
+    """``radscene.solve_thermal`` of a flat asphalt ground half under a net of grey
+    transmittance τ, the sun fixed at 20 deg: the cells under the net are sunlit τ (the share
+    of the direct sun the net lets through; 0 for an opaque plate), the open cells 1; and
+    the ground under the net ends cooler than the open ground, the more so the smaller τ."""
+    import radscene
+
+    solved = radscene.solve_thermal(_net_over_asphalt(tau, "09:00", hemisphere_samples=4))
     ground = solved.object.values == "terrain"
     x = solved.x.values
     y = solved.y.values
@@ -165,24 +172,7 @@ def test_the_heat_balance_sky_view_passes_a_sheet(tau):
     hemisphere, not all of it; the rest of that part is the net's own (view factor F (1 − τ))."""
     import radscene
 
-    scene = {
-        "name": "net",
-        "environment": {"sun": {"zenith": 20.0, "azimuth": 180.0},
-                        "time": "2024-06-21T12:00:00+00:00",
-                        "location": {"latitude": 45.0, "longitude": 0.0},
-                        "atmosphere": {"type": "uniform", "transmittance": 1.0}},
-        "terrain": {"type": "flat", "size": [40, 40], "spacing": 2, "material": "asphalt"},
-        "materials": {"net": {"reflectance": 0.1, "transmittance": tau}},
-        "objects": [{"name": "net", "shape": {"type": "plate", "width": 20, "length": 40},
-                     "position": [10, 20, 2], "material": "net", "temperature": 300.0,
-                     "transmissive": tau > 0.0}],
-        "bands": [LWIR],
-        "observers": [{"name": "cam", "type": "orthographic", "center": [20, 20], "gsd": 1.0,
-                       "shape": [4, 4], "altitude": 1000}],
-        "thermal": {"start": "2024-06-21T11:00:00+00:00", "end": "2024-06-21T12:00:00+00:00",
-                    "step": "30 min", "hemisphere_samples": 256, "spin_up": False},
-    }
-    solved = radscene.solve_thermal(scene)
+    solved = radscene.solve_thermal(_net_over_asphalt(tau, "11:00", hemisphere_samples=256))
     ground = solved.object.values == "terrain"
     x, y = solved.x.values, solved.y.values
     under = ground & (x < 19.0) & (x > 1.0) & (np.abs(y - 20.0) < 15.0)
