@@ -10,7 +10,8 @@ doctests. What is converted:
   a link where that object is on a page of the site and the code alone where it is not or
   lies outside the package, so an object left out of the pages never fails a strict build;
 - the math role: ``$...$``; the math directive: one ``$$`` block per equation (equations
-  are separated by blank lines), both typeset by MathJax through pymdownx.arithmatex;
+  are separated by blank lines), both marked by pymdownx.arithmatex and made MathML when the
+  site is built (``scripts/docs_math.py``);
 - double-backquoted literals: single-backquoted code spans;
 - simple tables (rules of ``=`` runs): Markdown tables, continuation lines (first column
   blank) joined into their row;

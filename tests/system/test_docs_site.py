@@ -1,9 +1,10 @@
 """The documentation site builds in strict mode, and its API reference shows the docstrings'
-reStructuredText as what it means: equations typeset by MathJax, tables as tables, roles as
-links, no raw markup left."""
+reStructuredText as what it means: equations as MathML made when the site is built (no script,
+no network, no raw TeX left), tables as tables, roles as links, no raw markup left."""
 
 from __future__ import annotations
 
+import html as htmllib
 import os
 import re
 import subprocess
@@ -14,10 +15,17 @@ import pytest
 
 pytest.importorskip("mkdocstrings_handlers.python", reason="the site needs the docs extra")
 pytest.importorskip("pymdownx.arithmatex", reason="the site needs the docs extra")
+pytest.importorskip("latex2mathml", reason="the site needs the docs extra")
 
 ROOT = Path(__file__).resolve().parents[2]
 RAW = re.compile(r":(?:func|class|mod|meth|data|attr|math|obj|exc):`?<code>|:(?:func|class|mod|"
                  r"meth|data|attr|math):`|\.\. math::|^\s*(?:<p>)?=+(?: +=+)+|::</p>", re.M)
+#: TeX in a page's text: math delimiters, or a command (a backslash and letters).
+TEX = re.compile(r"\\[([]|\$\$|\\[A-Za-z]+")
+#: Where a backslash may stand: code, scripts, styles and MathML.
+VERBATIM = re.compile(r"<(code|pre|script|style|math)\b.*?</\1>", re.S)
+#: A script from another host.
+REMOTE_SCRIPT = re.compile(r"<script\b[^>]*\bsrc=\"(?:https?:)?//", re.I)
 
 
 @pytest.fixture(scope="module")
@@ -46,14 +54,54 @@ def test_no_raw_restructuredtext_on_any_api_page(site):
         assert not found, f"{page.parent.name}: {found[:5]}"
 
 
-def test_equations_are_marked_for_mathjax(site):
+def _raw_tex(html: str) -> list[str]:
+    """The TeX in the text of a page (outside code, scripts, styles and MathML), in context."""
+    text = htmllib.unescape(re.sub(r"<[^>]*>", " ", VERBATIM.sub(" ", html)))
+    return [" ".join(text[max(m.start() - 30, 0):m.end() + 30].split())
+            for m in TEX.finditer(text)]
+
+
+def test_no_page_loads_math_from_the_network_or_shows_raw_tex(site):
+    pages = sorted(site.rglob("*.html"))
+    assert len(pages) >= 25
+    equations = 0
+    for page in pages:
+        html = page.read_text(encoding="utf-8")
+        name = str(page.relative_to(site))
+        assert not REMOTE_SCRIPT.search(html), f"{name}: a script from another host"
+        assert not re.search(r"<script\b[^>]*mathjax", html, re.I), name
+        assert "arithmatex" not in html, f"{name}: an equation left unconverted"
+        assert not _raw_tex(html), f"{name}: {_raw_tex(html)[:5]}"
+        equations += html.count("<math ")
+    assert equations >= 140  # every equation of the docstrings
+    assert not (site / "javascripts" / "mathjax.js").exists()
+
+
+def _mathml(html: str) -> str:
+    """A page's HTML with its tags' attributes dropped and its entities resolved."""
+    return htmllib.unescape(re.sub(r"<(/?[a-z]+)\b[^>]*?(/?)>", r"<\1\2>", html))
+
+
+def test_equations_are_mathml(site):
     atmosphere = _page(site, "atmosphere")
-    assert re.search(r'<div class="arithmatex">\\\[\s*L = L_\{path\}', atmosphere)
+    # $$ L = L_{path} + ... $$: a display equation, its subscript a MathML script
+    assert re.search(r'<math xmlns="http://www\.w3\.org/1998/Math/MathML" display="block">'
+                     r"\s*<mrow>\s*<mi>L</mi>\s*<mo>&#x0003D;</mo>\s*<msub>\s*<mi>L</mi>",
+                     atmosphere)
+    assert "<mi>p</mi><mi>a</mi><mi>t</mi><mi>h</mi>" in atmosphere
     brdf = _page(site, "brdf_models")
-    assert brdf.count('<div class="arithmatex">') >= 20
-    assert '<span class="arithmatex">\\(' in brdf  # inline math
-    assert "tex-chtml.js" in brdf and "javascripts/mathjax.js" in brdf
-    assert (site / "javascripts" / "mathjax.js").is_file()
+    assert brdf.count('<math xmlns="http://www.w3.org/1998/Math/MathML" display="block">') >= 20
+    assert brdf.count('display="inline"') >= 10
+    # the Planck law: L = c_1L / lambda^5 * 1 / (e^(c_2 / lambda T) - 1)
+    radiometry = _mathml(_page(site, "radiometry"))
+    assert re.search(r"<mfrac>(<mrow>)?<mn>1</mn>(</mrow>)?<mrow><msup><mi>e</mi><mrow><msub>"
+                     r"<mi>c</mi><mn>2</mn></msub><mo>/</mo><mi>λ</mi><mi>T</mi></mrow></msup>"
+                     r"<mo>−</mo><mn>1</mn></mrow></mfrac>", radiometry)
+    # cases: a brace, then a table of two columns
+    assert re.search(r"<mo>\{</mo><mtable><mtr><mtd>.*?</mtd><mtd>.*?</mtd></mtr>",
+                     _mathml(brdf))
+    # \mathrm{d} (days): upright, not italic
+    assert '<mi mathvariant="normal">d</mi>' in _page(site, "platform")
 
 
 def test_module_tables_are_tables(site):
@@ -106,7 +154,7 @@ def test_heat_balance_platform_and_sensor_chain_pages(site, name):
 
 def test_heat_balance_page_typesets_its_equations(site):
     html = _page(site, "thermal")
-    assert html.count('<div class="arithmatex">') >= 5
+    assert html.count('display="block"') >= 5
     for anchor in ("solve.solve_elements", "solve.ThermalOptions", "canopy",
                    "conduction"):
         assert f'id="radscene.thermal.{anchor}"' in html, anchor
