@@ -247,10 +247,12 @@ def rst_to_markdown(text: str, resolve: Resolver | None = None) -> str:
             while i < len(lines) and lines[i].strip() and not _special(lines, i):
                 i += 1
             i = max(i, start + 1)
-            paragraph = "\n".join(lines[start:i])
-            if not paragraph.lstrip().startswith(">>>"):  # a doctest stays verbatim
-                paragraph = _inline(paragraph, resolve)
-            block = paragraph.split("\n")
+            # a doctest stays verbatim, its output too, also where a heading ("Examples" and
+            # its dashes) runs into it without a blank line
+            doctest = next((k for k in range(start, i) if lines[k].lstrip().startswith(">>>")), i)
+            block = _inline("\n".join(lines[start:doctest]), resolve).split("\n") \
+                if doctest > start else []
+            block += lines[doctest:i]
         out.extend(block)
     return re.sub(r"\n{3,}", "\n\n", "\n".join(out)).strip("\n")
 

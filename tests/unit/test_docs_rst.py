@@ -137,6 +137,11 @@ def test_brackets_are_not_reference_links(package, rst):
     # but not in code, math or doctests
     text = "``a[0] [1]`` and :math:`[a] [b]`\n\n>>> x[0] [1]"
     assert rst.rst_to_markdown(text) == "`a[0] [1]` and $[a] [b]$\n\n>>> x[0] [1]"
+    # a doctest's output either, where the section heading runs into the doctest
+    text = "Examples\n--------\n>>> f([[1, 2]])[:1]]\n[0.5, 3.5]"
+    assert rst.rst_to_markdown(text) == text
+    project = package["platform.cameras.OrthographicCamera.project"].docstring.value
+    assert "]\n[0.5, 3.5]" in project and "\\[" not in project
 
 
 def test_table_without_header_and_pipes_escaped(rst):
