@@ -91,7 +91,11 @@ def tex_to_mathml(tex: str, display: bool = False) -> str:
     except Exception as error:  # latex2mathml's own errors, and any other it lets through
         raise UnconvertibleEquation(f"latex2mathml: {type(error).__name__} {error}".rstrip()) \
             from error
-    tree = ET.fromstring(mathml)
+    try:
+        tree = ET.fromstring(mathml)
+    except ET.ParseError as error:
+        raise UnconvertibleEquation(f"latex2mathml wrote MathML that does not parse: {error}") \
+            from error
     left = sorted({word for element in tree.iter() for text in (element.text, element.tail)
                    if text for word in re.findall(r"\\[A-Za-z]+|\\.", text)})
     if left:
