@@ -30,6 +30,10 @@ emissivity of every material), from
 * bare_aluminium and polished_aluminium: Fresnel reflectance of clean aluminium (Rakic 1995) on
   0.36-22.5 um, diffuse and specular respectively.
 * snow: radscene.materials.snow (ART + ice Fresnel, Warren & Brandt 2008).
+* glass: the measured normal-incidence transmittance and front reflectance (0.30-2.50 um) of a
+  clear float-glass pane of the LBNL International Glazing Database
+  (``sources/transmittance_igdb_clear_glass_nfrc102.csv``), all of the reflectance specular;
+  opaque from 3.0 um with the product's hemispherical emissivity 0.84 (``GLASS``).
 * green_leaf and the canopies: PROSPECT-D / 4SAIL (radscene.materials.vegetation, needs
   ``prosail``) with the parameters of ``VEGETATION``.
 
@@ -511,6 +515,49 @@ def build_slum_materials():
         print(f"{material:19s} SLUM {sample}")
 
 
+#: The glass pane: a measured IGDB product (sources/transmittance_igdb_clear_glass_nfrc102.csv)
+#: and the thermal-infrared figures the same product lists.
+GLASS = {
+    "source": "transmittance_igdb_clear_glass_nfrc102.csv",
+    "emissivity": 0.84,  # hemispherical, both faces (IGDB, NFRC 102)
+    "opaque_from": 3.0,  # [um]; the transmittance falls linearly to 0 from 2.50 um to here
+    "thermal_nodes": (3.0, 4.0, 5.0, 8.0, 10.0, 12.0, 14.0, 20.0),  # [um]
+}
+
+
+def build_glass():
+    """Clear float glass: the measured normal-incidence transmittance and front reflectance of
+    IGDB product NFRC 102 (0.300-2.500 um), all of the reflectance specular; from
+    ``GLASS["opaque_from"]`` on opaque with the product's hemispherical emissivity, flat; linear in
+    wavelength in between (the transmittance falls to 0 there)."""
+    header, data = read_csv(SOURCES / GLASS["source"])
+    wl, tau, rho = data[:, 0], data[:, header.index("T")], data[:, header.index("Rf")]
+    start = GLASS["opaque_from"]
+    nodes = np.array([w for w in GLASS["thermal_nodes"] if w >= start])
+    eps = GLASS["emissivity"]
+    wl_all = np.concatenate([wl, nodes])
+    rho_all = np.concatenate([rho, np.full(nodes.size, 1.0 - eps)])
+    tau_all = np.concatenate([tau, np.zeros(nodes.size)])
+    write_csv(
+        DATA / "glass.csv",
+        [
+            f"radscene built-in material 'glass' - {GEN}",
+            "reflectance = specular_reflectance: total reflectance [-], all of it specular; "
+            "transmittance: regular (along the line of sight) [-].",
+            f"{wl[0]:.2f}-{wl[-1]:.2f} um: MEASURED - normal-incidence transmittance T and front "
+            "reflectance Rf of IGDB v11.4 product NFRC 102 'Generic Clear Glass', 3.048 mm "
+            f"(sources/{GLASS['source']}), at its wavelengths.",
+            f"{start:.1f}-20 um: opaque (the product's thermal-infrared transmittance 0), "
+            f"reflectance 1 - {eps:g}, the product's hemispherical emissivity {eps:g}, flat.",
+            f"{wl[-1]:.2f}-{start:.1f} um: linear in wavelength (no tabulated point); the "
+            "transmittance falls to 0 across it (ASSUMED).",
+        ],
+        {"wavelength_um": wl_all, "reflectance": rho_all, "specular_reflectance": rho_all,
+         "transmittance": tau_all},
+    )
+    print(f"{'glass':19s} IGDB NFRC 102, {wl[0]:.2f}-{wl[-1]:.2f} um; eps {eps:g} from {start:g} um")
+
+
 def build_water():
     from radscene.materials.water import _nk_table, water_reflectance
 
@@ -691,6 +738,7 @@ def main(argv=None):
     selected: dict = {}
     build_earthlib_materials(selected)
     build_slum_materials()
+    build_glass()
     build_water()
     build_aluminium()
     build_snow()

@@ -32,6 +32,10 @@ from radscene.materials.thermal import longwave_emissivity
 #: Label of a thermal part whose 8-14 um band level is a published figure and whose spectral shape
 #: is modelled (sources/thermal_emissivity.csv, scaled by scripts/build_material_library.py).
 PUBLISHED_BAND = "PUBLISHED BAND VALUE, MODELLED SHAPE"
+#: Label of a thermal part that is one published broadband (hemispherical) emissivity, flat in
+#: wavelength; the materials that carry it, by that emissivity [-].
+PUBLISHED_GREY = "PUBLISHED BROADBAND VALUE, GREY"
+GREY_LEVEL = {"glass": 0.84}  # IGDB v11.4, NFRC ID 102, both faces
 #: Materials with such a thermal part, by the published band level they take [-].
 BAND_LEVEL = {
     "sand": 0.905, "bright_soil": 0.905,  # Sutherland 1986, sands 0.89-0.92 (mid-point)
@@ -57,7 +61,18 @@ def test_thermal_part_names_its_source(name):
     source = library_info()["materials"][name]["source"]
     thermal = _thermal_part(source)
     assert thermal, f"{name}: the source says nothing of the thermal part"
-    assert any(w in thermal for w in ("MEASURED", "MODEL", PUBLISHED_BAND, "measured")), name
+    assert any(w in thermal for w in ("MEASURED", "MODEL", PUBLISHED_BAND, PUBLISHED_GREY,
+                                      "measured")), name
+    assert (PUBLISHED_GREY in thermal) == (name in GREY_LEVEL), name
+
+
+@pytest.mark.parametrize("name", sorted(GREY_LEVEL))
+def test_a_grey_thermal_part_is_its_published_value_at_every_wavelength(name):
+    thermal = _thermal_part(library_info()["materials"][name]["source"])
+    assert f"emissivity {GREY_LEVEL[name]:g}" in thermal and "flat" in thermal, name
+    m = get_material(name)
+    wl = np.linspace(3.0, 20.0, 341)
+    np.testing.assert_allclose(m.emissivity(wl), GREY_LEVEL[name], atol=1e-12)
 
 
 @pytest.mark.parametrize("name", sorted(list_materials()))

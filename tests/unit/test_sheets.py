@@ -27,6 +27,19 @@ def test_band_transmittance_is_the_response_weighted_mean():
     assert t[0] == pytest.approx([0.2 + 0.6 * (0.6 - 0.4) / 0.6, 0.8], rel=1e-12)
 
 
+def test_band_transmittance_beyond_the_table_raises_unless_held():
+    """The heat balance weights a sheet's τ by a 300 K blackbody over 4-50 um, past the
+    library's 20 um: there (``hold``) the table's end value is kept; a band does not."""
+    net = Material.create("net", reflectance=0.1,
+                          transmittance={"wavelength": [0.4, 3.0, 20.0],
+                                         "values": [0.8, 0.3, 0.3]})
+    with pytest.raises(ConfigError, match="outside the tabulated range"):
+        sheets.band_transmittance([net], [_Band(8.0, 30.0)])
+    held = sheets.band_transmittance([net], [_Band(8.0, 30.0), _Band(0.2, 0.4)], hold=True)
+    assert held[0] == pytest.approx([0.3, 0.8], rel=1e-12)
+    assert net.transmittance.extend == "error"  # the material itself is left as it was
+
+
 def _scene(supersample):
     return {
         "name": "net and smoke",

@@ -51,6 +51,9 @@ def test_iso_10456_design_values_typed_in():
     assert (steel.density, steel.conductivity, steel.specific_heat) == (7800.0, 50.0, 450.0)
     snow = get_thermal_properties("snow").surface
     assert (snow.density, snow.conductivity, snow.specific_heat) == (300.0, 0.23, 2000.0)
+    # glass, soda lime (including float glass) 2500, 1.00, 750
+    glass = get_thermal_properties("glass").surface
+    assert (glass.density, glass.conductivity, glass.specific_heat) == (2500.0, 1.00, 750.0)
     # EN ISO 13370 Table 7: clay or silt lambda 1.5, rho c 3.0e6; sand or gravel 2.0, about 2.0e6
     soil = get_thermal_properties("bare_soil").surface
     assert soil.conductivity == 1.5 and soil.volumetric_heat_capacity == pytest.approx(3.0e6, rel=1e-12)

@@ -9,7 +9,7 @@ Public API
 :mod:`~radscene.materials.brdf`
     BRDF models, one module each, and their registry.
 :func:`get_material`, :func:`list_materials`, :func:`list_categories`, :func:`library_info`
-    The built-in library: 32 materials spanning 0.4-20 um, each with its sources.
+    The built-in library: 33 materials spanning 0.4-20 um, each with its sources.
 :func:`get_thermal_properties`, :func:`solar_absorptance`, :func:`longwave_emissivity`
     Layered thermal stacks (k, ρ, c), broadband solar absorptance and long-wave emissivity.
 :mod:`~radscene.materials.libraries`

@@ -1,4 +1,4 @@
-"""radscene's built-in material library (32 materials, 0.4-20 um).
+"""radscene's built-in material library (33 materials, 0.4-20 um).
 
 The materials are data files in ``radscene/data/materials/``: ``library.yaml`` (metadata,
 licence, the citation of every spectrum, saying what is measured, modelled or assumed) and one

@@ -456,7 +456,7 @@ def _media_sun_transmittance(scene, tracer, wavelength, spectrum):
     band = SimpleNamespace(response=TabulatedResponse(np.asarray(wavelength, float)[keep],
                                                       np.asarray(spectrum, float)[keep],
                                                       name="shortwave"))
-    tau = sheets.band_transmittance(scene.materials, [band])
+    tau = sheets.band_transmittance(scene.materials, [band], hold=True)
     counts = [len(o.face_material) for o in scene.objects]
     lo, hi = tracer.bounds
     geometry = SimpleNamespace(epsilon=1e-4 + 2e-6 * float(np.linalg.norm(hi - lo)), sheet_tracer=sheet_tracer,
@@ -511,7 +511,7 @@ def _sheet_see_through(scene):
     wl = np.linspace(*_LONGWAVE_UM, 941)
     band = SimpleNamespace(response=TabulatedResponse(wl, spectral_radiance(wl, _LONGWAVE_TEMPERATURE),
                                                       name="longwave"))
-    tau = sheets.band_transmittance(scene.materials, [band])[:, 0]
+    tau = sheets.band_transmittance(scene.materials, [band], hold=True)[:, 0]
     counts = [len(o.face_material) for o in scene.objects]
     offset = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
     material = np.concatenate([o.face_material for o in scene.objects])

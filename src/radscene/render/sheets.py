@@ -50,13 +50,22 @@ def tracers(objects, tracer):
     return sheet, only(~sheet), only(sheet)
 
 
-def band_transmittance(materials, bands) -> np.ndarray:
-    """Response-weighted band means of each material's transmittance (n_m, n_b) [-]."""
+def band_transmittance(materials, bands, hold: bool = False) -> np.ndarray:
+    """Response-weighted band means of each material's transmittance (n_m, n_b) [-].
+
+    With ``hold`` a tabulated transmittance is taken at its end values beyond its table: the
+    heat balance's broadband weightings (a 300 K blackbody over 4-50 um) reach past the
+    library's 0.4-20 um. Without it, a band beyond the table raises, as a spectrum does.
+    """
+    from radscene.materials.spectrum import Spectrum
     from radscene.render.spectral import band_quadrature
 
     out = np.zeros((len(materials), len(bands)))
     for m, material in enumerate(materials):
         spectrum = material.transmittance
+        if hold and spectrum.wavelength is not None and spectrum.extend != "edge":
+            spectrum = Spectrum(spectrum.wavelength, spectrum.values, name=spectrum.name,
+                                source=spectrum.source, extend="edge")
         for b, band in enumerate(bands):
             knots = () if spectrum.wavelength is None else spectrum.wavelength
             nodes, weights = band_quadrature(band.response, knots)
