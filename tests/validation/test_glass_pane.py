@@ -138,8 +138,9 @@ def test_the_heat_balance_of_a_glass_roof():
     pane are sunlit by its solar transmittance (0.806-0.830: the measured T weighted by the ASTM
     G173 extraterrestrial and global spectra); the pane is opaque to the long-wave hemisphere
     (its transmittance, 0 from 3 um, is held at 0 beyond the library's 20 um), so their sky view
-    is that under the same pane not marked transmissive; keeping most of the sun and all of their long-wave exchange
-    with the sky, they end warmer than the open ground (a greenhouse)."""
+    is that under the same pane not marked transmissive, while their short-wave sky view passes
+    the pane's solar share; keeping most of the sun and the diffuse sky's light and none of
+    their long-wave exchange with the sky, they end warmer than the open ground (a greenhouse)."""
     import radscene
 
     solved = radscene.solve_thermal(_glass_roof())
@@ -152,6 +153,14 @@ def test_the_heat_balance_of_a_glass_roof():
     lit = solved.sunlit.isel(time=-1).values[under]
     assert np.ptp(lit) < 1e-6 and 0.80 < lit.mean() < 0.84
     np.testing.assert_array_equal(solved.sky_view.values[under], plate.sky_view.values[under])
+    # the diffuse sky's light passes it as the sun's does: the short-wave sky view under the
+    # pane is 1 - F (1 - τ_sw), F = 1 - the opaque pane's sky view, τ_sw its solar share
+    hidden = 1.0 - plate.sky_view.values[under]
+    seen = solved.sky_view_shortwave.values[under]
+    tau_sw = lit.mean()
+    assert hidden.mean() > 0.5
+    assert seen.mean() == pytest.approx(np.mean(1.0 - hidden * (1.0 - tau_sw)), abs=0.01)
+    np.testing.assert_array_equal(plate.sky_view_shortwave.values, plate.sky_view.values)
     t = solved.surface_temperature.isel(time=-1).values
     assert t[under].mean() > t[open_].mean() + 5.0  # K
     assert np.all(np.isfinite(t[solved.object.values == "pane"]))

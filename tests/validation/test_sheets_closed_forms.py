@@ -181,4 +181,6 @@ def test_the_heat_balance_sky_view_passes_a_sheet(tau):
     # 256 cosine rays a cell: a view factor's standard error is about 0.03; over the cells'
     # mean about 0.005
     assert sky.mean() == pytest.approx(np.mean(1.0 - f * (1.0 - tau)), abs=0.015)
+    # a grey net passes the diffuse sky's light as it passes the long-wave
+    np.testing.assert_allclose(solved.sky_view_shortwave.values, solved.sky_view.values, rtol=1e-12)
     assert f.mean() > 0.6  # the net hides much of the sky: the test can tell τ from 0

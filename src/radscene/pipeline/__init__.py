@@ -359,7 +359,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     tracer = RayTracer(meshes)
     shadow_tracer, sun_transmittance = _media_sun_transmittance(
         scene, tracer, table.wavelength, table.daily_spectrum(zenith))
-    see_through = _sheet_see_through(scene)
+    see_through = _sheet_see_through(scene, table.wavelength, table.daily_spectrum(zenith))
     index = stack_index.ravel()
     sources = _sources(scene, elements, used, stacks, index)
     with progress_callback(progress, "heat balance", stages=True) as report:
@@ -493,12 +493,12 @@ def _textured_sheet_multiplier(scene):
     return multiplier
 
 
-def _sheet_see_through(scene):
-    """``see_through(object, primitive, position)``: the share of the heat balance's
-    hemisphere a sheet passes, Δτ τ with τ its material's transmittance weighted by a 300 K
-    blackbody over 4–50 um (the sky's and the scene's long-wave exchange, which the hemisphere
-    carries; the diffuse short-wave sky takes the same share); 0 for other faces. None without
-    sheets (every face opaque)."""
+def _sheet_see_through(scene, wavelength, spectrum):
+    """``see_through(object, primitive, position)``: the shares of the heat balance's
+    hemisphere a sheet passes, (N, 2): Δτ τ with τ its material's transmittance weighted by a
+    300 K blackbody over 4–50 um (the sky's and the scene's long-wave exchange), and by the
+    ground's global short-wave spectrum (``wavelength`` [um], ``spectrum``; the diffuse sky's
+    light); 0 for other faces. None without sheets (every face opaque)."""
     from radscene.render import sheets
 
     is_sheet = np.array([bool(getattr(o, "transmissive", False)) for o in scene.objects])
@@ -509,9 +509,13 @@ def _sheet_see_through(scene):
     from radscene.radiometry import TabulatedResponse, spectral_radiance
 
     wl = np.linspace(*_LONGWAVE_UM, 941)
-    band = SimpleNamespace(response=TabulatedResponse(wl, spectral_radiance(wl, _LONGWAVE_TEMPERATURE),
-                                                      name="longwave"))
-    tau = sheets.band_transmittance(scene.materials, [band], hold=True)[:, 0]
+    keep = np.asarray(spectrum, float) > 0.0
+    bands = [SimpleNamespace(response=TabulatedResponse(
+                 wl, spectral_radiance(wl, _LONGWAVE_TEMPERATURE), name="longwave")),
+             SimpleNamespace(response=TabulatedResponse(
+                 np.asarray(wavelength, float)[keep], np.asarray(spectrum, float)[keep],
+                 name="shortwave"))]
+    tau = sheets.band_transmittance(scene.materials, bands, hold=True)  # (n_m, 2)
     counts = [len(o.face_material) for o in scene.objects]
     offset = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
     material = np.concatenate([o.face_material for o in scene.objects])
@@ -519,11 +523,11 @@ def _sheet_see_through(scene):
 
     def see_through(obj, primitive, position):
         obj = np.asarray(obj, int)
-        out = np.zeros(obj.size)
+        out = np.zeros((obj.size, 2))
         on = is_sheet[obj]
         if on.any():
             out[on] = (tau[material[offset[obj[on]] + np.asarray(primitive)[on]]]
-                       * multiplier(obj[on], np.asarray(position)[on]))
+                       * multiplier(obj[on], np.asarray(position)[on])[:, None])
         return out
     return see_through
 

@@ -322,14 +322,14 @@ class HeatBalance:
         (None when no element is wet).
         """
         shape = (self.grid.n_elements,)
-        lit, view = f["lit"][k], f["sky_view_fraction"][k]
+        lit, view, view_sw = f["lit"][k], f["sky_view_fraction"][k], f["sky_view_shortwave"][k]
         air = f["air_temperature"][k]
-        q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
+        q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
         q_sky = absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], view)
         h = convection_coefficient(f["wind_speed"][k], self.convection)
         out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None, "canopy": None}
         if self.exchange is not None:
-            irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view)
+            irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
             sky = np.broadcast_to(f["sky_longwave"][k] * view, shape)
             out["q_env"] = environment_longwave(self.exchange, self.emissivity, self._exitance(previous), sky, self.exchange_reflections) + environment_shortwave(
                 self.exchange, self.absorptance, irradiance, self.exchange_reflections
@@ -453,8 +453,9 @@ class HeatBalance:
         tau = cl.diffuse
         eps = self.emissivity[c]
         lit, view = np.broadcast_to(f["lit"][k], shape)[c], np.broadcast_to(f["sky_view_fraction"][k], shape)[c]
+        view_sw = np.broadcast_to(f["sky_view_shortwave"][k], shape)[c]
         direct = np.broadcast_to(f["direct_irradiance"][k], shape)[c] * np.maximum(np.broadcast_to(f["cos_incidence"][k], shape)[c], 0.0) * lit
-        diffuse = np.broadcast_to(f["diffuse_irradiance"][k], shape)[c] * view
+        diffuse = np.broadcast_to(f["diffuse_irradiance"][k], shape)[c] * view_sw
         gap = beam_transmittance(cl.lai, np.broadcast_to(f["cos_incidence"][k], shape)[c])
         q_a = self.absorptance[c] * (direct * (1.0 - gap) + diffuse * (1.0 - tau))
         q_sky = eps * (1.0 - tau) * view * np.broadcast_to(f["sky_longwave"][k], shape)[c]

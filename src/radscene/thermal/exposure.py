@@ -133,19 +133,23 @@ class Hemisphere:
     Attributes
     ----------
     sky_view : ndarray, (n_elements,)
-        Sky view factor V_sky [-].
+        Sky view factor V_sky [-], semi-transparent sheets passing their long-wave share.
     exchange : scipy.sparse.csr_array, (n_elements, n_elements)
         View factor F_ij from element i to element j [-].
     fixed : scipy.sparse.csr_array, (n_elements, n_faces)
         View factor from element i to face f of a surface that is not solved [-].
     samples : int
         Rays per face.
+    sky_view_shortwave : ndarray, (n_elements,), optional
+        The sky view through sheets' short-wave share [-] (the diffuse sky's light); default
+        ``sky_view``.
     """
 
     sky_view: np.ndarray
     exchange: sparse.csr_array
     fixed: sparse.csr_array
     samples: int
+    sky_view_shortwave: np.ndarray | None = None
 
 
 def _stratified(n_elements, n_samples, rng):
@@ -177,10 +181,12 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
                         see_through=None, max_crossings=8):
     """Sky view factor and view factors between elements, by cosine-weighted hemisphere rays.
 
-    A ray that meets a semi-transparent sheet (a net, a foliage layer) gives the sheet the share
-    1 − τ of its weight and goes on through it with the share τ, to the sky or to what lies
-    behind (up to ``max_crossings`` sheets; a ray still inside a sheet after those gives its
-    remaining weight to the last sheet).
+    A ray that meets a semi-transparent sheet (a net, a foliage layer, a pane) gives the sheet
+    the share 1 − τ of its weight and goes on through it with the share τ, to the sky or to
+    what lies behind (up to ``max_crossings`` sheets; a ray still inside a sheet after those
+    gives its remaining weight to the last sheet). The view factors between surfaces and the
+    sky view take the long-wave τ; a second sky view takes the short-wave τ (glass passes the
+    diffuse sky's light and hides the sky's long-wave).
 
     Parameters
     ----------
@@ -196,9 +202,10 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
     batch : int, optional
         Rays traced per call.
     see_through : callable, optional
-        ``see_through(object, primitive, position) -> τ`` (N,) [-]: the share of the
+        ``see_through(object, primitive, position) -> τ`` (N,) or (N, 2) [-]: the share of the
         hemisphere a face passes, per hit (object and primitive indices of ``tracer``, hit
-        points (N, 3)); 0 for opaque faces. Default: every face opaque.
+        points (N, 3)), long-wave (and short-wave, the second column; else the same); 0 for
+        opaque faces. Default: every face opaque.
     max_crossings : int, optional
         Sheets a ray may pass.
 
@@ -220,6 +227,7 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
     first = np.searchsorted(elements.face_element[by_element], np.arange(n_el))
     last = np.append(first[1:], by_element.size) - 1
     sky = np.zeros(n_el)
+    sky_shortwave = np.zeros(n_el)
     rows, cols, vals, frows, fcols, fvals = [], [], [], [], [], []
     per = max(1, batch // n_samples)
     for start in range(0, n_el, per):
@@ -233,30 +241,34 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
         r = rng.random((2, source.size))
         origin = _points(elements, source, r[0], r[1], epsilon)
         element_i = np.repeat(els, n_samples)
-        weight = np.full(element_i.size, 1.0 / n_samples)
+        weight = np.full((element_i.size, 2), 1.0 / n_samples)  # long-wave, short-wave
         for crossing in range(max_crossings + 1):
             hits = tracer.intersect(origin, d)
-            sky[els] += np.bincount(element_i[~hits.hit] - start, weights=weight[~hits.hit],
+            miss = ~hits.hit
+            sky[els] += np.bincount(element_i[miss] - start, weights=weight[miss, 0],
                                     minlength=els.size)
+            sky_shortwave[els] += np.bincount(element_i[miss] - start, weights=weight[miss, 1],
+                                              minlength=els.size)
             hit = hits.hit
             target = face_offset[hits.object[hit]] + hits.primitive[hit]
-            tau = np.zeros(target.size)
-            if see_through is not None and crossing < max_crossings:
-                tau = np.clip(np.asarray(see_through(hits.object[hit], hits.primitive[hit],
-                                                     hits.position[hit]), float), 0.0, 1.0)
+            tau = np.zeros((target.size, 2))
+            if see_through is not None and crossing < max_crossings and target.size:
+                given = np.asarray(see_through(hits.object[hit], hits.primitive[hit],
+                                               hits.position[hit]), float)
+                tau[:] = np.clip(given.reshape(target.size, -1), 0.0, 1.0)
             element_j = elements.face_element[target]
             to_element = element_j >= 0
-            stays = weight[hit] * (1.0 - tau)
+            stays = weight[hit, 0] * (1.0 - tau[:, 0])
             rows.append(element_i[hit][to_element])
             cols.append(element_j[to_element])
             vals.append(stays[to_element])
             frows.append(element_i[hit][~to_element])
             fcols.append(target[~to_element])
             fvals.append(stays[~to_element])
-            on = tau > 0.0
+            on = (tau > 0.0).any(axis=1)
             if not on.any():
                 break
-            # through the sheet: on from just past the hit, with the share τ
+            # through the sheet: on from just past the hit, with the shares τ
             d = d[hit][on]
             origin = hits.position[hit][on] + epsilon * d
             element_i = element_i[hit][on]
@@ -269,6 +281,7 @@ def hemisphere_exposure(tracer, elements, n_samples=64, seed=0, epsilon=1e-3, ba
 
     return Hemisphere(
         sky_view=sky,
+        sky_view_shortwave=sky_shortwave,
         exchange=matrix(rows, cols, vals, (n_el, n_el)),
         fixed=matrix(frows, fcols, fvals, (n_el, n_faces)),
         samples=n_samples,

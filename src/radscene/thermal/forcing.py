@@ -59,6 +59,10 @@ class ThermalForcing:
         Sunlit fraction [-]; default 1.
     sky_view_fraction : array_like, optional
         Sky view factor [-]; default 1.
+    sky_view_shortwave : array_like, optional
+        Sky view factor of the diffuse short-wave sky [-] where it differs from
+        ``sky_view_fraction`` (semi-transparent sheets that pass the sun's light and hide the
+        sky's long-wave); default ``sky_view_fraction``.
     relative_humidity : array_like, optional
         Relative humidity of the air over water, [0, 1] [-]; default none given, which the
         evaporation term Q_v needs wherever the moisture availability is > 0.
@@ -95,6 +99,7 @@ class ThermalForcing:
     internal_flux: np.ndarray = 0.0
     air_speed: np.ndarray | None = None
     environment_irradiance: np.ndarray = 0.0
+    sky_view_shortwave: np.ndarray | None = None
 
     def checked(self, n_elements):
         """Validated arrays broadcast to (n_times, n_elements), as a dict (views, no copies).
@@ -135,6 +140,12 @@ class ThermalForcing:
         if not np.all(np.isfinite(value) & (value >= 0)):
             raise ConfigError("must be finite and >= 0 W m-2", key="forcing.environment_irradiance")
         out["has_environment"] = bool(np.any(value != 0.0))
+        out["sky_view_shortwave"] = out["sky_view_fraction"]
+        if self.sky_view_shortwave is not None:
+            value, out["sky_view_shortwave"] = _broadcast(self.sky_view_shortwave,
+                                                          "sky_view_shortwave", shape)
+            if not np.all(np.isfinite(value) & (value >= 0) & (value <= 1)):
+                raise ConfigError("must lie in [0, 1]", key="forcing.sky_view_shortwave")
         out["air_speed"] = None
         if self.air_speed is not None:
             value, out["air_speed"] = _broadcast(self.air_speed, "air_speed", shape)

@@ -272,6 +272,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         wind_speed=np.asarray(w["wind_speed"], float)[col],
         lit=lit,
         sky_view_fraction=hemisphere.sky_view,
+        sky_view_shortwave=hemisphere.sky_view_shortwave,
         relative_humidity=np.asarray(w["relative_humidity"], float)[col],
         pressure=np.asarray(w["pressure"], float)[col],
         internal_flux=internal_flux,
@@ -357,6 +358,10 @@ def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave
                                 {"units": "K", "standard_name": "surface_temperature",
                                  "long_name": "surface temperature of the element"}),
         "sky_view": (el, hemisphere.sky_view, {"units": "1", "long_name": "sky view factor"}),
+        "sky_view_shortwave": (el, hemisphere.sky_view if hemisphere.sky_view_shortwave is None
+                               else hemisphere.sky_view_shortwave,
+                               {"units": "1", "long_name": "sky view factor of the diffuse "
+                                "short-wave sky (through semi-transparent sheets)"}),
         "sunlit": (("time", "element"), lit.astype(np.float32), {"units": "1", "long_name": "sunlit fraction"}),
         "sun_zenith": (("time",), np.asarray(sun.zenith, float), {"units": "degree", "long_name": "solar zenith angle"}),
         "direct_irradiance": (("time",), direct, {"units": "W m-2", "long_name": "direct solar irradiance normal to the beam"}),
