@@ -225,14 +225,26 @@ def emission_pairs(bset, material, temperature, step=None):
     step for the emission (not for the truth map); None: each distinct temperature its own.
     Returns the pair of each hit (N,) and one (n_pairs, n_j) table per band.
     """
-    if step is not None:
-        temperature = np.round(np.asarray(temperature) / step) * step
-    t_unique, t_inverse = np.unique(temperature, return_inverse=True)
-    pairs, index = np.unique(material.astype(np.int64) * t_unique.size + t_inverse.ravel(),
-                             return_inverse=True)
-    pair_material, pair_t = np.divmod(pairs, max(t_unique.size, 1))
+    material = np.asarray(material).astype(np.int64)
+    temperature = np.asarray(temperature, dtype=float)
+    if step is not None and np.isfinite(temperature).all():
+        # whole steps: one sort of integers finds the pairs
+        level = np.round(temperature / step).astype(np.int64)
+        low = int(level.min()) if level.size else 0
+        span = int(level.max()) - low + 1 if level.size else 1
+        pairs, index = np.unique(material * span + (level - low), return_inverse=True)
+        pair_material, pair_level = np.divmod(pairs, span)
+        pair_temperature = (pair_level + low) * step
+    else:
+        if step is not None:
+            temperature = np.round(temperature / step) * step
+        t_unique, t_inverse = np.unique(temperature, return_inverse=True)
+        pairs, index = np.unique(material * t_unique.size + t_inverse.ravel(),
+                                 return_inverse=True)
+        pair_material, pair_t = np.divmod(pairs, max(t_unique.size, 1))
+        pair_temperature = t_unique[pair_t]
     tables = [emission_coefficients(bset.emissivity_tau[b], q_nodes, q_weights, pair_material,
-                                    t_unique[pair_t])
+                                    pair_temperature, distinct=True)
               for b, (q_nodes, q_weights) in enumerate(bset.quadrature)]
     return index.ravel(), tables
 
