@@ -102,10 +102,8 @@ class BandSetup:
                 wt = weights * e_sun
                 c.sun_diffuse[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_d / np.pi, tau)
                 c.sun_specular[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_s, tau)
-                c.sky_diffuse[:, b, block, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_d, sky,
-                                                          tau)
-                c.sky_specular[:, b, block, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_s,
-                                                           sky, tau)
+                c.sky_diffuse[:, b, block, :] = _sky_table(weights * rho_d, sky, tau)
+                c.sky_specular[:, b, block, :] = _sky_table(weights * rho_s, sky, tau)
                 c.path[:, b, block] = radiance @ weights
                 c.transmittance[b, block] = tau @ weights / weights.sum()
                 if s == reference:
@@ -125,6 +123,15 @@ class BandSetup:
         self.brdf = BrdfTables(scene, bands, self.quadrature, path_nodes, suns, target_alt,
                                sky_zenith, sky_azimuth, self.sky_scale
                                ) if scene.brdfs else None
+
+
+def _sky_table(rho, sky, tau):
+    """Σ_q ρ_mq L_kq τ_jq: a material × path node × sky node table (m, j, k) from the weighted
+    reflectance ``rho`` (m, q), the sky ``sky`` (k, q) and the path transmittance ``tau``
+    (j, q); one matrix product."""
+    n_m, n_j = rho.shape[0], tau.shape[0]
+    left = (rho[:, None, :] * tau[None, :, :]).reshape(n_m * n_j, -1)
+    return (left @ sky.T).reshape(n_m, n_j, sky.shape[0])
 
 
 def _path_spectra(atm, path_nodes, sun, wavelength):
@@ -232,7 +239,7 @@ def emission_pairs(bset, material, temperature, step=None):
         level = np.round(temperature / step).astype(np.int64)
         low = int(level.min()) if level.size else 0
         span = int(level.max()) - low + 1 if level.size else 1
-        pairs, index = np.unique(material * span + (level - low), return_inverse=True)
+        pairs, index = _distinct(material * span + (level - low))
         pair_material, pair_level = np.divmod(pairs, span)
         pair_temperature = (pair_level + low) * step
     else:
@@ -247,6 +254,22 @@ def emission_pairs(bset, material, temperature, step=None):
                                     pair_temperature, distinct=True)
               for b, (q_nodes, q_weights) in enumerate(bset.quadrature)]
     return index.ravel(), tables
+
+
+#: The most keys :func:`_distinct` marks in a table rather than sorts.
+DISTINCT_TABLE = 1 << 24
+
+
+def _distinct(key):
+    """``np.unique(key, return_inverse=True)`` of non-negative int64 keys: by a table of the
+    keys present where their range is at most :data:`DISTINCT_TABLE` (no sort), else sorted."""
+    if not key.size or int(key.max()) >= DISTINCT_TABLE:
+        return np.unique(key, return_inverse=True)
+    present = np.zeros(int(key.max()) + 1, dtype=bool)
+    present[key] = True
+    distinct = np.flatnonzero(present)
+    rank = np.cumsum(present) - 1
+    return distinct, rank[key]
 
 
 def mean_view_azimuth(directions, hit):
