@@ -15,6 +15,7 @@ from space").
 
 from __future__ import annotations
 
+import threading
 from collections import OrderedDict
 from dataclasses import dataclass
 
@@ -162,26 +163,32 @@ def emission_coefficients(emissivity_tau, nodes, weights, material_index, temper
     return out
 
 
-#: The emission splines of the last renders (:func:`_emission_splines`), at most
-#: :data:`SPLINES_KEPT` sets: a sequence's frames integrate the same tables again.
+#: The emission splines of the last renders (:func:`_emission_splines`), the most recent
+#: first to go last, within :data:`SPLINES_BYTES`: a sequence's frames integrate the same
+#: tables again.
 _SPLINES = OrderedDict()
-SPLINES_KEPT = 32
+_SPLINES_LOCK = threading.Lock()
+#: What the kept splines may hold [bytes]: their tables and the splines' coefficients (four a
+#: grid interval), counted as five times a table.
+SPLINES_BYTES = 64 << 20
 
 
 def _emission_splines(emissivity_tau, nodes, weights, t_grid):
     """``splines(m)``: the cubic spline in T of material ``m``'s emission at the path nodes
     on the grid ``t_grid`` [K], (n_j,) per temperature [W m-2 sr-1].
 
-    Made once per distinct (ε τ_a table, quadrature, grid) and kept (the last
-    :data:`SPLINES_KEPT`): the frames of a sequence meet the same tables while the lines of
-    sight, their path nodes and the range of temperatures stay. A set is taken again only when
-    its inputs are equal, value for value, so the splines are those made afresh."""
+    Made once per distinct (ε τ_a table, quadrature, grid) and kept (within
+    :data:`SPLINES_BYTES`, the least recently used let go first): the frames of a sequence
+    meet the same tables while the lines of sight, their path nodes and the range of
+    temperatures stay. A set is taken again only when its inputs are equal, value for value,
+    so the splines are those made afresh."""
     key = (emissivity_tau.shape, nodes.tobytes(), weights.tobytes(), float(t_grid[0]),
            t_grid.size, hash(np.ascontiguousarray(emissivity_tau).tobytes()))
-    entry = _SPLINES.get(key)
-    if entry is not None and np.array_equal(entry[0], emissivity_tau):
-        _SPLINES.move_to_end(key)
-        return entry[1]
+    with _SPLINES_LOCK:
+        entry = _SPLINES.get(key)
+        if entry is not None and np.array_equal(entry[0], emissivity_tau):
+            _SPLINES.move_to_end(key)
+            return entry[1]
     planck = spectral_radiance(nodes[None, :], t_grid[:, None])  # (G, q)
     table = np.einsum("mjq,gq,q->mjg", emissivity_tau, planck, weights)
     made = {}
@@ -191,9 +198,12 @@ def _emission_splines(emissivity_tau, nodes, weights, t_grid):
             made[m] = CubicSpline(t_grid, table[m], axis=-1)
         return made[m]
 
-    _SPLINES[key] = (np.array(emissivity_tau, copy=True), splines)
-    while len(_SPLINES) > SPLINES_KEPT:
-        _SPLINES.popitem(last=False)
+    size = emissivity_tau.nbytes + 5 * table.nbytes
+    if size <= SPLINES_BYTES:
+        with _SPLINES_LOCK:
+            _SPLINES[key] = (np.array(emissivity_tau, copy=True), splines, size)
+            while sum(e[2] for e in _SPLINES.values()) > SPLINES_BYTES:
+                _SPLINES.popitem(last=False)
     return splines
 
 
