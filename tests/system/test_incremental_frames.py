@@ -15,9 +15,11 @@ from radscene.radiometry.units import parse_quantity
 
 #: Kept rays give the answers of tracing them again, folded in the same order [-].
 SAME_FRAME = 1e-6
-#: Truth maps: integer labels and per-pixel geometry, compared exactly.
+#: Truth maps: integer labels and per-pixel geometry, compared exactly (the geolocation too:
+#: an incremental frame works it out again only for the pixels with a sample traced again).
 TRUTH = ("object_id", "material_id", "shadow_fraction", "sky_view_fraction", "cos_incidence",
-         "surface_temperature", "range")
+         "surface_temperature", "range", "latitude", "longitude", "height", "view_zenith",
+         "view_azimuth", "sun_zenith", "sun_azimuth")
 
 
 def _compare(full, incremental):

@@ -58,3 +58,38 @@ def test_emission_spline_path_matches_exact_pairs():
     assert spline == pytest.approx(exact, rel=1e-9)
     expected = np.where(material == 0, 0.9, 0.5) * band_radiance(3.0, 5.0, temperature)
     assert exact[:, 0] == pytest.approx(expected, rel=1e-9)
+
+
+def test_emission_pairs_match_each_hit_grouped_alone_and_a_second_frame_alike():
+    """The pairs found by integer temperature steps and their kept splines give each hit the
+    emission of its (material, temperature) grouped to the step, frame after frame."""
+    from types import SimpleNamespace
+
+    from radscene.render.band_setup import emission_pairs
+
+    rng = np.random.default_rng(3)
+    nodes, weights = band_quadrature(RectangularResponse(8.0, 12.0))
+    bset = SimpleNamespace(emissivity_tau=[rng.uniform(0.5, 1.0, (4, 3, nodes.size))],
+                           quadrature=[(nodes, weights)])
+    material = rng.integers(0, 4, 5000)
+    temperature = 290.0 + 20.0 * rng.random(5000)
+    step = 1e-3
+    grouped = np.round(temperature / step) * step
+    want = emission_coefficients(bset.emissivity_tau[0], nodes, weights, material, grouped)
+    for _ in range(2):  # the second call takes the kept splines
+        pair, tables = emission_pairs(bset, material, temperature, step)
+        np.testing.assert_array_equal(tables[0][pair], want)
+
+
+def test_pixel_sums_add_each_pixels_samples_in_any_order():
+    from radscene.render.tiles import pixel_sums
+
+    rng = np.random.default_rng(4)
+    pixel = np.sort(rng.integers(0, 300, 2000))
+    weight, rows = rng.random(2000), rng.random((5, 2000))
+    want = np.array([[np.sum(rows[r, pixel == p] * weight[pixel == p]) for p in np.unique(pixel)]
+                     for r in range(5)])
+    for order in (np.arange(2000), rng.permutation(2000)):
+        got_pixel, got = pixel_sums(pixel[order], weight[order], rows[:, order])
+        np.testing.assert_array_equal(got_pixel, np.unique(pixel))
+        np.testing.assert_allclose(got, want, rtol=1e-13)

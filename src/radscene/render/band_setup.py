@@ -102,10 +102,8 @@ class BandSetup:
                 wt = weights * e_sun
                 c.sun_diffuse[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_d / np.pi, tau)
                 c.sun_specular[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_s, tau)
-                c.sky_diffuse[:, b, block, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_d, sky,
-                                                          tau)
-                c.sky_specular[:, b, block, :] = np.einsum("q,mq,kq,jq->mjk", weights, rho_s,
-                                                           sky, tau)
+                c.sky_diffuse[:, b, block, :] = _sky_table(weights * rho_d, sky, tau)
+                c.sky_specular[:, b, block, :] = _sky_table(weights * rho_s, sky, tau)
                 c.path[:, b, block] = radiance @ weights
                 c.transmittance[b, block] = tau @ weights / weights.sum()
                 if s == reference:
@@ -125,6 +123,15 @@ class BandSetup:
         self.brdf = BrdfTables(scene, bands, self.quadrature, path_nodes, suns, target_alt,
                                sky_zenith, sky_azimuth, self.sky_scale
                                ) if scene.brdfs else None
+
+
+def _sky_table(rho, sky, tau):
+    """Σ_q ρ_mq L_kq τ_jq: a material × path node × sky node table (m, j, k) from the weighted
+    reflectance ``rho`` (m, q), the sky ``sky`` (k, q) and the path transmittance ``tau``
+    (j, q); one matrix product."""
+    n_m, n_j = rho.shape[0], tau.shape[0]
+    left = (rho[:, None, :] * tau[None, :, :]).reshape(n_m * n_j, -1)
+    return (left @ sky.T).reshape(n_m, n_j, sky.shape[0])
 
 
 def _path_spectra(atm, path_nodes, sun, wavelength):
@@ -225,16 +232,44 @@ def emission_pairs(bset, material, temperature, step=None):
     step for the emission (not for the truth map); None: each distinct temperature its own.
     Returns the pair of each hit (N,) and one (n_pairs, n_j) table per band.
     """
-    if step is not None:
-        temperature = np.round(np.asarray(temperature) / step) * step
-    t_unique, t_inverse = np.unique(temperature, return_inverse=True)
-    pairs, index = np.unique(material.astype(np.int64) * t_unique.size + t_inverse.ravel(),
-                             return_inverse=True)
-    pair_material, pair_t = np.divmod(pairs, max(t_unique.size, 1))
+    material = np.asarray(material).astype(np.int64)
+    temperature = np.asarray(temperature, dtype=float)
+    if step is not None and np.isfinite(temperature).all():
+        # whole steps: one sort of integers finds the pairs
+        level = np.round(temperature / step).astype(np.int64)
+        low = int(level.min()) if level.size else 0
+        span = int(level.max()) - low + 1 if level.size else 1
+        pairs, index = _distinct(material * span + (level - low))
+        pair_material, pair_level = np.divmod(pairs, span)
+        pair_temperature = (pair_level + low) * step
+    else:
+        if step is not None:
+            temperature = np.round(temperature / step) * step
+        t_unique, t_inverse = np.unique(temperature, return_inverse=True)
+        pairs, index = np.unique(material * t_unique.size + t_inverse.ravel(),
+                                 return_inverse=True)
+        pair_material, pair_t = np.divmod(pairs, max(t_unique.size, 1))
+        pair_temperature = t_unique[pair_t]
     tables = [emission_coefficients(bset.emissivity_tau[b], q_nodes, q_weights, pair_material,
-                                    t_unique[pair_t])
+                                    pair_temperature, distinct=True)
               for b, (q_nodes, q_weights) in enumerate(bset.quadrature)]
     return index.ravel(), tables
+
+
+#: The most keys :func:`_distinct` marks in a table rather than sorts.
+DISTINCT_TABLE = 1 << 24
+
+
+def _distinct(key):
+    """``np.unique(key, return_inverse=True)`` of non-negative int64 keys: by a table of the
+    keys present where their range is at most :data:`DISTINCT_TABLE` (no sort), else sorted."""
+    if not key.size or int(key.max()) >= DISTINCT_TABLE:
+        return np.unique(key, return_inverse=True)
+    present = np.zeros(int(key.max()) + 1, dtype=bool)
+    present[key] = True
+    distinct = np.flatnonzero(present)
+    rank = np.cumsum(present) - 1
+    return distinct, rank[key]
 
 
 def mean_view_azimuth(directions, hit):

@@ -12,7 +12,10 @@ A :class:`FrameCache` keeps, per ray sample of one observer:
 * whether each drawn first direction of the reflected-background paths meets the scene
   (the diffuse ones beyond the sky fan, and the lobes'; :mod:`radscene.render.background_first`).
   The diffuse directions taken from the sky fan need nothing more: their ``blocked`` flags
-  are the sky fan's bits, kept or traced.
+  are the sky fan's bits, kept or traced;
+* per pixel, the geodetic position and view angles of what it sees
+  (:func:`radscene.render.truth.geolocation`): worked out again only for the pixels with a
+  sample traced again.
 
 The next frame traces again only the rays that pass through the bounding sphere of an
 object that moved since (where it stood and where it stands): the primary rays, the fans and
@@ -30,9 +33,11 @@ sky or specular samples, volumes, semi-transparent sheets, scanners, motion blur
 
 Memory: per ray sample its ray (48 bytes: the origin and direction it compares the next
 frame's with), its hit (73 bytes: distance, object, face, barycentrics, normal, position),
-two uint64 of fan bits, a few flags and, per tile of hits, their sample indices (8 bytes) and
-two flags per background path (its drawn diffuse and lobe directions): about 150 bytes a sample with the demo's 4 paths a sample, 200 MB
-for its two observers at supersample 2 (1.33 M samples).
+two uint64 of fan bits, three flags, per tile of hits their sample indices (8 bytes) and two
+flags per background path (its drawn diffuse and lobe directions), and per pixel five float64
+of geolocation: 167 bytes a sample measured on the demo (4 background paths a sample,
+supersample 2: the geolocation 10 of them), 212 MiB for its two observers (1.33 M samples;
+2026-11-26).
 """
 
 from __future__ import annotations

@@ -253,7 +253,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         if i + TILES_AHEAD < len(tiles):
             pending[i + TILES_AHEAD] = launch(tiles[i + TILES_AHEAD])
         if geolocation is None:  # while the first tiles' rays are traced
-            geolocation = truth.geolocation(scene, hits, rays, labelled, track)
+            geolocation = truth.geolocation(scene, hits, rays, labelled, track,
+                                            None if cache is None else cache.kept)
             pixel_coords = pixel_coordinates(setup, rays.shape)
         current = pending.pop(i)
         if layers is not None:

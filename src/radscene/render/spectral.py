@@ -15,6 +15,8 @@ from space").
 
 from __future__ import annotations
 
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -109,7 +111,7 @@ class BandCoefficients:
 
 
 def emission_coefficients(emissivity_tau, nodes, weights, material_index, temperature,
-                          exact_limit: int = 1024):
+                          exact_limit: int = 1024, distinct: bool = False):
     """∫ S ε_m B(λ, T) τ_a dλ for each sample's material and temperature.
 
     Parameters
@@ -126,6 +128,9 @@ def emission_coefficients(emissivity_tau, nodes, weights, material_index, temper
         Up to this many distinct (material, temperature) pairs the integral is evaluated
         exactly for each pair; beyond it, on a 0.25 K temperature grid with a cubic spline
         in T (relative error below 1e-10 for 200–2000 K).
+    distinct : bool
+        No (material, temperature) pair comes twice (the caller grouped them): they are not
+        grouped again.
 
     Returns
     -------
@@ -137,22 +142,69 @@ def emission_coefficients(emissivity_tau, nodes, weights, material_index, temper
     n_m, n_j, _ = emissivity_tau.shape
     if temperature.size == 0:
         return np.zeros((0, n_j))
-    t_unique, t_inverse = np.unique(temperature, return_inverse=True)
-    pair = material_index.astype(np.int64) * t_unique.size + t_inverse
-    pairs, p_inverse = np.unique(pair, return_inverse=True)
-    if pairs.size <= exact_limit:
-        pm, pt = np.divmod(pairs, t_unique.size)
-        planck = spectral_radiance(nodes[None, :], t_unique[pt][:, None])  # (P, q)
-        values = np.einsum("pjq,pq,q->pj", emissivity_tau[pm], planck, weights)
-        return values[p_inverse.ravel()]
-    t_grid = np.arange(np.floor(t_unique[0]) - 1.0, np.ceil(t_unique[-1]) + 1.25, 0.25)
-    planck = spectral_radiance(nodes[None, :], t_grid[:, None])  # (G, q)
-    table = np.einsum("mjq,gq,q->mjg", emissivity_tau, planck, weights)
+    if distinct and temperature.size > exact_limit:  # no pair twice: nothing to group
+        t_low, t_high = temperature.min(), temperature.max()
+    else:
+        t_unique, t_inverse = np.unique(temperature, return_inverse=True)
+        pair = material_index.astype(np.int64) * t_unique.size + t_inverse
+        pairs, p_inverse = np.unique(pair, return_inverse=True)
+        if pairs.size <= exact_limit:
+            pm, pt = np.divmod(pairs, t_unique.size)
+            planck = spectral_radiance(nodes[None, :], t_unique[pt][:, None])  # (P, q)
+            values = np.einsum("pjq,pq,q->pj", emissivity_tau[pm], planck, weights)
+            return values[p_inverse.ravel()]
+        t_low, t_high = t_unique[0], t_unique[-1]
+    t_grid = np.arange(np.floor(t_low) - 1.0, np.ceil(t_high) + 1.25, 0.25)
+    splines = _emission_splines(emissivity_tau, nodes, weights, t_grid)
     out = np.empty((temperature.size, n_j))
     for m in np.unique(material_index):
         sel = material_index == m
-        out[sel] = CubicSpline(t_grid, table[m], axis=-1)(temperature[sel]).T
+        out[sel] = splines(m)(temperature[sel]).T
     return out
+
+
+#: The emission splines of the last renders (:func:`_emission_splines`), the most recent
+#: first to go last, within :data:`SPLINES_BYTES`: a sequence's frames integrate the same
+#: tables again.
+_SPLINES = OrderedDict()
+_SPLINES_LOCK = threading.Lock()
+#: What the kept splines may hold [bytes]: their tables and the splines' coefficients (four a
+#: grid interval), counted as five times a table.
+SPLINES_BYTES = 64 << 20
+
+
+def _emission_splines(emissivity_tau, nodes, weights, t_grid):
+    """``splines(m)``: the cubic spline in T of material ``m``'s emission at the path nodes
+    on the grid ``t_grid`` [K], (n_j,) per temperature [W m-2 sr-1].
+
+    Made once per distinct (ε τ_a table, quadrature, grid) and kept (within
+    :data:`SPLINES_BYTES`, the least recently used let go first): the frames of a sequence
+    meet the same tables while the lines of sight, their path nodes and the range of
+    temperatures stay. A set is taken again only when its inputs are equal, value for value,
+    so the splines are those made afresh."""
+    key = (emissivity_tau.shape, nodes.tobytes(), weights.tobytes(), float(t_grid[0]),
+           t_grid.size, hash(np.ascontiguousarray(emissivity_tau).tobytes()))
+    with _SPLINES_LOCK:
+        entry = _SPLINES.get(key)
+        if entry is not None and np.array_equal(entry[0], emissivity_tau):
+            _SPLINES.move_to_end(key)
+            return entry[1]
+    planck = spectral_radiance(nodes[None, :], t_grid[:, None])  # (G, q)
+    table = np.einsum("mjq,gq,q->mjg", emissivity_tau, planck, weights)
+    made = {}
+
+    def splines(m):
+        if m not in made:
+            made[m] = CubicSpline(t_grid, table[m], axis=-1)
+        return made[m]
+
+    size = emissivity_tau.nbytes + 5 * table.nbytes
+    if size <= SPLINES_BYTES:
+        with _SPLINES_LOCK:
+            _SPLINES[key] = (np.array(emissivity_tau, copy=True), splines, size)
+            while sum(e[2] for e in _SPLINES.values()) > SPLINES_BYTES:
+                _SPLINES.popitem(last=False)
+    return splines
 
 
 def solar_spectrum(atmosphere) -> str:

@@ -9,13 +9,14 @@ the next tiles' rays are traced.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from radscene.render import terms
 from radscene.render.outputs import BACKGROUND_TERM, TERMS, THERMAL_BAND_START
 from radscene.render.truth import TRUTH_SUMS
 
-__all__ = ["TileSums", "tile_slices", "pixel_sums", "as_slice", "touch_pages"]
+__all__ = ["TileSums", "tile_slices", "pixel_sums", "pixel_runs", "as_slice", "touch_pages"]
 
 
 def tile_slices(total, per_pixel, tile_samples):
@@ -105,14 +106,27 @@ class TileSums:
                 truth[key][at] = weight if row is None else row if unit_weight else row * weight
             return
         n_hits, n_b = len(pixel), acc.shape[1]
-        n_rows = len(TERMS) * n_b
-        rows = np.concatenate([out.reshape(n_rows, n_hits), tau, np.vstack(
-            [np.ones(n_hits) if row is None else row for row in truth_rows])])
-        pixels, totals = pixel_sums(pixel, weight, rows)
-        acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
-        self.transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
+        runs = pixel_runs(pixel)
+        if runs is None:  # not ordered pixel by pixel: sorted, as pixel_sums does
+            rows = np.concatenate([out.reshape(-1, n_hits), tau, np.vstack(
+                [np.ones(n_hits) if row is None else row for row in truth_rows])])
+            pixels, totals = pixel_sums(pixel, weight, rows)
+            n_rows = len(TERMS) * n_b
+            acc[:, :, pixels] += totals[:n_rows].reshape(len(TERMS), n_b, -1)
+            self.transmittance[:, pixels] += totals[n_rows:n_rows + n_b]
+            for c, key in enumerate(TRUTH_SUMS):
+                truth[key][pixels] += totals[n_rows + n_b + c]
+            return
+        # straight into the image: each pixel's run of samples, weighted and summed
+        at = pixel[runs[:-1]]
+        weight = np.ascontiguousarray(weight, dtype=np.float64)
+        _run_sums(runs, at, weight, out.reshape(-1, n_hits), acc.reshape(-1, acc.shape[2]))
+        _run_sums(runs, at, weight, np.ascontiguousarray(tau), self.transmittance)
+        rows = np.vstack([np.ones(n_hits) if row is None else row for row in truth_rows])
+        totals = np.zeros((len(rows), len(at)))
+        _run_sums(runs, np.arange(len(at)), weight, rows, totals)
         for c, key in enumerate(TRUTH_SUMS):
-            truth[key][pixels] += totals[n_rows + n_b + c]
+            truth[key][at] += totals[c]
 
     def label(self, pixel, sample, obj, mat, nrm, per_pixel):
         """Label the pixels of a tile's hits (``sample``: their ray samples) with the object,
@@ -169,21 +183,47 @@ def as_slice(index):
     return index
 
 
+def pixel_runs(pixel):
+    """Where each pixel's run of samples starts, and the end (n_runs + 1,) int64, when the
+    samples come ordered pixel by pixel (each pixel's sub-samples together, pixels rising);
+    None otherwise."""
+    if len(pixel) > 1 and np.any(pixel[1:] < pixel[:-1]):
+        return None
+    starts = np.flatnonzero(np.r_[True, pixel[1:] != pixel[:-1]]) if len(pixel) else np.zeros(0, int)
+    return np.append(starts, len(pixel)).astype(np.int64)
+
+
+@numba.njit(parallel=True, cache=True)
+def _run_sums(runs, column, weight, rows, out):
+    """``out[r, column[k]] += Σ weight[i] rows[r, i]`` over the samples ``i`` of run ``k``
+    (``runs[k]`` to ``runs[k + 1]``), summed in order: a row per work item."""
+    for r in numba.prange(rows.shape[0]):
+        for k in range(runs.shape[0] - 1):
+            total = 0.0
+            for i in range(runs[k], runs[k + 1]):
+                total += rows[r, i] * weight[i]
+            out[r, column[k]] += total
+
+
 def pixel_sums(pixel, weight, rows):
     """Weighted sums of sample columns per pixel: (unique pixels, (n_rows, n_unique)).
 
     ``rows`` is (n_rows, N), one row per quantity. Rays come ordered pixel by pixel (each
-    pixel's sub-samples together), so the samples of a pixel form one contiguous run that
-    ``np.add.reduceat`` sums; with one sample per pixel there is nothing to sum.
+    pixel's sub-samples together), so the samples of a pixel form one contiguous run, summed
+    in order (:func:`_run_sums`); samples in another order are sorted first.
     """
-    weighted = rows * weight[None, :]
-    if len(pixel) > 1 and np.any(pixel[1:] < pixel[:-1]):  # not ordered: sort first
+    weight = np.ascontiguousarray(weight, dtype=np.float64)
+    rows = np.ascontiguousarray(rows, dtype=np.float64)
+    runs = pixel_runs(pixel)
+    if runs is None:  # not ordered: sort first
         order = np.argsort(pixel, kind="stable")
-        pixel, weighted = pixel[order], weighted[:, order]
-    starts = np.flatnonzero(np.r_[True, pixel[1:] != pixel[:-1]])
-    if len(starts) == len(pixel):
-        return pixel, weighted
-    return pixel[starts], np.add.reduceat(weighted, starts, axis=1)
+        pixel, weight, rows = pixel[order], weight[order], rows[:, order]
+        runs = pixel_runs(pixel)
+    if len(runs) - 1 == len(pixel):  # one sample per pixel: nothing to sum
+        return pixel, rows * weight[None, :]
+    totals = np.zeros((rows.shape[0], len(runs) - 1))
+    _run_sums(runs, np.arange(len(runs) - 1), weight, rows, totals)
+    return pixel[runs[:-1]], totals
 
 
 def touch_pages(array, part, parts):

@@ -59,26 +59,46 @@ def maps(scene, shape, object_id, material_id, normal_map, mean) -> dict:
     }
 
 
-def geolocation(scene, hits, rays, labelled, track) -> dict:
+def geolocation(scene, hits, rays, labelled, track, kept=None) -> dict:
     """Per-pixel geodetic position and view/sun angles of the surface each pixel sees, from
-    the ``labelled`` hits (one per pixel); the sun is ``track``'s at each one's time."""
+    the ``labelled`` hits (one per pixel); the sun is ``track``'s at each one's time.
+
+    ``kept``, where given, is what an observer's frame cache keeps
+    (:mod:`radscene.render.frame_cache`): its ``fresh`` ray samples are those traced again by
+    this frame; the geodetic position and view angles of the pixels none of whose samples
+    were are the last frame's (``kept.geodetic``, written here), the same numbers.
+    """
     from radscene.platform.geolocation import LocalFrame
 
     ny, nx = rays.shape
     loc = scene.location
     frame = LocalFrame(loc.latitude, loc.longitude, loc.altitude)
     pick = slice(None) if labelled.all() else labelled
-    position, direction, pixel = hits.position[pick], rays.directions[pick], rays.pixel[pick]
+    last = None if kept is None else getattr(kept, "geodetic", None)
+    mine = True  # the samples whose pixels are worked out
+    if last is not None:
+        redo = np.zeros(ny * nx, dtype=bool)
+        redo[rays.pixel[kept.fresh]] = True
+        mine = redo[rays.pixel]
+    sel = labelled if last is None else labelled & mine
+    position, direction, pixel = hits.position[sel], rays.directions[sel], rays.pixel[sel]
     if int(np.max(rays.subsample)) > 0:
         # an even k×k grid has no sub-sample at the pixel's centre: the mean of the middle 2×2
         # (those that hit) is there on a plane; an odd grid's centre sample is its own mean
-        middle = np.flatnonzero(central_subsamples(rays) & hits.hit)
+        middle = np.flatnonzero(central_subsamples(rays) & hits.hit & mine)
         pixel, inverse, count = np.unique(rays.pixel[middle], return_inverse=True, return_counts=True)
         inverse = inverse.ravel()
-        position = np.stack([np.bincount(inverse, hits.position[middle, a]) for a in range(3)], axis=1) / count[:, None]
-        direction = np.stack([np.bincount(inverse, rays.directions[middle, a]) for a in range(3)], axis=1)
+        position = np.stack([np.bincount(inverse, hits.position[middle, a], len(pixel))
+                             for a in range(3)], axis=1).astype(float) / count[:, None]
+        direction = np.stack([np.bincount(inverse, rays.directions[middle, a], len(pixel))
+                              for a in range(3)], axis=1).astype(float)
         direction /= np.linalg.norm(direction, axis=1, keepdims=True)
-    lat, lon, height, vz, va = frame.pixel_geolocation(position, direction, pixel, ny * nx).reshape(5, ny, nx)
+    geodetic = frame.pixel_geolocation(position, direction, pixel, ny * nx)
+    if last is not None:
+        geodetic = np.where(redo, geodetic, last)
+    if kept is not None:  # a copy: the Dataset's maps may be changed by whoever gets them
+        kept.geodetic = geodetic.copy()
+    lat, lon, height, vz, va = geodetic.reshape(5, ny, nx)
     hit = np.isfinite(lat)
     sun_zenith, sun_azimuth = np.full((2, ny * nx), np.nan)
     zen, azi = track.angles(rays.time[pick] if track.moving else None)
