@@ -21,7 +21,7 @@ from pathlib import Path
 from radscene.errors import ConfigError
 
 __all__ = ["atomic_output", "atomic_output_dir", "check_output_folder", "check_output_file",
-           "remove_stale_temporaries"]
+           "process_running", "remove_stale_temporaries"]
 
 #: A temporary's name: '.', the file's name, '.~HOST~PID~', a random part and a suffix.
 _TEMPORARY = re.compile(r"^\..+\.~(?P<host>[^~/]+)~(?P<pid>\d+)~")
@@ -32,7 +32,7 @@ def _owner() -> str:
     return f"~{socket.gethostname()}~{os.getpid()}~"
 
 
-def _running(pid: int) -> bool:
+def process_running(pid: int) -> bool:
     """Whether a process of this id runs on this host (one of another user's counts)."""
     try:
         os.kill(pid, 0)
@@ -58,7 +58,7 @@ def remove_stale_temporaries(folder, names=None) -> list[Path]:
                    else (p for name in names for p in folder.glob(f".{glob.escape(name)}.~*")))
     for path in sorted(found_paths):
         found = _TEMPORARY.match(path.name)
-        if (found and found["host"] == host and not _running(int(found["pid"]))
+        if (found and found["host"] == host and not process_running(int(found["pid"]))
                 and not any(path.is_relative_to(p) for p in stale)):
             stale.append(path)
     for path in stale:

@@ -40,7 +40,7 @@ from pathlib import Path
 
 from radscene.errors import ConfigError
 from radscene.io import stop
-from radscene.io.files import atomic_output, remove_stale_temporaries
+from radscene.io.files import atomic_output, process_running, remove_stale_temporaries
 
 __all__ = ["MARKER", "MANIFEST", "RunRecord", "finished"]
 
@@ -124,10 +124,9 @@ def _alive(run: dict, now: _dt.datetime | None = None) -> bool:
         return ((now or _now()) - beat).total_seconds() < STALE_AFTER
     pid = run.get("pid")
     try:
-        os.kill(int(pid), 0)
-    except ProcessLookupError:
-        return False
-    except (PermissionError, TypeError, ValueError):
+        if not process_running(int(pid)):
+            return False
+    except (TypeError, ValueError):
         pass
     started = run.get("pid_started")
     return started is None or _process_started(pid) in (None, started)

@@ -433,6 +433,27 @@ def apply_thermal(scene, solution=None, time=None, *, progress=None):
     return solution
 
 
+def _weighting_band(wavelength, weights, name):
+    """A band object whose response is ``weights`` over ``wavelength`` [um] (zeros left out):
+    the weighting of a broadband transmittance (:func:`radscene.render.sheets.band_transmittance`,
+    :func:`radscene.render.volumes.sun_transmittance`)."""
+    from types import SimpleNamespace
+
+    from radscene.radiometry import TabulatedResponse
+
+    keep = np.asarray(weights, float) > 0.0
+    return SimpleNamespace(response=TabulatedResponse(np.asarray(wavelength, float)[keep],
+                                                      np.asarray(weights, float)[keep],
+                                                      name=name))
+
+
+def _face_tables(scene):
+    """(first face of each object in the scene's face order, material of every face)."""
+    counts = [len(o.face_material) for o in scene.objects]
+    return (np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int),
+            np.concatenate([o.face_material for o in scene.objects]))
+
+
 def _media_sun_transmittance(scene, tracer, wavelength, spectrum):
     """The heat balance's partial shadows: (the tracer of its shadow rays, which do not see the
     sheets; ``transmittance(points, sun)``, the share of the direct sun passing the scene's
@@ -450,18 +471,12 @@ def _media_sun_transmittance(scene, tracer, wavelength, spectrum):
         return tracer, through_volumes
     from types import SimpleNamespace
 
-    from radscene.radiometry import TabulatedResponse
-
-    keep = np.asarray(spectrum, float) > 0.0
-    band = SimpleNamespace(response=TabulatedResponse(np.asarray(wavelength, float)[keep],
-                                                      np.asarray(spectrum, float)[keep],
-                                                      name="shortwave"))
+    band = _weighting_band(wavelength, spectrum, "shortwave")
     tau = sheets.band_transmittance(scene.materials, [band], hold=True)
-    counts = [len(o.face_material) for o in scene.objects]
+    offset, material = _face_tables(scene)
     lo, hi = tracer.bounds
     geometry = SimpleNamespace(epsilon=1e-4 + 2e-6 * float(np.linalg.norm(hi - lo)), sheet_tracer=sheet_tracer,
-                               face_offset=np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int),
-                               face_material=np.concatenate([o.face_material for o in scene.objects]))
+                               face_offset=offset, face_material=material)
 
     multiplier = _textured_sheet_multiplier(scene)
 
@@ -504,21 +519,13 @@ def _sheet_see_through(scene, wavelength, spectrum):
     is_sheet = np.array([bool(getattr(o, "transmissive", False)) for o in scene.objects])
     if not is_sheet.any():
         return None
-    from types import SimpleNamespace
-
-    from radscene.radiometry import TabulatedResponse, spectral_radiance
+    from radscene.radiometry import spectral_radiance
 
     wl = np.linspace(*_LONGWAVE_UM, 941)
-    keep = np.asarray(spectrum, float) > 0.0
-    bands = [SimpleNamespace(response=TabulatedResponse(
-                 wl, spectral_radiance(wl, _LONGWAVE_TEMPERATURE), name="longwave")),
-             SimpleNamespace(response=TabulatedResponse(
-                 np.asarray(wavelength, float)[keep], np.asarray(spectrum, float)[keep],
-                 name="shortwave"))]
+    bands = [_weighting_band(wl, spectral_radiance(wl, _LONGWAVE_TEMPERATURE), "longwave"),
+             _weighting_band(wavelength, spectrum, "shortwave")]
     tau = sheets.band_transmittance(scene.materials, bands, hold=True)  # (n_m, 2)
-    counts = [len(o.face_material) for o in scene.objects]
-    offset = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(int)
-    material = np.concatenate([o.face_material for o in scene.objects])
+    offset, material = _face_tables(scene)
     multiplier = _textured_sheet_multiplier(scene)
 
     def see_through(obj, primitive, position):
@@ -538,15 +545,9 @@ def _volume_sun_transmittance(scene, wavelength, spectrum):
     weighting) [-]; None without volumes."""
     if not scene.volumes:
         return None
-    from types import SimpleNamespace
-
-    from radscene.radiometry import TabulatedResponse
     from radscene.render import volumes
 
-    keep = np.asarray(spectrum, float) > 0.0
-    band = SimpleNamespace(response=TabulatedResponse(np.asarray(wavelength, float)[keep],
-                                                      np.asarray(spectrum, float)[keep],
-                                                      name="shortwave"))
+    band = _weighting_band(wavelength, spectrum, "shortwave")
 
     def transmittance(points, sun):
         return volumes.sun_transmittance(scene.volumes, [band], points, sun)[:, 0]
