@@ -120,6 +120,8 @@ def test_per_element_forcing_and_defaults():
         ("air_temperature", -5.0, "forcing.air_temperature: must be > 0 K"),
         ("wind_speed", -1.0, "forcing.wind_speed: must be >= 0"),
         ("lit", 1.5, r"forcing.lit: must lie in \[0, 1\]"),
+        ("sky_view_shortwave", -0.1, r"forcing.sky_view_shortwave: must lie in \[0, 1\]"),
+        ("sky_view_shortwave", np.nan, r"forcing.sky_view_shortwave: must lie in \[0, 1\]"),
         ("direct_irradiance", np.nan, "forcing.direct_irradiance: must be finite"),
         ("sky_longwave", np.ones((2, 5)), r"forcing.sky_longwave: shape \(2, 5\) does not broadcast"),
         ("wind_speed", np.ones(2), r"forcing.wind_speed: shape \(2,\) does not broadcast to \(n_times, n_elements\) = \(2, 3\)"),
@@ -175,3 +177,20 @@ def test_energy_closes_over_irregular_steps():
     np.testing.assert_allclose(stored, supplied, rtol=1e-7)  # measured 3e-8: Newton stops at 1e-9 K
     assert len(hb._solvers) == 4  # five step lengths were used; the oldest elimination was dropped
     assert np.all(np.abs(stored) > 1e4)  # J m-2: the check is not vacuous
+
+
+def test_the_shortwave_sky_view_weights_the_diffuse_sky_and_the_longwave_one_the_sky():
+    """``sky_view_shortwave`` scales the absorbed diffuse short-wave, ``sky_view_fraction`` the
+    sky's long-wave (a glass roof passes the one and hides the other)."""
+    props = [get_thermal_properties("asphalt")]
+    base = {"time": np.array([0.0, 600.0]), "direct_irradiance": 0.0, "cos_incidence": 0.0,
+            "diffuse_irradiance": 200.0, "sky_longwave": 300.0, "air_temperature": 290.0,
+            "wind_speed": 1.0}
+    hb = HeatBalance(props)
+    glass = hb.run(ThermalForcing(**base, sky_view_fraction=0.0, sky_view_shortwave=0.8),
+                   record_terms=True).terms
+    plain = hb.run(ThermalForcing(**base, sky_view_fraction=0.0), record_terms=True).terms
+    alpha = hb.absorptance[0]
+    assert glass["q_a"][1, 0] == pytest.approx(alpha * 200.0 * 0.8, rel=1e-12)
+    assert plain["q_a"][1, 0] == 0.0
+    assert glass["q_sky"][1, 0] == plain["q_sky"][1, 0] == 0.0
