@@ -760,10 +760,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
 
     def _scattering(self, sz_eff, u, h_t, vz, phis, simpson, wl) -> dict:
         """The scattering path reflectances ``rho_mixture`` and ``rho_rayleigh``, each (N, n) at
-        ``wl``, of observers at ``u`` over targets at ``h_t`` [m] seen at view zeniths ``vz``
-        [deg], the sun at ``sz_eff`` [deg]; averaged over the relative azimuths ``phis`` [deg]
-        with the weights ``simpson``: the single-scattering normaliser at the exact geometry
-        times (or plus) the factor interpolated between the nodes."""
+        ``wl`` (or (N, λs) at the scattering wavelengths when ``wl`` is None), of observers at
+        ``u`` over targets at ``h_t`` [m] seen at view zeniths ``vz`` [deg], the sun at
+        ``sz_eff`` [deg]; averaged over the relative azimuths ``phis`` [deg] with the weights
+        ``simpson``: the single-scattering normaliser at the exact geometry times (or plus) the
+        factor interpolated between the nodes."""
         a = self.axes
         dh = u - h_t
         space = u >= model.TOP_OF_ATMOSPHERE
@@ -830,8 +831,69 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                              * share_q + ss)
                     value = value * (1.0 - mixes[phi]) + extra * mixes[phi]
                 total = total + w * value
-            rho[name] = self._spectral(total.T, wl)  # (N, n)
+            rho[name] = total.T if wl is None else self._spectral(total.T, wl)  # (N, n)
         return rho
+
+    def _single(self, sz_eff, u, h_t, vz, phis, simpson, ray):
+        """The single-scattering path reflectance, averaged over ``phis`` as in
+        :meth:`_scattering`, and the optical depth below the observer τ_l (the molecules' alone
+        when ``ray``), each (N, λs), of observers at ``u`` over targets at ``h_t`` [m]."""
+        a, nh = self.axes, self.axes["surface_altitude"].size
+        ih, fh = model.axis_weights(h_t, a["surface_altitude"])
+        tau_r, tau_a = ((t[:, ih] * (1 - fh) + t[:, np.minimum(ih + 1, nh - 1)] * fh)
+                        for t in (self.t["tau_rayleigh"], self.t["tau_aerosol"]))
+        fr, x = self._fractions(h_t, u - h_t)
+        ss = 0.0
+        for phi, w in zip(phis, simpson, strict=True):
+            ss = ss + w * self._ss(sz_eff, np.minimum(vz, 89.0), phi, tau_r, tau_a, fr, x, ray)
+        below = tau_r * fr[None, :] + (0.0 if ray else tau_a * x[None, :])
+        return ss.T, below.T
+
+    def _scattering_levels(self, sz_eff, u, h_t, vz, phis, simpson, wl) -> dict:
+        """:meth:`_scattering` with the observers below the highest aircraft node read from the
+        two aircraft nodes about them (the two lowest below the lowest): single scattering at
+        the exact height, and the multiply scattered rest ρ_ms = ρ − ρ_ss held as ρ_ms / τ_l
+        linear in τ_l, the optical depth below the observer (ρ_ms = a τ_l + b τ_l², through
+        zero at the ground and the two nodes).
+
+        Interpolated as a factor linearly in the aerosol's share of the column (as between the
+        other nodes), ρ_ms came out up to +230 % off 6S 3 km up and -78 % 250 m up under a sun
+        at 85 deg (continental AOT550 0.6, 0.44 um, nadir): the factor is held over the
+        layer's share of single scattering, which under a grazing sun falls by two orders of
+        magnitude from 4 km down to 1 km, while ρ_ms grows about linearly with height. Against
+        6S at 0.25-3 km, suns 10-85 deg, nadir and 40 deg, 0.44/0.55/0.86 um, continental
+        AOT550 0.1 and 0.6 and maritime 0.3 and 1.0, with 6S's own values at the nodes 1 and
+        4 km: between the nodes within 6.3 % (mean 0.7 %; 229 % and 0.9 % before), below
+        1 km within 15 % (mean 2.6 %; 78 % and 6 % before)."""
+        rho = self._scattering(sz_eff, u, h_t, vz, phis, simpson, wl)
+        heights = self.axes["observer_height"]
+        nodes = heights[(heights > 0.0) & (heights < model.TOP_OF_ATMOSPHERE)]
+        dh = u - h_t
+        inside = (u < model.TOP_OF_ATMOSPHERE) & (dh > 0.5)
+        if nodes.size < 2:
+            return rho
+        inside &= (dh < nodes[-1] - 0.5) & (np.abs(dh[:, None] - nodes[None, :]).min(axis=1) > 0.5)
+        if not np.any(inside):
+            return rho
+        pair = np.clip(np.searchsorted(nodes, dh) - 1, 0, nodes.size - 2)
+        out = {name: value.copy() for name, value in rho.items()}
+        for k in np.unique(pair[inside]):
+            rows = np.nonzero(inside & (pair == k))[0]
+            h, v = h_t[rows], vz[rows]
+            ends = [(self._scattering(sz_eff, h + node, h, v, phis, simpson, None), h + node)
+                    for node in nodes[k:k + 2]]
+            for name in rho:
+                ray = name == "rho_rayleigh"
+                ss, tau = self._single(sz_eff, u[rows], h, v, phis, simpson, ray)
+                per_depth = []
+                for values, level in ends:
+                    ss_k, tau_k = self._single(sz_eff, level, h, v, phis, simpson, ray)
+                    per_depth.append(((values[name] - ss_k) / tau_k, tau_k))
+                (m0, t0), (m1, t1) = per_depth
+                f = (tau - t0) / (t1 - t0)
+                value = ss + tau * (m0 * (1.0 - f) + m1 * f)  # (N, λs)
+                out[name][rows] = self._spectral(value, wl)
+        return out
 
     def _levels_by_quotient(self, rho, sz_eff, u, h_t, vz, phis, simpson, wl) -> dict:
         """``rho`` with the observers inside the atmosphere under a low sun read as the top of
@@ -875,7 +937,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             for view, wv in ((v0, 1.0 - fv), (v1, fv)):
                 if ws == 0.0 or not np.any(wv > 0.0):
                     continue
-                below = self._scattering(sun, level, h, view, phis, simpson, wl)
+                below = self._scattering_levels(sun, level, h, view, phis, simpson, wl)
                 above = self._scattering(sun, top, h, view, phis, simpson, wl)
                 for name in rho:
                     with np.errstate(divide="ignore", invalid="ignore"):
@@ -931,7 +993,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         else:  # the azimuthal mean: Simpson's rule over 0..180 deg
             phis = np.linspace(0.0, 180.0, 13)
         simpson = np.ones(phis.size) if phis.size == 1 else _simpson(phis.size)
-        rho = self._scattering(sz_eff, u, h_t, vz, phis, simpson, wl)
+        rho = self._scattering_levels(sz_eff, u, h_t, vz, phis, simpson, wl)
         rho = self._levels_by_quotient(rho, sz_eff, u, h_t, vz, phis, simpson, wl)
         # total transmittances (through their diffuse shares) and spherical albedo
         tdown = self.share_down  # (λs, h, θs)
