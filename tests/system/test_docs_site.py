@@ -77,6 +77,14 @@ def test_no_page_loads_math_from_the_network_or_shows_raw_tex(site):
     assert not (site / "javascripts" / "mathjax.js").exists()
 
 
+def test_no_page_loads_anything_from_another_host(site):
+    """Scripts, style sheets and web fonts alike: the site reads offline."""
+    for page in sorted(site.rglob("*.html")):
+        html = page.read_text(encoding="utf-8")
+        remote = re.findall(r"<(?:link|script)\b[^>]*(?:href|src)=\"(?:https?:)?//[^\"]+", html)
+        assert not remote, f"{page.relative_to(site)}: {remote[:3]}"
+
+
 def _mathml(html: str) -> str:
     """A page's HTML with its tags' attributes dropped and its entities resolved."""
     return htmllib.unescape(re.sub(r"<(/?[a-z]+)\b[^>]*?(/?)>", r"<\1\2>", html))
