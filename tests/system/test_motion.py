@@ -99,6 +99,77 @@ def test_an_object_on_a_circle_spline_points_along_its_tangent_and_climbs_with_i
     np.testing.assert_allclose(attitudes[:, 1], np.degrees(np.arctan(1 / (50 * np.radians(30)))), atol=0.05)
 
 
+#: Banking: the coordinated-turn roll of a 37-point spline around a circle against the
+#: circle's atan(V² / (g r)) [deg] (the spline's curvature is the circle's within 0.1 %).
+BANK_TOLERANCE = 0.1
+
+
+@pytest.mark.parametrize("direction", [1.0, -1.0], ids=["left-hand", "right-hand"])
+def test_an_aircraft_on_a_circle_banks_into_the_turn_as_in_coordinated_flight(direction):
+    """Level flight at 60 m/s round a circle of radius 400 m (counter-clockwise seen from above:
+    a left-hand turn; clockwise: right-hand): roll atan(V² / (g r)) = 42.5 deg, left wing down
+    in a left-hand turn, right wing down in a right-hand one; the same path with attitude
+    'path' does not roll, and a straight leg does not either."""
+    radius, speed = 400.0, 60.0
+    angle = np.radians(np.arange(0, 361, 10)) * direction
+    t = np.abs(angle) * radius / speed
+    points = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), np.full(angle.size, 300.0)])
+    path = {"waypoints": np.column_stack([t, points]).tolist(), "interpolation": "spline"}
+    times = t[[9, 18, 27]] + 1.0
+    _, banked = _poses(_scene(_scene()["objects"][0], _mover({**path, "attitude": "banked"})), "mover", times)
+    want = np.degrees(np.arctan(speed**2 / (9.80665 * radius)))
+    np.testing.assert_allclose(banked[:, 2], -direction * want, atol=BANK_TOLERANCE)
+    np.testing.assert_allclose(banked[:, 1], 0.0, atol=BANK_TOLERANCE)  # level
+    _, flat = _poses(_scene(_scene()["objects"][0], _mover({**path, "attitude": "path"})), "mover", times)
+    np.testing.assert_allclose(flat[:, 2], 0.0, atol=EXACT)
+    np.testing.assert_allclose(banked[:, 0], flat[:, 0], atol=EXACT)  # the same heading
+    straight = {"waypoints": [[0, 0, 0, 300], [10, 0, 600, 300], [20, 0, 1200, 300]],
+                "interpolation": "spline", "attitude": "banked"}
+    _, level = _poses(_scene(_scene()["objects"][0], _mover(straight)), "mover", [5.0])
+    np.testing.assert_allclose(level[0], [0.0, 0.0, 0.0], atol=EXACT)
+
+
+def test_a_banked_attitude_on_the_ground_is_refused_naming_the_key():
+    vehicle = {"name": "truck", "shape": {"type": "box", "size": [2, 4, 2]}, "material": "paint",
+               "temperature": "300 K", "on_ground": True,
+               "trajectory": {"route": [[-50, 0], [50, 0]], "speed": "10 m/s", "attitude": "banked"}}
+    with pytest.raises(ConfigError, match="airborne") as err:
+        radscene.Simulation(_scene(_scene()["objects"][0], vehicle)).render()
+    assert err.value.key.endswith("trajectory.attitude")
+
+
+def test_a_banked_wing_tilts_in_the_image():
+    """A wide flat wing (20 m span, 2 m chord) seen from straight above on a right-hand circle:
+    banked, its footprint in the map (the object-id truth map) is narrowed to its span times
+    cos(roll), plus its thickness times sin(roll), within two pixels."""
+    radius, speed = 60.0, 30.0
+    angle = -np.radians(np.arange(0, 361, 10))
+    t = np.abs(angle) * radius / speed
+    points = np.column_stack([radius * np.cos(angle), radius * np.sin(angle), np.full(angle.size, 100.0)])
+    wing = {"name": "mover", "shape": {"type": "box", "size": [20, 2, 0.2]}, "material": "paint",
+            "temperature": "300 K", "on_ground": False,
+            "trajectory": {"waypoints": np.column_stack([t, points]).tolist(),
+                           "interpolation": "spline", "attitude": "banked"}}
+    scene = _scene(_scene()["objects"][0], wing)
+    scene["observers"][0].update(shape=[200, 200], gsd=0.25)
+    # at t = 0 the wing is at (60, 0) flying south (clockwise): its span lies along x
+    scene["observers"][0]["center"] = [60.0, 0.0]
+    sim = radscene.Simulation(scene)
+    _, attitude = sim.pose("mover")
+    roll = np.radians(attitude[2])
+    assert np.degrees(roll) > 50.0  # atan(30² / (9.81 × 60)) = 56.8 deg
+    frame = sim.render().radiance["map"]
+    ids = np.asarray(frame["object_id"].values)
+    wing_id = int(ids[100, 100])  # the map's centre is the wing's
+    assert wing_id != int(ids[0, 0])
+    covered = ids == wing_id
+    rows = np.nonzero(covered.any(axis=1))[0]
+    cols = np.nonzero(covered.any(axis=0))[0]
+    span_px = cols.max() - cols.min() + 1
+    assert abs(span_px * 0.25 - 20.0 * np.cos(roll) - 0.2 * np.sin(roll)) <= 0.5, (span_px, np.degrees(roll))
+    assert rows.size >= 4
+
+
 def test_waypoint_attitudes_are_slerped_and_rotation_turns_the_model_on_top():
     scene = _scene(_scene()["objects"][0],
                    _mover({"waypoints": [[0, 0, 0, 5, 0, 0, 0], [10, 10, 0, 5, 90, 0, 0]]}, rotation=[0, 0, 30]))

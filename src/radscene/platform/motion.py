@@ -23,6 +23,12 @@ fixed          ``rotation`` alone (no offset on top)
 path           forward along the velocity: heading (yaw) from its horizontal part, pitch from
                the climb, no roll; on the terrain: heading along the path, pitch and roll from
                the terrain's normal under the object (its up axis)
+banked         as ``path``, and rolled into the turn as an aircraft in coordinated flight: the
+               up axis along the lift the path asks for, a + g z (a the path's acceleration,
+               g = 9.80665 m s-2), less its part along the velocity; a level turn of radius r
+               at speed V banks by atan(V² / (g r)), right wing down in a right-hand turn.
+               Airborne objects only; straight (``linear``) legs carry no acceleration, so a
+               ``spline`` path is what banks
 tabulated      the waypoints' or the track file's attitudes, slerped between samples
 =============  ==============================================================================
 
@@ -66,7 +72,9 @@ __all__ = ["ATTITUDES", "INTERPOLATIONS", "Motion", "compose", "path_trajectory"
            "terrain_rotation"]
 
 INTERPOLATIONS = ("linear", "spline")
-ATTITUDES = ("fixed", "path", "tabulated")
+ATTITUDES = ("fixed", "path", "banked", "tabulated")
+#: Standard gravity [m s-2] (the lift of a banked turn).
+STANDARD_GRAVITY = 9.80665
 #: Below this speed [m s-1] a path gives no heading: the object keeps that of a leg it moved on.
 REST_SPEED = 1e-9
 
@@ -197,6 +205,10 @@ class Motion:
                               key=f"{self.key}.trajectory.attitude")
         if self.attitude != "fixed" and self.trajectory is None:
             raise ConfigError(f"attitude {self.attitude!r} needs a trajectory", key=f"{self.key}.trajectory")
+        if self.attitude == "banked" and self.terrain is not None:
+            raise ConfigError("attitude 'banked' is for airborne objects; on the ground the "
+                              "terrain sets pitch and roll (attitude 'path')",
+                              key=f"{self.key}.trajectory.attitude")
 
     @property
     def moves(self) -> bool:
@@ -250,8 +262,19 @@ class Motion:
         if self.attitude == "tabulated":
             return p, tr.rotation(t) @ offset
         yaw, pitch = self._heading(t)
-        frame = rotation_matrix(yaw, pitch, 0.0) if normal is None else terrain_rotation(normal, yaw)
+        roll = self._bank(t, yaw, pitch) if self.attitude == "banked" else 0.0
+        frame = rotation_matrix(yaw, pitch, roll) if normal is None else terrain_rotation(normal, yaw)
         return p, frame @ offset
+
+    def _bank(self, t, yaw, pitch):
+        """Roll [deg] of a coordinated turn at ``t``: the body's up axis along the lift
+        a + g z, less its part along the forward axis (0 when that lift vanishes)."""
+        right, forward, up = rotation_matrix(yaw, pitch, 0.0).T
+        lift = self.trajectory.acceleration(t) + np.array([0.0, 0.0, STANDARD_GRAVITY])
+        lift = lift - (lift @ forward) * forward
+        if np.linalg.norm(lift) <= 1e-12:
+            return 0.0
+        return float(np.degrees(np.arctan2(lift @ right, lift @ up)))
 
     def _heading(self, t):
         """Yaw and pitch [deg] of the velocity at ``t``; at rest those of the nearest leg moved."""

@@ -317,6 +317,19 @@ class Trajectory:
         return ((6 * f2 - 6 * f) * p0 + (3 * f2 - 4 * f + 1) * v0 + (-6 * f2 + 6 * f) * p1
                 + (3 * f2 - 2 * f) * v1) / dt
 
+    def acceleration(self, time) -> np.ndarray:
+        """Accelerations ``(..., 3)`` [m s-2] at times ``(...)`` [s]: the spline's second
+        derivative; zero along straight legs (the turn at a sample is not resolved)."""
+        t, i, f = self._locate(time)
+        if self.times.size == 1 or self.velocities is None:
+            return np.zeros(t.shape + (3,))
+        p0, p1 = self.positions[i], self.positions[i + 1]
+        dt = (self.times[i + 1] - self.times[i])[..., None]
+        v0, v1 = self.velocities[i] * dt, self.velocities[i + 1] * dt
+        f = f[..., None]
+        return ((12 * f - 6) * p0 + (6 * f - 4) * v0 + (6 - 12 * f) * p1
+                + (6 * f - 2) * v1) / (dt * dt)
+
     def quaternion(self, time) -> np.ndarray:
         """Body-to-world quaternions ``(..., 4)`` at times ``(...)`` [s] (slerp)."""
         t, i, f = self._locate(time)

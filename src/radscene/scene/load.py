@@ -699,6 +699,10 @@ class _Resolver:
                                   key=f"{key}.trajectory.attitude")
             trajectory = path_trajectory(times, positions, attitudes, quaternions=quaternions,
                                          interpolation=tspec.interpolation)
+            if attitude == "banked" and on_ground and ospec.parent is None:
+                raise ConfigError("attitude 'banked' is for airborne objects; on the ground the "
+                                  "terrain sets pitch and roll (attitude 'path'), or set "
+                                  "on_ground: false", key=f"{key}.trajectory.attitude")
         spin = ospec.spin
         return Motion(key, np.array(ospec.position, float), tuple(ospec.rotation), trajectory, attitude,
                       terrain, None if spin is None else np.array(spin.axis, float),

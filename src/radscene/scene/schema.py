@@ -489,9 +489,10 @@ class TrajectorySpec(_Model):
     interpolation: Literal["linear", "spline"] = Field(
         "linear", description="positions between samples: straight lines, or the C2 cubic spline "
         "through them (not-a-knot ends); attitudes are always slerped")
-    attitude: Literal["fixed", "path", "tabulated"] | None = Field(
+    attitude: Literal["fixed", "path", "banked", "tabulated"] | None = Field(
         None, description="fixed: the object's rotation; path: forward along the velocity (heading "
         "and climb; on the ground pitch and roll from the terrain's slope), rotation on top; "
+        "banked: as path, rolled into turns as in coordinated flight (airborne; spline paths); "
         "tabulated: the waypoints' or file's attitudes, rotation on top. Default: tabulated when "
         "the samples have attitudes, else fixed")
     on_ground: bool | None = Field(
@@ -550,7 +551,7 @@ class TrajectorySpec(_Model):
                                                                          and not tabulated)):
             raise ValueError("attitude 'tabulated' needs attitudes in the samples: waypoints "
                              "[t, x, y, z, yaw, pitch, roll] or a file with them")
-        if tabulated and self.attitude in ("fixed", "path"):
+        if tabulated and self.attitude in ("fixed", "path", "banked"):
             raise ValueError(f"the waypoints carry attitudes, which attitude {self.attitude!r} would "
                              "ignore; drop them or the attitude")
         return self
