@@ -865,24 +865,28 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         AOT550 0.1 and 0.6 and maritime 0.3 and 1.0, with 6S's own values at the nodes 1 and
         4 km: between the nodes within 6.3 % (mean 0.7 %; 229 % and 0.9 % before), below
         1 km within 15 % (mean 2.6 %; 78 % and 6 % before)."""
-        rho = self._scattering(sz_eff, u, h_t, vz, phis, simpson, wl)
         heights = self.axes["observer_height"]
         nodes = heights[(heights > 0.0) & (heights < model.TOP_OF_ATMOSPHERE)]
         dh = u - h_t
         inside = (u < model.TOP_OF_ATMOSPHERE) & (dh > 0.5)
-        if nodes.size < 2:
-            return rho
-        inside &= (dh < nodes[-1] - 0.5) & (np.abs(dh[:, None] - nodes[None, :]).min(axis=1) > 0.5)
-        if not np.any(inside):
-            return rho
+        if nodes.size >= 2:
+            inside &= ((dh < nodes[-1] - 0.5)
+                       & (np.abs(dh[:, None] - nodes[None, :]).min(axis=1) > 0.5))
+        if nodes.size < 2 or not np.any(inside):
+            return self._scattering(sz_eff, u, h_t, vz, phis, simpson, wl)
+        out = {name: np.zeros((u.size, wl.size)) for name in ("rho_mixture", "rho_rayleigh")}
+        if not np.all(inside):
+            rest = ~inside
+            for name, value in self._scattering(sz_eff, u[rest], h_t[rest], vz[rest], phis,
+                                                simpson, wl).items():
+                out[name][rest] = value
         pair = np.clip(np.searchsorted(nodes, dh) - 1, 0, nodes.size - 2)
-        out = {name: value.copy() for name, value in rho.items()}
         for k in np.unique(pair[inside]):
             rows = np.nonzero(inside & (pair == k))[0]
             h, v = h_t[rows], vz[rows]
             ends = [(self._scattering(sz_eff, h + node, h, v, phis, simpson, None), h + node)
                     for node in nodes[k:k + 2]]
-            for name in rho:
+            for name in out:
                 ray = name == "rho_rayleigh"
                 ss, tau = self._single(sz_eff, u[rows], h, v, phis, simpson, ray)
                 per_depth = []
