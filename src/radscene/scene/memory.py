@@ -54,12 +54,13 @@ from __future__ import annotations
 
 import math
 import os
+import shutil
 from pathlib import Path
 
 from radscene.errors import ConfigError
 
 __all__ = ["estimate", "available_memory", "check_memory", "parse_memory", "memory_limit",
-           "check_sequence_memory", "check_thermal_memory", "check_cube_memory", "dem_file_cells",
+           "check_sequence_memory", "check_sequence_disk", "free_disk_space", "check_thermal_memory", "check_cube_memory", "dem_file_cells",
            "image_files", "image_header", "grid_files", "grid_header"]
 
 BASE_BYTES = 300e6
@@ -75,6 +76,15 @@ CHANNEL_BYTES = 2000.0
 #: A frame of a sequence, held until the last one: per pixel, and per pixel and band.
 FRAME_PIXEL_BYTES = 200.0
 FRAME_PIXEL_BAND_BYTES = 200.0
+#: Frames of every observer a sequence written to disk frame by frame holds at once.
+STREAMED_FRAMES = 1.0
+#: The frame cache of incremental frames (:mod:`radscene.render.frame_cache`): per ray sample
+#: (measured 167 B on the demo, docs/benchmarks.md).
+FRAME_CACHE_SAMPLE_BYTES = 170.0
+#: A frame on disk at most (before compression): per pixel (the truth maps in float32, the
+#: geolocation in float64, the angle maps), and per pixel and band (the band layers, float32).
+DISK_PIXEL_BYTES = 100.0
+DISK_PIXEL_BAND_BYTES = 60.0
 #: A heat balance: per element and time step, per element and conduction node, per element
 #: and hemisphere ray.
 THERMAL_ELEMENT_STEP_BYTES = 200.0
@@ -450,18 +460,85 @@ def _refuse(need: float, limit: tuple[float, str], key: str, what: str, advice: 
                           f"{limit[0] / 1e9:.1f} GB ({limit[1]}): {advice}", key=key)
 
 
+def _frame_bytes(observers, pixel: float, pixel_band: float) -> float:
+    """A frame's bytes of ``observers`` (each ``(shape, bands[, samples])``) at ``pixel`` B a
+    pixel and ``pixel_band`` B a pixel and band."""
+    return sum(float(shape[0]) * float(shape[1]) * (pixel + bands * pixel_band)
+               for shape, bands, *_ in observers)
+
+
 def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
-                          key: str = "time.step") -> float:
-    """Refuse a sequence of ``frames`` frames of ``observers`` (each ``(shape, bands)``: its
-    rendered (rows, columns) and its number of bands) whose held frames exceed ``limit``
-    ((bytes, source), :func:`memory_limit`); returns the bytes estimated."""
-    per_frame = sum(float(shape[0]) * float(shape[1]) * (FRAME_PIXEL_BYTES
-                                                         + bands * FRAME_PIXEL_BAND_BYTES)
-                    for shape, bands in observers)
-    need = BASE_BYTES + float(frames) * per_frame
-    _refuse(need, limit, key, f"the sequence of {frames:,} frames ({per_frame / 1e6:.3g} MB "
-            "each, all held until the last)", "a longer step, a shorter span, fewer pixels or "
-            "fewer observers")
+                          key: str = "time.step", streamed: bool = False) -> float:
+    """Refuse a sequence of ``frames`` frames of ``observers`` whose memory exceeds ``limit``
+    ((bytes, source), :func:`memory_limit`); returns the bytes estimated.
+
+    Parameters
+    ----------
+    frames : int
+    observers : sequence of tuple
+        Per observer ``(shape, bands)`` or ``(shape, bands, samples)``: its rendered (rows,
+        columns), its number of bands and the ray samples its frame cache keeps (rows ×
+        columns × supersample²; 0 without a cache).
+    limit : (float, str)
+    key : str
+    streamed : bool
+        False: every frame is held until the last, ``frames`` × the frame's bytes.
+        True: each frame is written to disk as it is rendered (``render_sequence(...,
+        output=...)``, ``radscene render``): :data:`STREAMED_FRAMES` frame(s) of every observer
+        and the frame caches (:data:`FRAME_CACHE_SAMPLE_BYTES` a sample), whatever the number of
+        frames.
+    """
+    per_frame = _frame_bytes(observers, FRAME_PIXEL_BYTES, FRAME_PIXEL_BAND_BYTES)
+    if not streamed:
+        need = BASE_BYTES + float(frames) * per_frame
+        _refuse(need, limit, key, f"the sequence of {frames:,} frames ({per_frame / 1e6:.3g} MB "
+                "each, all held until the last)", "a longer step, a shorter span, fewer pixels "
+                "or fewer observers")
+        return need
+    cache = FRAME_CACHE_SAMPLE_BYTES * sum(
+        float(o[2]) if len(o) > 2 else float(o[0][0]) * float(o[0][1]) for o in observers)
+    need = BASE_BYTES + STREAMED_FRAMES * per_frame + cache
+    _refuse(need, limit, key, f"the sequence of {frames:,} frames written as they come "
+            f"({per_frame / 1e6:.3g} MB a frame held, {cache / 1e6:.3g} MB of frame caches)",
+            "fewer pixels, a lower supersample or fewer observers")
+    return need
+
+
+def free_disk_space(folder) -> float:
+    """The bytes free for this user on the file system of ``folder`` (or of its nearest
+    existing parent, when it does not exist yet); infinite when it cannot be told."""
+    path = Path(folder).absolute()
+    for candidate in (path, *path.parents):
+        if candidate.is_dir():
+            try:
+                return float(shutil.disk_usage(candidate).free)
+            except OSError:
+                return float("inf")
+    return float("inf")
+
+
+def check_sequence_disk(frames: int, observers, folder, key: str = "time.step") -> float:
+    """Refuse a sequence of ``frames`` frames of ``observers`` (as for
+    :func:`check_sequence_memory`) streamed into ``folder`` when its files would not fit in
+    the space free there (:func:`free_disk_space`); returns the bytes estimated.
+
+    A frame takes at most :data:`DISK_PIXEL_BYTES` a pixel and :data:`DISK_PIXEL_BAND_BYTES`
+    a pixel and band (its layers as float32, the geolocation as float64, before compression,
+    which only lowers it); the files grow in place, so nothing more is needed at the end.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key``, with the bytes needed and free.
+    """
+    per_frame = _frame_bytes(observers, DISK_PIXEL_BYTES, DISK_PIXEL_BAND_BYTES)
+    need = float(frames) * per_frame
+    free = free_disk_space(folder)
+    if need > free:
+        raise ConfigError(f"the sequence of {frames:,} frames needs up to {need / 1e9:.1f} GB of "
+                          f"disk ({per_frame / 1e6:.3g} MB a frame before compression); {folder} "
+                          f"has {free / 1e9:.1f} GB free: a folder on a larger disk, a longer "
+                          "step, a shorter span, fewer pixels or fewer observers", key=key)
     return need
 
 
