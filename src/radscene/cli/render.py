@@ -206,10 +206,13 @@ def render(
     listing the observers finished; a complete run replaces it with manifest.json (every
     file, its size and SHA-256). With a sequence (--start/--end/--step, or ``time`` in the
     scene file) one NAME_sequence.nc (.zarr) per observer with a time axis
-    (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif and/or
-    BAND.mp4 (--video), written after the last frame, under the same marker and manifest
-    (--resume renders the observers a stopped sequence of the same span had not written);
-    its frames are counted and sized against the memory limit before any is rendered. A run
+    (NAME_signal_sequence for a sensor's), each frame written to it as it is rendered (so
+    one frame is held in memory, whatever their number) under a hidden temporary name that
+    takes its place after the last frame, and with quicklooks NAME_sequence/BAND.gif and/or
+    BAND.mp4 (--video), read back from it, under the same marker and manifest (--resume
+    renders the observers a stopped sequence of the same span had not written); before any
+    frame is rendered its memory is sized against the memory limit, and its files against
+    the disk space free in OUTPUT. A run
     of another machine writing into OUTPUT (shared storage) counts as running until its
     heartbeat in the marker is 10 min old (radscene.io.run_record). With --from out/NAME.nc (or
     out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its

@@ -142,7 +142,8 @@ class Frame:
 
 @dataclass
 class FrameSequence:
-    """The frames of a sequence, stacked along ``time`` per observer.
+    """The frames of a sequence, stacked along ``time`` per observer: in memory, or the files
+    :func:`render_sequence` wrote with ``output``, opened lazily.
 
     Attributes
     ----------

@@ -40,14 +40,24 @@ the reader makes on the way (the stored values, and the decoded ones where they 
 when they are float64 already); it is held for the whole render, 8 B a node
 (:data:`GRID_HELD_BYTES`), and counts in every observer's estimate.
 
-Two sizes are known only once the run is: a frame sequence (:func:`check_sequence_memory`:
-every frame's layers are held until the last, about 200 B per pixel and 200 B per pixel and
-band, measured on 64 × 64 frames of one and four bands) and a heat balance
-(:func:`check_thermal_memory`: 150–205 B per element and time step, measured on 1 600 and
-6 400 elements over 721 steps, the flux terms, shadows and incidence of every step; and the
-conduction nodes and hemisphere rays of each element). :func:`radscene.pipeline.render_sequence`
-and :func:`radscene.pipeline.solve_thermal` check them before their first step, ``radscene
-check`` too, against the same limit (:func:`memory_limit`).
+Two sizes are known only once the run is: a frame sequence (:func:`check_sequence_memory`)
+and a heat balance (:func:`check_thermal_memory`: 150–205 B per element and time step,
+measured on 1 600 and 6 400 elements over 721 steps, the flux terms, shadows and incidence of
+every step; and the conduction nodes and hemisphere rays of each element). A frame's layers
+take about 200 B per pixel and 200 B per pixel and band (measured on 64 × 64 frames of one and
+four bands). A sequence held in memory (:func:`radscene.pipeline.render_sequence` without
+``output``) keeps every frame until the last: the frames times that. One written to disk as it
+is rendered (``render_sequence(..., output=...)``, ``radscene render``) holds one frame of every
+observer and the frame caches of incremental frames, 167 B a ray sample (measured on the demo,
+docs/benchmarks.md; :data:`FRAME_CACHE_SAMPLE_BYTES`), whatever the number of frames: peak
+resident memory of ``radscene render`` of a 256 × 256 map of two bands, 2026-11-26: 399 MB for
+3 frames, 407 MB for 12, 414 MB for 48 (held in memory: 476, 827 and 2 215 MB). Its files take
+at most :data:`DISK_PIXEL_BYTES` a pixel and :data:`DISK_PIXEL_BAND_BYTES` a pixel and band a
+frame (float32 layers, float64 geolocation, before compression), checked against the space free
+in the output folder (:func:`check_sequence_disk`, :func:`free_disk_space`).
+:func:`radscene.pipeline.render_sequence` and :func:`radscene.pipeline.solve_thermal` check
+them before their first step, ``radscene check`` too (a sequence as ``radscene render`` writes
+it, into the default folder ``out``), against the same limit (:func:`memory_limit`).
 """
 
 from __future__ import annotations
@@ -81,10 +91,11 @@ STREAMED_FRAMES = 1.0
 #: The frame cache of incremental frames (:mod:`radscene.render.frame_cache`): per ray sample
 #: (measured 167 B on the demo, docs/benchmarks.md).
 FRAME_CACHE_SAMPLE_BYTES = 170.0
-#: A frame on disk at most (before compression): per pixel (the truth maps in float32, the
-#: geolocation in float64, the angle maps), and per pixel and band (the band layers, float32).
+#: A frame on disk at most: per pixel, and per pixel and band — half the bytes of the frame in
+#: memory (its layers float32 instead of float64), before compression, which only lowers it.
+#: The demo's frames took 690 B a pixel of its 8 bands, gzip level 1 (2026-11-26).
 DISK_PIXEL_BYTES = 100.0
-DISK_PIXEL_BAND_BYTES = 60.0
+DISK_PIXEL_BAND_BYTES = 100.0
 #: A heat balance: per element and time step, per element and conduction node, per element
 #: and hemisphere ray.
 THERMAL_ELEMENT_STEP_BYTES = 200.0
