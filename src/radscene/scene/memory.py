@@ -546,9 +546,9 @@ def check_sequence_disk(frames: int, observers, folder, key: str = "time.step") 
     need = float(frames) * per_frame
     free = free_disk_space(folder)
     if need > free:
-        raise ConfigError(f"the sequence of {frames:,} frames needs up to {need / 1e9:.1f} GB of "
+        raise ConfigError(f"the sequence of {frames:,} frames needs up to {need / 1e9:,.1f} GB of "
                           f"disk ({per_frame / 1e6:.3g} MB a frame before compression); {folder} "
-                          f"has {free / 1e9:.1f} GB free: a folder on a larger disk, a longer "
+                          f"has {free / 1e9:,.1f} GB free: a folder on a larger disk, a longer "
                           "step, a shorter span, fewer pixels or fewer observers", key=key)
     return need
 
