@@ -176,6 +176,9 @@ def test_the_streamed_memory_estimate_does_not_grow_with_the_frames():
                     for (r, c), _, _ in observers)
     cache = memory.FRAME_CACHE_SAMPLE_BYTES * sum(s for *_, s in observers)
     assert streamed[0] == pytest.approx(memory.BASE_BYTES + memory.STREAMED_FRAMES * per_frame + cache)
+    render = memory.BASE_BYTES + 2e9  # beside the largest render
+    assert memory.check_sequence_memory(7, observers, limit, streamed=True, render=render) == \
+        pytest.approx(render + memory.STREAMED_FRAMES * per_frame + cache)
 
 
 def _cli_scene(tmp_path, frames, shape=(64, 64)):
@@ -187,10 +190,10 @@ def _cli_scene(tmp_path, frames, shape=(64, 64)):
 
 
 def test_a_sequence_refused_in_memory_is_streamed_by_the_cli(tmp_path):
-    """A limit that holds about three 64 x 64 frames: six frames held in memory are refused,
-    and ``radscene render`` streams them."""
+    """A limit that holds about four 64 x 64 frames: six frames held in memory are refused,
+    and ``radscene render`` streams them (its render, two frames and the frame cache)."""
     per_frame = 64 * 64 * (memory.FRAME_PIXEL_BYTES + 2 * memory.FRAME_PIXEL_BAND_BYTES)
-    limit = memory.BASE_BYTES + 3 * per_frame
+    limit = memory.BASE_BYTES + 4 * per_frame
     path = _cli_scene(tmp_path, 6)
     scene = radscene.load_scene(path, max_memory=limit)
     with pytest.raises(ConfigError, match=r"time\.step: the sequence of 6 frames .* all held"):

@@ -767,7 +767,12 @@ def check_sequence(scene, *, start=None, end=None, step=None, observers=None, ou
         or, with ``output``, for the free disk space there (naming ``time.step``, with the
         figures).
     """
-    from radscene.scene.memory import check_sequence_disk, check_sequence_memory, memory_limit
+    from radscene.scene.memory import (
+        check_sequence_disk,
+        check_sequence_memory,
+        estimate,
+        memory_limit,
+    )
 
     scene = as_scene(scene)
     span = scene.spec.time
@@ -787,8 +792,13 @@ def check_sequence(scene, *, start=None, end=None, step=None, observers=None, ou
         rows, columns = setup.camera.shape
         samples = float(rows) * float(columns) * setup.supersample ** 2 if cached else 0.0
         sizes.append((setup.camera.shape, max(1, bands), samples))
+    render = 0.0
+    if output is not None:  # the largest render, beside the frames written
+        renders = estimate(scene.spec, scene.base_dir)["observers"]
+        chosen = {f"observers[{i}]" for i, o in enumerate(scene.spec.observers) if o.name in names}
+        render = max((need for need, key, _ in renders if key.split(".")[0] in chosen), default=0.0)
     check_sequence_memory(count, sizes, scene.memory_limit or memory_limit(scene.spec),
-                          streamed=output is not None)
+                          streamed=output is not None, render=render)
     if output is not None:
         check_sequence_disk(count, sizes, output)
     return count

@@ -48,10 +48,13 @@ take about 200 B per pixel and 200 B per pixel and band (measured on 64 × 64 fr
 four bands). A sequence held in memory (:func:`radscene.pipeline.render_sequence` without
 ``output``) keeps every frame until the last: the frames times that. One written to disk as it
 is rendered (``render_sequence(..., output=...)``, ``radscene render``) holds one frame of every
-observer and the frame caches of incremental frames, 167 B a ray sample (measured on the demo,
-docs/benchmarks.md; :data:`FRAME_CACHE_SAMPLE_BYTES`), whatever the number of frames: peak
-resident memory of ``radscene render`` of a 256 × 256 map of two bands, 2026-11-26: 399 MB for
-3 frames, 407 MB for 12, 414 MB for 48 (held in memory: 476, 827 and 2 215 MB). Its files take
+observer (two, :data:`STREAMED_FRAMES`, counting those being written and rendered) and the
+frame caches of incremental frames, 167 B a ray sample (measured on the demo,
+docs/benchmarks.md; :data:`FRAME_CACHE_SAMPLE_BYTES`), beside its largest render (the
+observers' estimates above), whatever the number of frames: peak resident memory of
+``radscene render`` of a 256 × 256 map of two bands, 2026-11-26: 399 MB for 3 frames, 407 MB
+for 12, 414 MB for 48 (held in memory: 476, 827 and 2 215 MB); of the demo, 1.83 GB for 3
+frames and 1.92 GB for 100 (held in memory they would need about 60 GB). Its files take
 at most :data:`DISK_PIXEL_BYTES` a pixel and :data:`DISK_PIXEL_BAND_BYTES` a pixel and band a
 frame (float32 layers, float64 geolocation, before compression), checked against the space free
 in the output folder (:func:`check_sequence_disk`, :func:`free_disk_space`).
@@ -86,14 +89,18 @@ CHANNEL_BYTES = 2000.0
 #: A frame of a sequence, held until the last one: per pixel, and per pixel and band.
 FRAME_PIXEL_BYTES = 200.0
 FRAME_PIXEL_BAND_BYTES = 200.0
-#: Frames of every observer a sequence written to disk frame by frame holds at once.
-STREAMED_FRAMES = 1.0
+#: Frames of every observer a sequence written to disk frame by frame holds at once, beside
+#: its largest render: the images of one frame, and their float32 copies and the next
+#: frame's images while they are written and rendered. The demo's 100 frames peaked at
+#: 1.92 GB resident (3 frames: 1.83 GB) against 2.1 GB estimated (2026-11-26).
+STREAMED_FRAMES = 2.0
 #: The frame cache of incremental frames (:mod:`radscene.render.frame_cache`): per ray sample
 #: (measured 167 B on the demo, docs/benchmarks.md).
 FRAME_CACHE_SAMPLE_BYTES = 170.0
 #: A frame on disk at most: per pixel, and per pixel and band — half the bytes of the frame in
 #: memory (its layers float32 instead of float64), before compression, which only lowers it.
-#: The demo's frames took 690 B a pixel of its 8 bands, gzip level 1 (2026-11-26).
+#: The demo's frames took 242 B (map) and 227 B (oblique) a pixel of their 8 bands, gzip level
+#: 1, against 900 B estimated (2026-11-26).
 DISK_PIXEL_BYTES = 100.0
 DISK_PIXEL_BAND_BYTES = 100.0
 #: A heat balance: per element and time step, per element and conduction node, per element
@@ -479,7 +486,8 @@ def _frame_bytes(observers, pixel: float, pixel_band: float) -> float:
 
 
 def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
-                          key: str = "time.step", streamed: bool = False) -> float:
+                          key: str = "time.step", streamed: bool = False,
+                          render: float = BASE_BYTES) -> float:
     """Refuse a sequence of ``frames`` frames of ``observers`` whose memory exceeds ``limit``
     ((bytes, source), :func:`memory_limit`); returns the bytes estimated.
 
@@ -495,9 +503,13 @@ def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
     streamed : bool
         False: every frame is held until the last, ``frames`` × the frame's bytes.
         True: each frame is written to disk as it is rendered (``render_sequence(...,
-        output=...)``, ``radscene render``): :data:`STREAMED_FRAMES` frame(s) of every observer
-        and the frame caches (:data:`FRAME_CACHE_SAMPLE_BYTES` a sample), whatever the number of
-        frames.
+        output=...)``, ``radscene render``): the largest render (``render``), and beside it
+        :data:`STREAMED_FRAMES` frames of every observer (the last one's images while they
+        are written, the next one's as its observers are rendered) and the frame caches
+        (:data:`FRAME_CACHE_SAMPLE_BYTES` a sample), whatever the number of frames.
+    render : float
+        With ``streamed``: the largest render's estimate, the base included (:func:`estimate`)
+        [bytes].
     """
     per_frame = _frame_bytes(observers, FRAME_PIXEL_BYTES, FRAME_PIXEL_BAND_BYTES)
     if not streamed:
@@ -508,10 +520,10 @@ def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
         return need
     cache = FRAME_CACHE_SAMPLE_BYTES * sum(
         float(o[2]) if len(o) > 2 else float(o[0][0]) * float(o[0][1]) for o in observers)
-    need = BASE_BYTES + STREAMED_FRAMES * per_frame + cache
+    need = max(render, BASE_BYTES) + STREAMED_FRAMES * per_frame + cache
     _refuse(need, limit, key, f"the sequence of {frames:,} frames written as they come "
-            f"({per_frame / 1e6:.3g} MB a frame held, {cache / 1e6:.3g} MB of frame caches)",
-            "fewer pixels, a lower supersample or fewer observers")
+            f"({per_frame / 1e6:.3g} MB a frame, {cache / 1e6:.3g} MB of frame caches, beside "
+            "its largest render)", "fewer pixels, a lower supersample or fewer observers")
     return need
 
 
