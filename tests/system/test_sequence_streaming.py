@@ -230,11 +230,11 @@ def _peak_rss(tmp_path, frames) -> float:
 
 def test_the_peak_memory_of_a_streamed_cli_run_does_not_grow_with_its_frames(tmp_path):
     """12 frames of a 256 x 256 map (each 26 MB in memory) against 3: held in memory they
-    would add 9 frames (236 MB); streamed, the peak stays within 10 % (measured 2026-11-26:
-    see docs/benchmarks.md)."""
+    would add 9 frames (236 MB; measured 476 against 827 MB); streamed, the peak stays within
+    20 % (measured 399 against 407 MB, 2026-11-26: see docs/benchmarks.md)."""
     short, long = _peak_rss(tmp_path, 3), _peak_rss(tmp_path, 12)
     per_frame = 256 * 256 * (memory.FRAME_PIXEL_BYTES + 2 * memory.FRAME_PIXEL_BAND_BYTES) / 1e3
-    assert long < 1.1 * short, (short, long)
+    assert long < 1.2 * short, (short, long)
     assert long - short < 3 * per_frame, (short, long)
 
 
