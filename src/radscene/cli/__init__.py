@@ -243,7 +243,8 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
         if scene.spec.time is not None:
             from radscene.pipeline.simulation import check_sequence
 
-            frames = check_sequence(scene)
+            # as radscene render writes it: a frame at a time, into the default folder
+            frames = check_sequence(scene, output=Path("out"))
     except (ConfigError, EngineError) as err:
         _fail(err)
     if quiet:

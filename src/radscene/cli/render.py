@@ -95,17 +95,22 @@ def _sequence_span(scene, names, start, end, step, video, formats):
         start = _instant(start, "--start") or (span.start if span else None)
         end = _instant(end, "--end") or (span.end if span else None)
         step = step if step is not None else (span.step if span else None)
-        frames = check_sequence(scene, start=start, end=end, step=step, observers=names)
+        frames = check_sequence(scene, start=start, end=end, step=step, observers=names,
+                                output=formats.output)
     except ConfigError as err:
         if given.get(err.key) is not None:
             raise ConfigError(err.message, key=err.key.replace("time.", "--")) from None
+        if err.key == "output":
+            raise ConfigError(err.message, key="--output") from None
         raise
     return (start, end, step), frames, kinds
 
 
 def _render_sequence(scene, names, formats, span, frames, kinds, record, report):
-    """``radscene render`` of a sequence: every frame rendered, then per observer its files (one
-    data file, and with quicklooks a GIF and/or an MP4 per band), recorded as they land."""
+    """``radscene render`` of a sequence: every frame written to its observer's data file as it
+    is rendered (the files take their places after the last frame), then per observer its
+    animations (with quicklooks a GIF and/or an MP4 per band, read back from the file),
+    recorded as they land."""
     from radscene.io import band_animations, band_videos
     from radscene.pipeline.simulation import render_sequence
 
@@ -113,7 +118,7 @@ def _render_sequence(scene, names, formats, span, frames, kinds, record, report)
     started = time.perf_counter()
     start, end, step = span
     report.stage(f"sequence from {start} to {end} every {step}: render {frames} frame(s) of "
-                 f"{', '.join(names)}")
+                 f"{', '.join(names)}, each written to {output}/ as it comes")
     with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
                          TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
                          TimeRemainingColumn(), transient=False) as bar:
@@ -122,29 +127,31 @@ def _render_sequence(scene, names, formats, span, frames, kinds, record, report)
         def progress(done, total):
             bar.update(task, completed=done, total=total)
 
+        # the CLI checked the folder (--overwrite, --resume) already
         sequences = render_sequence(scene, start=start, end=end, step=step, observers=names,
-                                    progress=progress)
-    report.stage("frames rendered", time.perf_counter() - started)
-    for name, ds in sequences.radiance.items():
-        t = time.perf_counter()
-        path = report.wrote(formats.write(ds, f"{name}_sequence"), t)
-        files = [path]
-        report.say(f"{name}: {ds.sizes['time']} frames -> {path}")
-        if name in sequences.signal:
-            t = time.perf_counter()
-            path = report.wrote(formats.write(sequences.signal[name], f"{name}_signal_sequence"),
-                                t)
-            files.append(path)
-            report.say(f"{name}: {path}")
-        if "band" in ds.dims and kinds:
-            t = time.perf_counter()
-            written = band_animations(ds, output / f"{name}_sequence") if "gif" in kinds else []
-            written += band_videos(ds, output / f"{name}_sequence") if "mp4" in kinds else []
-            report.stage(f"{name}: {len(written)} animation(s)", time.perf_counter() - t)
-            for animation in written:
-                report.say(f"{name}: {animation}")
-            files += written
-        record.finish(name, files)
+                                    progress=progress, output=output, overwrite=True)
+    report.stage("frames rendered and written", time.perf_counter() - started)
+    try:
+        for name, ds in sequences.radiance.items():
+            path = report.wrote(formats.data(f"{name}_sequence"), started)
+            files = [path]
+            report.say(f"{name}: {ds.sizes['time']} frames -> {path}")
+            if name in sequences.signal:
+                path = report.wrote(formats.data(f"{name}_signal_sequence"), started)
+                files.append(path)
+                report.say(f"{name}: {path}")
+            if "band" in ds.dims and kinds:
+                t = time.perf_counter()
+                written = band_animations(ds, output / f"{name}_sequence") if "gif" in kinds else []
+                written += band_videos(ds, output / f"{name}_sequence") if "mp4" in kinds else []
+                report.stage(f"{name}: {len(written)} animation(s)", time.perf_counter() - t)
+                for animation in written:
+                    report.say(f"{name}: {animation}")
+                files += written
+            record.finish(name, files)
+    finally:
+        for ds in (*sequences.radiance.values(), *sequences.signal.values()):
+            ds.close()
     report.say(f"{scene.name}: {len(sequences.radiance)} observer(s) in "
                f"{time.perf_counter() - started:.1f} s")
 
@@ -199,10 +206,13 @@ def render(
     listing the observers finished; a complete run replaces it with manifest.json (every
     file, its size and SHA-256). With a sequence (--start/--end/--step, or ``time`` in the
     scene file) one NAME_sequence.nc (.zarr) per observer with a time axis
-    (NAME_signal_sequence for a sensor's), and with quicklooks NAME_sequence/BAND.gif and/or
-    BAND.mp4 (--video), written after the last frame, under the same marker and manifest
-    (--resume renders the observers a stopped sequence of the same span had not written);
-    its frames are counted and sized against the memory limit before any is rendered. A run
+    (NAME_signal_sequence for a sensor's), each frame written to it as it is rendered (so
+    one frame is held in memory, whatever their number) under a hidden temporary name that
+    takes its place after the last frame, and with quicklooks NAME_sequence/BAND.gif and/or
+    BAND.mp4 (--video), read back from it, under the same marker and manifest (--resume
+    renders the observers a stopped sequence of the same span had not written); before any
+    frame is rendered its memory is sized against the memory limit, and its files against
+    the disk space free in OUTPUT. A run
     of another machine writing into OUTPUT (shared storage) counts as running until its
     heartbeat in the marker is 10 min old (radscene.io.run_record). With --from out/NAME.nc (or
     out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its

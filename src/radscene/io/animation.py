@@ -27,7 +27,8 @@ from radscene.errors import ConfigError
 from radscene.io.files import atomic_output
 from radscene.io.quicklook import stretch_limits
 
-__all__ = ["VIDEO_CHOICES", "band_animations", "band_videos", "mp4_available", "video_formats"]
+__all__ = ["STRETCH_SAMPLES", "VIDEO_CHOICES", "band_animations", "band_videos", "mp4_available",
+           "video_formats"]
 
 VIDEO_CHOICES = ("auto", "gif", "mp4", "both", "none")
 
@@ -44,7 +45,8 @@ def band_animations(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
     Parameters
     ----------
     ds : xarray.Dataset
-        A sequence (:func:`radscene.pipeline.simulation.render_sequence`): ``radiance(time, band, y, x)``.
+        A sequence (:func:`radscene.pipeline.simulation.render_sequence`), in memory or opened
+        lazily: ``radiance(time, band, y, x)``.
     folder : path-like
         Written as ``folder/<prefix><band>.gif``.
     fps : float
@@ -72,17 +74,50 @@ def band_animations(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
     return written
 
 
+#: The grey stretch of an animation is taken from at most this many values of a band (every
+#: value of a shorter sequence; of a longer one, every frame's pixels on a regular stride).
+STRETCH_SAMPLES = 1 << 24
+
+
 def _grey_frames(ds: xr.Dataset):
-    """Per band its frames as 8-bit grey ``(time, y, x)`` on one stretch (display only)."""
+    """Per band its frames as 8-bit grey ``(time, y, x)`` on one stretch (display only).
+
+    The frames are read one at a time (a lazily opened file stays on disk): a first pass takes
+    the stretch, the 1st–99th percentile of the band's finite values — all of them when the
+    sequence has at most :data:`STRETCH_SAMPLES`, else every frame's pixels on a regular
+    stride that keeps about that many — and a second makes the grey frames.
+    Brightness temperature where the band has a finite one, radiance otherwise."""
     if "time" not in ds.dims:
         raise ConfigError("a sequence has a time dimension; this Dataset has none", key="ds")
+    frames = ds.sizes["time"]
     for band in ds["band"].values:
         sel = ds.sel(band=band)
-        bt = sel["brightness_temperature"].values if "brightness_temperature" in sel else None
-        stack = bt if bt is not None and np.isfinite(bt).any() else sel["radiance"].values
-        lo, hi = stretch_limits(stack)
-        grey = np.clip((np.nan_to_num(stack, nan=lo) - lo) / (hi - lo), 0.0, 1.0)
-        yield band, np.round(255 * grey).astype(np.uint8)
+        name = "radiance"
+        if "brightness_temperature" in sel:
+            sample = _stretch_sample(sel["brightness_temperature"], frames)
+            if np.isfinite(sample).any():
+                name = "brightness_temperature"
+        if name == "radiance":
+            sample = _stretch_sample(sel["radiance"], frames)
+        lo, hi = stretch_limits(sample)
+        del sample
+        var = sel[name]
+        grey = np.empty((frames, *var.shape[1:]), dtype=np.uint8)
+        for k in range(frames):
+            image = np.asarray(var.isel(time=k).values, dtype=float)
+            level = np.clip((np.nan_to_num(image, nan=lo) - lo) / (hi - lo), 0.0, 1.0)
+            grey[k] = np.round(255 * level).astype(np.uint8)
+        yield band, grey
+
+
+def _stretch_sample(var: xr.DataArray, frames: int) -> np.ndarray:
+    """The values of ``var`` (time, y, x) the stretch is taken from, read a frame at a time:
+    all of them, or every frame's on a stride keeping about :data:`STRETCH_SAMPLES`."""
+    pixels = int(np.prod(var.shape[1:]))
+    stride = max(1, int(np.ceil(frames * pixels / STRETCH_SAMPLES)))
+    parts = [np.asarray(var.isel(time=k).values, dtype=float).ravel()[::stride]
+             for k in range(frames)]
+    return np.concatenate(parts) if parts else np.empty(0)
 
 
 def mp4_available() -> bool:
@@ -125,7 +160,7 @@ def band_videos(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
     Parameters
     ----------
     ds : xarray.Dataset
-        A sequence: ``radiance(time, band, y, x)``.
+        A sequence, in memory or opened lazily: ``radiance(time, band, y, x)``.
     folder : path-like
         Written as ``folder/<prefix><band>.mp4``.
     fps : float

@@ -50,6 +50,7 @@ from __future__ import annotations
 import datetime as _dt
 from dataclasses import dataclass, field
 from functools import partial
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -62,7 +63,7 @@ from radscene.pipeline.provenance import stamp
 from radscene.render.integrator import CONSTANT_ANGLES, GEOLOCATION_COORDS
 
 __all__ = ["Frame", "FrameSequence", "Simulation", "check_sequence", "frame_times", "parse_duration",
-           "render_sequence"]
+           "render_sequence", "sequence_files"]
 
 #: Attributes of a render that change from frame to frame: carried along ``time`` as variables
 #: (``frame_<name>``) in a sequence, not as the file's attributes.
@@ -141,7 +142,8 @@ class Frame:
 
 @dataclass
 class FrameSequence:
-    """The frames of a sequence, stacked along ``time`` per observer.
+    """The frames of a sequence, stacked along ``time`` per observer: in memory, or the files
+    :func:`render_sequence` wrote with ``output``, opened lazily.
 
     Attributes
     ----------
@@ -748,20 +750,29 @@ def _frame_count(start, end, step) -> tuple[float, int]:
     return seconds, int(np.floor((end - start).total_seconds() / seconds + 1e-6 / seconds)) + 1
 
 
-def check_sequence(scene, *, start=None, end=None, step=None, observers=None) -> int:
+def check_sequence(scene, *, start=None, end=None, step=None, observers=None, output=None,
+                   incremental: bool = True) -> int:
     """Check a sequence before its first frame: its span, its observers and the memory its
-    frames need, all held until the last (:func:`radscene.scene.memory.check_sequence_memory`,
-    against the scene's limit); returns the number of frames.
+    frames need (:func:`radscene.scene.memory.check_sequence_memory`, against the scene's
+    limit): all of them held until the last, or, with ``output``, a frame at a time written to
+    disk, and then the disk space the frames take in ``output``
+    (:func:`radscene.scene.memory.check_sequence_disk`); returns the number of frames.
 
     Parameters and defaults as for :func:`render_sequence`.
 
     Raises
     ------
     ConfigError
-        No sequence given, a bad span, an unknown observer, or too many frames (naming
-        ``time.step``, with the figures).
+        No sequence given, a bad span, an unknown observer, or too many frames for the memory
+        or, with ``output``, for the free disk space there (naming ``time.step``, with the
+        figures).
     """
-    from radscene.scene.memory import check_sequence_memory, memory_limit
+    from radscene.scene.memory import (
+        check_sequence_disk,
+        check_sequence_memory,
+        estimate,
+        memory_limit,
+    )
 
     scene = as_scene(scene)
     span = scene.spec.time
@@ -774,17 +785,40 @@ def check_sequence(scene, *, start=None, end=None, step=None, observers=None) ->
     _, count = _frame_count(start, end, step)
     names = [o.name for o in scene.observers] if observers is None else list(observers)
     sizes = []
+    cached = incremental and scene.settings.motion_blur is None
     for name in names:
         setup = scene.observer(name)
         bands = len(setup.spectral) if setup.spectral is not None else len(setup.bands)
-        sizes.append((setup.camera.shape, max(1, bands)))
-    check_sequence_memory(count, sizes, scene.memory_limit or memory_limit(scene.spec))
+        rows, columns = setup.camera.shape
+        samples = float(rows) * float(columns) * setup.supersample ** 2 if cached else 0.0
+        sizes.append((setup.camera.shape, max(1, bands), samples))
+    render = 0.0
+    if output is not None:  # the largest render, beside the frames written
+        renders = estimate(scene.spec, scene.base_dir)["observers"]
+        chosen = {f"observers[{i}]" for i, o in enumerate(scene.spec.observers) if o.name in names}
+        render = max((need for need, key, _ in renders if key.split(".")[0] in chosen), default=0.0)
+    check_sequence_memory(count, sizes, scene.memory_limit or memory_limit(scene.spec),
+                          streamed=output is not None, render=render)
+    if output is not None:
+        check_sequence_disk(count, sizes, output)
     return count
 
 
 def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
-                    progress=None, incremental: bool = True) -> FrameSequence:
+                    progress=None, incremental: bool = True, output=None,
+                    overwrite: bool = False) -> FrameSequence:
     """Render a sequence of frames: every observer at every instant, stacked along ``time``.
+
+    By default every frame is held in memory until the last and the Datasets returned hold
+    them all (refused up front when they would not fit, :func:`check_sequence`). With
+    ``output`` each frame is written to disk as soon as it is rendered, so that the memory
+    needed does not grow with the number of frames (one frame of every observer and the frame
+    cache): per observer ``output/NAME_sequence.nc`` (``NAME_signal_sequence.nc`` with a
+    sensor), or Zarr stores ``NAME_sequence.zarr`` when ``output`` is named ``*.zarr`` — the
+    files ``radscene render`` writes, equal to the in-memory Datasets written with
+    :func:`radscene.io.write_netcdf` (:func:`radscene.io.write_zarr`). Each file grows under a
+    temporary name (:mod:`radscene.io.sequence_file`) and takes its place when the last frame
+    is written; a sequence that fails or is stopped leaves none.
 
     Parameters
     ----------
@@ -802,20 +836,35 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     incremental : bool
         As for :class:`Simulation`: frames after the first trace only the rays that something
         moved through (the same frames); False: every frame traced in full.
+    output : str or path-like, optional
+        A folder (created when missing): stream the frames to files there instead of holding
+        them. Its free disk space is checked before the first frame
+        (:func:`radscene.scene.memory.check_sequence_disk`).
+    overwrite : bool
+        With ``output``: replace sequence files of an earlier run there (refused otherwise).
 
     Returns
     -------
     FrameSequence
-        Per observer the renders and, with a sensor, the signals, along ``time``.
+        Per observer the renders and, with a sensor, the signals, along ``time``: in memory,
+        or with ``output`` the written files opened lazily (values read when used; close
+        them when done).
 
     Raises
     ------
     ConfigError
         No sequence given (neither arguments nor ``time`` in the scene file), a bad span, frames
-        that would not fit in memory (:func:`check_sequence`).
+        that would not fit in memory or, with ``output``, on disk (:func:`check_sequence`), or
+        an ``output`` that cannot be written or holds earlier results (naming ``output``).
+
+    Examples
+    --------
+    >>> seq = render_sequence("scene.yaml", output="out")                  # doctest: +SKIP
+    >>> seq.radiance["map"].radiance.isel(time=-1).values                  # doctest: +SKIP
     """
     scene = as_scene(scene)
-    check_sequence(scene, start=start, end=end, step=step, observers=observers)
+    check_sequence(scene, start=start, end=end, step=step, observers=observers, output=output,
+                   incremental=incremental)
     span = scene.spec.time
     start = start or (span.start if span else None)
     end = end or (span.end if span else None)
@@ -824,12 +873,19 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
     names = [o.name for o in scene.observers] if observers is None else list(observers)
     for name in names:
         scene.observer(name)
+    if output is not None:
+        from radscene.io.files import check_output_folder
+
+        folder = Path(output)
+        check_output_folder(folder, sequence_files(scene, names, folder), overwrite, key="output")
     scene.time = times[0]
     if scene.document is not None:  # the provenance records the span rendered
         scene.document = {**scene.document, "time": {
             "start": start.isoformat(), "end": end.isoformat(),
             "step": parse_duration(step, key="time.step")}}
     sim = Simulation(scene, incremental=incremental)
+    if output is not None:
+        return _stream(sim, times, names, Path(output), progress)
     frames = {name: [] for name in names}
     signals = {name: [] for name in names}
     with progress_callback(progress, "frames") as report:
@@ -843,6 +899,76 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
                 report(k + 1, len(times))
     return FrameSequence({name: _stack(layers) for name, layers in frames.items()},
                          {name: _stack(layers) for name, layers in signals.items() if layers})
+
+
+def sequence_files(scene, names, folder) -> list[str]:
+    """The names of the data files a sequence of these observers writes into ``folder``
+    (``NAME_sequence`` and, with a sensor, ``NAME_signal_sequence``; ``.zarr`` stores when the
+    folder is named ``*.zarr``, else ``.nc``)."""
+    ext = ".zarr" if Path(folder).suffix.lower() == ".zarr" else ".nc"
+    files = []
+    for name in names:
+        setup = as_scene(scene).observer(name)
+        files.append(f"{name}_sequence{ext}")
+        if setup.sensor is not None and setup.spectral is None:
+            files.append(f"{name}_signal_sequence{ext}")
+    return files
+
+
+def _stream(sim, times, names, folder, progress) -> FrameSequence:
+    """The frames of ``times`` written to ``folder`` as they are rendered (render_sequence with
+    ``output``); the files opened lazily."""
+    import contextlib
+
+    from radscene.io.sequence_file import SequenceWriter, open_sequence
+
+    ext = ".zarr" if folder.suffix.lower() == ".zarr" else ".nc"
+    stamps = np.array([np.datetime64(t.astimezone(_dt.UTC).replace(tzinfo=None), "ns") for t in times])
+    paths = {}
+    with contextlib.ExitStack() as stack:
+        writers = {}
+
+        def append(key, stem, ds, frame, first):
+            if key not in writers:
+                paths[key] = folder / f"{stem}{ext}"
+                writers[key] = stack.enter_context(SequenceWriter(paths[key], stamps))
+            writers[key].append(_stream_layer(ds, frame, first))
+
+        first = None
+        with progress_callback(progress, "frames") as report:
+            for k, instant in enumerate(times):
+                frame = sim.render() if k == 0 else sim.step((instant - sim.time).total_seconds())
+                first = frame.elapsed if first is None else first
+                for name in names:
+                    append((name, "radiance"), f"{name}_sequence", frame.radiance[name], frame, first)
+                    if name in frame.signal:
+                        append((name, "signal"), f"{name}_signal_sequence", frame.signal[name],
+                               frame, first)
+                del frame  # let go before the next is rendered
+                if report is not None:
+                    report(k + 1, len(times))
+    return FrameSequence({name: open_sequence(paths[(name, "radiance")]) for name in names},
+                         {name: open_sequence(paths[(name, "signal")]) for name in names
+                          if (name, "signal") in paths})
+
+
+def _stream_layer(ds: xr.Dataset, frame: Frame, first: float) -> xr.Dataset:
+    """One frame of a streamed sequence as :func:`_stack` leaves it in the stack: elapsed
+    from the first frame, the attributes of ``time``, ``elapsed`` and ``frame_*``, the
+    geolocation as coordinates."""
+    layer = _frame_layer(ds, frame)
+    layer["elapsed"] = layer["elapsed"] - first
+    _sequence_attrs(layer)
+    return layer.set_coords([n for n in GEOLOCATION_COORDS if n in layer.data_vars])
+
+
+def _sequence_attrs(ds: xr.Dataset) -> None:
+    """The attributes a sequence gives ``elapsed``, ``time`` and the ``frame_*`` variables."""
+    ds["elapsed"].attrs.update({"units": "s", "long_name": "time since the first frame"})
+    ds["time"].attrs.update({"long_name": "frame time (UTC)", "standard_name": "time"})
+    for name in ds.data_vars:
+        if name.startswith("frame_"):
+            ds[name].attrs["long_name"] = f"{name.removeprefix('frame_')} of each frame"
 
 
 def _frame_layer(ds: xr.Dataset, frame: Frame) -> xr.Dataset:
@@ -865,15 +991,13 @@ def _stack(layers: list[xr.Dataset]) -> xr.Dataset:
     for name in CONSTANT_ANGLES:  # one value in some frames, a map in others: maps in all
         shaped = [ds[name] for ds in layers if name in ds and ds[name].ndim > 1]
         if shaped and len(shaped) < sum(name in ds for ds in layers):
-            layers = [ds.assign({name: xr.full_like(shaped[0], float(ds[name].values.ravel()[0]))})
+            # the value over the map, at the frame's own time (not aligned away to NaN)
+            layers = [ds.assign({name: xr.full_like(shaped[0], float(ds[name].values.ravel()[0]))
+                                 .assign_coords(time=ds["time"].values)})
                       if name in ds and ds[name].ndim == 1 else ds for ds in layers]
     out = xr.concat(layers, dim="time", data_vars="minimal", coords="minimal", compat="override",
                     combine_attrs="override")
     out["elapsed"] = out["elapsed"] - float(out["elapsed"].values[0])
-    out["elapsed"].attrs.update({"units": "s", "long_name": "time since the first frame"})
-    out["time"].attrs.update({"long_name": "frame time (UTC)", "standard_name": "time"})
-    for name in out.data_vars:
-        if name.startswith("frame_"):
-            out[name].attrs["long_name"] = f"{name.removeprefix('frame_')} of each frame"
+    _sequence_attrs(out)
     out.attrs["frames"] = len(layers)
     return out.set_coords([n for n in GEOLOCATION_COORDS if n in out.data_vars])

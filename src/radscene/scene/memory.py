@@ -40,26 +40,40 @@ the reader makes on the way (the stored values, and the decoded ones where they 
 when they are float64 already); it is held for the whole render, 8 B a node
 (:data:`GRID_HELD_BYTES`), and counts in every observer's estimate.
 
-Two sizes are known only once the run is: a frame sequence (:func:`check_sequence_memory`:
-every frame's layers are held until the last, about 200 B per pixel and 200 B per pixel and
-band, measured on 64 × 64 frames of one and four bands) and a heat balance
-(:func:`check_thermal_memory`: 150–205 B per element and time step, measured on 1 600 and
-6 400 elements over 721 steps, the flux terms, shadows and incidence of every step; and the
-conduction nodes and hemisphere rays of each element). :func:`radscene.pipeline.render_sequence`
-and :func:`radscene.pipeline.solve_thermal` check them before their first step, ``radscene
-check`` too, against the same limit (:func:`memory_limit`).
+Two sizes are known only once the run is: a frame sequence (:func:`check_sequence_memory`)
+and a heat balance (:func:`check_thermal_memory`: 150–205 B per element and time step,
+measured on 1 600 and 6 400 elements over 721 steps, the flux terms, shadows and incidence of
+every step; and the conduction nodes and hemisphere rays of each element). A frame's layers
+take about 200 B per pixel and 200 B per pixel and band (measured on 64 × 64 frames of one and
+four bands). A sequence held in memory (:func:`radscene.pipeline.render_sequence` without
+``output``) keeps every frame until the last: the frames times that. One written to disk as it
+is rendered (``render_sequence(..., output=...)``, ``radscene render``) holds one frame of every
+observer (two, :data:`STREAMED_FRAMES`, counting those being written and rendered) and the
+frame caches of incremental frames, 167 B a ray sample (measured on the demo,
+docs/benchmarks.md; :data:`FRAME_CACHE_SAMPLE_BYTES`), beside its largest render (the
+observers' estimates above), whatever the number of frames: peak resident memory of
+``radscene render`` of a 256 × 256 map of two bands, 2026-11-26: 399 MB for 3 frames, 407 MB
+for 12, 414 MB for 48 (held in memory: 476, 827 and 2 215 MB); of the demo, 1.83 GB for 3
+frames and 1.92 GB for 100 (held in memory they would need about 60 GB). Its files take
+at most :data:`DISK_PIXEL_BYTES` a pixel and :data:`DISK_PIXEL_BAND_BYTES` a pixel and band a
+frame (float32 layers, float64 geolocation, before compression), checked against the space free
+in the output folder (:func:`check_sequence_disk`, :func:`free_disk_space`).
+:func:`radscene.pipeline.render_sequence` and :func:`radscene.pipeline.solve_thermal` check
+them before their first step, ``radscene check`` too (a sequence as ``radscene render`` writes
+it, into the default folder ``out``), against the same limit (:func:`memory_limit`).
 """
 
 from __future__ import annotations
 
 import math
 import os
+import shutil
 from pathlib import Path
 
 from radscene.errors import ConfigError
 
 __all__ = ["estimate", "available_memory", "check_memory", "parse_memory", "memory_limit",
-           "check_sequence_memory", "check_thermal_memory", "check_cube_memory", "dem_file_cells",
+           "check_sequence_memory", "check_sequence_disk", "free_disk_space", "check_thermal_memory", "check_cube_memory", "dem_file_cells",
            "image_files", "image_header", "grid_files", "grid_header"]
 
 BASE_BYTES = 300e6
@@ -75,6 +89,20 @@ CHANNEL_BYTES = 2000.0
 #: A frame of a sequence, held until the last one: per pixel, and per pixel and band.
 FRAME_PIXEL_BYTES = 200.0
 FRAME_PIXEL_BAND_BYTES = 200.0
+#: Frames of every observer a sequence written to disk frame by frame holds at once, beside
+#: its largest render: the images of one frame, and their float32 copies and the next
+#: frame's images while they are written and rendered. The demo's 100 frames peaked at
+#: 1.92 GB resident (3 frames: 1.83 GB) against 2.1 GB estimated (2026-11-26).
+STREAMED_FRAMES = 2.0
+#: The frame cache of incremental frames (:mod:`radscene.render.frame_cache`): per ray sample
+#: (measured 167 B on the demo, docs/benchmarks.md).
+FRAME_CACHE_SAMPLE_BYTES = 170.0
+#: A frame on disk at most: per pixel, and per pixel and band — half the bytes of the frame in
+#: memory (its layers float32 instead of float64), before compression, which only lowers it.
+#: The demo's frames took 242 B (map) and 227 B (oblique) a pixel of their 8 bands, gzip level
+#: 1, against 900 B estimated (2026-11-26).
+DISK_PIXEL_BYTES = 100.0
+DISK_PIXEL_BAND_BYTES = 100.0
 #: A heat balance: per element and time step, per element and conduction node, per element
 #: and hemisphere ray.
 THERMAL_ELEMENT_STEP_BYTES = 200.0
@@ -450,18 +478,90 @@ def _refuse(need: float, limit: tuple[float, str], key: str, what: str, advice: 
                           f"{limit[0] / 1e9:.1f} GB ({limit[1]}): {advice}", key=key)
 
 
+def _frame_bytes(observers, pixel: float, pixel_band: float) -> float:
+    """A frame's bytes of ``observers`` (each ``(shape, bands[, samples])``) at ``pixel`` B a
+    pixel and ``pixel_band`` B a pixel and band."""
+    return sum(float(shape[0]) * float(shape[1]) * (pixel + bands * pixel_band)
+               for shape, bands, *_ in observers)
+
+
 def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
-                          key: str = "time.step") -> float:
-    """Refuse a sequence of ``frames`` frames of ``observers`` (each ``(shape, bands)``: its
-    rendered (rows, columns) and its number of bands) whose held frames exceed ``limit``
-    ((bytes, source), :func:`memory_limit`); returns the bytes estimated."""
-    per_frame = sum(float(shape[0]) * float(shape[1]) * (FRAME_PIXEL_BYTES
-                                                         + bands * FRAME_PIXEL_BAND_BYTES)
-                    for shape, bands in observers)
-    need = BASE_BYTES + float(frames) * per_frame
-    _refuse(need, limit, key, f"the sequence of {frames:,} frames ({per_frame / 1e6:.3g} MB "
-            "each, all held until the last)", "a longer step, a shorter span, fewer pixels or "
-            "fewer observers")
+                          key: str = "time.step", streamed: bool = False,
+                          render: float = BASE_BYTES) -> float:
+    """Refuse a sequence of ``frames`` frames of ``observers`` whose memory exceeds ``limit``
+    ((bytes, source), :func:`memory_limit`); returns the bytes estimated.
+
+    Parameters
+    ----------
+    frames : int
+    observers : sequence of tuple
+        Per observer ``(shape, bands)`` or ``(shape, bands, samples)``: its rendered (rows,
+        columns), its number of bands and the ray samples its frame cache keeps (rows ×
+        columns × supersample²; 0 without a cache).
+    limit : (float, str)
+    key : str
+    streamed : bool
+        False: every frame is held until the last, ``frames`` × the frame's bytes.
+        True: each frame is written to disk as it is rendered (``render_sequence(...,
+        output=...)``, ``radscene render``): the largest render (``render``), and beside it
+        :data:`STREAMED_FRAMES` frames of every observer (the last one's images while they
+        are written, the next one's as its observers are rendered) and the frame caches
+        (:data:`FRAME_CACHE_SAMPLE_BYTES` a sample), whatever the number of frames.
+    render : float
+        With ``streamed``: the largest render's estimate, the base included (:func:`estimate`)
+        [bytes].
+    """
+    per_frame = _frame_bytes(observers, FRAME_PIXEL_BYTES, FRAME_PIXEL_BAND_BYTES)
+    if not streamed:
+        need = BASE_BYTES + float(frames) * per_frame
+        _refuse(need, limit, key, f"the sequence of {frames:,} frames ({per_frame / 1e6:.3g} MB "
+                "each, all held until the last)", "a longer step, a shorter span, fewer pixels "
+                "or fewer observers")
+        return need
+    cache = FRAME_CACHE_SAMPLE_BYTES * sum(
+        float(o[2]) if len(o) > 2 else float(o[0][0]) * float(o[0][1]) for o in observers)
+    need = max(render, BASE_BYTES) + STREAMED_FRAMES * per_frame + cache
+    _refuse(need, limit, key, f"the sequence of {frames:,} frames written as they come "
+            f"({per_frame / 1e6:.3g} MB a frame, {cache / 1e6:.3g} MB of frame caches, beside "
+            "its largest render)", "fewer pixels, a lower supersample or fewer observers")
+    return need
+
+
+def free_disk_space(folder) -> float:
+    """The bytes free for this user on the file system of ``folder`` (or of its nearest
+    existing parent, when it does not exist yet); infinite when it cannot be told."""
+    path = Path(folder).absolute()
+    for candidate in (path, *path.parents):
+        if candidate.is_dir():
+            try:
+                return float(shutil.disk_usage(candidate).free)
+            except OSError:
+                return float("inf")
+    return float("inf")
+
+
+def check_sequence_disk(frames: int, observers, folder, key: str = "time.step") -> float:
+    """Refuse a sequence of ``frames`` frames of ``observers`` (as for
+    :func:`check_sequence_memory`) streamed into ``folder`` when its files would not fit in
+    the space free there (:func:`free_disk_space`); returns the bytes estimated.
+
+    A frame takes at most :data:`DISK_PIXEL_BYTES` a pixel and :data:`DISK_PIXEL_BAND_BYTES`
+    a pixel and band (its layers as float32, the geolocation as float64, before compression,
+    which only lowers it); the files grow in place, so nothing more is needed at the end.
+
+    Raises
+    ------
+    ConfigError
+        Naming ``key``, with the bytes needed and free.
+    """
+    per_frame = _frame_bytes(observers, DISK_PIXEL_BYTES, DISK_PIXEL_BAND_BYTES)
+    need = float(frames) * per_frame
+    free = free_disk_space(folder)
+    if need > free:
+        raise ConfigError(f"the sequence of {frames:,} frames needs up to {need / 1e9:,.1f} GB of "
+                          f"disk ({per_frame / 1e6:.3g} MB a frame before compression); {folder} "
+                          f"has {free / 1e9:,.1f} GB free: a folder on a larger disk, a longer "
+                          "step, a shorter span, fewer pixels or fewer observers", key=key)
     return need
 
 
