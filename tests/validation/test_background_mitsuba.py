@@ -12,7 +12,8 @@ Two scenes, grey Lambertian surfaces, no atmosphere (τ = 1, black sky):
 
 Band radiance within 2 % (Mitsuba at 1024 samples per pixel, radscene at 1024 paths per
 pixel; both noises are well below that over the compared means). Skipped where Mitsuba is not
-installed (``pip install mitsuba``, in the ``dev`` extra).
+installed (``pip install mitsuba``, in the ``dev`` extra); in ``make test`` (about 20 s),
+so continuous integration, which installs the ``dev`` extra, runs them.
 """
 
 from __future__ import annotations
@@ -114,7 +115,6 @@ def _groove_files(tmp_path):
     return paths
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("bounces", [1, 3])
 def test_v_groove_radiance_matches_mitsuba(tmp_path, bounces):
     files = _groove_files(tmp_path)
@@ -156,7 +156,6 @@ def _rings(image, edges):
                                                                            strict=True)])
 
 
-@pytest.mark.slow
 def test_box_on_a_plane_matches_mitsuba(tmp_path):
     lo, hi = 0.5, 0.6
     wl = np.linspace(lo, hi, 20001)

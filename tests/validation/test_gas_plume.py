@@ -188,6 +188,7 @@ def test_co2_band_outshines_the_window(plume):
     ({"co2": -0.1}, "volumes[0].gas.co2"),
     ({"co2": 1.2}, "volumes[0].gas.co2"),
     ({"co2": 0.6, "h2o": 0.6}, "volumes[0].gas"),
+    ({"co2": 0.0, "h2o": 0.0}, "volumes[0].gas"),
     ({"ch4": 0.1}, "volumes[0].gas"),
     ({"model": "hitran"}, "volumes[0].gas.model"),
     ({"pressure": "0.01 atm"}, "volumes[0].gas.pressure"),

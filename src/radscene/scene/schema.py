@@ -664,6 +664,9 @@ class GasSpec(_Model):
     def _fractions(self):
         if self.co2 + self.h2o > 1.0:
             raise ValueError(f"the mole fractions sum to {self.co2 + self.h2o:g} > 1")
+        if self.co2 + self.h2o <= 0.0:
+            raise ValueError("a gas plume needs its composition: a mole fraction co2 or h2o > 0 "
+                             "(neither given, it would neither emit nor absorb)")
         return self
 
 
