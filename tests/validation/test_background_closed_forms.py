@@ -221,6 +221,38 @@ def test_facing_plates_converge_to_the_infinite_series():
     assert float(one["background_reflected"].mean()) < 0.8 * infinite
 
 
+@pytest.mark.parametrize("extinction", [0.0, 1e-3, 5e-3])
+def test_the_air_between_facing_plates_dims_and_glows_as_the_exponential_integral(
+        monkeypatch, extinction):
+    """Air of extinction k [m-1] between two infinite plates a gap D apart (the upper black,
+    at 350 K; the lower grey, ρ = 0.3), under a uniform sky of band radiance L_s: one bounce
+    of background on the lower plate is ρ [2 E₃(kD) B₂ + (1 − 2 E₃(kD)) L_s] — the upper
+    plate's radiance dimmed along every slant path D/μ and the air's own radiance, that of a
+    long horizontal path (the sky's at the horizon), over the rest (E₃ the exponential
+    integral; Chandrasekhar 1960, the flux through a slab)."""
+    from scipy.special import expn
+
+    import radscene.render.band_setup as band_setup
+
+    gap, rho, sky = 100.0, 0.3, 3.0  # [m], [-], [W m-2 sr-1 um-1]
+    monkeypatch.setattr(band_setup, "air_extinction",
+                        lambda atmosphere, altitude, quadrature: np.full(len(quadrature), extinction))
+    scene = _plates_scene(1, rho1=rho, rho2=0.0, samples=256)
+    scene["environment"] = {"sun": {"zenith": 120.0, "azimuth": 180.0},
+                            "atmosphere": {"type": "uniform", "sky_radiance": sky}}
+    for plate in scene["objects"]:
+        plate["shape"] = {"type": "plate", "width": 200 * gap, "length": 200 * gap}
+    scene["objects"][1]["position"] = [0, 0, gap]
+    scene["observers"][0]["position"] = [0, 0, gap / 2]
+    got = float(render(load_scene(scene))["background_reflected"].mean())
+    slab = 2.0 * float(expn(3, extinction * gap))
+    b2 = float(band_radiance(8.0, 12.0, 350.0))
+    want = rho * (slab * b2 + (1.0 - slab) * sky * 4.0)  # the 8-12 um band: 4 um of sky
+    assert got == pytest.approx(want, rel=5e-3)
+    if extinction > 0.0:  # the air matters here: 8-37 % of the upper plate's light
+        assert abs(got / (rho * b2) - 1.0) > 0.02
+
+
 def _mirror_scene(band, wall_temperature):
     """A horizontal mirror (ρ_s = 0.9, n = 20 000) in front of a box whose south face is lit
     by a sun in the south at 30° zenith; the camera sees the face in the mirror."""

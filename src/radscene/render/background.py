@@ -203,9 +203,41 @@ def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None) -> 
     return out
 
 
-def _segment(media, origin, direction, distance, beta, out, rows, sky=None):
-    """A path segment through the ``media``: adds β L_v (and β T L_sky where ``sky`` (N, n_b)
-    is the sky at its end) to ``out`` at ``rows``; returns β T, the weight beyond it."""
+#: Zenith angle [deg] at which the sky is read for the radiance of the air along a
+#: horizontal path (:func:`horizon_radiance`): just above the horizon.
+HORIZON_ZENITH = 89.5
+
+
+def horizon_radiance(tables, directions) -> np.ndarray:
+    """The sky's band radiance at the horizon in the azimuths of ``directions`` (N, 3):
+    (N, n_b) [W m-2 sr-1], the radiance of a long horizontal path of the ground's air."""
+    d = np.asarray(directions, dtype=float)
+    if len(d) == 0:
+        return np.zeros((0, tables.bands))
+    azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
+    zenith = np.full(len(d), min(HORIZON_ZENITH, float(tables.sky_nodes[0][-1])))
+    return sky_node_weights(zenith, azimuth, *tables.sky_nodes) @ tables.sky.T
+
+
+def air_path(tables, direction, distance):
+    """τ (N, n_b) and L (N, n_b) of the air along segments of ``distance`` (N,) [m] between
+    surfaces: e^{−k d} and (1 − e^{−k d}) L_horizon (:func:`~radscene.render.
+    background_tables.air_extinction`, :func:`horizon_radiance`)."""
+    k = tables.air_extinction
+    trans = np.exp(-np.asarray(distance, dtype=float)[:, None] * k[None, :])
+    if not np.any(k > 0.0):
+        return trans, np.zeros_like(trans)
+    return trans, (1.0 - trans) * horizon_radiance(tables, direction)
+
+
+def _segment(media, origin, direction, distance, beta, out, rows, sky=None, tables=None):
+    """A path segment through the ``media`` and, between surfaces (``distance`` given), the
+    ground's air (:func:`air_path`, with ``tables``): adds β L (and β T L_sky where ``sky``
+    (N, n_b) is the sky at its end) to ``out`` at ``rows``; returns β T, the weight beyond it."""
+    if distance is not None and tables is not None:
+        trans, light = air_path(tables, direction, distance)
+        _add(out, rows, beta * light)
+        beta = beta * trans
     if media is None:
         if sky is not None:
             _add(out, rows, beta * sky)
@@ -267,7 +299,8 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
             tracer, tables, origin, normal, wo, material, u, fan, start, min(start + step, n),
             kept)
         alive = np.arange(len(paths))  # rows of paths
-        beta = _segment(media, origin[point], d, hits.distance, beta, out, point)
+        beta = _segment(media, origin[point], d, hits.distance, beta, out, point,
+                        tables=tables)
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
@@ -296,7 +329,8 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
                          sky_radiance(tables, d[sky]))
             keep = hits.hit
             alive, beta, d, hits = alive[keep], beta[keep], d[keep], first.take(hits, keep)
-            beta = _segment(media, o[keep], d, hits.distance, beta, out, point[alive])
+            beta = _segment(media, o[keep], d, hits.distance, beta, out, point[alive],
+                            tables=tables)
     out /= samples
     return out
 
@@ -354,6 +388,9 @@ def _path_reference(tracer, tables, o, d, beta, u, path, sun, epsilon, shadows, 
                 trans, light = _along_reference(media, o, d, None)
                 out += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
             break
+        air, glow = air_path(tables, d, hits.distance)
+        out += beta[0] * glow[0]
+        beta = beta * air
         trans, light = _along_reference(media, o, d, hits.distance)
         out += beta[0] * light
         beta = beta * trans
@@ -437,6 +474,9 @@ def render_tables(scene, tables, bset, thermal) -> BackgroundTables:
     """The band tables (:func:`band_tables`) of one render: ``tables``, ``bset`` and
     ``thermal`` as for :func:`for_render`; also those that reflect the volumes' own radiance
     where the render has no background pass."""
-    return band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
-                       bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
-                       tables.face_material, tables.face_temperature)
+    out = band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
+                      bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
+                      tables.face_material, tables.face_temperature)
+    out.air_extinction = np.asarray(getattr(bset, "air_extinction", out.air_extinction),
+                                    dtype=float)
+    return out

@@ -41,6 +41,8 @@ class BackgroundTables:
     emission : (n_m, n_t, n_b) ∫ S ε_m B(λ, T_t) dλ [W m-2 sr-1]
     temperature_nodes : (n_t,) [K]
     face_offset, face_material, face_temperature : the scene's per-face tables
+    air_extinction : (n_b,) the air's extinction coefficient at the ground [m-1], which
+        dims the paths between surfaces (:func:`air_extinction`; zeros: clear air)
     """
 
     diffuse: np.ndarray
@@ -59,6 +61,11 @@ class BackgroundTables:
     face_offset: np.ndarray
     face_material: np.ndarray
     face_temperature: np.ndarray
+    air_extinction: np.ndarray | None = None
+
+    def __post_init__(self):
+        if self.air_extinction is None:
+            self.air_extinction = np.zeros(len(self.centre))
 
     @property
     def bands(self) -> int:
@@ -141,6 +148,31 @@ def band_tables(materials, brdfs, quadrature, sun_spectra, sky, sky_nodes, therm
                             sun, np.asarray(sky, dtype=float), sky_nodes, emission, t_nodes,
                             np.asarray(face_offset), np.asarray(face_material),
                             np.asarray(face_temperature, dtype=float))
+
+
+#: Height of the vertical path whose optical depth gives the air's extinction at the ground
+#: (:func:`air_extinction`) [m].
+AIR_LAYER = 100.0
+
+
+def air_extinction(atmosphere, altitude, quadrature) -> np.ndarray:
+    """The air's band extinction coefficient at the ground, (n_b,) [m-1]: the optical depth
+    −ln τ of the vertical path from ``altitude`` [m] up :data:`AIR_LAYER` over its height,
+    averaged over each band's ``quadrature`` (nodes [um], weights). It dims a path of length
+    d between two surfaces by e^{−k d}; the path's own radiance is (1 − e^{−k d}) times the
+    sky's at the horizon in its direction, the radiance of a long horizontal path of the
+    same air. Zeros for an engine whose spectra do not depend on the path
+    (``geometry_dependent`` False: vacuum, or the user's own ``uniform`` spectra)."""
+    out = np.zeros(len(quadrature))
+    if not getattr(atmosphere, "geometry_dependent", False):
+        return out
+    for b, (nodes, weights) in enumerate(quadrature):
+        tau = np.asarray(atmosphere.path(altitude + AIR_LAYER, altitude, 0.0,
+                                         nodes).transmittance, dtype=float).ravel()
+        with np.errstate(divide="ignore"):
+            k = -np.log(np.clip(tau, 1e-300, 1.0)) / AIR_LAYER
+        out[b] = float(weights @ k / weights.sum())
+    return out
 
 
 def brdf_reference(tables, material, wi, wo, normal) -> np.ndarray:

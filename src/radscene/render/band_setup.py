@@ -19,6 +19,7 @@ import numpy as np
 
 from radscene.atmosphere import CouplingSpectra, SkyGeometry, sky_node_weights
 from radscene.atmosphere.nodes import fold_relative_azimuth
+from radscene.render.background_tables import air_extinction
 from radscene.render.brdf_tables import BrdfTables
 from radscene.render.coupling_pass import CouplingTables
 from radscene.render.spectral import (
@@ -120,6 +121,9 @@ class BandSetup:
         self.coupling = (CouplingTables(self.quadrature, taus, couplings, n_s * n_j)
                          if atm_ref.couples and scene.settings.coupling else None)
         self.sky_nodes = (zen_nodes, az_nodes)
+        # the air between the scene's surfaces (the background's short paths)
+        self.air_extinction = air_extinction(atm_ref, float(scene.location.altitude),
+                                             self.quadrature)
         self.brdf = BrdfTables(scene, bands, self.quadrature, path_nodes, suns, target_alt,
                                sky_zenith, sky_azimuth, self.sky_scale
                                ) if scene.brdfs else None
