@@ -121,12 +121,19 @@ class BandSetup:
         self.coupling = (CouplingTables(self.quadrature, taus, couplings, n_s * n_j)
                          if atm_ref.couples and scene.settings.coupling else None)
         self.sky_nodes = (zen_nodes, az_nodes)
-        # the air between the scene's surfaces (the background's short paths)
-        self.air_extinction = air_extinction(atm_ref, float(scene.location.altitude),
-                                             self.quadrature)
+        self._air = (atm_ref, float(scene.location.altitude))
         self.brdf = BrdfTables(scene, bands, self.quadrature, path_nodes, suns, target_alt,
                                sky_zenith, sky_azimuth, self.sky_scale
                                ) if scene.brdfs else None
+
+    @property
+    def air_extinction(self) -> np.ndarray:
+        """The air's band extinction coefficient at the ground, (n_b,) [m-1], for the
+        background's paths between surfaces (:func:`~radscene.render.background_tables.
+        air_extinction`); worked out when first asked for."""
+        if not hasattr(self, "_air_extinction"):
+            self._air_extinction = air_extinction(*self._air, self.quadrature)
+        return self._air_extinction
 
 
 def _sky_table(rho, sky, tau):
