@@ -62,3 +62,15 @@ def test_terms_figure_layers_sum_to_the_radiance(slab):
         n for n in TERM_LAYERS if n in slab}
     total = sum(slab[name].values for name in shown)
     assert np.allclose(total, slab["radiance"].values, rtol=1e-12, atol=0.0)
+
+
+def test_truth_panels_of_a_map_product_have_its_map_axes(slab):
+    from radscene.io.quicklook import band_plot, truth_plot
+
+    band_ax = band_plot(slab, "vis").axes[0]
+    expected = [t.get_text() for t in band_ax.get_xticklabels()]
+    assert band_ax.get_xlabel() == "easting [m]" and expected
+    panels = [ax for ax in truth_plot(slab).axes if ax.get_label() != "<colorbar>"]
+    assert panels
+    for ax in panels:
+        assert [t.get_text() for t in ax.get_xticklabels()] == expected, ax.get_title()

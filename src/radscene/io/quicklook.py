@@ -356,8 +356,10 @@ def _palette(n: int) -> list:
     return colours[:n]
 
 
-def _categorical(fig, ax, variable: xr.DataArray, title: str) -> None:
-    """A map of categories in a discrete colour map, with a legend of the names present."""
+def _categorical(fig, ax, variable: xr.DataArray, title: str, extent=None,
+                 legend_right: bool = False) -> None:
+    """A map of categories in a discrete colour map, with a legend of the names present
+    (below the map, or right of it when the map has axes of its own: ``legend_right``)."""
     ids = np.asarray(variable.values).astype(int)
     names = categories(variable)
     present = sorted(int(v) for v in np.unique(ids) if v >= 0)
@@ -369,7 +371,7 @@ def _categorical(fig, ax, variable: xr.DataArray, title: str) -> None:
     for k, value in enumerate(present):
         rank[ids == value] = k
     norm = BoundaryNorm(np.arange(len(present) + 1) - 0.5, max(len(present), 1))
-    ax.imshow(rank, cmap=cmap, norm=norm, interpolation="nearest")
+    ax.imshow(rank, cmap=cmap, norm=norm, interpolation="nearest", extent=extent)
     handles = [Patch(facecolor=colour_of[v], edgecolor="0.3", linewidth=0.3,
                      label=names.get(v, str(v))) for v in present]
     if len(handles) > MAX_LEGEND_ENTRIES:
@@ -379,11 +381,17 @@ def _categorical(fig, ax, variable: xr.DataArray, title: str) -> None:
     if np.any(ids < 0):
         handles.append(Patch(facecolor=NO_CATEGORY_COLOUR, edgecolor="0.3", linewidth=0.3,
                              label="(none)"))
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.02), fontsize=6,
-              frameon=False, borderaxespad=0.0, handlelength=1.0, ncol=3, columnspacing=0.8)
+    if legend_right:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=6,
+                  frameon=False, borderaxespad=0.0, handlelength=1.0)
+    else:
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.02), fontsize=6,
+                  frameon=False, borderaxespad=0.0, handlelength=1.0, ncol=3,
+                  columnspacing=0.8)
     ax.set_title(title, fontsize=8)
-    ax.set_xticks([])
-    ax.set_yticks([])
+    if not legend_right:
+        ax.set_xticks([])
+        ax.set_yticks([])
 
 
 def truth_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
@@ -391,10 +399,29 @@ def truth_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     return _save(truth_plot(ds), path)
 
 
+def _truth_axes(ax, ds, extent, shape, left: bool, bottom: bool) -> None:
+    """A truth panel's axes, those of the band PNGs (:func:`band_plot`): map axes [m] for a
+    map product, angles off the boresight for a perspective camera, none otherwise; the
+    axis labels on the figure's left column and bottom row only."""
+    if extent is None and observer_fov(ds) is None:
+        ax.set_xticks([])
+        ax.set_yticks([])
+        return
+    _axes_for(ax, ds, extent, shape)
+    ax.tick_params(labelsize=6)
+    ax.xaxis.label.set_fontsize(7)
+    ax.yaxis.label.set_fontsize(7)
+    if not left:
+        ax.set_ylabel("")
+    if not bottom:
+        ax.set_xlabel("")
+
+
 def truth_plot(ds: xr.Dataset) -> Figure:
     """The geometric truth maps of a render in one figure: the object and material maps in
     named categories, the others with colour bars; maps without a finite value are left out
-    and named in a note."""
+    and named in a note. The maps have the axes of the band PNGs: map axes [m] for a map
+    product, angles off the boresight for a perspective camera."""
     layers = [("object_id", None), ("material_id", None), ("range", "viridis"),
               ("cos_incidence", "gray"), ("shadow_fraction", "gray_r"),
               ("sky_view_fraction", "gray"), ("surface_temperature", "inferno")]
@@ -413,9 +440,14 @@ def truth_plot(ds: xr.Dataset) -> Figure:
     columns = 4
     rows = max(1, math.ceil(len(panels) / columns))
     fig, axes = subplots(rows, columns, figsize=(14, 3.3 * rows + 0.5), squeeze=False)
-    for ax, (name, cmap) in zip(axes.ravel(), panels, strict=False):
+    extent = _extent(ds)
+    with_axes = extent is not None or observer_fov(ds) is not None
+    shape = (ds.sizes["y"], ds.sizes["x"])
+    for k, (ax, (name, cmap)) in enumerate(zip(axes.ravel(), panels, strict=False)):
+        left, bottom = k % columns == 0, k + columns >= len(panels)
         if name.endswith("_id"):
-            _categorical(fig, ax, ds[name], name.replace("_", " "))
+            _categorical(fig, ax, ds[name], name.replace("_", " "), extent, with_axes)
+            _truth_axes(ax, ds, extent, shape, left, bottom)
             continue
         if name == "surface_normal":
             image, title = normal, "surface normal, up component"
@@ -423,10 +455,10 @@ def truth_plot(ds: xr.Dataset) -> Figure:
             image = ds[name].values.astype(float)
             title = _bracketed(name.replace("_", " "), ds[name].attrs.get("units"))
         lo, hi = _display_limits(image, 0, 100)
-        im = ax.imshow(image, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
+        im = ax.imshow(image, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest",
+                       extent=extent)
         ax.set_title(title, fontsize=8)
-        ax.set_xticks([])
-        ax.set_yticks([])
+        _truth_axes(ax, ds, extent, shape, left, bottom)
         _colorbar(fig, im, ax, image, shrink=0.8).ax.tick_params(labelsize=6)
     for ax in axes.ravel()[len(panels):]:
         fig.delaxes(ax)
