@@ -174,7 +174,9 @@ def _boresight(scene, camera) -> dict:
     times the angular pitch ``2 tan(fov / 2) / columns``: the pitch on a plane facing the
     camera); ``gsd_boresight_surface_m`` that footprint stretched over the surface hit, along
     the plane of incidence (divided by the cosine of the angle between the boresight and the
-    surface's normal). All three are None when the boresight meets no surface.
+    surface's normal). All three are None when the boresight meets no surface. The pixels are
+    those of the recorded ``shape``, the render's: with a sensor that oversamples its detector
+    ``k`` times, a detector pixel's footprint is ``k`` times larger.
     """
     import numpy as np
 
