@@ -180,6 +180,10 @@ def _boresight(scene, camera) -> dict:
     """
     import numpy as np
 
+    nothing = {"boresight_range_m": None, "gsd_boresight_m": None,
+               "gsd_boresight_surface_m": None}
+    if not scene.objects:
+        return nothing
     cached = scene.render_cache.get("tables")
     tracer = getattr(cached, "tracer", None)
     if tracer is None:
@@ -192,8 +196,7 @@ def _boresight(scene, camera) -> dict:
     axis = np.asarray(camera.forward, dtype=float)
     hits = tracer.intersect(np.asarray(camera.position, dtype=float)[None, :], axis[None, :])
     if not bool(hits.hit[0]):
-        return {"boresight_range_m": None, "gsd_boresight_m": None,
-                "gsd_boresight_surface_m": None}
+        return nothing
     distance = float(hits.distance[0])
     across = distance * float(camera.pixel_pitch)
     cosine = abs(float(np.dot(hits.normal[0], axis)))
