@@ -185,3 +185,67 @@ def test_schema_command_writes_the_schema(tmp_path, one_line_refusal):
     refused = subprocess.run([sys.executable, "-m", "radscene", "schema", "-o", str(tmp_path)],
                              capture_output=True, text=True, timeout=120)
     assert refused.returncode == 2 and one_line_refusal(refused.stderr, "output")
+
+
+def _example_cell(row: str) -> str:
+    return [c.strip() for c in re.split(r"(?<!\\)\|", row)[1:-1]][5]
+
+
+def test_no_reference_row_has_a_placeholder_example(reference):
+    rows = [line for line in reference.splitlines() if line.startswith("| `")]
+    placeholders = [row.split("`")[1] for row in rows if "{…}" in _example_cell(row)]
+    assert not placeholders, placeholders
+
+
+def _strings(cell: str) -> set:
+    """The strings of an example cell's JSON value (none when it is cut short or a link)."""
+    try:
+        value = json.loads(cell.strip("`"))
+    except ValueError:
+        return set()
+    out, stack = set(), [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            out.add(item)
+        elif isinstance(item, list | dict):
+            stack.extend(item.values() if isinstance(item, dict) else item)
+    return out
+
+
+def test_length_examples_are_plausible(reference):
+    """No length shows the unit's generic example ("2 km" whatever it measures): each comes
+    from a bundled scene, its default or the table of examples; a road is metres wide."""
+    generic = []
+    for name in schema_models():
+        section = reference.split(f"\n## {name}\n", 1)[1].split("\n## ", 1)[0]
+        for row in (line for line in section.splitlines() if line.startswith("| `")):
+            if "length" in row.split("|")[2] and _strings(_example_cell(row)) == {"2 km"}:
+                generic.append(f"{name}.{row.split('`')[1]}")
+    assert not generic, generic
+    width = _example_cell(_row(reference, "RoadSpec", "width")).strip("`")
+    from radscene.radiometry.units import parse_quantity
+
+    assert 2.0 <= parse_quantity(json.loads(width), "length") <= 30.0
+
+
+def test_table_examples_are_valid_values_of_their_keys(schema):
+    """Each example of the table names a key of its model and passes both the JSON schema and
+    the loader's model of that key."""
+    from typing import Annotated
+
+    from pydantic import TypeAdapter
+
+    from radscene.scene.reference import KEY_EXAMPLES
+
+    models = schema_models()
+    defs = schema["definitions"]
+    for (name, key), example in KEY_EXAMPLES.items():
+        field = models[name].model_fields[key]
+        target = schema if name == "SceneSpec" else defs[name]
+        prop = {"definitions": defs, **target["properties"][key]}
+        errors = list(jsonschema.Draft7Validator(prop).iter_errors(example))
+        assert not errors, (name, key, errors[0].message)
+        annotation = Annotated[(field.annotation, *field.metadata)] if field.metadata \
+            else field.annotation
+        TypeAdapter(annotation).validate_python(example)

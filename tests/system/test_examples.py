@@ -22,3 +22,42 @@ def test_example_loads(name):
     scene = radscene.load_scene(radscene.example_path(name))
     assert scene.observers
     assert scene.bands or all(o.spectral is not None for o in scene.observers)
+
+
+def _object_id_map(scene, setup):
+    """The object_id truth map of an observer's render (the object each pixel's centre ray
+    meets first, -1 for none), traced without rendering: the render's heat balance and
+    radiometry take minutes, the rays a second."""
+    import numpy as np
+
+    from radscene.geometry import RayTracer
+
+    tracer = RayTracer([obj.mesh for obj in scene.objects])
+    rays = setup.camera.rays(supersample=1)
+    hits = tracer.intersect(rays.origins, rays.directions)
+    ids = np.full(rays.shape[0] * rays.shape[1], -1)
+    ids[rays.pixel[hits.hit]] = hits.object[hits.hit]
+    return ids.reshape(rays.shape)
+
+
+def test_thermal_cameras_frame_every_vehicle():
+    """Each thermal camera of the thermal example sees the truck and both cars whole: each
+    covers at least 400 pixels of the render (25 detector pixels at the sensors' 4x
+    oversampling) and none is cut by the edge of the image."""
+    import numpy as np
+
+    scene = radscene.load_scene(radscene.example_path("thermal_cameras"))
+    names = [obj.name for obj in scene.objects]
+    vehicles = ("truck", "car_1", "car_2")
+    assert set(vehicles) <= set(names)
+    thermal = [o for o in scene.observers
+               if all(scene.band(b).response.center >= 2.5 for b in o.bands)]
+    assert {o.name for o in thermal} == {"mwir", "lwir"}
+    for setup in thermal:
+        ids = _object_id_map(scene, setup)
+        ny, nx = ids.shape
+        for vehicle in vehicles:
+            rows, cols = np.nonzero(ids == names.index(vehicle))
+            assert len(rows) >= 400, (setup.name, vehicle, len(rows))
+            assert rows.min() > 0 and cols.min() > 0, (setup.name, vehicle)
+            assert rows.max() < ny - 1 and cols.max() < nx - 1, (setup.name, vehicle)

@@ -152,3 +152,60 @@ def test_python_api_outputs_carry_it_too(tmp_path, monkeypatch):
     assert yaml.safe_load(ds.attrs["scene_document"]) == scene
     assert ds.attrs["scene_base_dir"] == str(tmp_path.resolve())  # a dict's files: from here
     assert {f["key"] for f in json.loads(ds.attrs["scene_files"])} == {"terrain.file"}
+
+
+def _plate_view(tmp_path):
+    """A flat 400 m plate seen by a perspective camera 100 m west of and 100 m above the point
+    it looks at, and by a map camera."""
+    scene = {
+        "name": "plate_view",
+        "environment": {"sun": {"zenith": 30.0, "azimuth": 180.0},
+                        "atmosphere": {"type": "none"}},
+        "materials": {"grey": {"reflectance": 0.3}},
+        "objects": [{"name": "plate", "shape": {"type": "plate", "width": 400, "length": 400},
+                     "material": "grey", "temperature": "300 K"}],
+        "bands": [{"name": "red", "min": "0.6 um", "max": "0.7 um"}],
+        "observers": [{"name": "oblique", "type": "perspective", "position": [-100, 20, 100],
+                       "look_at": [0, 20, 0], "fov": 10, "shape": [8, 10]},
+                      {"name": "map", "type": "orthographic", "center": [0, 0], "gsd": 2.0,
+                       "shape": [4, 4], "altitude": 1000}],
+        "render": {"sky_samples": 4},
+    }
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene, sort_keys=False))
+    return path
+
+
+def test_perspective_output_records_its_attitude_and_boresight_gsd(tmp_path):
+    """A look-at camera's output records the attitude it was turned to (yaw = the azimuth of
+    the boresight, east 90 deg; pitch = its elevation, 45 deg down; roll 0) and the GSD where
+    the boresight meets the plate: the slant range sqrt(2) 100 m times the angular pitch
+    2 tan(5 deg) / 10 across the line of sight, sqrt(2) times that on the plate seen at 45 deg."""
+    path = _plate_view(tmp_path)
+    _render([path, "-o", tmp_path / "out"])
+    with xr.open_dataset(tmp_path / "out" / "oblique.nc") as ds:
+        geometry = json.loads(ds.attrs["observer_geometry"])
+    assert geometry["attitude_deg"] == pytest.approx([90.0, -45.0, 0.0], abs=1e-9)
+    slant = 100.0 * np.sqrt(2.0)
+    pitch = 2.0 * np.tan(np.radians(5.0)) / 10
+    assert geometry["boresight_range_m"] == pytest.approx(slant, rel=1e-9)
+    assert geometry["gsd_boresight_m"] == pytest.approx(slant * pitch, rel=1e-9)
+    assert geometry["gsd_boresight_surface_m"] == pytest.approx(np.sqrt(2.0) * slant * pitch,
+                                                                rel=1e-9)
+    # a map camera's GSD is its own setting: no boresight to trace, no attitude derived
+    with xr.open_dataset(tmp_path / "out" / "map.nc") as ds:
+        geometry = json.loads(ds.attrs["observer_geometry"])
+    assert geometry["gsd_m"] == 2.0
+    assert "attitude_deg" not in geometry and "gsd_boresight_m" not in geometry
+
+
+def test_a_boresight_that_meets_nothing_records_no_gsd(tmp_path):
+    from radscene.pipeline.provenance import provenance
+
+    scene = yaml.safe_load(_plate_view(tmp_path).read_text())
+    scene["observers"][0].pop("look_at")
+    scene["observers"][0]["attitude"] = [30.0, 10.0, 5.0]  # above the horizon, rolled
+    geometry = json.loads(provenance(radscene.load_scene(scene), "oblique")["observer_geometry"])
+    assert geometry["attitude_deg"] == [30.0, 10.0, 5.0]
+    assert geometry["boresight_range_m"] is None and geometry["gsd_boresight_m"] is None
+    assert geometry["gsd_boresight_surface_m"] is None

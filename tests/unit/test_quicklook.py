@@ -153,3 +153,31 @@ def test_bands_without_data_are_left_out_with_a_note(tmp_path):
     fig = terms_plot(ds)
     assert "lwir" in fig.get_suptitle()
     assert all(ax.get_images() for ax in fig.axes if ax.get_label() != "<colorbar>")
+
+
+def _tick_labels(ax):
+    return ([t.get_text() for t in ax.get_xticklabels()],
+            [t.get_text() for t in ax.get_yticklabels()])
+
+
+def test_truth_panels_of_a_perspective_view_have_the_band_pictures_angle_axes():
+    ds = _dataset()
+    band_ax = band_plot(ds, "red").axes[0]
+    expected = _tick_labels(band_ax)
+    assert all(label.endswith("°") for label in expected[0] + expected[1])
+    fig = truth_plot(ds)
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert len(panels) == 7  # the maps with data, the surface temperature left out
+    for ax in panels:
+        assert _tick_labels(ax) == expected, ax.get_title()
+    # the axis labels once per row and column of panels
+    assert {ax.get_xlabel() for ax in panels} == {band_ax.get_xlabel(), ""}
+    assert {ax.get_ylabel() for ax in panels} == {band_ax.get_ylabel(), ""}
+    bottom = [ax for ax in panels if ax.get_xlabel()]
+    assert len(bottom) == 4
+
+
+def test_truth_panels_of_a_pixel_view_stay_without_ticks():
+    fig = truth_plot(_dataset(perspective=False))
+    panels = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert all(not ax.get_xticks().size and not ax.get_yticks().size for ax in panels)

@@ -34,6 +34,7 @@ import xarray as xr
 
 from radscene.errors import ConfigError
 from radscene.io.geotiff import _atomic, _crs, _prepare, _regular
+from radscene.render.outputs import TERM_LAYERS as _RADIANCE_LAYERS
 
 __all__ = ["write_cog", "write_map_cogs", "map_layers", "layer_names", "is_map_product", "LEVELS",
            "TRUTH_LAYERS", "TERM_LAYERS"]
@@ -43,11 +44,9 @@ LEVELS = ("none", "radiance", "maps", "all")
 #: The single-layer truth maps of level ``maps``.
 TRUTH_LAYERS = ("surface_temperature", "object_id", "material_id", "range", "shadow_fraction",
                 "sky_view_fraction", "cos_incidence")
-#: The band layers level ``all`` adds, where a render has them.
-TERM_LAYERS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected",
-               "path_radiance", "background_reflected", "multiple_reflection",
-               "diffuse_transmitted", "adjacency", "transmitted", "volume_emission",
-               "volume_scattered", "path_transmittance", "volume_transmittance")
+#: The band layers level ``all`` adds, where a render has them: every layer that sums to the
+#: radiance (:data:`radscene.render.outputs.TERM_LAYERS`) and the transmittances.
+TERM_LAYERS = _RADIANCE_LAYERS + ("path_transmittance", "volume_transmittance")
 
 
 def layer_names(level: str) -> tuple[str, ...]:

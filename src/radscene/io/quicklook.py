@@ -23,7 +23,7 @@ from matplotlib.ticker import MaxNLocator
 from radscene.io.files import atomic_output
 
 __all__ = ["band_quicklooks", "signal_quicklooks", "terms_figure", "truth_figure",
-           "band_plot", "terms_plot", "truth_plot", "stretch_limits", "colorbar_extend",
+           "band_plot", "terms_plot", "term_layers", "truth_plot", "stretch_limits", "colorbar_extend",
            "unit_text", "observer_fov", "categories"]
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
@@ -244,45 +244,88 @@ def terms_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     return _save(terms_plot(ds), path)
 
 
-def terms_plot(ds: xr.Dataset) -> Figure:
-    """A grid of images: one row per band, one column per signature term and the total.
+#: Panels in a row of the terms figure; a band with more layers wraps onto further rows.
+TERMS_COLUMNS = 5
 
-    Each row shares one colour scale (0.5–99.5 % of the total), so the size of each term in
-    its band can be read off; its colour bar shows where a term passes the scale. Bands
-    without a finite pixel and terms without one in any band are left out, named in a note.
+
+def term_layers(ds: xr.Dataset) -> tuple[list[str], dict[str, list[str]]]:
+    """The layers the terms figure shows: every layer of ``ds`` that sums to its radiance
+    (:data:`radscene.render.outputs.TERM_LAYERS`, in that order), less those it leaves out.
+
+    Returns
+    -------
+    shown : list of str
+        The layer names drawn, in summing order.
+    left_out : dict
+        ``{"all zero": [...], "no finite value": [...]}``: the layers present in ``ds`` but
+        not drawn, zero (or NaN) in every band with a finite radiance, or with no finite value
+        at all; they add nothing to the radiance.
     """
-    from radscene.render import TERMS
+    from radscene.render.outputs import TERM_LAYERS
 
-    names = [n for n in [*TERMS, "radiance"] if n in ds]
     bands = [b for b in ds["band"].values if np.isfinite(ds["radiance"].sel(band=b).values).any()]
-    names = [n for n in names if n == "radiance" or any(
-        np.isfinite(ds[n].sel(band=b).values).any() for b in bands)]
-    skipped = [f"band {b}" for b in ds["band"].values if b not in bands]
-    skipped += [n for n in TERMS if n in ds and n not in names]
+    shown, zero, empty = [], [], []
+    for name in (n for n in TERM_LAYERS if n in ds):
+        values = [ds[name].sel(band=b).values for b in bands]
+        finite = [v[np.isfinite(v)] for v in values]
+        if not any(f.size for f in finite):
+            empty.append(name)
+        elif not any(np.any(f != 0.0) for f in finite):
+            zero.append(name)
+        else:
+            shown.append(name)
+    return shown, {"all zero": zero, "no finite value": empty}
+
+
+def terms_plot(ds: xr.Dataset) -> Figure:
+    """Every layer that sums to the radiance, and the radiance, band by band.
+
+    The layers are those of :func:`term_layers` (:data:`radscene.render.outputs.TERM_LAYERS`
+    present in ``ds``: the signature terms, the reflected background, the coupling layers, the
+    sheet and volume layers), followed by the radiance they sum to, in rows of at most
+    :data:`TERMS_COLUMNS` panels per band. Each band shares one colour scale (0.5–99.5 % of
+    its radiance), so the size of each layer in its band can be read off; its colour bar shows
+    where a layer passes the scale. The layers zero everywhere, or without a finite value,
+    and the bands without a finite pixel are left out and named in the title.
+    """
+    shown, left_out = term_layers(ds)
+    names = [*shown, "radiance"]
+    bands = [b for b in ds["band"].values if np.isfinite(ds["radiance"].sel(band=b).values).any()]
+    notes = [f"{why}, not shown: {', '.join(n.replace('_', ' ') for n in layers)}"
+             for why, layers in left_out.items() if layers]
+    missing = [str(b) for b in ds["band"].values if b not in bands]
+    if missing:
+        notes.append(f"no finite radiance, not shown: band {', band '.join(missing)}")
     units = unit_text(ds["radiance"].attrs.get("units", "W m-2 sr-1"))
-    title = (f"signature terms [{units}] — {ds.attrs.get('observer', '')} (number: image mean)")
-    if skipped:
-        title += f"\nnot shown, no finite value: {', '.join(map(str, skipped))}"
-    n_b = max(len(bands), 1)
-    fig, axes = subplots(n_b, len(names), figsize=(2.2 * len(names) + 0.8, 2.0 * n_b + 0.8),
+    title = (f"radiance layers [{units}] — {ds.attrs.get('observer', '')}: each band's layers "
+             "sum to its last panel, the radiance (number: image mean)")
+    if notes:
+        title += "\n" + "; ".join(notes)
+    columns = min(len(names), TERMS_COLUMNS)
+    per_band = math.ceil(len(names) / columns)
+    n_rows = max(len(bands), 1) * per_band
+    fig, axes = subplots(n_rows, columns, figsize=(2.4 * columns + 1.0, 2.1 * n_rows + 0.9),
                          squeeze=False)
     for i, band in enumerate(bands):
+        block = axes[i * per_band:(i + 1) * per_band, :].ravel()
         lo, hi = stretch_limits(ds["radiance"].sel(band=band).values, 0.5, 99.5)
         vmin = 0.0 if lo >= 0 else lo
         images = [ds[name].sel(band=band).values for name in names]
         for j, (name, image) in enumerate(zip(names, images, strict=True)):
-            ax = axes[i, j]
+            ax = block[j]
             im = ax.imshow(image, cmap="magma", vmin=vmin, vmax=hi, interpolation="nearest")
             ax.set_xticks([])
             ax.set_yticks([])
-            if i == 0:
-                ax.set_title(name.replace("_", " "), fontsize=8)
-            if j == 0:
+            label = "radiance (sum)" if name == "radiance" else name.replace("_", " ")
+            ax.set_title(label if len(bands) < 2 else f"{band}: {label}", fontsize=8)
+            if j % columns == 0:
                 ax.set_ylabel(str(band), fontsize=8)
             ax.text(0.02, 0.02, f"{np.nanmean(image):.3g}", transform=ax.transAxes, fontsize=6,
                     color="white", va="bottom",
                     bbox={"facecolor": "black", "alpha": 0.6, "pad": 1.0, "linewidth": 0})
-        bar = fig.colorbar(im, ax=axes[i, :].tolist(), shrink=0.8, pad=0.01,
+        for ax in block[len(names):]:
+            fig.delaxes(ax)
+        bar = fig.colorbar(im, ax=block[:len(names)].tolist(), shrink=0.8, pad=0.01,
                            extend=colorbar_extend(images, vmin, hi))
         bar.ax.tick_params(labelsize=6)
     if not bands:
@@ -313,8 +356,10 @@ def _palette(n: int) -> list:
     return colours[:n]
 
 
-def _categorical(fig, ax, variable: xr.DataArray, title: str) -> None:
-    """A map of categories in a discrete colour map, with a legend of the names present."""
+def _categorical(fig, ax, variable: xr.DataArray, title: str, extent=None,
+                 legend_right: bool = False) -> None:
+    """A map of categories in a discrete colour map, with a legend of the names present
+    (below the map, or right of it when the map has axes of its own: ``legend_right``)."""
     ids = np.asarray(variable.values).astype(int)
     names = categories(variable)
     present = sorted(int(v) for v in np.unique(ids) if v >= 0)
@@ -326,7 +371,7 @@ def _categorical(fig, ax, variable: xr.DataArray, title: str) -> None:
     for k, value in enumerate(present):
         rank[ids == value] = k
     norm = BoundaryNorm(np.arange(len(present) + 1) - 0.5, max(len(present), 1))
-    ax.imshow(rank, cmap=cmap, norm=norm, interpolation="nearest")
+    ax.imshow(rank, cmap=cmap, norm=norm, interpolation="nearest", extent=extent)
     handles = [Patch(facecolor=colour_of[v], edgecolor="0.3", linewidth=0.3,
                      label=names.get(v, str(v))) for v in present]
     if len(handles) > MAX_LEGEND_ENTRIES:
@@ -336,11 +381,17 @@ def _categorical(fig, ax, variable: xr.DataArray, title: str) -> None:
     if np.any(ids < 0):
         handles.append(Patch(facecolor=NO_CATEGORY_COLOUR, edgecolor="0.3", linewidth=0.3,
                              label="(none)"))
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.02), fontsize=6,
-              frameon=False, borderaxespad=0.0, handlelength=1.0, ncol=3, columnspacing=0.8)
+    if legend_right:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=6,
+                  frameon=False, borderaxespad=0.0, handlelength=1.0)
+    else:
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.02), fontsize=6,
+                  frameon=False, borderaxespad=0.0, handlelength=1.0, ncol=3,
+                  columnspacing=0.8)
     ax.set_title(title, fontsize=8)
-    ax.set_xticks([])
-    ax.set_yticks([])
+    if not legend_right:
+        ax.set_xticks([])
+        ax.set_yticks([])
 
 
 def truth_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
@@ -348,10 +399,29 @@ def truth_figure(ds: xr.Dataset, path: str | os.PathLike) -> Path:
     return _save(truth_plot(ds), path)
 
 
+def _truth_axes(ax, ds, extent, shape, left: bool, bottom: bool) -> None:
+    """A truth panel's axes, those of the band PNGs (:func:`band_plot`): map axes [m] for a
+    map product, angles off the boresight for a perspective camera, none otherwise; the
+    axis labels on the figure's left column and bottom row only."""
+    if extent is None and observer_fov(ds) is None:
+        ax.set_xticks([])
+        ax.set_yticks([])
+        return
+    _axes_for(ax, ds, extent, shape)
+    ax.tick_params(labelsize=6)
+    ax.xaxis.label.set_fontsize(7)
+    ax.yaxis.label.set_fontsize(7)
+    if not left:
+        ax.set_ylabel("")
+    if not bottom:
+        ax.set_xlabel("")
+
+
 def truth_plot(ds: xr.Dataset) -> Figure:
     """The geometric truth maps of a render in one figure: the object and material maps in
     named categories, the others with colour bars; maps without a finite value are left out
-    and named in a note."""
+    and named in a note. The maps have the axes of the band PNGs: map axes [m] for a map
+    product, angles off the boresight for a perspective camera."""
     layers = [("object_id", None), ("material_id", None), ("range", "viridis"),
               ("cos_incidence", "gray"), ("shadow_fraction", "gray_r"),
               ("sky_view_fraction", "gray"), ("surface_temperature", "inferno")]
@@ -370,9 +440,14 @@ def truth_plot(ds: xr.Dataset) -> Figure:
     columns = 4
     rows = max(1, math.ceil(len(panels) / columns))
     fig, axes = subplots(rows, columns, figsize=(14, 3.3 * rows + 0.5), squeeze=False)
-    for ax, (name, cmap) in zip(axes.ravel(), panels, strict=False):
+    extent = _extent(ds)
+    with_axes = extent is not None or observer_fov(ds) is not None
+    shape = (ds.sizes["y"], ds.sizes["x"])
+    for k, (ax, (name, cmap)) in enumerate(zip(axes.ravel(), panels, strict=False)):
+        left, bottom = k % columns == 0, k + columns >= len(panels)
         if name.endswith("_id"):
-            _categorical(fig, ax, ds[name], name.replace("_", " "))
+            _categorical(fig, ax, ds[name], name.replace("_", " "), extent, with_axes)
+            _truth_axes(ax, ds, extent, shape, left, bottom)
             continue
         if name == "surface_normal":
             image, title = normal, "surface normal, up component"
@@ -380,10 +455,10 @@ def truth_plot(ds: xr.Dataset) -> Figure:
             image = ds[name].values.astype(float)
             title = _bracketed(name.replace("_", " "), ds[name].attrs.get("units"))
         lo, hi = _display_limits(image, 0, 100)
-        im = ax.imshow(image, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest")
+        im = ax.imshow(image, cmap=cmap, vmin=lo, vmax=hi, interpolation="nearest",
+                       extent=extent)
         ax.set_title(title, fontsize=8)
-        ax.set_xticks([])
-        ax.set_yticks([])
+        _truth_axes(ax, ds, extent, shape, left, bottom)
         _colorbar(fig, im, ax, image, shrink=0.8).ax.tick_params(labelsize=6)
     for ax in axes.ravel()[len(panels):]:
         fig.delaxes(ax)

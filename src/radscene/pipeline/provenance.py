@@ -19,7 +19,14 @@ attribute                content
 ``atmosphere_engine``    JSON: the engine's type and settings as given, its description (database:
                          condition; file, size and SHA-256), the engines' versions
 ``observer_geometry``    JSON: the observer's settings as given (position, attitude, look-at,
-                         field of view or GSD, shape), and the field of view or GSD it resolved to
+                         field of view or GSD, shape), and the field of view or GSD it resolved to;
+                         for a perspective camera also its attitude ``attitude_deg`` [yaw, pitch,
+                         roll] (derived from a look-at), the slant range to the first surface on
+                         its boresight ``boresight_range_m`` and the GSD there,
+                         ``gsd_boresight_m`` (one pixel across the line of sight: range × angular
+                         pitch) and ``gsd_boresight_surface_m`` (stretched over the surface hit
+                         along the plane of incidence: ÷ cos of the incidence angle); None where
+                         the boresight meets no surface
 ``random_seed``          ``render.seed``
 ``library_versions``     JSON: Python and the libraries that shape the numbers
 =======================  ==========================================================================
@@ -153,7 +160,48 @@ def _observer(scene, name: str | None) -> dict:
         value = getattr(camera, attr, None)
         if value is not None:
             out[key] = [int(v) for v in value] if attr == "shape" else float(value)
+    if getattr(setup, "kind", None) == "perspective" and camera is not None:
+        out["attitude_deg"] = [float(a) for a in camera.attitude]
+        out.update(_boresight(scene, camera))
     return out
+
+
+def _boresight(scene, camera) -> dict:
+    """Where a perspective camera's boresight meets the scene, and the pixel's footprint there.
+
+    ``boresight_range_m`` is the slant range to the first surface on the optical axis;
+    ``gsd_boresight_m`` the footprint of one pixel there across the line of sight (the range
+    times the angular pitch ``2 tan(fov / 2) / columns``: the pitch on a plane facing the
+    camera); ``gsd_boresight_surface_m`` that footprint stretched over the surface hit, along
+    the plane of incidence (divided by the cosine of the angle between the boresight and the
+    surface's normal). All three are None when the boresight meets no surface. The pixels are
+    those of the recorded ``shape``, the render's: with a sensor that oversamples its detector
+    ``k`` times, a detector pixel's footprint is ``k`` times larger.
+    """
+    import numpy as np
+
+    nothing = {"boresight_range_m": None, "gsd_boresight_m": None,
+               "gsd_boresight_surface_m": None}
+    if not scene.objects:
+        return nothing
+    cached = scene.render_cache.get("tables")
+    tracer = getattr(cached, "tracer", None)
+    if tracer is None:
+        tracer = scene.render_cache.get("provenance_tracer")
+    if tracer is None:
+        from radscene.geometry import RayTracer
+
+        tracer = scene.render_cache["provenance_tracer"] = RayTracer(
+            [obj.mesh for obj in scene.objects])
+    axis = np.asarray(camera.forward, dtype=float)
+    hits = tracer.intersect(np.asarray(camera.position, dtype=float)[None, :], axis[None, :])
+    if not bool(hits.hit[0]):
+        return nothing
+    distance = float(hits.distance[0])
+    across = distance * float(camera.pixel_pitch)
+    cosine = abs(float(np.dot(hits.normal[0], axis)))
+    return {"boresight_range_m": distance, "gsd_boresight_m": across,
+            "gsd_boresight_surface_m": across / cosine if cosine > 0.0 else None}
 
 
 def _plain(value):

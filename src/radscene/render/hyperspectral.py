@@ -26,8 +26,7 @@ import xarray as xr
 
 from radscene.errors import ConfigError
 from radscene.radiometry import ChannelGrid
-from radscene.render.outputs import BACKGROUND_TERM, COUPLING_TERMS, TERMS
-from radscene.render.volumes import VOLUME_TERMS
+from radscene.render.outputs import TERM_LAYERS  # the layers that sum to the radiance
 
 __all__ = ["Channel", "channels", "pass_size", "render_passes", "render_hyperspectral",
            "band_radiance", "spectral_attributes", "term_attributes", "spectral_variables",
@@ -40,10 +39,6 @@ PASS_MEMORY = 1.5e9
 #: Per-band image layers of one render (see PASS_MEMORY) and their bytes per value.
 LAYERS_PER_CHANNEL = 11
 _BYTES = 8
-#: The layers of a band render that sum to its ``radiance``, in the order they are summed
-#: (those a render lacks, such as the volume layers of a scene without volumes or sheets, are
-#: skipped); with ``terms`` each is a spectral variable of the cube.
-TERM_LAYERS = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS + VOLUME_TERMS
 
 
 @dataclass(frozen=True)

@@ -15,9 +15,10 @@ import xarray as xr
 
 from radscene.render import truth
 from radscene.render.spectral import solar_spectrum
+from radscene.render.volumes import VOLUME_TERMS
 
 __all__ = ["TERMS", "TERM_LONG_NAMES", "BACKGROUND_TERM", "BACKGROUND_LONG_NAME",
-           "COUPLING_TERMS", "COUPLING_LONG_NAMES", "THERMAL_BAND_START", "GEOLOCATION_COORDS",
+           "COUPLING_TERMS", "COUPLING_LONG_NAMES", "TERM_LAYERS", "THERMAL_BAND_START", "GEOLOCATION_COORDS",
            "CONSTANT_ANGLES", "dataset", "cf_conventions", "pixel_coordinates",
            "sky_view_transmitted"]
 
@@ -46,6 +47,13 @@ COUPLING_LONG_NAMES = {
     "adjacency": "adjacency effect: the surroundings' radiance through the atmospheric "
                  "point-spread function, minus the uniform-surroundings part",
 }
+#: Every layer of a band render that sums to its ``radiance``, in the order they are summed:
+#: the signature terms, the reflected background, the coupling layers and the layers of
+#: semi-transparent sheets and volumes (:data:`radscene.render.volumes.VOLUME_TERMS`). A render
+#: lacks those its scene does not make (no ``transmitted`` without a sheet or volume); the
+#: hyperspectral term cubes, the ``all`` GeoTIFF level and the terms quicklook take their
+#: layers from here.
+TERM_LAYERS = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS + VOLUME_TERMS
 #: Bands whose response centre is at or beyond this wavelength get a brightness temperature [um].
 THERMAL_BAND_START = 2.5
 #: Per-pixel geolocation stored as CF auxiliary coordinates of the image.

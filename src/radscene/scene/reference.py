@@ -5,8 +5,8 @@ file: quantities accept a number in the canonical unit or a string with a unit o
 (``"25 degC"``), and every key carries its unit in its description. :func:`scene_reference`
 is the Markdown page of the documentation site that lists every key of every model with its
 type, unit, default, description and an example (taken from the bundled example scenes where
-they use the key). Both are computed from the pydantic models each time, so they cannot drift
-from what :func:`radscene.load_scene` accepts.
+they use the key, else from :data:`KEY_EXAMPLES`). Both are computed from the pydantic models
+each time, so they cannot drift from what :func:`radscene.load_scene` accepts.
 
 >>> schema = scene_json_schema()
 >>> schema["$schema"]
@@ -32,7 +32,8 @@ from pydantic.json_schema import GenerateJsonSchema
 from radscene.radiometry.units import CANONICAL_UNITS, UNITS
 from radscene.scene.schema import SceneSpec
 
-__all__ = ["scene_json_schema", "scene_reference", "schema_models", "example_scenes"]
+__all__ = ["scene_json_schema", "scene_reference", "schema_models", "example_scenes",
+           "KEY_EXAMPLES"]
 
 DRAFT_07 = "http://json-schema.org/draft-07/schema#"
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
@@ -138,6 +139,62 @@ _UNIT_EXAMPLES = {"temperature": "25 degC", "wavelength": "550 nm", "length": "2
 
 def _unit_example(kind: str) -> str:
     return _UNIT_EXAMPLES.get(kind, f"1 {CANONICAL_UNITS[kind]}")
+
+
+_ROAD = {"name": "farm_road", "points": [["0 m", "300 m"], ["1200 m", "450 m"]],
+         "width": "6 m", "material": "asphalt"}
+_NOISE_TEXTURE = {"type": "noise", "amplitude": 0.1, "scale": "5 m"}
+_LAND_COVER = {"type": "noise", "materials": ["dry_grass", "bare_soil"], "scale": "80 m"}
+_AIRCRAFT = {"position": ["0 m", "-5 km", "3 km"], "velocity": [0.0, 70.0, 0.0]}
+_FLIGHT = {"times": ["0 s", "60 s"], "positions": [["0 m", "-2 km", "3 km"],
+                                                  ["0 m", "2 km", "3 km"]]}
+_ELEMENTS = {"epoch": "2026-06-21T10:00:00Z", "altitude": "705 km", "inclination": "98.2 deg"}
+#: Examples of the keys that the bundled example scenes do not use and whose type alone gives
+#: no telling example (a nested model, a length whose size depends on what it measures),
+#: by (model, key); each is checked against the JSON schema (tests/system/test_docs.py).
+KEY_EXAMPLES: dict[tuple[str, str], Any] = {
+    ("SceneSpec", "volumes"): [{"name": "smoke", "shape": {"type": "box", "size": [
+        "20 m", "20 m", "10 m"]}, "position": ["300 m", "200 m", "5 m"],
+        "optical_depth": 0.8, "temperature": "320 K"}],
+    ("Environment", "sun"): {"zenith": "35 deg", "azimuth": "150 deg"},
+    ("FlatTerrain", "material_map"): _LAND_COVER,
+    ("FlatTerrain", "roads"): [_ROAD],
+    ("ProceduralTerrain", "roads"): [_ROAD],
+    ("DemTerrain", "material_map"): _LAND_COVER,
+    ("DemTerrain", "roads"): [_ROAD],
+    ("DemTerrain", "spacing"): ["5 m", "5 m"],
+    ("SeaTerrain", "fetch"): "50 km",
+    ("VolumeSpec", "shape"): {"type": "ellipsoid", "radii": ["15 m", "15 m", "8 m"]},
+    ("VolumeSpec", "gas"): {"co2": 0.02, "h2o": 0.05},
+    ("PerspectiveSpec", "spectral"): {"min": "0.4 um", "max": "2.5 um", "step": "10 nm"},
+    ("PushbroomSpec", "platform"): _AIRCRAFT,
+    ("PushbroomSpec", "waypoints"): _FLIGHT,
+    ("WhiskbroomSpec", "orbit"): {"elements": _ELEMENTS},
+    ("WhiskbroomSpec", "platform"): _AIRCRAFT,
+    ("WhiskbroomSpec", "waypoints"): _FLIGHT,
+    ("WhiskbroomSpec", "gsd"): "2 m",
+    ("RenderSettings", "motion_blur"): {"samples": 8, "exposure": "10 ms"},
+    ("TextureSet", "reflectance"): _NOISE_TEXTURE,
+    ("TextureSet", "emissivity"): {**_NOISE_TEXTURE, "amplitude": 0.02},
+    ("TextureSet", "transmittance"): _NOISE_TEXTURE,
+    ("RoadSpec", "points"): [["0 m", "300 m"], ["600 m", "420 m"], ["1200 m", "450 m"]],
+    ("RoadSpec", "width"): "6 m",
+    ("EllipsoidShape", "radii"): ["15 m", "15 m", "8 m"],
+    ("DensityProfile", "scale_height"): "30 m",
+    ("DensityProfile", "sigma"): "5 m",
+    ("OrbitSpec", "tle"): [  # the verification set of Vallado et al. (2006), satellite 00005
+        "1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753",
+        "2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667"],
+    ("OrbitSpec", "elements"): _ELEMENTS,
+    ("LinearPlatformSpec", "position"): ["0 m", "-5 km", "3 km"],
+    ("WaypointsSpec", "positions"): _FLIGHT["positions"],
+    ("ImageTextureSpec", "size"): ["1200 m", "1200 m"],
+    ("TileTextureSpec", "texel_size"): "0.5 m",
+    ("TileTextureSpec", "tile_size"): ["20 m", "20 m"],
+    ("NoiseTextureSpec", "scale"): "5 m",
+    ("ElementsSpec", "altitude"): "705 km",
+    ("ElementsSpec", "semi_major_axis"): "7083 km",
+}
 
 
 def scene_json_schema() -> dict:
@@ -333,10 +390,10 @@ def _bounds_text(node: dict) -> str:
     return ", ".join(dict.fromkeys(texts))
 
 
-def _yaml_value(value: Any) -> str:
+def _yaml_value(value: Any, limit: int = 60) -> str:
     text = json.dumps(value, ensure_ascii=False)
-    if len(text) > 60:
-        text = text[:57] + "…"
+    if len(text) > limit:
+        text = text[:limit - 3] + "…"
     return "`" + text.replace("|", "\\|") + "`"
 
 
@@ -348,8 +405,8 @@ def _synthetic_example(node: dict, defs: dict) -> Any:
         if union in node:
             options = [n for n in node[union] if n.get("type") != "null"]
             return _synthetic_example(options[0], defs) if options else None
-    if "$ref" in node:
-        return "{…}"
+    if "$ref" in node:  # a nested model: the row points to its section
+        return {}
     if "const" in node:
         return node["const"]
     if "enum" in node:
@@ -435,9 +492,10 @@ def scene_reference() -> str:
         "(`radscene.scene.schema`) each time the site is built. Quantities take a number in the",
         "canonical unit (the *unit* column) or a string with a unit of their kind: `\"300 K\"`,",
         "`\"25 degC\"`, `\"550 nm\"`, `\"2 km\"`, `\"30 deg\"`, `\"10 min\"`. Examples come from the",
-        "bundled example scenes (`radscene examples`) where they use the key; the others are",
-        "made from the key's type. Unknown keys are refused. For completion and checking in an",
-        "editor, see [the JSON schema](editor.md).",
+        "bundled example scenes (`radscene examples`) where they use the key, else from a table",
+        "of examples checked against the schema (`radscene.scene.reference.KEY_EXAMPLES`), the",
+        "key's default, or its type. Unknown keys are refused. For completion and checking in",
+        "an editor, see [the JSON schema](editor.md).",
         "",
         "Keys that take a type-tagged mapping described elsewhere: `environment.atmosphere`",
         "([atmosphere engines](api/atmosphere.md)), `materials` ([materials and BRDFs]",
@@ -472,12 +530,21 @@ def scene_reference() -> str:
                 default = "–"
             description = field.description or ""
             example = examples.get((name, key))
-            if example is None:
+            chosen = example is None and (name, key) in KEY_EXAMPLES
+            synthetic = False
+            if chosen:
+                example = KEY_EXAMPLES[(name, key)]
+            elif example is None:
                 example = prop.get("default", None)
                 if example in (None, [], {}, ""):
-                    example = _synthetic_example(prop, defs)
+                    example, synthetic = _synthetic_example(prop, defs), True
             refs = [o["$ref"].rsplit("/", 1)[-1] for o in _flat_options(prop) if "$ref" in o]
-            if isinstance(example, dict | list) and refs:
+            items = prop.get("items")
+            if synthetic and isinstance(items, dict):  # a list of models: point to them
+                refs += [o["$ref"].rsplit("/", 1)[-1] for o in _flat_options(items) if "$ref" in o]
+            if chosen:
+                example_text = _yaml_value(example, limit=200)
+            elif isinstance(example, dict | list) and refs:
                 example_text = "see " + ", ".join(f"[{r}](#{r.lower()})" for r in refs)
             else:
                 example_text = _yaml_value(example)
