@@ -347,10 +347,12 @@ def _register_subcommands() -> None:
     from radscene.cli.materials import app as materials_app
     from radscene.cli.render import render
     from radscene.cli.sensor import app as sensor_app
+    from radscene.cli.sweep import sweep
     from radscene.cli.thermal import thermal
 
     app.command(name="render")(render)
     app.command(name="thermal")(_guarded(thermal))
+    app.command(name="sweep")(_guarded(sweep))
 
     add_subcommands(atmosphere_app, "atmosphere",
                     "Atmospheric databases, lines of sight and skies.")
