@@ -57,7 +57,7 @@ def test_each_variant_equals_a_render_of_that_variant(tmp_path):
     index = json.loads((tmp_path / "out" / "sweep.json").read_text())
     assert [v["settings"] for v in index["variants"]] == [{"environment.sun.zenith": s} for s in suns]
     means = []
-    for (name, paths), sun in zip(files.items(), suns, strict=True):
+    for paths, sun in zip(files.values(), suns, strict=True):
         with xr.open_dataset(paths[0]) as got:
             want = radscene.render(apply_setting(_scene(), "environment.sun.zenith", sun))
             np.testing.assert_allclose(got["radiance"].values, want["radiance"].values,
