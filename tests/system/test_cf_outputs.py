@@ -84,3 +84,17 @@ def test_constant_angles_are_scalars(written, name):
             assert ds["view_zenith"].ndim == 0 and float(ds["view_zenith"]) == pytest.approx(0.0, abs=1e-9)
         else:  # a perspective camera's lines of sight spread
             assert ds["view_zenith"].dims == ("y", "x")
+
+
+@pytest.mark.parametrize("variable, none", [("object_id", "no_object"), ("material_id", "no_material")])
+def test_every_id_in_a_map_has_a_cf_flag_meaning(written, variable, none):
+    """CF flags: each value of the id maps, -1 (nothing hit) included, has its meaning."""
+    files = sorted(written.glob("*.nc"))
+    assert files
+    for path in files:
+        with xr.open_dataset(path) as ds:
+            flags = ds[variable]
+            meanings = dict(zip(np.atleast_1d(flags.attrs["flag_values"]).tolist(),
+                                flags.attrs["flag_meanings"].split(), strict=True))
+            assert meanings[-1] == none
+            assert set(np.unique(flags.values).tolist()) <= set(meanings)

@@ -363,7 +363,7 @@ def _categorical(fig, ax, variable: xr.DataArray, title: str, extent=None,
     ids = np.asarray(variable.values).astype(int)
     names = categories(variable)
     present = sorted(int(v) for v in np.unique(ids) if v >= 0)
-    everything = sorted(set(names) | set(present))
+    everything = sorted({v for v in names if v >= 0} | set(present))  # -1: no category
     colour_of = dict(zip(everything, _palette(len(everything)), strict=True))
     cmap = ListedColormap([colour_of[v] for v in present] or ["white"]).with_extremes(
         bad=NO_CATEGORY_COLOUR)

@@ -39,12 +39,13 @@ def maps(scene, shape, object_id, material_id, normal_map, mean) -> dict:
     ny, nx = shape
     return {
         "object_id": (("y", "x"), object_id.reshape(ny, nx), {
-            "long_name": "object index (-1: no object)", "flag_values": np.arange(len(scene.objects), dtype=np.int32),
-            "flag_meanings": " ".join(o.name.replace(" ", "_") for o in scene.objects)}),
+            "long_name": "object index (-1: no object)",
+            "flag_values": np.array([*range(len(scene.objects)), -1], dtype=np.int32),
+            "flag_meanings": " ".join([*(o.name.replace(" ", "_") for o in scene.objects), "no_object"])}),
         "material_id": (("y", "x"), material_id.reshape(ny, nx), {
             "long_name": "material index (-1: no material)",
-            "flag_values": np.arange(len(scene.materials), dtype=np.int32),
-            "flag_meanings": " ".join(m.replace(" ", "_") for m in scene.material_names)}),
+            "flag_values": np.array([*range(len(scene.materials)), -1], dtype=np.int32),
+            "flag_meanings": " ".join([*(m.replace(" ", "_") for m in scene.material_names), "no_material"])}),
         "range": (("y", "x"), mean["range"], {"units": "m", "long_name": "distance from the observer to the surface"}),
         "surface_normal": (("vector", "y", "x"), normal_map.reshape(3, ny, nx), {
             "units": "1", "long_name": "unit surface normal facing the observer (east, north, up)"}),
