@@ -78,7 +78,7 @@ from radscene.atmosphere.options import (
     option_attrs,
     sun_date,
 )
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["line_of_sight", "sky_radiance", "make_engine", "sun_date", "ENGINE_NAMES",
            "SOLAR_SPECTRA", "ENGINE_SPECTRA"]
@@ -94,7 +94,7 @@ def _make(engine, profile, aerosol, visibility, multiple_scattering, sun_zenith,
     """(engine, settings) of :func:`make_engine`."""
     name = str(engine).lower()
     if name not in ENGINE_NAMES:
-        raise ConfigError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}",
+        raise ConfigError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}{did_you_mean(engine, ENGINE_NAMES)}",
                           key="engine")
     settings = check_options(name, visibility, aot550, water, ozone, date,
                              earth_sun_distance, solar_spectrum)

@@ -19,7 +19,7 @@ from rich.progress import Progress
 from rich.table import Table
 
 from radscene import __version__
-from radscene.errors import ConfigError, EngineError
+from radscene.errors import ConfigError, EngineError, did_you_mean
 
 # rich_markup_mode=None: help texts are plain text, so units in brackets ("[deg]", "[g cm-2]")
 # are shown instead of being taken for Rich markup and dropped
@@ -302,7 +302,7 @@ def examples(
         console.print("copy one with: radscene examples NAME --copy DIR")
         return
     if name not in found:
-        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}",
+        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}{did_you_mean(name, sorted(found))}",
                           key="name"))
     dest = copy_to or Path.cwd()
     dest.mkdir(parents=True, exist_ok=True)

@@ -16,7 +16,7 @@ from rich.progress import BarColumn, TextColumn, TimeElapsedColumn, TimeRemainin
 from rich.table import Table
 
 from radscene.cli import Report, _fail, _instant
-from radscene.errors import ConfigError, EngineError
+from radscene.errors import ConfigError, EngineError, did_you_mean
 
 GEOTIFF_HELP = ("Cloud-Optimised GeoTIFFs of a map product (a nadir orthographic observer), "
                 "NAME_LAYER.tif in the scene frame's CRS: none; radiance (radiance of every "
@@ -32,7 +32,7 @@ class Formats:
         from radscene.io.cog import LEVELS
 
         if geotiff not in LEVELS:
-            raise ConfigError(f"unknown GeoTIFF choice {geotiff!r}; known: {', '.join(LEVELS)}",
+            raise ConfigError(f"unknown GeoTIFF choice {geotiff!r}; known: {', '.join(LEVELS)}{did_you_mean(geotiff, LEVELS)}",
                               key="--geotiff")
         self.output = output
         self.ext = ".zarr" if output.suffix.lower() == ".zarr" else ".nc"
@@ -244,7 +244,10 @@ def render(
             scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         names = observer or [o.name for o in scene.observers]
         for name in names:
-            scene.observer(name)
+            try:
+                scene.observer(name)
+            except ConfigError as err:
+                raise ConfigError(err.message, key="--observer") from None
         report.stage(f"loaded {scene_file}: scene {scene.name!r}, {len(scene.objects)} "
                      f"object(s), bands {', '.join(b.name for b in scene.bands)}, observers "
                      f"{', '.join(names)}", time.perf_counter() - t)

@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.io.geotiff import _atomic, _crs, _prepare, _regular
 
 __all__ = ["write_cog", "write_map_cogs", "map_layers", "layer_names", "is_map_product", "LEVELS",
@@ -53,7 +53,7 @@ TERM_LAYERS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected
 def layer_names(level: str) -> tuple[str, ...]:
     """Every layer name a level may write (those a render lacks are skipped)."""
     if level not in LEVELS:
-        raise ConfigError(f"unknown GeoTIFF level {level!r}; known: {', '.join(LEVELS)}",
+        raise ConfigError(f"unknown GeoTIFF level {level!r}; known: {', '.join(LEVELS)}{did_you_mean(level, LEVELS)}",
                           key="--geotiff")
     rank = LEVELS.index(level)
     return (("radiance", "brightness_temperature") * (rank >= 1) + TRUTH_LAYERS * (rank >= 2)

@@ -48,7 +48,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["make_material", "MATERIAL_TYPES", "extend_with_thermal", "THERMAL_START"]
 
@@ -304,7 +304,7 @@ def make_material(spec, key: str = "material", base_dir=None):
     kind = str(spec.get("type", "")).lower()
     if kind not in MATERIAL_TYPES:
         raise ConfigError(
-            f"unknown material type {spec.get('type')!r}; known: {', '.join(sorted(MATERIAL_TYPES))}",
+            f"unknown material type {spec.get('type')!r}; known: {', '.join(sorted(MATERIAL_TYPES))}{did_you_mean(spec.get('type'), sorted(MATERIAL_TYPES))}",
             key=f"{key}.type",
         )
     _check_keys(spec, kind, key)

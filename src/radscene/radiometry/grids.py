@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["wavelength_grid", "resample", "RESAMPLE_METHODS"]
 
@@ -115,7 +115,7 @@ def resample(wavelength, values, new_wavelength, method: str = "linear"):
     """
     if method not in RESAMPLE_METHODS:
         raise ConfigError(
-            f"unknown resampling method {method!r}; known: {', '.join(RESAMPLE_METHODS)}",
+            f"unknown resampling method {method!r}; known: {', '.join(RESAMPLE_METHODS)}{did_you_mean(method, RESAMPLE_METHODS)}",
             key="method",
         )
     wl, vals = _check_table(wavelength, values)

@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = [
     "SpectralResponse",
@@ -508,7 +508,7 @@ def make_response(spec: Mapping) -> SpectralResponse:
     kind = str(spec["type"]).lower()
     if kind not in RESPONSES:
         raise ConfigError(
-            f"unknown spectral response type {spec['type']!r}; known: {', '.join(RESPONSES)}",
+            f"unknown spectral response type {spec['type']!r}; known: {', '.join(RESPONSES)}{did_you_mean(spec['type'], RESPONSES)}",
             key="type",
         )
     cls = RESPONSES[kind]
