@@ -362,30 +362,29 @@ class TabulatedResponse(SpectralResponse):
     1.0
     """
 
-    def __init__(self, wavelength, response, name: str | None = None, *, _source=None):
-        where = f"{_source}: " if _source else ""
+    def __init__(self, wavelength, response, name: str | None = None):
         wl = np.asarray(wavelength, dtype=float)
         s = np.asarray(response, dtype=float)
         if wl.ndim != 1 or wl.size < 2 or s.shape != wl.shape:
             raise ConfigError(
-                f"{where}wavelength and response must be 1-D of equal length >= 2; "
+                f"wavelength and response must be 1-D of equal length >= 2; "
                 f"got shapes {wl.shape} and {s.shape}",
                 key="wavelength",
             )
         if not (np.all(np.isfinite(wl)) and np.all(np.isfinite(s))):
-            raise ConfigError(f"{where}wavelength and response must be finite", key="response")
+            raise ConfigError("wavelength and response must be finite", key="response")
         if wl[0] <= 0 or not np.all(np.diff(wl) > 0):
             raise ConfigError(
-                f"{where}wavelength must be > 0 um and strictly increasing", key="wavelength"
+                "wavelength must be > 0 um and strictly increasing", key="wavelength"
             )
         if np.any(s < 0):
             raise ConfigError(
-                f"{where}response must be >= 0; got {s.min()!r} at {wl[np.argmin(s)]:g} um",
+                f"response must be >= 0; got {s.min()!r} at {wl[np.argmin(s)]:g} um",
                 key="response",
             )
         area = float(np.sum(0.5 * (s[1:] + s[:-1]) * np.diff(wl)))
         if not area > 0:
-            raise ConfigError(f"{where}integral of the response must be > 0", key="response")
+            raise ConfigError("integral of the response must be > 0", key="response")
         nonzero = np.flatnonzero(s > 0)
         first = max(nonzero[0] - 1, 0)
         last = min(nonzero[-1] + 1, wl.size - 1)
@@ -448,12 +447,11 @@ class TabulatedResponse(SpectralResponse):
                 key=str(path),
             )
         data = np.array(rows)
-        return cls(
-            data[:, 0] * scale,
-            data[:, 1],
-            name=name if name is not None else path.stem,
-            _source=str(path),
-        )
+        try:
+            return cls(data[:, 0] * scale, data[:, 1],
+                       name=name if name is not None else path.stem)
+        except ConfigError as err:  # the file's values: the message names the file
+            raise ConfigError(f"{path}: {err.message}", key=err.key) from None
 
     @property
     def support(self):
