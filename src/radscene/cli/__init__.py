@@ -309,7 +309,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
     for obs in scene.observers:
         grid = "" if obs.spectral is None else (
             f", spectral: {len(obs.spectral)} channels {obs.spectral.wavelength[0]:.4g}–"
-            f"{obs.spectral.wavelength[-1]:.4g} um every {obs.spectral.step:.4g} um")
+            f"{obs.spectral.wavelength[-1]:.4g} µm every {obs.spectral.step:.4g} µm")
         report.say(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
                    f" px, supersample {obs.supersample}{grid}")
         t = time.perf_counter()
@@ -348,7 +348,7 @@ def examples(
         for key, path in sorted(found.items()):
             import yaml
 
-            desc = (yaml.safe_load(path.read_text()) or {}).get("description", "")
+            desc = (yaml.safe_load(path.read_text(encoding="utf-8")) or {}).get("description", "")
             table.add_row(key, desc.strip().splitlines()[0] if desc else "")
         console.print(table)
         console.print("copy one with: radscene examples NAME --copy DIR")

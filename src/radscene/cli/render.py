@@ -166,7 +166,7 @@ def render(
     geotiff: str = typer.Option("maps", "--geotiff", help=GEOTIFF_HELP),
     envi: bool = typer.Option(False, "--envi",
                               help="Also write the band radiance as ENVI NAME.img/.hdr "
-                                   "(wavelength = band centres, fwhm = equivalent widths [um])."),
+                                   "(wavelength = band centres, fwhm = equivalent widths [µm])."),
     overwrite: bool = typer.Option(False, "--overwrite",
                                    help="Replace results of an earlier run in OUTPUT."),
     max_memory: str = typer.Option(None, "--max-memory",
@@ -373,7 +373,7 @@ def _summary(scene, results, spectral, written, output, started):
 
     table = Table(title=f"{scene.name}: {len(results)} observer(s) in "
                         f"{time.perf_counter() - started:.1f} s")
-    for col in ("observer", "band", "λ [um]", "mean L [W m-2 sr-1]", "min", "max", "mean BT [K]"):
+    for col in ("observer", "band", "λ [µm]", "mean L [W m-2 sr-1]", "min", "max", "mean BT [K]"):
         table.add_column(col, justify="right" if col != "observer" and col != "band" else "left")
     for name, ds in results.items():
         for band in ds["band"].values:
@@ -418,6 +418,6 @@ def _write_spectral(scene, name, formats, progress, report):
     total, count, low, high = (sum(s[0] for s in stats), sum(s[1] for s in stats),
                                min(s[2] for s in stats), max(s[3] for s in stats))
     wl = np.asarray(grid.wavelength)
-    text = (f"{len(wl)} channels {wl[0]:.4g}–{wl[-1]:.4g} um every {grid.step:.4g} um; spectral "
-            f"radiance mean {total / count:.4g}, min {low:.4g}, max {high:.4g} W m-2 sr-1 um-1")
+    text = (f"{len(wl)} channels {wl[0]:.4g}–{wl[-1]:.4g} µm every {grid.step:.4g} µm; spectral "
+            f"radiance mean {total / count:.4g}, min {low:.4g}, max {high:.4g} W m-2 sr-1 µm-1")
     return text, files

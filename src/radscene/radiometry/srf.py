@@ -197,7 +197,7 @@ class SpectralResponse(abc.ABC):
         vals = np.asarray(values, dtype=float)
         if wl.ndim != 1 or wl.size < 2 or not np.all(np.diff(wl) > 0):
             raise ConfigError(
-                "must be a 1-D, strictly increasing array of at least 2 wavelengths [um]",
+                "must be a 1-D, strictly increasing array of at least 2 wavelengths [µm]",
                 key="wavelength",
             )
         if vals.ndim == 0 or vals.shape[-1] != wl.size:
@@ -208,7 +208,7 @@ class SpectralResponse(abc.ABC):
         lo, hi = self.support
         if wl[0] > lo or wl[-1] < hi:
             raise ConfigError(
-                f"table {wl[0]:g}-{wl[-1]:g} um does not cover the support {lo:g}-{hi:g} um "
+                f"table {wl[0]:g}-{wl[-1]:g} µm does not cover the support {lo:g}-{hi:g} µm "
                 f"of response {self.name!r}",
                 key="wavelength",
             )
@@ -224,7 +224,7 @@ class SpectralResponse(abc.ABC):
 
     def __repr__(self) -> str:
         lo, hi = self.support
-        return f"{type(self).__name__}(name={self.name!r}, support=({lo:g}, {hi:g}) um)"
+        return f"{type(self).__name__}(name={self.name!r}, support=({lo:g}, {hi:g}) µm)"
 
 
 class RectangularResponse(SpectralResponse):
@@ -247,10 +247,10 @@ class RectangularResponse(SpectralResponse):
         lo = _real(wavelength_min, "wavelength_min")
         hi = _real(wavelength_max, "wavelength_max")
         if lo <= 0:
-            raise ConfigError(f"must be > 0 um; got {lo!r}", key="wavelength_min")
+            raise ConfigError(f"must be > 0 µm; got {lo!r}", key="wavelength_min")
         if hi <= lo:
             raise ConfigError(
-                f"must be > wavelength_min = {lo!r} um; got {hi!r}", key="wavelength_max"
+                f"must be > wavelength_min = {lo!r} µm; got {hi!r}", key="wavelength_max"
             )
         self.wavelength_min = lo
         self.wavelength_max = hi
@@ -303,12 +303,12 @@ class GaussianResponse(SpectralResponse):
         c = _real(center, "center")
         w = _real(fwhm, "fwhm")
         if w <= 0:
-            raise ConfigError(f"must be > 0 um; got {w!r}", key="fwhm")
+            raise ConfigError(f"must be > 0 µm; got {w!r}", key="fwhm")
         sigma = w * _FWHM_TO_SIGMA
         if c - GAUSSIAN_TRUNCATION * sigma <= 0:
             raise ConfigError(
-                f"center - {GAUSSIAN_TRUNCATION:g} sigma must be > 0 um "
-                f"(center {c!r} um, fwhm {w!r} um)",
+                f"center - {GAUSSIAN_TRUNCATION:g} sigma must be > 0 µm "
+                f"(center {c!r} µm, fwhm {w!r} µm)",
                 key="center",
             )
         self.center_wavelength = c
@@ -375,11 +375,11 @@ class TabulatedResponse(SpectralResponse):
             raise ConfigError("wavelength and response must be finite", key="response")
         if wl[0] <= 0 or not np.all(np.diff(wl) > 0):
             raise ConfigError(
-                "wavelength must be > 0 um and strictly increasing", key="wavelength"
+                "wavelength must be > 0 µm and strictly increasing", key="wavelength"
             )
         if np.any(s < 0):
             raise ConfigError(
-                f"response must be >= 0; got {s.min()!r} at {wl[np.argmin(s)]:g} um",
+                f"response must be >= 0; got {s.min()!r} at {wl[np.argmin(s)]:g} µm",
                 key="response",
             )
         area = float(np.sum(0.5 * (s[1:] + s[:-1]) * np.diff(wl)))

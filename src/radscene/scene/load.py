@@ -212,7 +212,7 @@ def read_scene_file(path: str | Path) -> dict:
     if not path.is_file():
         raise ConfigError(f"no such scene file: {path}", key="scene")
     try:
-        data = yaml.safe_load(path.read_text())
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -979,16 +979,16 @@ class _Resolver:
 
                 slo, shi = SOLAR_WAVELENGTH_RANGE
                 if wl[0] < slo or wl[-1] > shi:
-                    raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} um; the renderer's "
-                                      f"solar spectrum covers {slo:g}–{shi:g} um", key=key)
+                    raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} µm; the renderer's "
+                                      f"solar spectrum covers {slo:g}–{shi:g} µm", key=key)
                 spans.append((float(wl[0]), float(wl[-1])))
         lo, hi = min(s[0] for s in spans), max(s[1] for s in spans)
         for m_name, material in zip(self.material_names, self.materials, strict=True):
             mlo, mhi = _material_range(material)
             if lo < mlo or hi > mhi:
                 raise ConfigError(
-                    f"material {m_name!r} is defined over {mlo:g}–{mhi:g} um but the bands "
-                    f"and spectral grids span {lo:g}–{hi:g} um",
+                    f"material {m_name!r} is defined over {mlo:g}–{mhi:g} µm but the bands "
+                    f"and spectral grids span {lo:g}–{hi:g} µm",
                     key=f"materials.{m_name}",
                 )
         return Scene(

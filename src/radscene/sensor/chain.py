@@ -192,7 +192,7 @@ class Sensor:
 
     def __repr__(self) -> str:
         d = self.base.detector
-        return (f"Sensor(name={self.name!r}, detector={d.kind}, pitch={d.pitch * 1e6:g} um, "
+        return (f"Sensor(name={self.name!r}, detector={d.kind}, pitch={d.pitch * 1e6:g} µm, "
                 f"f={self.base.optics.focal_length * 1e3:g} mm, F/{self.base.optics.f_number:g}, "
                 f"oversample={self.oversample})")
 
