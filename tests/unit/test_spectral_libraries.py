@@ -269,7 +269,7 @@ def test_spectral_library_get_is_unique():
 earthlib_missing = importlib.util.find_spec("earthlib") is None
 
 
-@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install radscene[earthlib]")
+@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install earthlib")
 def test_earthlib_library_searchable_by_class_and_name():
     from radscene.materials.libraries import earthlib_classes, earthlib_library
 
@@ -333,7 +333,7 @@ def test_make_material_file_errors_name_file_and_line(tmp_path):
         make_material({"type": "file", "path": str(path), "transmittance": 0.7}, key="materials.wall")
 
 
-@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install radscene[earthlib]")
+@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install earthlib")
 def test_make_material_from_earthlib():
     from radscene.materials import make_material
 

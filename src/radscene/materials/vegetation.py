@@ -103,7 +103,7 @@ THERMAL_GRID = np.array([3.0, 3.5, 4.0, 4.5, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0
 
 _INSTALL = (
     "vegetation models need the optional package 'prosail' (PROSPECT-D + 4SAIL): "
-    "`pip install radscene[vegetation]` (or `pip install prosail`)"
+    "`pip install prosail` (from a radscene clone: `pip install '.[vegetation]'`)"
 )
 
 

@@ -889,7 +889,7 @@ class RenderSettings(_Model):
         "noise): the same seed gives the same outputs")
     video: Literal["auto", "gif", "mp4", "both", "none"] = Field(
         "auto", description="a sequence's animations per band: auto writes a GIF, and an MP4 too "
-        "when imageio and imageio-ffmpeg are installed (pip install radscene[video]); mp4 and both "
+        "when imageio and imageio-ffmpeg are installed (pip install imageio imageio-ffmpeg); mp4 and both "
         "need them")
     coupling: bool = Field(True, description="surface-atmosphere coupling: multiple reflection "
                            "and the diffusely transmitted surface radiance")
