@@ -96,5 +96,6 @@ def example_path(name: str) -> Path:
         known = sorted(p.name.removesuffix(".yaml")
                        for p in (resources.files("radscene") / "examples").iterdir()
                        if p.name.endswith(".yaml"))
-        raise ConfigError(f"unknown example {name!r}; known: {', '.join(known)}{did_you_mean(name, known)}", key="name")
+        raise ConfigError(f"unknown example {name!r}; known: {', '.join(known)}"
+                          f"{did_you_mean(name, known)}", key="name")
     return path

@@ -82,7 +82,8 @@ def make_atmosphere(spec: dict | None, key: str = "environment.atmosphere") -> A
     name = str(params.pop("type")).lower()
     if name not in ENGINES:
         raise ConfigError(
-            f"unknown atmosphere engine {name!r}; known: {', '.join(ENGINES)}{did_you_mean(name, ENGINES)}", key=f"{key}.type"
+            f"unknown atmosphere engine {name!r}; known: {', '.join(ENGINES)}"
+            f"{did_you_mean(name, ENGINES)}", key=f"{key}.type"
         )
     try:
         return ENGINES[name](**params)

@@ -94,7 +94,8 @@ def _make(engine, profile, aerosol, visibility, multiple_scattering, sun_zenith,
     """(engine, settings) of :func:`make_engine`."""
     name = str(engine).lower()
     if name not in ENGINE_NAMES:
-        raise ConfigError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}{did_you_mean(engine, ENGINE_NAMES)}",
+        raise ConfigError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}"
+                          f"{did_you_mean(engine, ENGINE_NAMES)}",
                           key="engine")
     settings = check_options(name, visibility, aot550, water, ozone, date,
                              earth_sun_distance, solar_spectrum)

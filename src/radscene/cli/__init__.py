@@ -354,7 +354,8 @@ def examples(
         console.print("copy one with: radscene examples NAME --copy DIR")
         return
     if name not in found:
-        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}{did_you_mean(name, sorted(found))}",
+        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}"
+                          f"{did_you_mean(name, sorted(found))}",
                           key="name"))
     dest = copy_to or Path.cwd()
     dest.mkdir(parents=True, exist_ok=True)

@@ -32,7 +32,8 @@ class Formats:
         from radscene.io.cog import LEVELS
 
         if geotiff not in LEVELS:
-            raise ConfigError(f"unknown GeoTIFF choice {geotiff!r}; known: {', '.join(LEVELS)}{did_you_mean(geotiff, LEVELS)}",
+            raise ConfigError(f"unknown GeoTIFF choice {geotiff!r}; known: {', '.join(LEVELS)}"
+                              f"{did_you_mean(geotiff, LEVELS)}",
                               key="--geotiff")
         self.output = output
         self.ext = ".zarr" if output.suffix.lower() == ".zarr" else ".nc"

@@ -281,7 +281,8 @@ class SeaSurface:
         """
         name = str(spectrum).lower()
         if name not in SPECTRA:
-            raise ConfigError(f"unknown spectrum {spectrum!r}; known: {', '.join(SPECTRA)}{did_you_mean(spectrum, SPECTRA)}",
+            raise ConfigError(f"unknown spectrum {spectrum!r}; known: {', '.join(SPECTRA)}"
+                              f"{did_you_mean(spectrum, SPECTRA)}",
                               key="spectrum")
         if not (np.isfinite(wind_speed) and wind_speed >= 0):
             raise ConfigError(f"must be a finite speed >= 0, got {wind_speed!r}", key="wind_speed")

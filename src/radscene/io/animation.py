@@ -141,7 +141,8 @@ def video_formats(choice: str = "auto", key: str = "render.video") -> tuple[str,
         An unknown choice, or mp4/both without imageio-ffmpeg (naming the extra to install).
     """
     if choice not in VIDEO_CHOICES:
-        raise ConfigError(f"unknown choice {choice!r}; known: {', '.join(VIDEO_CHOICES)}{did_you_mean(choice, VIDEO_CHOICES)}", key=key)
+        raise ConfigError(f"unknown choice {choice!r}; known: {', '.join(VIDEO_CHOICES)}"
+                          f"{did_you_mean(choice, VIDEO_CHOICES)}", key=key)
     have_mp4 = mp4_available()
     if choice in ("mp4", "both") and not have_mp4:
         raise ConfigError(f"{choice} needs imageio and imageio-ffmpeg (pip install imageio imageio-ffmpeg); "

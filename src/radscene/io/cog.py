@@ -53,7 +53,8 @@ TERM_LAYERS = ("sun_diffuse", "sun_specular", "thermal_emission", "sky_reflected
 def layer_names(level: str) -> tuple[str, ...]:
     """Every layer name a level may write (those a render lacks are skipped)."""
     if level not in LEVELS:
-        raise ConfigError(f"unknown GeoTIFF level {level!r}; known: {', '.join(LEVELS)}{did_you_mean(level, LEVELS)}",
+        raise ConfigError(f"unknown GeoTIFF level {level!r}; known: {', '.join(LEVELS)}"
+                          f"{did_you_mean(level, LEVELS)}",
                           key="--geotiff")
     rank = LEVELS.index(level)
     return (("radiance", "brightness_temperature") * (rank >= 1) + TRUTH_LAYERS * (rank >= 2)

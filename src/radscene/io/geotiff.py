@@ -55,7 +55,8 @@ def _resampling(name):
     from rasterio.enums import Resampling
 
     if name not in RESAMPLING:
-        raise ConfigError(f"unknown resampling {name!r}; known: {', '.join(RESAMPLING)}{did_you_mean(name, RESAMPLING)}",
+        raise ConfigError(f"unknown resampling {name!r}; known: {', '.join(RESAMPLING)}"
+                          f"{did_you_mean(name, RESAMPLING)}",
                           key="resampling")
     return getattr(Resampling, name)
 

@@ -304,7 +304,8 @@ def make_material(spec, key: str = "material", base_dir=None):
     kind = str(spec.get("type", "")).lower()
     if kind not in MATERIAL_TYPES:
         raise ConfigError(
-            f"unknown material type {spec.get('type')!r}; known: {', '.join(sorted(MATERIAL_TYPES))}{did_you_mean(spec.get('type'), sorted(MATERIAL_TYPES))}",
+            f"unknown material type {spec.get('type')!r}; known: {', '.join(sorted(MATERIAL_TYPES))}"
+            f"{did_you_mean(spec.get('type'), sorted(MATERIAL_TYPES))}",
             key=f"{key}.type",
         )
     _check_keys(spec, kind, key)

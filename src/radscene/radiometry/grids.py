@@ -115,7 +115,8 @@ def resample(wavelength, values, new_wavelength, method: str = "linear"):
     """
     if method not in RESAMPLE_METHODS:
         raise ConfigError(
-            f"unknown resampling method {method!r}; known: {', '.join(RESAMPLE_METHODS)}{did_you_mean(method, RESAMPLE_METHODS)}",
+            f"unknown resampling method {method!r}; known: {', '.join(RESAMPLE_METHODS)}"
+            f"{did_you_mean(method, RESAMPLE_METHODS)}",
             key="method",
         )
     wl, vals = _check_table(wavelength, values)

@@ -506,7 +506,8 @@ def make_response(spec: Mapping) -> SpectralResponse:
     kind = str(spec["type"]).lower()
     if kind not in RESPONSES:
         raise ConfigError(
-            f"unknown spectral response type {spec['type']!r}; known: {', '.join(RESPONSES)}{did_you_mean(spec['type'], RESPONSES)}",
+            f"unknown spectral response type {spec['type']!r}; known: {', '.join(RESPONSES)}"
+            f"{did_you_mean(spec['type'], RESPONSES)}",
             key="type",
         )
     cls = RESPONSES[kind]

@@ -857,7 +857,8 @@ class _Resolver:
                     example = spec.pop("example")
                     if example not in example_sensors():
                         raise ConfigError(f"unknown example sensor {example!r}; known: "
-                                          f"{', '.join(example_sensors())}{did_you_mean(example, example_sensors())}", key=f"{key}.example")
+                                          f"{', '.join(example_sensors())}"
+                                          f"{did_you_mean(example, example_sensors())}", key=f"{key}.example")
                     path = example_sensor_path(example)
                 try:
                     base = read_sensor_file(path)["sensor"]  # the mapping, or a file's parts
@@ -889,7 +890,8 @@ class _Resolver:
             for j, bname in enumerate(bands):
                 if bname not in band_names:
                     raise ConfigError(
-                        f"unknown band {bname!r}; known: {', '.join(band_names)}{did_you_mean(bname, band_names)}",
+                        f"unknown band {bname!r}; known: {', '.join(band_names)}"
+                        f"{did_you_mean(bname, band_names)}",
                         key=f"{key}.bands[{j}]",
                     )
             if o.type in ("pushbroom", "whiskbroom"):

@@ -116,7 +116,8 @@ def _build_channel(cfg: Mapping, key: str) -> Channel:
                           key=dkey)
     kind = str(dcfg.get("type", "photon")).lower()
     if kind not in DETECTORS:
-        raise ConfigError(f"unknown detector type {dcfg.get('type')!r}; known: {', '.join(DETECTORS)}{did_you_mean(dcfg.get('type'), DETECTORS)}",
+        raise ConfigError(f"unknown detector type {dcfg.get('type')!r}; known: {', '.join(DETECTORS)}"
+                          f"{did_you_mean(dcfg.get('type'), DETECTORS)}",
                           key=P.join(dkey, "type"))
     detector = DETECTORS[kind].from_config(dcfg, dkey)
     ecfg = cfg.get("electronics")

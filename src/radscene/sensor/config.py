@@ -57,7 +57,8 @@ def make_sensor(spec: Mapping | Sensor, key: str = "") -> Sensor:
     kind = str(spec.get("type", "staring")).lower()
     if kind not in SENSOR_TYPES:
         raise ConfigError(f"unknown sensor type {spec.get('type')!r}; known: "
-                          f"{', '.join(SENSOR_TYPES)}{did_you_mean(spec.get('type'), SENSOR_TYPES)}", key=f"{key}.type" if key else "type")
+                          f"{', '.join(SENSOR_TYPES)}"
+                          f"{did_you_mean(spec.get('type'), SENSOR_TYPES)}", key=f"{key}.type" if key else "type")
     return SENSOR_TYPES[kind].from_config(spec, key)
 
 
@@ -161,6 +162,7 @@ def example_sensor_path(name: str) -> Path:
     """Path of a bundled example sensor YAML file."""
     path = Path(str(_folder() / f"{name}.yaml"))
     if not path.is_file():
-        raise ConfigError(f"unknown example sensor {name!r}; known: {', '.join(example_sensors())}{did_you_mean(name, example_sensors())}",
+        raise ConfigError(f"unknown example sensor {name!r}; known: {', '.join(example_sensors())}"
+                          f"{did_you_mean(name, example_sensors())}",
                           key="sensor")
     return path

@@ -82,7 +82,8 @@ def shot_noise(mean, rng: np.random.Generator, method: str = "poisson") -> np.nd
             if low.any():
                 out[low] = rng.poisson(m[low])
         return out
-    raise ConfigError(f"unknown shot-noise method {method!r}; known: {', '.join(SHOT_NOISE_METHODS)}{did_you_mean(method, SHOT_NOISE_METHODS)}",
+    raise ConfigError(f"unknown shot-noise method {method!r}; known: {', '.join(SHOT_NOISE_METHODS)}"
+                      f"{did_you_mean(method, SHOT_NOISE_METHODS)}",
                       key="shot_noise")
 
 

@@ -146,7 +146,8 @@ def relative_illumination(field_angle, law: str = "cos4"):
         return np.ones_like(angle)
     if law == "cos4":
         return np.cos(np.radians(angle)) ** 4
-    raise ConfigError(f"unknown law {law!r}; known: {', '.join(RELATIVE_ILLUMINATION)}{did_you_mean(law, RELATIVE_ILLUMINATION)}",
+    raise ConfigError(f"unknown law {law!r}; known: {', '.join(RELATIVE_ILLUMINATION)}"
+                      f"{did_you_mean(law, RELATIVE_ILLUMINATION)}",
                       key="relative_illumination")
 
 
@@ -210,7 +211,8 @@ class Optics:
                               key="optics.obscuration")
         if self.relative_illumination not in RELATIVE_ILLUMINATION:
             raise ConfigError(f"unknown value {self.relative_illumination!r}; known: "
-                              f"{', '.join(RELATIVE_ILLUMINATION)}{did_you_mean(self.relative_illumination, RELATIVE_ILLUMINATION)}",
+                              f"{', '.join(RELATIVE_ILLUMINATION)}"
+                              f"{did_you_mean(self.relative_illumination, RELATIVE_ILLUMINATION)}",
                               key="optics.relative_illumination")
 
     # -- configuration ---------------------------------------------------------------------

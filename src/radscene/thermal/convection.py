@@ -100,7 +100,8 @@ def convection_coefficient(wind_speed, model="mcadams"):
     """
     fn = CONVECTION_MODELS.get(str(model).strip().lower())
     if fn is None:
-        raise ConfigError(f"unknown convection model {model!r}; known: {', '.join(sorted(CONVECTION_MODELS))}{did_you_mean(model, sorted(CONVECTION_MODELS))}", key="convection")
+        raise ConfigError(f"unknown convection model {model!r}; known: {', '.join(sorted(CONVECTION_MODELS))}"
+                          f"{did_you_mean(model, sorted(CONVECTION_MODELS))}", key="convection")
     return fn(wind_speed)
 
 

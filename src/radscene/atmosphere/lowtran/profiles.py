@@ -67,7 +67,8 @@ def profile_levels(profile: dict, key: str = "atmosphere.profile") -> tuple[Prof
             raise ConfigError(f"{n} non-negative values", key=f"{key}.{name}")
         unit = str(profile.get(f"{name}_unit", default_unit)).lower()
         if unit not in units:
-            raise ConfigError(f"unknown unit {unit!r}; known: {', '.join(units)}{did_you_mean(unit, units)}",
+            raise ConfigError(f"unknown unit {unit!r}; known: {', '.join(units)}"
+                              f"{did_you_mean(unit, units)}",
                               key=f"{key}.{name}_unit")
         return values, units[unit]
 

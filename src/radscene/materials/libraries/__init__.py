@@ -161,7 +161,8 @@ def read_library(path, format: str | None = None, **kwargs) -> SpectralLibrary:
         key = str(format).lower()
         if key not in FORMATS:
             raise ConfigError(
-                f"unknown library format {format!r}; known: {', '.join(sorted(FORMATS))}{did_you_mean(format, sorted(FORMATS))}",
+                f"unknown library format {format!r}; known: {', '.join(sorted(FORMATS))}"
+                f"{did_you_mean(format, sorted(FORMATS))}",
                 key="format",
             )
         return FORMATS[key](path, **kwargs)

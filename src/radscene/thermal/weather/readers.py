@@ -343,7 +343,8 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
         raise ConfigError(f"{path}: no such weather file", key="weather")
     kind = WEATHER_FORMATS.get(path.suffix.lower())
     if kind is None:
-        raise ConfigError(f"{path}: unknown weather file suffix {path.suffix!r}; known: {', '.join(WEATHER_FORMATS)}{did_you_mean(path.suffix, WEATHER_FORMATS)}", key="weather")
+        raise ConfigError(f"{path}: unknown weather file suffix {path.suffix!r}; known: {', '.join(WEATHER_FORMATS)}"
+                          f"{did_you_mean(path.suffix, WEATHER_FORMATS)}", key="weather")
     t_start = None if start is None else to_utc_datetime64(start, "start")
     t_end = None if end is None else to_utc_datetime64(end, "end")
     if t_start is not None and t_end is not None and t_start > t_end:

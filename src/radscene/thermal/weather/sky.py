@@ -211,7 +211,8 @@ CLOUD_EMISSIVITY_MODELS = {"crawford_duchon": crawford_duchon, "unsworth_monteit
 def _lookup(registry, name, key):
     fn = registry.get(str(name).strip().lower())
     if fn is None:
-        raise ConfigError(f"unknown model {name!r}; known: {', '.join(sorted(registry))}{did_you_mean(name, sorted(registry))}", key=key)
+        raise ConfigError(f"unknown model {name!r}; known: {', '.join(sorted(registry))}"
+                          f"{did_you_mean(name, sorted(registry))}", key=key)
     return fn
 
 

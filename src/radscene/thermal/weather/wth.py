@@ -106,7 +106,8 @@ def parse_fields(fields, path="weather", key="fields"):
             raise ConfigError(f"{path}: field {n}: {text!r} is not 'name [unit]', e.g. 'global_shortwave [W m-2]'", key=f"{key}.{n}")
         name, unit = match.group(1).lower(), match.group(2)
         if name not in DECLARABLE:
-            raise ConfigError(f"{path}: field {n}: unknown name {name!r}; known: {', '.join(DECLARABLE)}{did_you_mean(name, DECLARABLE)}", key=f"{key}.{n}")
+            raise ConfigError(f"{path}: field {n}: unknown name {name!r}; known: {', '.join(DECLARABLE)}"
+                              f"{did_you_mean(name, DECLARABLE)}", key=f"{key}.{n}")
         if name in seen:
             raise ConfigError(f"{path}: fields {seen[name]} and {n} are both declared {name}", key=f"{key}.{n}")
         seen[name] = n
