@@ -220,7 +220,7 @@ def run(args) -> dict:
         t1 = time.perf_counter()
         tables = scene_tables(scene, tracer)
         for setup in scene.observers:
-            render_observer(scene, setup.name, _tables=tables)
+            render_observer(scene, setup.name, tables=tables)
         t2 = time.perf_counter()
         rebuild_update.append(t1 - t0)
         rebuild_frame.append(t2 - t0)

@@ -58,7 +58,7 @@ def mitsuba_status(variant: str = MITSUBA_VARIANT) -> tuple[bool, str]:
              if ln.strip() and not ln.strip().startswith("0x")]
     reason = " | ".join(lines[-3:]) or f"exit status {done.returncode}"
     if "No module named" in reason:
-        reason = "mitsuba is not installed (pip install 'radscene[mitsuba]')"
+        reason = "mitsuba is not installed (pip install mitsuba)"
     elif "LLVM" in reason:
         reason = ("Dr.Jit's LLVM backend failed (" + reason[:300] + "); it needs a recent "
                   "libLLVM, e.g. Debian's libllvm19, or DRJIT_LIBLLVM_PATH")

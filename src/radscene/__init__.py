@@ -89,12 +89,13 @@ def example_path(name: str) -> Path:
     """Path of a bundled example scene (``radscene examples`` lists them)."""
     from importlib import resources
 
-    from radscene.errors import ConfigError
+    from radscene.errors import ConfigError, did_you_mean
 
     path = Path(str(resources.files("radscene") / "examples" / f"{name}.yaml"))
     if not path.is_file():
         known = sorted(p.name.removesuffix(".yaml")
                        for p in (resources.files("radscene") / "examples").iterdir()
                        if p.name.endswith(".yaml"))
-        raise ConfigError(f"unknown example {name!r}; known: {', '.join(known)}", key="name")
+        raise ConfigError(f"unknown example {name!r}; known: {', '.join(known)}"
+                          f"{did_you_mean(name, known)}", key="name")
     return path

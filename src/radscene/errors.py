@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["RadsceneError", "ConfigError", "EngineError", "unreadable"]
+__all__ = ["RadsceneError", "ConfigError", "EngineError", "did_you_mean", "unreadable"]
 
 
 class RadsceneError(Exception):
@@ -34,6 +34,38 @@ class ConfigError(RadsceneError, ValueError):
 
 class EngineError(RadsceneError, RuntimeError):
     """An external engine (LOWTRAN, 6S, ...) failed for a named case."""
+
+
+def did_you_mean(name, known, *, cutoff: float = 0.6) -> str:
+    """The closest of *known* to a misspelt *name*, as an error message ends with it.
+
+    Parameters
+    ----------
+    name : str
+        What was given.
+    known : iterable of str
+        What would be accepted.
+    cutoff : float, optional
+        How close (``difflib`` ratio, 0 to 1) a known name must be to be suggested.
+
+    Returns
+    -------
+    str
+        ``"; did you mean 'x'?"``, to append to a refusal that lists the known names, or ``""``
+        when none is close.
+
+    >>> did_you_mean("asfalt", ["asphalt", "concrete"])
+    "; did you mean 'asphalt'?"
+    """
+    import difflib
+
+    known = [str(k) for k in known]
+    close = difflib.get_close_matches(str(name), known, n=1, cutoff=cutoff)
+    if not close:  # a name typed in another case than the known ones
+        lowered = {k.lower(): k for k in known}
+        close = [lowered[c] for c in difflib.get_close_matches(str(name).lower(), list(lowered), n=1,
+                                                               cutoff=cutoff)]
+    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 #: A quoted stretch of a library's message (an opening quote that does not follow a letter, as

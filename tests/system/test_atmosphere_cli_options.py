@@ -280,7 +280,7 @@ BAD = [
     (["los", "--sensor", "landsat8_oli", "--band", "B99"], "--band: unknown band 'B99'; "
                                                            "known: B1, B2"),
     (["sky", "--sensor", "goes16_abi", "--band", "C13"], "--band: unknown band 'C13'; known: B7"),
-    (["los", "--band", "B4"], r"--band: 'min,max' in um \(a band name needs --sensor\)"),
+    (["los", "--band", "B4"], r"--band: 'min,max' in µm \(a band name needs --sensor\)"),
     (["los", "--date", "2024-13-01"], "--date: a date YYYY-MM-DD"),
     (["sky", "--date", "04/07/2024"], "--date: a date YYYY-MM-DD"),
     (["los", "--date", "tomorrow"], "--date: a date YYYY-MM-DD"),
@@ -302,11 +302,11 @@ BAD = [
                                             "known: radscene, tsis1, 6s, lowtran"),
     (["los", "--ground-albedo", "1.5"], r"--ground-albedo: must lie in \[0, 1\]"),
     (["los", "--engine", "sixs", "--sensor", "landsat8_tirs", "--band", "B10"],
-     "--sensor landsat8_tirs --band B10: the 'sixs' atmosphere covers 0.25–4 um; asked for "
-     "9–14 um"),
+     "--sensor landsat8_tirs --band B10: the 'sixs' atmosphere covers 0.25–4 µm; asked for "
+     "9–14 µm"),
     (["los", "--sensor", "landsat8_oli", "--band", "B4", "--wavelength-min", "0.4",
       "--wavelength-max", "0.6"], "--sensor landsat8_oli --band B4: band 'landsat8_oli B4' "
-                                  "spans .* beyond the wavelengths 0.4-0.6 um"),
+                                  "spans .* beyond the wavelengths 0.4-0.6 µm"),
 ]
 
 

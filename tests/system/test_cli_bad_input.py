@@ -305,3 +305,45 @@ def test_a_temperature_map_of_image_levels_is_refused(tmp_path, one_line_refusal
                                               "temperature_map: kelvin.npy"))
     assert result.exit_code == 0, result.output
     assert (out / "nadir.nc").is_file()
+
+
+SUGGESTED = {
+    "material name": (["check"], GOOD.replace("material: paint", "material: paintt"),
+                      "objects[0].material: unknown material 'paintt'", "known: ", "paint"),
+    "library material name": (["check"], GOOD.replace("material: paint", "material: asfalt"),
+                              "objects[0].material: unknown material 'asfalt'", "known: ",
+                              "asphalt"),
+    "atmosphere engine": (["check"], GOOD.replace("type: none", "type: databse"),
+                          "environment.atmosphere.type: unknown atmosphere engine 'databse'",
+                          "known: none, uniform", "database"),
+    "observer type": (["check"], GOOD.replace("type: orthographic", "type: orthographc"),
+                      "observers[0].type: unknown type 'orthographc'",
+                      "known: orthographic, perspective", "orthographic"),
+    "observer on the command line": (["render", "--observer", "nadri"], GOOD,
+                                     "--observer: unknown observer 'nadri'", "known: nadir",
+                                     "nadir"),
+}
+
+
+@pytest.mark.parametrize("case", SUGGESTED, ids=list(SUGGESTED))
+def test_a_misspelt_name_gets_a_suggestion(tmp_path, case, one_line_refusal):
+    """An unknown name is refused in one line naming its key, listing the known names and
+    suggesting the closest one."""
+    command, text, start, known, closest = SUGGESTED[case]
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(text)
+    extra = ["-o", str(tmp_path / "out")] if command[0] == "render" else []
+    result = runner.invoke(app, [command[0], str(scene), *command[1:], *extra])
+    assert result.exit_code == 2, result.output
+    line = one_line_refusal(result.output, start, known)
+    assert line.endswith(f"; did you mean {closest!r}?"), line
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_misspelt_example_gets_a_suggestion(one_line_refusal):
+    result = runner.invoke(app, ["examples", "dem"])
+    assert result.exit_code == 2
+    line = one_line_refusal(result.output, "name: unknown example 'dem'", "known: convoy_motion")
+    assert line.endswith("; did you mean 'demo'?"), line
+    result = runner.invoke(app, ["examples", "zzzzzz"])  # nothing close: no suggestion
+    assert result.exit_code == 2 and "did you mean" not in result.output

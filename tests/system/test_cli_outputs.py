@@ -120,10 +120,47 @@ def test_check_reports_what_each_observer_sees_and_warns_about_nothing(tmp_path)
     path.write_text(GOOD)
     result = runner.invoke(app, ["check", str(path)])
     assert result.exit_code == 0, result.output
-    assert "GSD 1 m; 100 % of pixels on the scene, their centres spanning 3 × 3 m" in (
-        " ".join(result.output.split()))
+    assert ("field of view: parallel rays over 4 × 4 m; GSD 1 m; ground footprint 3 × 3 m "
+            "(pixel centres; 100 % of pixels on the scene)") in " ".join(result.output.split())
     # the same camera beside the plate sees nothing
     path.write_text(GOOD.replace("center: [0, 0]", "center: [500, 500]"))
     result = runner.invoke(app, ["check", str(path)])
     assert result.exit_code == 0, result.output
-    assert "warning: observer nadir looks at nothing" in result.output
+    flat = " ".join(result.output.split())
+    # its field of view and GSD first, then the warning
+    assert ("field of view: parallel rays over 4 × 4 m; GSD 1 m; ground footprint: none" in flat
+            and flat.index("GSD 1 m") < flat.index("warning: observer nadir looks at nothing"))
+
+
+def test_check_gives_a_perspective_observer_its_gsd_at_the_boresight(tmp_path):
+    path = tmp_path / "s.yaml"
+    frame = ("{name: frame, type: perspective, position: [0, 0, 100 m], look_at: [0, 0, 0], "
+             "fov: 40 deg, shape: [4, 4]}")
+    path.write_text(GOOD.replace(
+        "{name: nadir, type: orthographic, center: [0, 0], gsd: 1 m, shape: [4, 4]}", frame))
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 0, result.output
+    flat = " ".join(result.output.split())
+    # 100 m x 2 tan(20 deg) / 4 columns
+    assert ("field of view 40° × 40°; GSD 18.2 m at the boresight's ground point (0, 0, 0) m, "
+            "100 m away, across the line of sight; ground footprint ") in flat, flat
+    # looking up: its field of view, no GSD, then the warning
+    path.write_text(path.read_text().replace("look_at: [0, 0, 0]", "look_at: [0, 0, 200 m]"))
+    result = runner.invoke(app, ["check", str(path)])
+    assert result.exit_code == 0, result.output
+    flat = " ".join(result.output.split())
+    assert ("field of view 40° × 40°; GSD: none, the boresight meets no ground; ground "
+            "footprint: none") in flat, flat
+    assert flat.index("field of view") < flat.index("warning: observer frame looks at nothing")
+
+
+def test_check_gives_a_pushbroom_its_field_of_view_gsd_and_footprint():
+    from radscene import example_path
+
+    result = runner.invoke(app, ["check", str(example_path("landsat_overpass"))])
+    assert result.exit_code == 0, result.output
+    flat = " ".join(result.output.split())
+    line = flat[flat.index("observer landsat: pushbroom"):]
+    assert "field of view 0.156° across track (IFOV 0.000813°); GSD 10 m at the boresight's " \
+           "ground point" in line, line
+    assert "at mid-image, 704,991 m away" in line and "; ground footprint 2,321 × 2,201 m" in line

@@ -42,7 +42,7 @@ def _run(tmp_path: Path, text: str):
 def test_spectral_observer_writes_netcdf_and_envi(tmp_path):
     result, out = _run(tmp_path, GOOD)
     assert result.exit_code == 0, result.output
-    assert "61 channels 0.4–1 um" in result.output
+    assert "61 channels 0.4–1 µm" in result.output
     cube = read_netcdf(out / "hsi_spectral.nc")
     assert cube["radiance"].dims == ("wavelength", "y", "x")
     assert cube["radiance"].shape == (61, 4, 6)
@@ -113,13 +113,13 @@ def test_envi_file_reads_back_with_the_spectral_package(tmp_path):
 BAD = {
     "zero step": (GOOD.replace("step: 10 nm", "step: 0 nm"), "observers[0].spectral.step"),
     "negative step": (GOOD.replace("step: 10 nm", "step: -10 nm"),
-                      "observers[0].spectral.step: must be > 0 um"),
+                      "observers[0].spectral.step: must be > 0 µm"),
     "empty grid": (GOOD.replace("max: 1000 nm", "max: 400 nm"),
                    "observers[0].spectral.max: must be above min"),
     "one channel": (GOOD.replace("step: 10 nm", "step: 1 um"),
                     "observers[0].spectral.step"),
     "beyond the atmosphere": (GOOD.replace("max: 1000 nm", "max: 4 um"),
-                              "observers[0].spectral: the 'uniform' atmosphere covers 0.35–3 um"),
+                              "observers[0].spectral: the 'uniform' atmosphere covers 0.35–3 µm"),
     "bands and a grid": (GOOD.replace("spectral:", "bands: [vis], spectral:").replace(
         "observers:", "bands: [{name: vis, min: 0.5, max: 0.6}]\nobservers:"),
         "observers[0].bands: a spectral observer renders its grid"),

@@ -36,7 +36,7 @@ def test_every_source_says_what_is_measured_modelled_or_assumed(name):
     # every thermal part is labelled: a measurement, a model, a published band value with a
     # modelled shape or an assumption, never silent
     # (tests/unit/test_library_thermal_sources.py checks the thermal part itself)
-    labels = ("MODEL", "ASSUMED", "MEASURED 8.0-14.0 um", "PUBLISHED BAND VALUE, MODELLED SHAPE")
+    labels = ("MODEL", "ASSUMED", "MEASURED 8.0-14.0 µm", "PUBLISHED BAND VALUE, MODELLED SHAPE")
     assert any(w in source for w in labels), name
     assert "doi:" in source or "https://" in source, name
 

@@ -349,7 +349,7 @@ SPAN = ["--start", "2026-06-21T07:00:00Z", "--end", "2026-06-21T07:00:00.5Z", "-
 
 
 def test_a_sequence_writes_a_3_frame_mp4_per_band(tmp_path):
-    pytest.importorskip("imageio_ffmpeg", reason="MP4 needs imageio-ffmpeg (pip install radscene[video])")
+    pytest.importorskip("imageio_ffmpeg", reason="MP4 needs imageio-ffmpeg (pip install imageio imageio-ffmpeg)")
     import imageio.v3 as iio
 
     out = tmp_path / "out"

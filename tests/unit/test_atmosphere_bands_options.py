@@ -61,8 +61,8 @@ def test_band_responses_checks_pairs_and_coverage():
     with pytest.raises(ConfigError, match=r"bands\[0\]: \(0.7, 0.6\) must be increasing"):
         band_responses([(0.7, 0.6)], wl)
     tri = TabulatedResponse([0.45, 0.6, 0.7], [0.0, 1.0, 0.0], name="wide")
-    with pytest.raises(ConfigError, match=r"bands\[1\]: band 'wide' spans 0.45-0.7 um, "
-                                          r"beyond the wavelengths 0.5-0.9 um"):
+    with pytest.raises(ConfigError, match=r"bands\[1\]: band 'wide' spans 0.45-0.7 µm, "
+                                          r"beyond the wavelengths 0.5-0.9 µm"):
         band_responses([(0.6, 0.7), tri], wl)
 
 

@@ -55,7 +55,7 @@ def test_sky_table_and_plot(tmp_path):
     (["los", "--target-altitude", "-2km"], "below the ground"),
     (["los", "--target-altitude", "150km", "--observer-altitude", "200km"], "above the atmos"),
     (["los", "--engine", "sixs", "--wavelength-min", "3", "--wavelength-max", "5"],
-     "covers 0.25–4 um"),
+     "covers 0.25–4 µm"),
     (["los", "--engine", "modtran"], "unknown engine 'modtran'"),
     (["los", "--single-scattering"], "always includes multiple scattering"),
     (["los", "--band", "0.7"], "'min,max'"),

@@ -60,7 +60,7 @@ def test_wavelength_column_and_its_range(tmp_path):
     got = m.f_angles(20.0, 30.0, 60.0, np.array([1.0, 2.0, 3.0]))
     assert got == pytest.approx(_smooth(20.0, 30.0, 60.0) * np.array([1.0, 1.5, 2.0]),
                                 rel=NODE_REL)
-    with pytest.raises(ConfigError, match=r"wavelength 5 um is outside the range \[1, 3\]"):
+    with pytest.raises(ConfigError, match=r"wavelength 5 µm is outside the range \[1, 3\]"):
         m.f_angles(20.0, 30.0, 60.0, 5.0)
     with pytest.raises(ConfigError, match="pass wavelength"):
         m.f_angles(20.0, 30.0, 60.0)

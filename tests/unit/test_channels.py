@@ -60,7 +60,7 @@ def test_band_weights_integrate_channel_values_exactly():
 
 def test_band_weights_refuse_a_response_beyond_the_grid():
     grid = channel_grid(8.0, 12.0, 0.25)
-    with pytest.raises(ConfigError, match="spans 11–12.5 um, beyond the grid's 8–12 um"):
+    with pytest.raises(ConfigError, match="spans 11–12.5 µm, beyond the grid's 8–12 µm"):
         grid.band_weights(TabulatedResponse([11.0, 12.5], [1.0, 1.0]))
 
 

@@ -63,7 +63,7 @@ def test_default_configuration_is_valid_and_complete():
     ({"grid": {"sun_zenith": [10, 60]}}, "start at 0"),
     ({"grid": {"airmass_pairs": [[0, 95]]}}, "airmass_pairs"),
     ({"grid": {"phase_wavelengths": [0.55]}}, r"grid.phase_wavelengths: at least two"),
-    ({"wavelength": {"min": 0.4, "max": 5.0}}, r"max <= 4 um \(6S\)"),
+    ({"wavelength": {"min": 0.4, "max": 5.0}}, r"max <= 4 µm \(6S\)"),
     ({"strategy": "quick"}, "reduced or full"),
     ({"thermal": {"engine": "modtran"}}, "none, lowtran or auto"),
 ])
@@ -101,5 +101,5 @@ def test_a_small_build_round_trips(tmp_path):
     db = DatabaseAtmosphere(file=path, sun_zenith=40.0)
     p = db.path(1e5, 0.0, 40.0, [0.55, 0.65])
     assert np.all((p.transmittance > 0.5) & (p.transmittance < 1.0))
-    with pytest.raises(ConfigError, match="covers 0.5–0.9 um"):
+    with pytest.raises(ConfigError, match="covers 0.5–0.9 µm"):
         db.path(1e5, 0.0, 40.0, [1.6])

@@ -143,8 +143,8 @@ def test_solar_integrals_agree_with_the_nfrc_figures():
 
 def test_the_source_labels_each_part():
     source = library_info()["materials"]["glass"]["source"]
-    for words in ("0.30-2.50 um: MEASURED", "2.50-3.0 um: ASSUMED",
-                  "Thermal 3-20 um: PUBLISHED BROADBAND VALUE, GREY", "emissivity 0.84",
+    for words in ("0.30-2.50 µm: MEASURED", "2.50-3.0 µm: ASSUMED",
+                  "Thermal 3-20 µm: PUBLISHED BROADBAND VALUE, GREY", "emissivity 0.84",
                   "NFRC ID 102", "3.048 mm", "doi:10.1016/0165-1633(85)90052-8",
                   "exponent 2000 ASSUMED"):
         assert words in source, words

@@ -49,7 +49,7 @@ BAND_LEVEL = {
 def _thermal_part(source: str) -> str:
     """The sentences of a library source that describe its thermal-infrared part: from the range
     that covers 3-20 um up to the description of the specular split or the diffuse VSWIR part."""
-    for marker in ("Thermal 3-20 um", "3-20 um", "-20 um", "-20.4 um", "-22.5 um"):
+    for marker in ("Thermal 3-20 µm", "3-20 µm", "-20 µm", "-20.4 µm", "-22.5 µm"):
         i = source.find(marker)
         if i >= 0:
             return re.split("Specular|Diffuse", source[i:])[0]

@@ -250,8 +250,8 @@ def test_bad_parameters(make, params, key, match):
 @pytest.mark.parametrize("query, key, match", [
     (lambda a: a.path(3000.0, -50.0, 0.0, WL), "target_altitude", "below the ground"),
     (lambda a: a.path(120000.0, 0.0, 0.0, WL), "observer_altitude", "ends at 100 km"),
-    (lambda a: a.path(3000.0, 0.0, 0.0, [0.2, 0.5]), "wavelength", "0.25–28 um"),
-    (lambda a: a.path(3000.0, 0.0, 0.0, [10.0, 30.0]), "wavelength", "0.25–28 um"),
+    (lambda a: a.path(3000.0, 0.0, 0.0, [0.2, 0.5]), "wavelength", "0.25–28 µm"),
+    (lambda a: a.path(3000.0, 0.0, 0.0, [10.0, 30.0]), "wavelength", "0.25–28 µm"),
     (lambda a: a.path(3000.0, 0.0, 120.0, WL), "view_zenith", "no line of sight"),
     (lambda a: a.path(3000.0, 0.0, 190.0, WL), "view_zenith", r"\[0, 180\]"),
     (lambda a: a.sun(-10.0, 30.0, WL, np.ones(4)), "target_altitude", "below the ground"),

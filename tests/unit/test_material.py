@@ -38,7 +38,7 @@ def test_both_inconsistent_raises():
     with pytest.raises(ConfigError, match=r"= 1\.2 at .*Kirchhoff"):
         Material.create("bad", reflectance=0.6, emissivity=0.6)
     # off by more than 1e-6 at one tabulated wavelength only
-    with pytest.raises(ConfigError, match="at 2 um"):
+    with pytest.raises(ConfigError, match="at 2 µm"):
         Material.create(
             "bad",
             reflectance={"wavelength": [1, 2, 3], "values": [0.1, 0.2, 0.3]},
@@ -56,7 +56,7 @@ def test_neither_raises():
 def test_check_names_material_and_first_wavelength():
     # specular larger than total reflectance between 2 and 3 um
     with pytest.raises(
-        ConfigError, match=r"'shiny'.*diffuse_reflectance = -0\.1 at wavelength 2 um"
+        ConfigError, match=r"'shiny'.*diffuse_reflectance = -0\.1 at wavelength 2 µm"
     ):
         Material.create(
             "shiny",
@@ -77,7 +77,7 @@ def test_check_is_exact_at_knots_of_either_spectrum():
     # tau peaks at 1.5 um, a knot of tau only; rho is tabulated at 1 and 2 um
     rho = Spectrum.from_table([1.0, 2.0], [0.5, 0.5])
     tau = Spectrum.from_table([1.0, 1.5, 2.0], [0.1, 0.6, 0.1])
-    with pytest.raises(ConfigError, match="at wavelength 1.5 um"):
+    with pytest.raises(ConfigError, match="at wavelength 1.5 µm"):
         Material(name="m", diffuse_reflectance=rho, transmittance=tau)
 
 

@@ -30,7 +30,7 @@ def test_negative_reflectance_in_a_file_names_file_line_and_material(tmp_path):
         make_material({"type": "custom", "reflectance": {"file": "wall.csv", "column": "reflectance"}},
                       key="materials.wall", base_dir=tmp_path)
     assert err.value.key == "materials.wall.reflectance"
-    assert f"{tmp_path / 'wall.csv'}:4: material 'wall': reflectance = -0.05 at 1 um" in err.value.message
+    assert f"{tmp_path / 'wall.csv'}:4: material 'wall': reflectance = -0.05 at 1 µm" in err.value.message
     assert "outside [0, 1]" in err.value.message
 
 
@@ -41,7 +41,7 @@ def test_reflectance_plus_transmittance_above_one_names_file_line_and_material(t
             "reflectance": {"file": "leaf.csv", "column": "reflectance"},
             "transmittance": {"file": "leaf.csv", "column": "transmittance"}}
     with pytest.raises(ConfigError, match=r"leaf\.csv:3: material 'leaf': reflectance \+ "
-                                          r"transmittance = 1\.1 at 0\.8 um exceeds 1") as err:
+                                          r"transmittance = 1\.1 at 0\.8 µm exceeds 1") as err:
         make_material(spec, key="materials.leaf", base_dir=tmp_path)
     assert err.value.key == "materials.leaf"
 

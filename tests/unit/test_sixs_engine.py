@@ -47,15 +47,15 @@ def test_bad_parameters_name_the_key(no_runs, params, match):
 
 
 @pytest.mark.parametrize(("call", "match"), [
-    (lambda a: a.path(1e5, 0.0, 0.0, [0.55, 4.5]), r"covers 0.25–4 um; asked for 0.55–4.5"),
+    (lambda a: a.path(1e5, 0.0, 0.0, [0.55, 4.5]), r"covers 0.25–4 µm; asked for 0.55–4.5"),
     (lambda a: a.path(1e5, -20.0, 0.0, [0.55]), "below the ground"),
     (lambda a: a.path(1e5, -1.0, 0.0, [0.55]), "below the ground: -1 m"),
     (lambda a: a.sun(-1.0, 30.0, [0.55], [1.0]), "below the ground: -1 m"),
     (lambda a: a.path(2e5, 1.2e5, 0.0, [0.55]), "above the atmosphere"),
     (lambda a: a.path(1e5, 0.0, 89.5, [0.55]), "view zenith must be <= 89"),
     (lambda a: a.path(1e3, 0.0, 95.0, [0.55]), "contradicts the altitudes"),
-    (lambda a: a.sun(0.0, 30.0, [5.0], [1.0]), "covers 0.25–4 um"),
-    (lambda a: a.sky([10.0], [0.0], [0.2], SkyGeometry(0.0, 30.0, 0.0)), "covers 0.25–4 um"),
+    (lambda a: a.sun(0.0, 30.0, [5.0], [1.0]), "covers 0.25–4 µm"),
+    (lambda a: a.sky([10.0], [0.0], [0.2], SkyGeometry(0.0, 30.0, 0.0)), "covers 0.25–4 µm"),
 ])
 def test_bad_queries_fail_before_6s_runs(no_runs, call, match):
     atm = SixSAtmosphere(sun_zenith=30.0)

@@ -210,7 +210,7 @@ def test_envi_unit_rule_without_units_is_stated(tmp_path):
 
 def test_envi_errors_name_file_and_line(tmp_path):
     data, header = write_envi_library(tmp_path / "e.sli", [0.5, 0.6], [[0.1, -0.2]])
-    with pytest.raises(ConfigError, match=r"e\.sli: spectrum 'spectrum_1'.*-0.2 at 0.6 um"):
+    with pytest.raises(ConfigError, match=r"e\.sli: spectrum 'spectrum_1'.*-0.2 at 0.6 µm"):
         read_envi(data)
     data, header = write_envi_library(tmp_path / "f.sli", [0.5, 0.6], [[0.1, 0.2]])
     header.write_text(header.read_text().replace("data type = 4", "data type = 7"))
@@ -269,7 +269,7 @@ def test_spectral_library_get_is_unique():
 earthlib_missing = importlib.util.find_spec("earthlib") is None
 
 
-@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install radscene[earthlib]")
+@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install earthlib")
 def test_earthlib_library_searchable_by_class_and_name():
     from radscene.materials.libraries import earthlib_classes, earthlib_library
 
@@ -333,7 +333,7 @@ def test_make_material_file_errors_name_file_and_line(tmp_path):
         make_material({"type": "file", "path": str(path), "transmittance": 0.7}, key="materials.wall")
 
 
-@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install radscene[earthlib]")
+@pytest.mark.skipif(earthlib_missing, reason="earthlib not installed: pip install earthlib")
 def test_make_material_from_earthlib():
     from radscene.materials import make_material
 

@@ -118,7 +118,7 @@ def test_errors():
     with pytest.raises(ConfigError, match=r"unknown keys \['colour'\]"):
         make_layers([{"conductivity": 1, "density": 1, "specific_heat": 1, "colour": "red"}])
     narrow = Material.create("narrow", reflectance={"wavelength": [0.5, 2.0], "values": [0.1, 0.1]})
-    with pytest.raises(ConfigError, match=r"defined on \[0.5, 2\] um; the integral needs \[0.4, 4\]"):
+    with pytest.raises(ConfigError, match=r"defined on \[0.5, 2\] µm; the integral needs \[0.4, 4\]"):
         solar_absorptance(narrow)
     with pytest.raises(ConfigError, match="temperature"):
         longwave_emissivity(get_material("asphalt"), temperature=-3.0)

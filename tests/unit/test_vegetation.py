@@ -7,7 +7,7 @@ import pytest
 
 from radscene.errors import ConfigError
 
-pytest.importorskip("prosail", reason="prosail not installed: pip install radscene[vegetation]")
+pytest.importorskip("prosail", reason="prosail not installed: pip install prosail")
 
 from radscene.materials import get_material  # noqa: E402
 from radscene.materials.vegetation import (  # noqa: E402

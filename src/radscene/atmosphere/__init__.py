@@ -23,7 +23,7 @@ from radscene.atmosphere.lowtran import LowtranAtmosphere
 from radscene.atmosphere.nodes import air_mass, fold_relative_azimuth, relative_azimuth_axis
 from radscene.atmosphere.sixs import SixSAtmosphere
 from radscene.atmosphere.uniform import UniformAtmosphere, VacuumAtmosphere
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = [
     "Atmosphere",
@@ -82,7 +82,8 @@ def make_atmosphere(spec: dict | None, key: str = "environment.atmosphere") -> A
     name = str(params.pop("type")).lower()
     if name not in ENGINES:
         raise ConfigError(
-            f"unknown atmosphere engine {name!r}; known: {', '.join(ENGINES)}", key=f"{key}.type"
+            f"unknown atmosphere engine {name!r}; known: {', '.join(ENGINES)}"
+            f"{did_you_mean(name, ENGINES)}", key=f"{key}.type"
         )
     try:
         return ENGINES[name](**params)

@@ -78,7 +78,7 @@ from radscene.atmosphere.options import (
     option_attrs,
     sun_date,
 )
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["line_of_sight", "sky_radiance", "make_engine", "sun_date", "ENGINE_NAMES",
            "SOLAR_SPECTRA", "ENGINE_SPECTRA"]
@@ -94,7 +94,8 @@ def _make(engine, profile, aerosol, visibility, multiple_scattering, sun_zenith,
     """(engine, settings) of :func:`make_engine`."""
     name = str(engine).lower()
     if name not in ENGINE_NAMES:
-        raise ConfigError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}",
+        raise ConfigError(f"unknown engine {engine!r}; known: {', '.join(ENGINE_NAMES)}"
+                          f"{did_you_mean(engine, ENGINE_NAMES)}",
                           key="engine")
     settings = check_options(name, visibility, aot550, water, ozone, date,
                              earth_sun_distance, solar_spectrum)
@@ -181,7 +182,7 @@ def _grid(atm, wavelength, wavelength_range, step, bands=None):
     if wavelength is not None:
         wl = np.atleast_1d(np.asarray(wavelength, dtype=float))
         if wl.ndim != 1 or wl.size == 0 or np.any(~np.isfinite(wl)) or np.any(wl <= 0):
-            raise ConfigError("a non-empty list of positive wavelengths [um]", key="wavelength")
+            raise ConfigError("a non-empty list of positive wavelengths [µm]", key="wavelength")
         return atm.check_wavelength(np.unique(wl))
     if wavelength_range is None and bands:
         wavelength_range = _band_range(atm, bands)
@@ -191,12 +192,12 @@ def _grid(atm, wavelength, wavelength_range, step, bands=None):
     else:
         lo, hi = float(wavelength_range[0]), float(wavelength_range[1])
     if not (np.isfinite(lo) and np.isfinite(hi) and 0 < lo < hi):
-        raise ConfigError(f"an increasing (min, max) pair [um]; got {wavelength_range!r}",
+        raise ConfigError(f"an increasing (min, max) pair [µm]; got {wavelength_range!r}",
                           key="wavelength_range")
     atm.check_wavelength(np.array([lo, hi]), key="wavelength_range")
     if step is not None:
         if not float(step) > 0:
-            raise ConfigError(f"must be > 0 um; got {step!r}", key="step")
+            raise ConfigError(f"must be > 0 µm; got {step!r}", key="step")
         wl = np.arange(lo, hi + 1e-9, float(step))
     else:
         short = np.arange(lo, min(hi, 4.0) + 1e-9, 0.005) if lo < 4.0 else np.zeros(0)

@@ -86,15 +86,15 @@ def band_responses(bands, wavelength) -> list[SpectralResponse]:
             try:
                 lo, hi = (float(v) for v in b)
             except (TypeError, ValueError):
-                raise ConfigError("(min, max) pairs [um] or spectral responses",
+                raise ConfigError("(min, max) pairs [µm] or spectral responses",
                                   key=f"bands[{i}]") from None
             if not lo < hi:
                 raise ConfigError(f"({lo:g}, {hi:g}) must be increasing", key=f"bands[{i}]")
             response = RectangularResponse(lo, hi, name=f"{lo:g}-{hi:g} um")
         lo, hi = response.support
         if lo < wl[0] - _EDGE or hi > wl[-1] + _EDGE:
-            raise ConfigError(f"band {response.name!r} spans {lo:g}-{hi:g} um, beyond the "
-                              f"wavelengths {wl[0]:g}-{wl[-1]:g} um", key=f"bands[{i}]")
+            raise ConfigError(f"band {response.name!r} spans {lo:g}-{hi:g} µm, beyond the "
+                              f"wavelengths {wl[0]:g}-{wl[-1]:g} µm", key=f"bands[{i}]")
         out.append(response)
     return out
 

@@ -391,8 +391,8 @@ class Atmosphere(abc.ABC):
         lo, hi = self.wavelength_range
         if wl.size and (np.nanmin(wl) < lo or np.nanmax(wl) > hi):
             raise ConfigError(
-                f"the {self.name!r} atmosphere covers {lo:g}–{hi:g} um; asked for "
-                f"{np.nanmin(wl):g}–{np.nanmax(wl):g} um",
+                f"the {self.name!r} atmosphere covers {lo:g}–{hi:g} µm; asked for "
+                f"{np.nanmin(wl):g}–{np.nanmax(wl):g} µm",
                 key=key,
             )
         return wl

@@ -230,7 +230,7 @@ def load_config(config) -> dict:
     w = cfg["wavelength"]
     lo, hi = float(w["min"]), float(w["max"])
     if not (SIXS_WAVELENGTH_RANGE[0] <= lo < hi <= SIXS_WAVELENGTH_RANGE[1]):
-        raise ConfigError(f"0.25 <= min < max <= 4 um (6S); got {lo:g}-{hi:g}",
+        raise ConfigError(f"0.25 <= min < max <= 4 µm (6S); got {lo:g}-{hi:g}",
                           key="wavelength")
     if not float(w["tolerance"]) > 0:
         raise ConfigError("must be > 0", key="wavelength.tolerance")

@@ -603,19 +603,19 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         if self._scales != (1.0, 1.0) and wl.size and np.nanmax(wl) > self.reflective_range[1]:
             raise ConfigError(
                 f"{self.file.name} scales the water-vapour and ozone columns up to "
-                f"{self.reflective_range[1]:g} um only (its thermal tables hold the "
-                f"{self.profile} profile's own columns); asked for up to {np.nanmax(wl):g} um: "
+                f"{self.reflective_range[1]:g} µm only (its thermal tables hold the "
+                f"{self.profile} profile's own columns); asked for up to {np.nanmax(wl):g} µm: "
                 "choose the profile whose columns are nearest instead", key=key)
         if self.thermal and wl.size:
             gap = (wl > self.reflective_range[1]) & (wl < self.axes["thermal_wavelength"][0])
             if np.any(gap):
-                raise ConfigError(f"{self.file.name} has no tables at {wl[gap].min():g} um",
+                raise ConfigError(f"{self.file.name} has no tables at {wl[gap].min():g} µm",
                                   key=key)
         elif wl.size and np.nanmax(wl) > self.reflective_range[1]:
             raise ConfigError(
                 f"{self.file.name} covers {self.reflective_range[0]:g}–"
-                f"{self.reflective_range[1]:g} um (6S, reflective); asked for up to "
-                f"{np.nanmax(wl):g} um. Thermal tables are added by `radscene atmosphere "
+                f"{self.reflective_range[1]:g} µm (6S, reflective); asked for up to "
+                f"{np.nanmax(wl):g} µm. Thermal tables are added by `radscene atmosphere "
                 "build` with an emitting engine (lowtran)", key=key)
         return wl
 

@@ -49,10 +49,10 @@ __all__ = ["SOLAR_SPECTRA", "ENGINE_SPECTRA", "sun_date", "check_options", "data
 
 #: Top-of-atmosphere solar spectra, by name: where each comes from.
 SOLAR_SPECTRA = {
-    "radscene": "ASTM G173-03 extraterrestrial spectrum (Gueymard 2004) 0.28-4 um, a scaled "
+    "radscene": "ASTM G173-03 extraterrestrial spectrum (Gueymard 2004) 0.28-4 µm, a scaled "
                 "5772 K blackbody beyond: radscene.sun.toa_solar_irradiance",
     "tsis1": "TSIS-1 HSRS v2 (Coddington et al. 2021, GRL 48, e2020GL091709; v2 2022-11-30) "
-             "in 1 nm bins 0.2025-2.7295 um, the radscene spectrum beyond: "
+             "in 1 nm bins 0.2025-2.7295 µm, the radscene spectrum beyond: "
              "radscene.sun.toa_solar_irradiance(spectrum='tsis1')",
     "6s": "the solar spectrum built into 6S (Vermote et al. 1997), as 6S prints it",
     "lowtran": "LOWTRAN7's built-in extraterrestrial solar spectrum (Kneizys et al. 1988)",

@@ -90,7 +90,7 @@ from radscene.atmosphere.sixs_runner import (
     SixSCase,
     SixSRunner,
 )
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["SixSAtmosphere", "PHASE_ANGLES", "sixs_conditions", "phase_geometry"]
 
@@ -160,7 +160,8 @@ def sixs_conditions(profile="us_standard", aerosol="rural", visibility=None, aot
     """
     prof = str(profile).lower()
     if prof not in PROFILES:
-        raise ConfigError(f"unknown profile {profile!r}; known: {', '.join(PROFILES)}",
+        raise ConfigError(f"unknown profile {profile!r}; known: {', '.join(PROFILES)}"
+                          f"{did_you_mean(profile, PROFILES)}",
                           key=f"{key}.profile")
     if (water is None) != (ozone is None):
         raise ConfigError("give both water [g cm-2] and ozone [cm-atm], or neither",
@@ -184,7 +185,8 @@ def sixs_conditions(profile="us_standard", aerosol="rural", visibility=None, aot
     else:
         aer = str(aerosol).lower()
         if aer not in AEROSOLS:
-            raise ConfigError(f"unknown aerosol {aerosol!r}; known: {', '.join(AEROSOLS)}",
+            raise ConfigError(f"unknown aerosol {aerosol!r}; known: {', '.join(AEROSOLS)}"
+                              f"{did_you_mean(aerosol, AEROSOLS)}",
                               key=f"{key}.aerosol")
     vis_km = None
     if aot550 is not None and visibility is not None:
@@ -206,7 +208,8 @@ def sixs_conditions(profile="us_standard", aerosol="rural", visibility=None, aot
 def _choice(value, options, key):
     v = str(value).lower()
     if v not in options:
-        raise ConfigError(f"unknown value {value!r}; known: {', '.join(options)}", key=key)
+        raise ConfigError(f"unknown value {value!r}; known: {', '.join(options)}"
+                          f"{did_you_mean(value, options)}", key=key)
     return v
 
 

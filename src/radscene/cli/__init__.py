@@ -19,7 +19,7 @@ from rich.progress import Progress
 from rich.table import Table
 
 from radscene import __version__
-from radscene.errors import ConfigError, EngineError
+from radscene.errors import ConfigError, EngineError, did_you_mean
 
 # rich_markup_mode=None: help texts are plain text, so units in brackets ("[deg]", "[g cm-2]")
 # are shown instead of being taken for Rich markup and dropped
@@ -167,43 +167,95 @@ def _instant(value, key):
     return when
 
 
+def _metres(value) -> str:
+    return f"{value:,.0f}" if abs(value) >= 100 else f"{value:.3g}"
+
+
+def _boresight(camera):
+    """What sets an observer's field of view and GSD: (field of view text, boresight origin
+    and direction [m, unit], pixel pitch on a plane at unit distance [-], when the boresight
+    is taken); origin None for an orthographic camera (parallel rays, its GSD given)."""
+    import numpy as np
+
+    from radscene.platform import OrthographicCamera, PerspectiveCamera
+    from radscene.platform.scanners import PushbroomScanner, WhiskbroomScanner
+
+    rows, cols = camera.shape
+    if isinstance(camera, OrthographicCamera):
+        return (f"field of view: parallel rays over {_metres(cols * camera.gsd)} × "
+                f"{_metres(rows * camera.gsd)} m"), None, None, None, ""
+    if isinstance(camera, PerspectiveCamera):
+        return (f"field of view {camera.fov:.4g}° × {camera.fov_vertical:.4g}°",
+                camera.position, camera.forward, camera.pixel_pitch, "")
+    if isinstance(camera, PushbroomScanner):
+        fov = 2.0 * np.degrees(np.arctan(0.5 * cols * camera.pitch))
+        mid = camera.start + 0.5 * rows * camera.line_time
+        text = f"field of view {fov:.4g}° across track (IFOV {camera.ifov:.3g}°)"
+        when = " at mid-image"
+    elif isinstance(camera, WhiskbroomScanner):
+        fov = float(np.degrees(camera.mirror_angle(0.0) - camera.mirror_angle(float(cols))))
+        mid = camera.start
+        text = f"field of view {abs(fov):.4g}° across the scan (IFOV {camera.ifov:.3g}°)"
+        when = " at the start"
+    else:
+        return None, None, None, None, ""
+    pos, axes = camera.sensor_axes(mid)
+    return text, pos, -axes[:, 2], camera.pitch, when
+
+
 def _coverage(scene, obs, report) -> None:
-    """Print what an observer sees: field of view or GSD, the share of its pixels that meet the
+    """Print what an observer sees: its field of view, its GSD (an orthographic camera's own,
+    else at the boresight's ground point, said where), the share of its pixels that meet the
     scene, their ground footprint and range; warn when it sees nothing."""
     import numpy as np
 
     from radscene.geometry import RayTracer
 
     camera = obs.camera
-    optics = []
-    if getattr(camera, "gsd", None) is not None:
-        optics.append(f"GSD {camera.gsd:.4g} m")
-    if getattr(camera, "fov", None) is not None:
-        optics.append(f"field of view {camera.fov:.4g}°")
-    try:
-        rays = camera.rays(supersample=1)
-    except Exception:  # scanners need their own time axis; the render checks them
-        return
     tracer = scene.render_cache.get("check_tracer")
     if tracer is None:
         tracer = RayTracer([o.mesh for o in scene.objects])
         scene.render_cache["check_tracer"] = tracer
+    fov, origin, bore, pitch, when = _boresight(camera)
+    optics = [fov] if fov else []
+    if getattr(camera, "gsd", None) is not None:
+        optics.append(f"GSD {camera.gsd:.4g} m")
+    elif origin is not None:
+        origin = np.asarray(origin, dtype=float)
+        bore = np.asarray(bore, dtype=float) / np.linalg.norm(bore)
+        hit = tracer.intersect(origin[None], bore[None])
+        if hit.hit[0]:
+            dist, where = float(hit.distance[0]), "the boresight's ground point"
+            point = hit.position[0]
+        elif bore[2] < 0 and origin[2] > 0:
+            dist, where = float(-origin[2] / bore[2]), "where the boresight meets z = 0"
+            point = origin + dist * bore
+        else:
+            dist = None
+        if dist is None:
+            optics.append(f"GSD: none, the boresight meets no ground{when}")
+        else:
+            x, y, z = (f"{v + 0.0:,.0f}" for v in np.round(point))
+            optics.append(f"GSD {dist * pitch:.3g} m at {where} ({x}, {y}, {z}) m{when}, "
+                          f"{_metres(dist)} m away, across the line of sight")
+    try:
+        rays = camera.rays(supersample=1)
+    except Exception:  # scanners need their own time axis; the render checks them
+        report.say("    " + "; ".join(optics))
+        return
     hits = tracer.intersect(rays.origins, rays.directions)
     share = float(np.mean(hits.hit)) if hits.hit.size else 0.0
     if share == 0.0:
+        report.say("    " + "; ".join(optics + ["ground footprint: none (no pixel on the scene)"]))
         report.warn(f"observer {obs.name} looks at nothing: none of its pixels' rays meets the "
                     "scene (check its position, attitude or look-at)")
         return
     pos = hits.position[hits.hit]
     span = np.ptp(pos[:, :2], axis=0)
     dist = hits.distance[hits.hit]
-
-    def metres(value):
-        return f"{value:,.0f}" if value >= 100 else f"{value:.3g}"
-
-    optics.append(f"{100 * share:.0f} % of pixels on the scene, their centres spanning "
-                  f"{metres(span[0])} × {metres(span[1])} m on the ground, range "
-                  f"{metres(dist.min())}–{metres(dist.max())} m")
+    optics.append(f"ground footprint {_metres(span[0])} × {_metres(span[1])} m (pixel centres;"
+                  f" {100 * share:.0f} % of pixels on the scene), range "
+                  f"{_metres(dist.min())}–{_metres(dist.max())} m")
     report.say("    " + "; ".join(optics))
 
 
@@ -257,7 +309,7 @@ def check(scene_file: Path = typer.Argument(..., help="Scene YAML file."),
     for obs in scene.observers:
         grid = "" if obs.spectral is None else (
             f", spectral: {len(obs.spectral)} channels {obs.spectral.wavelength[0]:.4g}–"
-            f"{obs.spectral.wavelength[-1]:.4g} um every {obs.spectral.step:.4g} um")
+            f"{obs.spectral.wavelength[-1]:.4g} µm every {obs.spectral.step:.4g} µm")
         report.say(f"  observer {obs.name}: {obs.kind} {obs.camera.shape[1]}×{obs.camera.shape[0]}"
                    f" px, supersample {obs.supersample}{grid}")
         t = time.perf_counter()
@@ -296,13 +348,14 @@ def examples(
         for key, path in sorted(found.items()):
             import yaml
 
-            desc = (yaml.safe_load(path.read_text()) or {}).get("description", "")
+            desc = (yaml.safe_load(path.read_text(encoding="utf-8")) or {}).get("description", "")
             table.add_row(key, desc.strip().splitlines()[0] if desc else "")
         console.print(table)
         console.print("copy one with: radscene examples NAME --copy DIR")
         return
     if name not in found:
-        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}",
+        _fail(ConfigError(f"unknown example {name!r}; known: {', '.join(sorted(found))}"
+                          f"{did_you_mean(name, sorted(found))}",
                           key="name"))
     dest = copy_to or Path.cwd()
     dest.mkdir(parents=True, exist_ok=True)

@@ -53,7 +53,7 @@ _DATE = typer.Option(None, "--date", help="Date YYYY-MM-DD: the Earth-Sun distan
 _SPECTRUM = typer.Option(None, "--solar-spectrum", help="Top-of-atmosphere solar spectrum: "
                          "radscene (ASTM G173-03 extraterrestrial, Gueymard 2004; engines "
                          "sixs, database), tsis1 (TSIS-1 HSRS v2, Coddington et al. 2021, "
-                         "to 2.73 um, radscene's beyond; sixs, database), 6s (6S's own; sixs), "
+                         "to 2.73 µm, radscene's beyond; sixs, database), 6s (6S's own; sixs), "
                          "lowtran (LOWTRAN7's own; lowtran). Default: the engine's first.")
 _MS = typer.Option(True, "--multiple-scattering/--single-scattering",
                    help="Multiple scattering (LOWTRAN only may switch it off).")
@@ -66,8 +66,8 @@ _GROUND = typer.Option(None, "--ground-albedo", help="Albedo of the uniform Lamb
                        "coupling of sixs/database [0-1]; default --surface-albedo.")
 _WMIN = typer.Option(None, "--wavelength-min", help="Shortest wavelength, e.g. 0.4 or 400nm.")
 _WMAX = typer.Option(None, "--wavelength-max", help="Longest wavelength, e.g. 2.5 or 12um.")
-_STEP = typer.Option(None, help="Wavelength step [um] (default 0.005 below 4 um, 0.05 above).")
-_BAND = typer.Option(None, "--band", help="Band 'min,max' in um, or with --sensor a band name "
+_STEP = typer.Option(None, help="Wavelength step [µm] (default 0.005 below 4 µm, 0.05 above).")
+_BAND = typer.Option(None, "--band", help="Band 'min,max' in µm, or with --sensor a band name "
                      "(B4); repeatable. Default: the whole range, or all the sensor's bands.")
 _SENSOR = typer.Option(None, "--sensor", help="Library sensor whose spectral responses are the "
                        "bands, e.g. landsat8_oli, goes16_abi (or a multi-band SRF table).")
@@ -154,7 +154,7 @@ def _srf_file(path, unit, key):
     data = np.array(rows)
     wl = data[:, 0] * scale
     if wl.max() > 100.0:
-        raise ConfigError(f"wavelengths up to {wl.max():g} um: are they in nm? give "
+        raise ConfigError(f"wavelengths up to {wl.max():g} µm: are they in nm? give "
                           "--srf-unit nm", key=key)
     if not np.all(np.diff(wl) > 0):
         i = int(np.flatnonzero(np.diff(wl) <= 0)[0])
@@ -187,7 +187,7 @@ def _band_options(band, sensor, srf, srf_unit):
         for i, b in enumerate(band or []):
             parts = [p for p in str(b).replace(";", ",").split(",") if p.strip()]
             if len(parts) != 2:
-                raise ConfigError(f"'min,max' in um (a band name needs --sensor); got {b!r}",
+                raise ConfigError(f"'min,max' in µm (a band name needs --sensor); got {b!r}",
                                   key="--band")
             bands.append((_q(parts[0].strip(), "wavelength", f"band[{i}]"),
                           _q(parts[1].strip(), "wavelength", f"band[{i}]")))
@@ -217,7 +217,7 @@ def _sun_line(ds) -> str:
 def _band_label(ds, b) -> str:
     name = str(ds["band_name"].values[b])
     lo, hi = float(ds["band_min"][b]), float(ds["band_max"][b])
-    rect = name == f"{lo:g}-{hi:g} um"
+    rect = name == f"{lo:g}-{hi:g} um"  # the name radscene.atmosphere.bands gives
     return (f"{lo:.3g}–{hi:.3g}" if rect else
             f"{name.rsplit(' ', 1)[-1]} ({float(ds['band_center'][b]):.4g})")
 
@@ -316,8 +316,8 @@ def _los_plot(ds, path):
     for name in ("path_scattered_radiance", "path_thermal_radiance", "apparent_radiance"):
         if name in ds:
             a2.plot(wl, ds[name].values, label=name.replace("_", " "))
-    a2.set_ylabel("radiance [W m-2 sr-1 um-1]")
-    a2.set_xlabel("wavelength [um]")
+    a2.set_ylabel("radiance [W m-2 sr-1 µm-1]")
+    a2.set_xlabel("wavelength [µm]")
     a2.set_yscale("symlog", linthresh=1e-2)
     a2.legend()
     fig.suptitle(f"{ds.attrs['engine']}: {ds.attrs['observer_altitude_m']:g} m → "
@@ -351,7 +351,7 @@ def los(
 ):
     """One line of sight: transmittance, path radiance (thermal and solar) and the apparent
     radiance of a Lambertian ground, per wavelength and per band (brightness temperatures
-    beyond 3 um)."""
+    beyond 3 µm)."""
     from radscene.atmosphere.api import line_of_sight
 
     bands, origins = _band_options(band, sensor, srf, srf_unit)
@@ -381,10 +381,10 @@ def los(
                         f"{_sun_line(ds)}; ground albedo {ds.attrs['ground_albedo']:g}",
                   caption="L: band integrals ∫S L dλ [W m-2 sr-1] of the path (thermal, "
                           "scattered) and the apparent (app) radiance; L̄: band means "
-                          "[W m-2 sr-1 um-1]; BT: band brightness temperatures [K]")
+                          "[W m-2 sr-1 µm-1]; BT: band brightness temperatures [K]")
     thermal = "band_apparent_brightness_temperature" in ds and bool(
         np.isfinite(ds["band_apparent_brightness_temperature"].values).any())
-    columns = ["band [um]", "τ mean", "L path", "thermal", "scattered", "L app",
+    columns = ["band [µm]", "τ mean", "L path", "thermal", "scattered", "L app",
                "L̄ app"] + (["BT app", "BT path"] if thermal else [])
     for col in columns:
         table.add_column(col, justify="right")
@@ -401,7 +401,7 @@ def los(
         table.add_row(*row)
     console.print(table)
     spec = Table(title="spectral samples")
-    for col in ("λ [um]", "τ", "τ sun", "L path [W m-2 sr-1 um-1]", "L apparent"):
+    for col in ("λ [µm]", "τ", "τ sun", "L path [W m-2 sr-1 µm-1]", "L apparent"):
         spec.add_column(col, justify="right")
     wl = ds["wavelength"].values
     for i in np.unique(np.linspace(0, wl.size - 1, min(12, wl.size)).astype(int)):
@@ -439,8 +439,8 @@ def _sky_plot(ds, path):
     ax2 = fig.add_subplot(122)
     ax2.plot(ds["wavelength"].values, ds["downwelling_irradiance"].values, label="diffuse sky")
     ax2.plot(ds["wavelength"].values, ds["direct_irradiance"].values, label="direct sun")
-    ax2.set_xlabel("wavelength [um]")
-    ax2.set_ylabel("irradiance on a horizontal surface [W m-2 um-1]")
+    ax2.set_xlabel("wavelength [µm]")
+    ax2.set_ylabel("irradiance on a horizontal surface [W m-2 µm-1]")
     ax2.legend()
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -474,7 +474,7 @@ def sky(
     output: Path = _OUT, plot: Path = _PLOT,
 ):
     """Sky radiance map from the surface and the downwelling irradiance, per wavelength and
-    per band (brightness temperatures beyond 3 um)."""
+    per band (brightness temperatures beyond 3 µm)."""
     from radscene.atmosphere.api import sky_radiance
 
     bands, origins = _band_options(band, sensor, srf, srf_unit)
@@ -497,7 +497,7 @@ def sky(
         thermal = bt is not None and bool(np.isfinite(bt.values[..., b]).any())
         values, unit = ((bt.values[..., b], "brightness temperature [K]") if thermal else
                         (ds["band_sky_radiance"].values[..., b], "[W m-2 sr-1]"))
-        table = Table(title=f"sky ({ds.attrs['engine']}), band {_band_label(ds, b)} um "
+        table = Table(title=f"sky ({ds.attrs['engine']}), band {_band_label(ds, b)} µm "
                             f"{unit}; rows zenith, columns azimuth [deg]; diffuse "
                             f"irradiance {float(ds['band_downwelling_irradiance'][b]):.4g} "
                             f"W m-2; {_sun_line(ds)}")

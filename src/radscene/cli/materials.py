@@ -58,8 +58,8 @@ def list_command(
     from radscene.materials.library import get_material, library_info, list_materials
 
     info = library_info()["materials"]
-    table = Table(title="radscene built-in materials (0.4-20 um)")
-    for col in ("name", "category", "rho(0.55 um)", "eps(10 um)", "description"):
+    table = Table(title="radscene built-in materials (0.4-20 µm)")
+    for col in ("name", "category", "rho(0.55 µm)", "eps(10 µm)", "description"):
         table.add_column(col)
     shown = 0
     for name in list_materials(category):
@@ -77,7 +77,7 @@ def list_command(
 def _wavelengths(values, key="wavelength"):
     wl = np.asarray(values if values else SHOW_WAVELENGTHS, dtype=float)
     if np.any(~np.isfinite(wl)) or np.any(wl <= 0):
-        raise ConfigError("wavelengths must be finite and > 0 [um]", key=key)
+        raise ConfigError("wavelengths must be finite and > 0 [µm]", key=key)
     return wl
 
 
@@ -86,7 +86,7 @@ def show(
     name: Annotated[str, typer.Argument(help="Material name (see `radscene materials list`).")],
     wavelength: Annotated[
         list[float] | None,
-        typer.Option("--wavelength", "-w", help="Wavelength [um]; repeatable."),
+        typer.Option("--wavelength", "-w", help="Wavelength [µm]; repeatable."),
     ] = None,
 ):
     """Show a material: sources, spectra and thermal properties."""
@@ -97,13 +97,13 @@ def show(
     entry = library_info()["materials"][m.name]
     console.print(f"[bold]{m.name}[/] ({m.category}) - {m.description.strip()}")
     lo, hi = m.wavelength_range
-    console.print(f"range: {lo:g}-{hi:g} um (no extrapolation); file: {entry['file']}; "
+    console.print(f"range: {lo:g}-{hi:g} µm (no extrapolation); file: {entry['file']}; "
                   f"specular exponent: {m.specular_exponent:g}")
     console.print(f"source: {m.source}", soft_wrap=False)
     wl = _wavelengths(wavelength)
     comps = m.components(wl)
     table = Table(title="spectra [-]")
-    table.add_column("wavelength [um]")
+    table.add_column("wavelength [µm]")
     for label in ("diffuse_reflectance", "specular_reflectance", "transmittance", "emissivity"):
         table.add_column(label)
     for i, w in enumerate(wl):
@@ -111,8 +111,8 @@ def show(
                                   ("diffuse_reflectance", "specular_reflectance", "transmittance", "emissivity")))
     console.print(table)
     tp = get_thermal_properties(m.name)
-    console.print(f"solar absorptance (ASTM G173 global, 0.4-4 um): {tp.solar_absorptance:.3f}; "
-                  f"long-wave emissivity (300 K, 3-20 um): {tp.longwave_emissivity:.3f}")
+    console.print(f"solar absorptance (ASTM G173 global, 0.4-4 µm): {tp.solar_absorptance:.3f}; "
+                  f"long-wave emissivity (300 K, 3-20 µm): {tp.longwave_emissivity:.3f}")
     layers = Table(title=f"thermal layers (top first; below: {tp.bottom})")
     for col in ("layer", "thickness [m]", "k [W m-1 K-1]", "rho [kg m-3]", "c [J kg-1 K-1]", "source"):
         layers.add_column(col)
@@ -140,7 +140,7 @@ def plot(
                      help="Sun zenith [deg] of a BRDF panel; repeatable (default 0, 30, 60)."),
     ] = None,
     wavelength: Annotated[
-        float, typer.Option("--wavelength", "-w", help="Wavelength of the BRDF plot [um].")
+        float, typer.Option("--wavelength", "-w", help="Wavelength of the BRDF plot [µm].")
     ] = 0.55,
 ):
     """Write NAME_spectrum.png and NAME_brdf.png into OUTPUT."""
@@ -200,7 +200,7 @@ def read_command(
 
     lib = read_library(path, format=format)
     table = Table(title=f"{path}: {len(lib)} spectra")
-    for col in ("name", "quantity", "range [um]", "samples", "source"):
+    for col in ("name", "quantity", "range [µm]", "samples", "source"):
         table.add_column(col)
     for s in lib:
         lo, hi = s.range

@@ -16,7 +16,7 @@ from rich.progress import BarColumn, TextColumn, TimeElapsedColumn, TimeRemainin
 from rich.table import Table
 
 from radscene.cli import Report, _fail, _instant
-from radscene.errors import ConfigError, EngineError
+from radscene.errors import ConfigError, EngineError, did_you_mean
 
 GEOTIFF_HELP = ("Cloud-Optimised GeoTIFFs of a map product (a nadir orthographic observer), "
                 "NAME_LAYER.tif in the scene frame's CRS: none; radiance (radiance of every "
@@ -32,7 +32,8 @@ class Formats:
         from radscene.io.cog import LEVELS
 
         if geotiff not in LEVELS:
-            raise ConfigError(f"unknown GeoTIFF choice {geotiff!r}; known: {', '.join(LEVELS)}",
+            raise ConfigError(f"unknown GeoTIFF choice {geotiff!r}; known: {', '.join(LEVELS)}"
+                              f"{did_you_mean(geotiff, LEVELS)}",
                               key="--geotiff")
         self.output = output
         self.ext = ".zarr" if output.suffix.lower() == ".zarr" else ".nc"
@@ -166,7 +167,7 @@ def render(
     geotiff: str = typer.Option("maps", "--geotiff", help=GEOTIFF_HELP),
     envi: bool = typer.Option(False, "--envi",
                               help="Also write the band radiance as ENVI NAME.img/.hdr "
-                                   "(wavelength = band centres, fwhm = equivalent widths [um])."),
+                                   "(wavelength = band centres, fwhm = equivalent widths [µm])."),
     overwrite: bool = typer.Option(False, "--overwrite",
                                    help="Replace results of an earlier run in OUTPUT."),
     max_memory: str = typer.Option(None, "--max-memory",
@@ -244,7 +245,10 @@ def render(
             scene = load_scene(scene_file, max_memory=max_memory, confine=confine)
         names = observer or [o.name for o in scene.observers]
         for name in names:
-            scene.observer(name)
+            try:
+                scene.observer(name)
+            except ConfigError as err:
+                raise ConfigError(err.message, key="--observer") from None
         report.stage(f"loaded {scene_file}: scene {scene.name!r}, {len(scene.objects)} "
                      f"object(s), bands {', '.join(b.name for b in scene.bands)}, observers "
                      f"{', '.join(names)}", time.perf_counter() - t)
@@ -370,7 +374,7 @@ def _summary(scene, results, spectral, written, output, started):
 
     table = Table(title=f"{scene.name}: {len(results)} observer(s) in "
                         f"{time.perf_counter() - started:.1f} s")
-    for col in ("observer", "band", "λ [um]", "mean L [W m-2 sr-1]", "min", "max", "mean BT [K]"):
+    for col in ("observer", "band", "λ [µm]", "mean L [W m-2 sr-1]", "min", "max", "mean BT [K]"):
         table.add_column(col, justify="right" if col != "observer" and col != "band" else "left")
     for name, ds in results.items():
         for band in ds["band"].values:
@@ -415,6 +419,6 @@ def _write_spectral(scene, name, formats, progress, report):
     total, count, low, high = (sum(s[0] for s in stats), sum(s[1] for s in stats),
                                min(s[2] for s in stats), max(s[3] for s in stats))
     wl = np.asarray(grid.wavelength)
-    text = (f"{len(wl)} channels {wl[0]:.4g}–{wl[-1]:.4g} um every {grid.step:.4g} um; spectral "
-            f"radiance mean {total / count:.4g}, min {low:.4g}, max {high:.4g} W m-2 sr-1 um-1")
+    text = (f"{len(wl)} channels {wl[0]:.4g}–{wl[-1]:.4g} µm every {grid.step:.4g} µm; spectral "
+            f"radiance mean {total / count:.4g}, min {low:.4g}, max {high:.4g} W m-2 sr-1 µm-1")
     return text, files

@@ -71,7 +71,7 @@ def info_command(
     model = load_sensor(sensor)
     t = _temperature(temperature)
     opt, det = model.base.optics, model.base.detector
-    typer.echo(f"{model.name}: {det.kind} detector, pitch {det.pitch * 1e6:g} um, "
+    typer.echo(f"{model.name}: {det.kind} detector, pitch {det.pitch * 1e6:g} µm, "
                f"f = {opt.focal_length * 1e3:g} mm, F/{opt.f_number:g}, "
                f"IFOV {model.ifov * 3.141592653589793 / 180 * 1e6:.1f} urad, "
                f"oversample {model.oversample}")

@@ -74,7 +74,7 @@ import numpy as np
 from scipy.constants import g as GRAVITY  # standard acceleration of gravity [m s-2]
 from scipy.special import gammaln
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.geometry.mesh import Mesh
 from radscene.geometry.terrain import Heightfield
 
@@ -281,7 +281,8 @@ class SeaSurface:
         """
         name = str(spectrum).lower()
         if name not in SPECTRA:
-            raise ConfigError(f"unknown spectrum {spectrum!r}; known: {', '.join(SPECTRA)}",
+            raise ConfigError(f"unknown spectrum {spectrum!r}; known: {', '.join(SPECTRA)}"
+                              f"{did_you_mean(spectrum, SPECTRA)}",
                               key="spectrum")
         if not (np.isfinite(wind_speed) and wind_speed >= 0):
             raise ConfigError(f"must be a finite speed >= 0, got {wind_speed!r}", key="wind_speed")

@@ -1,6 +1,6 @@
 """Animations of a frame sequence, one per band: looping GIFs (Pillow, which matplotlib already
-needs) and MP4 videos (H.264 through imageio and imageio-ffmpeg, the optional extra
-``radscene[video]``).
+needs) and MP4 videos (H.264 through imageio and imageio-ffmpeg: ``pip install imageio imageio-ffmpeg``, or the
+extra ``[video]``).
 
 ``render.video`` in a scene file chooses (:func:`video_formats`):
 
@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.io.files import atomic_output
 from radscene.io.quicklook import stretch_limits
 
@@ -141,10 +141,11 @@ def video_formats(choice: str = "auto", key: str = "render.video") -> tuple[str,
         An unknown choice, or mp4/both without imageio-ffmpeg (naming the extra to install).
     """
     if choice not in VIDEO_CHOICES:
-        raise ConfigError(f"unknown choice {choice!r}; known: {', '.join(VIDEO_CHOICES)}", key=key)
+        raise ConfigError(f"unknown choice {choice!r}; known: {', '.join(VIDEO_CHOICES)}"
+                          f"{did_you_mean(choice, VIDEO_CHOICES)}", key=key)
     have_mp4 = mp4_available()
     if choice in ("mp4", "both") and not have_mp4:
-        raise ConfigError(f"{choice} needs imageio and imageio-ffmpeg (pip install 'radscene[video]'); "
+        raise ConfigError(f"{choice} needs imageio and imageio-ffmpeg (pip install imageio imageio-ffmpeg); "
                           "or choose gif", key=key)
     return {"auto": ("gif", "mp4") if have_mp4 else ("gif",), "gif": ("gif",), "mp4": ("mp4",),
             "both": ("gif", "mp4"), "none": ()}[choice]
@@ -174,7 +175,7 @@ def band_videos(ds: xr.Dataset, folder: str | os.PathLike, prefix: str = "",
     if not (np.isfinite(fps) and fps > 0):
         raise ConfigError(f"must be > 0 frames per second, got {fps!r}", key="fps")
     if not mp4_available():
-        raise ConfigError("MP4 needs imageio and imageio-ffmpeg (pip install 'radscene[video]')", key="video")
+        raise ConfigError("MP4 needs imageio and imageio-ffmpeg (pip install imageio imageio-ffmpeg)", key="video")
     import imageio.v2 as imageio
 
     folder = Path(folder)

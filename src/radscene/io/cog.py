@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.io.geotiff import _atomic, _crs, _prepare, _regular
 from radscene.render.outputs import TERM_LAYERS as _RADIANCE_LAYERS
 
@@ -52,7 +52,8 @@ TERM_LAYERS = _RADIANCE_LAYERS + ("path_transmittance", "volume_transmittance")
 def layer_names(level: str) -> tuple[str, ...]:
     """Every layer name a level may write (those a render lacks are skipped)."""
     if level not in LEVELS:
-        raise ConfigError(f"unknown GeoTIFF level {level!r}; known: {', '.join(LEVELS)}",
+        raise ConfigError(f"unknown GeoTIFF level {level!r}; known: {', '.join(LEVELS)}"
+                          f"{did_you_mean(level, LEVELS)}",
                           key="--geotiff")
     rank = LEVELS.index(level)
     return (("radiance", "brightness_temperature") * (rank >= 1) + TRUTH_LAYERS * (rank >= 2)

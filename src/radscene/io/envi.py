@@ -223,7 +223,7 @@ def write_envi(data, path: str | os.PathLike, attrs: dict | None = None) -> list
                           f"{getattr(data, 'dims', type(data).__name__)}", key="data")
     missing = [c for c in ("wavelength_center", "equivalent_width") if c not in data.coords]
     if missing:
-        raise ConfigError(f"needs the band coordinates {', '.join(missing)} [um]", key="data")
+        raise ConfigError(f"needs the band coordinates {', '.join(missing)} [µm]", key="data")
     path = Path(path)
     header = path.with_suffix(".hdr")
     attrs = dict(attrs or {})

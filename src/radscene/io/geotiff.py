@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.io.files import atomic_output
 
 __all__ = ["write_geotiff", "write_geotiff_gcps", "read_geotiff", "RESAMPLING"]
@@ -55,7 +55,8 @@ def _resampling(name):
     from rasterio.enums import Resampling
 
     if name not in RESAMPLING:
-        raise ConfigError(f"unknown resampling {name!r}; known: {', '.join(RESAMPLING)}",
+        raise ConfigError(f"unknown resampling {name!r}; known: {', '.join(RESAMPLING)}"
+                          f"{did_you_mean(name, RESAMPLING)}",
                           key="resampling")
     return getattr(Resampling, name)
 

@@ -8,7 +8,7 @@ readers); the format 3 has no specified type yet for the fixed-length strings of
 coordinate, nor for consolidated metadata. Image layers are chunked one band at a time in
 tiles of up to :data:`TILE` × :data:`TILE` pixels, compressed with zstd.
 
-Needs the optional dependency ``zarr`` (``pip install radscene[zarr]``).
+Needs the optional dependency ``zarr`` (``pip install zarr``).
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ def _zarr():
     try:
         import zarr
     except ImportError:
-        raise ConfigError("writing Zarr needs the package zarr: pip install 'radscene[zarr]'",
+        raise ConfigError("writing Zarr needs the package zarr: pip install zarr",
                           key="--output") from None
     return zarr
 

@@ -48,7 +48,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["make_material", "MATERIAL_TYPES", "extend_with_thermal", "THERMAL_START"]
 
@@ -93,7 +93,7 @@ def extend_with_thermal(spectrum, thermal_emissivity, key: str = "thermal_emissi
 
     if spectrum.is_constant or spectrum.range[1] >= THERMAL_START:
         raise ConfigError(
-            f"a thermal extension needs a tabulated spectrum that ends below {THERMAL_START:g} um; "
+            f"a thermal extension needs a tabulated spectrum that ends below {THERMAL_START:g} µm; "
             f"{spectrum.name!r} covers {spectrum.range}",
             key=key,
         )
@@ -103,8 +103,8 @@ def extend_with_thermal(spectrum, thermal_emissivity, key: str = "thermal_emissi
     else:
         lo, _ = eps.range
         if lo > THERMAL_START:
-            raise ConfigError(f"the thermal emissivity must start at or before {THERMAL_START:g} um; "
-                              f"it starts at {lo:g} um", key=key)
+            raise ConfigError(f"the thermal emissivity must start at or before {THERMAL_START:g} µm; "
+                              f"it starts at {lo:g} µm", key=key)
         nodes = eps.wavelength[eps.wavelength >= THERMAL_START]
         if nodes[0] > THERMAL_START:
             nodes = np.concatenate([[THERMAL_START], nodes])
@@ -115,7 +115,7 @@ def extend_with_thermal(spectrum, thermal_emissivity, key: str = "thermal_emissi
         np.concatenate([spectrum.wavelength, nodes]),
         np.concatenate([spectrum.values, 1.0 - values]),
         name=spectrum.name,
-        source=f"{spectrum.source}; from {THERMAL_START:g} um 1 - thermal emissivity, linear across the gap",
+        source=f"{spectrum.source}; from {THERMAL_START:g} µm 1 - thermal emissivity, linear across the gap",
     )
 
 
@@ -304,7 +304,8 @@ def make_material(spec, key: str = "material", base_dir=None):
     kind = str(spec.get("type", "")).lower()
     if kind not in MATERIAL_TYPES:
         raise ConfigError(
-            f"unknown material type {spec.get('type')!r}; known: {', '.join(sorted(MATERIAL_TYPES))}",
+            f"unknown material type {spec.get('type')!r}; known: {', '.join(sorted(MATERIAL_TYPES))}"
+            f"{did_you_mean(spec.get('type'), sorted(MATERIAL_TYPES))}",
             key=f"{key}.type",
         )
     _check_keys(spec, kind, key)

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import yaml
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.materials.material import Material
 
 __all__ = [
@@ -128,7 +128,8 @@ def list_materials(category: str | None = None) -> list[str]:
     known = list_categories()
     if wanted not in known:
         raise ConfigError(
-            f"unknown material category {category!r}; known: {', '.join(known)}", key="category"
+            f"unknown material category {category!r}; known: {', '.join(known)}"
+            f"{did_you_mean(category, known)}", key="category"
         )
     return sorted(n for n, e in materials.items() if str(e.get("category", "")).lower() == wanted)
 
@@ -161,7 +162,8 @@ def get_material(name: str, key: str = "material") -> Material:
     lowered = str(name).strip().lower()
     if lowered not in _index()["materials"]:
         raise ConfigError(
-            f"unknown material {name!r}; known: {', '.join(list_materials())}", key=key
+            f"unknown material {name!r}; known: {', '.join(list_materials())}"
+            f"{did_you_mean(name, list_materials())}", key=key
         )
     return _load(lowered)
 

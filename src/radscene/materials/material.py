@@ -328,7 +328,7 @@ class Material:
                 names = ", ".join(f"{s.name or 'spectrum'} {list(s.range)}" for s in self.spectra)
                 raise ConfigError(
                     f"material {self.name!r}: its spectra have no common wavelength range: "
-                    f"{names} [um]",
+                    f"{names} [µm]",
                     key=self.name,
                 )
             wl = wl[(wl >= lo) & (wl <= hi)]
@@ -351,7 +351,7 @@ class Material:
                 }.get(label, "")
                 raise ConfigError(
                     f"material {self.name!r}: {label} = {values[i]:.6g} at wavelength "
-                    f"{wl[i]:g} um is outside [0, 1]{hint}",
+                    f"{wl[i]:g} µm is outside [0, 1]{hint}",
                     key=self.name,
                 )
 
@@ -402,7 +402,7 @@ def _check_sum(name: str, key: str, given: dict, base_dir) -> None:
     wl = None if total.wavelength is None else float(total.wavelength[i])
     where = (_file_line(rho_spec, rho, None, wl, base_dir)
              or _file_line(tau_spec, tau, None, wl, base_dir))
-    at = "" if wl is None else f" at {wl:g} um"
+    at = "" if wl is None else f" at {wl:g} µm"
     raise ConfigError(
         f"{where}material {name!r}: reflectance + transmittance = {values[i]:g}{at} exceeds 1 "
         "(emissivity 1 - rho - tau would be negative)",
@@ -417,7 +417,7 @@ def _check_unit_range(name: str, key: str, label: str, spec, spectrum: Spectrum,
     if bad.size == 0:
         return
     i = int(bad[0])
-    at = "" if spectrum.wavelength is None else f" at {spectrum.wavelength[i]:g} um"
+    at = "" if spectrum.wavelength is None else f" at {spectrum.wavelength[i]:g} µm"
     message = (f"material {name!r}: {label} = {values[i]:g}{at} is outside [0, 1] "
                "(a reflectance, transmittance or emissivity is a fraction)")
     raise ConfigError(_file_line(spec, spectrum, i, None, base_dir) + message, key=key)
@@ -436,7 +436,7 @@ def _check_kirchhoff(key: str, rho: Spectrum, eps: Spectrum, tau: Spectrum) -> N
         i = int(np.argmax(bad))
         raise ConfigError(
             f"reflectance + emissivity + transmittance = {residual[i] + 1.0:.6g} at "
-            f"{wl[i]:g} um; Kirchhoff's law needs 1 (to {KIRCHHOFF_TOLERANCE:g}). Give only one "
+            f"{wl[i]:g} µm; Kirchhoff's law needs 1 (to {KIRCHHOFF_TOLERANCE:g}). Give only one "
             "of reflectance and emissivity, or consistent ones",
             key=key,
         )

@@ -70,7 +70,7 @@ def plot_material_spectrum(material, path, dpi: int = 110) -> Path:
         ax.plot(grid[sel], comps["emissivity"][sel], label="emissivity", color="tab:red")
         ax.set_xlim(a, b)
         ax.set_ylim(0.0, 1.0)
-        ax.set_xlabel("wavelength [um]")
+        ax.set_xlabel("wavelength [µm]")
         ax.set_ylabel("[-]")
         ax.set_title(label)
         ax.grid(alpha=0.3)
@@ -94,5 +94,5 @@ def plot_material_brdf(material, incidence_angles, path, wavelength: float = 0.5
         path,
         wavelength=wavelength,
         resolution=resolution,
-        title=f"{material.name}: BRF = pi f at {wavelength:g} um (Lambert + Phong lobe)",
+        title=f"{material.name}: BRF = pi f at {wavelength:g} µm (Lambert + Phong lobe)",
     )

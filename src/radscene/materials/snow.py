@@ -89,8 +89,8 @@ def ice_refractive_index(wavelength):
     outside = np.isfinite(wl) & ((wl < t[0, 0]) | (wl > t[-1, 0]))
     if np.any(outside):
         raise ConfigError(
-            f"wavelength {wl[outside].flat[0]:g} um is outside the ice table [{t[0, 0]:g}, "
-            f"{t[-1, 0]:g}] um",
+            f"wavelength {wl[outside].flat[0]:g} µm is outside the ice table [{t[0, 0]:g}, "
+            f"{t[-1, 0]:g}] µm",
             key="wavelength",
         )
     return np.interp(wl, t[:, 0], t[:, 1]), np.interp(wl, t[:, 0], t[:, 2])

@@ -115,7 +115,7 @@ class Spectrum:
             vals = _as_float_array(values, f"{key}.values")
             if wl.ndim != 1 or wl.size < 2:
                 raise ConfigError(
-                    f"wavelength must be a 1-D sequence of at least 2 values [um]; got shape "
+                    f"wavelength must be a 1-D sequence of at least 2 values [µm]; got shape "
                     f"{wl.shape}",
                     key=f"{key}.wavelength",
                 )
@@ -126,19 +126,19 @@ class Spectrum:
                 )
             if not np.all(np.isfinite(wl)) or np.any(wl <= 0.0):
                 raise ConfigError(
-                    "wavelength must be finite and positive [um]", key=f"{key}.wavelength"
+                    "wavelength must be finite and positive [µm]", key=f"{key}.wavelength"
                 )
             if np.any(np.diff(wl) <= 0.0):
                 i = int(np.argmax(np.diff(wl) <= 0.0))
                 raise ConfigError(
-                    f"wavelength must be strictly increasing; {wl[i + 1]:g} um follows "
-                    f"{wl[i]:g} um",
+                    f"wavelength must be strictly increasing; {wl[i + 1]:g} µm follows "
+                    f"{wl[i]:g} µm",
                     key=f"{key}.wavelength",
                 )
             if not np.all(np.isfinite(vals)):
                 i = int(np.argmax(~np.isfinite(vals)))
                 raise ConfigError(
-                    f"values must be finite; got {vals[i]} at {wl[i]:g} um", key=f"{key}.values"
+                    f"values must be finite; got {vals[i]} at {wl[i]:g} µm", key=f"{key}.values"
                 )
             wl = _readonly(wl)
             vals = _readonly(vals)
@@ -348,7 +348,7 @@ class Spectrum:
         bad = wl <= 0.0
         if np.any(bad):
             raise ConfigError(
-                f"wavelength must be positive [um]; got {wl[bad].flat[0]:g}", key=self._label()
+                f"wavelength must be positive [µm]; got {wl[bad].flat[0]:g}", key=self._label()
             )
         if self._wavelength is None:
             out = np.full(wl.shape, float(self._values))
@@ -359,8 +359,8 @@ class Spectrum:
             outside = (wl < lo) | (wl > hi)
             if np.any(outside):
                 raise ConfigError(
-                    f"wavelength {wl[outside].flat[0]:g} um is outside the tabulated range "
-                    f"[{lo:g}, {hi:g}] um of spectrum {self._label()!r}"
+                    f"wavelength {wl[outside].flat[0]:g} µm is outside the tabulated range "
+                    f"[{lo:g}, {hi:g}] µm of spectrum {self._label()!r}"
                     f"{' (' + self._source + ')' if self._source else ''}; extend='error' "
                     "allows no extrapolation (use extend='edge' to hold the end values)",
                     key=self._label(),
@@ -413,7 +413,7 @@ class Spectrum:
         lo, hi = self.range
         return (
             f"Spectrum(name={self._name!r}, {self._wavelength.size} points on [{lo:g}, {hi:g}] "
-            f"um, extend={self._extend!r})"
+            f"µm, extend={self._extend!r})"
         )
 
 
@@ -463,7 +463,7 @@ def linear_combination(terms, offset: float = 0.0, *, name: str = "", source: st
         if lo >= hi:
             names = ", ".join(f"{s.name or 'spectrum'} {list(s.range)}" for s in strict)
             raise ConfigError(
-                f"spectra have no common wavelength range to combine: {names} [um]",
+                f"spectra have no common wavelength range to combine: {names} [µm]",
                 key=name or None,
             )
         extend = "error"
@@ -568,7 +568,7 @@ def make_spectrum(spec, key: str = "spectrum", *, base_dir=None) -> Spectrum:
                 source=spec.get("source", ""),
             )
         raise ConfigError(
-            f"a spectrum mapping needs 'wavelength' and 'values' [um], or 'file'; got keys "
+            f"a spectrum mapping needs 'wavelength' and 'values' [µm], or 'file'; got keys "
             f"{sorted(keys)}",
             key=key,
         )

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["Texture", "TextureSet", "make_texture", "TEXTURE_TYPES", "TEXTURE_KINDS", "LUMINANCE_WEIGHTS"]
 
@@ -453,7 +453,8 @@ def make_texture(spec, key: str = "texture", base_dir=None):
     kind = str(spec.get("type", "")).lower()
     if kind not in TEXTURE_TYPES:
         raise ConfigError(
-            f"unknown texture type {spec.get('type')!r}; known: {', '.join(sorted(TEXTURE_TYPES))}",
+            f"unknown texture type {spec.get('type')!r}; known: {', '.join(sorted(TEXTURE_TYPES))}"
+            f"{did_you_mean(spec.get('type'), sorted(TEXTURE_TYPES))}",
             key=f"{key}.type",
         )
     unknown = set(spec) - _TEXTURE_KEYS[kind]

@@ -388,8 +388,8 @@ def _material_grid(material, band, step):
     mlo, mhi = material.wavelength_range
     if mlo > lo or mhi < hi:
         raise ConfigError(
-            f"material {material.name!r} is defined on [{mlo:g}, {mhi:g}] um; the integral needs "
-            f"[{lo:g}, {hi:g}] um",
+            f"material {material.name!r} is defined on [{mlo:g}, {mhi:g}] µm; the integral needs "
+            f"[{lo:g}, {hi:g}] µm",
             key=material.name,
         )
     knots = union_wavelengths(material.spectra)

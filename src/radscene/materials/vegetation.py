@@ -103,7 +103,7 @@ THERMAL_GRID = np.array([3.0, 3.5, 4.0, 4.5, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0
 
 _INSTALL = (
     "vegetation models need the optional package 'prosail' (PROSPECT-D + 4SAIL): "
-    "`pip install radscene[vegetation]` (or `pip install prosail`)"
+    "`pip install prosail` (from a radscene clone: `pip install '.[vegetation]'`)"
 )
 
 
@@ -454,10 +454,10 @@ def leaf_material(
         "MODEL: PROSPECT-D (Feret et al. 2017, doi:10.1016/j.rse.2017.03.004) via prosail, "
         f"N={p['structure']:g}, Cab={p['chlorophyll']:g} ug cm-2, Car={p['carotenoids']:g} ug cm-2, "
         f"Cant={p['anthocyanins']:g} ug cm-2, Cbrown={p['brown_pigments']:g}, Cw={p['water']:g} g cm-2, "
-        f"Cm={p['dry_matter']:g} g cm-2, 0.4-2.5 um sampled every {vswir_step:g} um; 3-20 um: "
+        f"Cm={p['dry_matter']:g} g cm-2, 0.4-2.5 µm sampled every {vswir_step:g} µm; 3-20 µm: "
         f"leaf emissivity {eps:g}, flat (default: the mid-point of the 0.95-0.99 MEASURED in "
-        "8-14 um by Ribeiro da Luz & Crowley 2007, doi:10.1016/j.rse.2007.01.008), opaque; "
-        "linear 2.5-3.0 um"
+        "8-14 µm by Ribeiro da Luz & Crowley 2007, doi:10.1016/j.rse.2007.01.008), opaque; "
+        "linear 2.5-3.0 µm"
     )
     return Material.create(
         name,
@@ -530,11 +530,11 @@ def canopy_material(
         f"LAI={p['lai']:g}, leaf angle={p['leaf_angle']}, hotspot={p['hotspot']:g}, "
         f"N={p['structure']:g}, Cab={p['chlorophyll']:g} ug cm-2, Car={p['carotenoids']:g} ug cm-2, "
         f"Cw={p['water']:g} g cm-2, Cm={p['dry_matter']:g} g cm-2, Cbrown={p['brown_pigments']:g}, "
-        f"soil {soil_name}; 0.4-2.5 um sampled every {vswir_step:g} um. 3-20 um: 1 - hemispherical "
+        f"soil {soil_name}; 0.4-2.5 µm sampled every {vswir_step:g} µm. 3-20 µm: 1 - hemispherical "
         f"emissivity of the same canopy by thermal 4SAIL with leaf emissivity "
-        f"{leaf_emissivity:g}, flat (default: the mid-point of the 0.95-0.99 MEASURED in 8-14 um "
+        f"{leaf_emissivity:g}, flat (default: the mid-point of the 0.95-0.99 MEASURED in 8-14 µm "
         "by Ribeiro da Luz & Crowley 2007, doi:10.1016/j.rse.2007.01.008) and the soil's "
-        "emissivity; linear 2.5-3.0 um"
+        "emissivity; linear 2.5-3.0 µm"
     )
     return Material.create(
         name,

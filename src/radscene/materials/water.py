@@ -218,8 +218,8 @@ def water_refractive_index(wavelength):
     outside = np.isfinite(wl) & ((wl < lo) | (wl > hi))
     if np.any(outside):
         raise ConfigError(
-            f"wavelength {wl[outside].flat[0]:g} um is outside the Hale & Querry table "
-            f"[{lo:g}, {hi:g}] um",
+            f"wavelength {wl[outside].flat[0]:g} µm is outside the Hale & Querry table "
+            f"[{lo:g}, {hi:g}] µm",
             key="wavelength",
         )
     return np.interp(wl, table[:, 0], table[:, 1]), np.interp(wl, table[:, 0], table[:, 2])

@@ -619,7 +619,7 @@ def _through_simulation(scene, setup, progress=None, blur=False):
         def once(tables=tables):
             if sim._scans_motion(setup):
                 return sim._scan(setup, tables, progress)
-            return render_observer(scene, setup.name, progress=progress, _tables=tables)
+            return render_observer(scene, setup.name, progress=progress, tables=tables)
 
         return sim._expose(setup, once, tables) if blur else sim._scan(setup, tables, progress)
     finally:

@@ -316,8 +316,8 @@ class Simulation:
                     return render_hyperspectral(scene, setup.name, progress=report)
                 if self._scans_motion(setup):
                     return self._scan(setup, tables, report)
-                return render_observer(scene, setup.name, progress=report, _tables=tables,
-                                       _cache=self._caches.get(setup.name))
+                return render_observer(scene, setup.name, progress=report, tables=tables,
+                                       cache=self._caches.get(setup.name))
             with progress_callback(progress, f"frame {self._index} {setup.name}",
                                    when_interactive=False) as report:
                 images = self._expose(setup, partial(one, report=report), tables)
@@ -451,8 +451,8 @@ class Simulation:
                     tables = scene_tables(self.scene, self.tracer)
                 report = None if progress is None else (
                     lambda n, total, done=done: progress(done + n, len(rays)))
-                parts.append(render_observer(self.scene, setup.name, progress=report, _tables=tables,
-                                             _rays=bundle))
+                parts.append(render_observer(self.scene, setup.name, progress=report, tables=tables,
+                                             rays=bundle))
                 masks.append(mask.reshape(rays.shape))
                 done += len(bundle)
         finally:  # back where they were

@@ -64,7 +64,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.geometry.mesh import rotation_matrix
 from radscene.platform.trajectory import Trajectory, _axis_rotation
 
@@ -108,7 +108,8 @@ def path_trajectory(times, positions, attitudes=None, *, quaternions=None,
     from scipy.interpolate import CubicSpline
 
     if interpolation not in INTERPOLATIONS:
-        raise ConfigError(f"unknown interpolation {interpolation!r}; known: {', '.join(INTERPOLATIONS)}",
+        raise ConfigError(f"unknown interpolation {interpolation!r}; known: {', '.join(INTERPOLATIONS)}"
+                          f"{did_you_mean(interpolation, INTERPOLATIONS)}",
                           key="interpolation")
     velocities = None
     if interpolation == "spline" and len(times) > 1:
@@ -201,7 +202,8 @@ class Motion:
 
     def __post_init__(self):
         if self.attitude not in ATTITUDES:
-            raise ConfigError(f"unknown attitude {self.attitude!r}; known: {', '.join(ATTITUDES)}",
+            raise ConfigError(f"unknown attitude {self.attitude!r}; known: {', '.join(ATTITUDES)}"
+                              f"{did_you_mean(self.attitude, ATTITUDES)}",
                               key=f"{self.key}.trajectory.attitude")
         if self.attitude != "fixed" and self.trajectory is None:
             raise ConfigError(f"attitude {self.attitude!r} needs a trajectory", key=f"{self.key}.trajectory")

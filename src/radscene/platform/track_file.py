@@ -27,14 +27,13 @@ Every error is one line naming ``key`` (the scene key of the file), the file and
 from __future__ import annotations
 
 import csv
-import difflib
 import re
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError, unreadable
+from radscene.errors import ConfigError, did_you_mean, unreadable
 from radscene.radiometry.units import UNITS
 
 __all__ = ["Track", "read_track"]
@@ -124,8 +123,7 @@ def _read_csv(path, key):
                               f"(line {numbered[0][0]})", key=key)
         name = match.group(1).lower()
         if name not in KINDS:  # named by its place: the header may be any file's first line
-            close = difflib.get_close_matches(name, list(KINDS), n=1, cutoff=0.8)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(name, list(KINDS), cutoff=0.8)
             raise ConfigError(f"{path.name}: header column {number} is none of "
                               f"{', '.join(KINDS)}{hint} (line {numbered[0][0]})", key=key)
         columns.append((name, match.group(2)))

@@ -113,8 +113,8 @@ class ChannelGrid:
         first, last = float(self.wavelength[0]), float(self.wavelength[-1])
         if lo < first - 1e-12 or hi > last + 1e-12:
             raise ConfigError(
-                f"response {response.name!r} spans {lo:g}–{hi:g} um, beyond the grid's "
-                f"{first:g}–{last:g} um", key="response")
+                f"response {response.name!r} spans {lo:g}–{hi:g} µm, beyond the grid's "
+                f"{first:g}–{last:g} µm", key="response")
         return np.asarray(response(self.wavelength), dtype=float) * self.width
 
 
@@ -153,18 +153,18 @@ def channel_grid(minimum, maximum, step, key: str = "spectral") -> ChannelGrid:
         try:
             values[name] = float(v)
         except (TypeError, ValueError):
-            raise ConfigError(f"must be a wavelength [um]; got {v!r}", key=f"{key}.{name}") from None
+            raise ConfigError(f"must be a wavelength [µm]; got {v!r}", key=f"{key}.{name}") from None
         if not math.isfinite(values[name]):
             raise ConfigError(f"must be finite; got {v!r}", key=f"{key}.{name}")
     lo, hi, dl = values["min"], values["max"], values["step"]
     if dl <= 0:
-        raise ConfigError(f"must be > 0 um; got {dl!r}", key=f"{key}.step")
+        raise ConfigError(f"must be > 0 µm; got {dl!r}", key=f"{key}.step")
     if lo <= 0:
-        raise ConfigError(f"must be > 0 um; got {lo!r}", key=f"{key}.min")
+        raise ConfigError(f"must be > 0 µm; got {lo!r}", key=f"{key}.min")
     if hi <= lo:
-        raise ConfigError(f"must be above min = {lo:g} um, or the grid is empty; got {hi!r}",
+        raise ConfigError(f"must be above min = {lo:g} µm, or the grid is empty; got {hi!r}",
                           key=f"{key}.max")
     if hi - lo < dl * (1.0 - 1e-9):
-        raise ConfigError(f"{dl:g} um leaves fewer than two channels between {lo:g} and "
-                          f"{hi:g} um", key=f"{key}.step")
+        raise ConfigError(f"{dl:g} µm leaves fewer than two channels between {lo:g} and "
+                          f"{hi:g} µm", key=f"{key}.step")
     return ChannelGrid(wavelength_grid(lo, hi, dl), dl)

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["wavelength_grid", "resample", "RESAMPLE_METHODS"]
 
@@ -43,13 +43,13 @@ def wavelength_grid(start, stop, step) -> np.ndarray:
     """
     for name, v in (("start", start), ("stop", stop), ("step", step)):
         if not (isinstance(v, (int, float, np.number)) and math.isfinite(v)):
-            raise ConfigError(f"must be a finite number [um]; got {v!r}", key=name)
+            raise ConfigError(f"must be a finite number [µm]; got {v!r}", key=name)
     if start <= 0:
-        raise ConfigError(f"must be > 0 um; got {start!r}", key="start")
+        raise ConfigError(f"must be > 0 µm; got {start!r}", key="start")
     if step <= 0:
-        raise ConfigError(f"must be > 0 um; got {step!r}", key="step")
+        raise ConfigError(f"must be > 0 µm; got {step!r}", key="step")
     if stop < start:
-        raise ConfigError(f"must be >= start = {start!r} um; got {stop!r}", key="stop")
+        raise ConfigError(f"must be >= start = {start!r} µm; got {stop!r}", key="stop")
     n = int(math.floor((stop - start) / step + 1e-9)) + 1
     grid = start + step * np.arange(n)
     if abs(grid[-1] - stop) <= 1e-9 * step:
@@ -62,7 +62,7 @@ def _check_table(wavelength, values):
     vals = np.asarray(values, dtype=float)
     if wl.ndim != 1 or wl.size < 2 or not np.all(np.diff(wl) > 0):
         raise ConfigError(
-            "must be a 1-D, strictly increasing array of at least 2 wavelengths [um]",
+            "must be a 1-D, strictly increasing array of at least 2 wavelengths [µm]",
             key="wavelength",
         )
     if vals.ndim == 0 or vals.shape[-1] != wl.size:
@@ -115,17 +115,18 @@ def resample(wavelength, values, new_wavelength, method: str = "linear"):
     """
     if method not in RESAMPLE_METHODS:
         raise ConfigError(
-            f"unknown resampling method {method!r}; known: {', '.join(RESAMPLE_METHODS)}",
+            f"unknown resampling method {method!r}; known: {', '.join(RESAMPLE_METHODS)}"
+            f"{did_you_mean(method, RESAMPLE_METHODS)}",
             key="method",
         )
     wl, vals = _check_table(wavelength, values)
     new = np.asarray(new_wavelength, dtype=float)
     if new.ndim != 1 or new.size == 0 or np.any(np.isnan(new)):
-        raise ConfigError("must be a non-empty 1-D array of wavelengths [um]", key="new_wavelength")
+        raise ConfigError("must be a non-empty 1-D array of wavelengths [µm]", key="new_wavelength")
     if new.min() < wl[0] or new.max() > wl[-1]:
         raise ConfigError(
-            f"{new.min():g}-{new.max():g} um is outside the source range "
-            f"{wl[0]:g}-{wl[-1]:g} um (no extrapolation)",
+            f"{new.min():g}-{new.max():g} µm is outside the source range "
+            f"{wl[0]:g}-{wl[-1]:g} µm (no extrapolation)",
             key="new_wavelength",
         )
     if method == "linear":

@@ -360,7 +360,7 @@ def brightness_temperature(wavelength, radiance):
     rad = np.asarray(radiance, dtype=float)
     if np.any(rad < 0):
         raise ConfigError(
-            f"radiance must be >= 0 W m-2 sr-1 um-1; got min {np.nanmin(rad)!r}",
+            f"radiance must be >= 0 W m-2 sr-1 µm-1; got min {np.nanmin(rad)!r}",
             key="radiance",
         )
     with np.errstate(divide="ignore", over="ignore"):

@@ -39,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = [
     "SpectralResponse",
@@ -197,7 +197,7 @@ class SpectralResponse(abc.ABC):
         vals = np.asarray(values, dtype=float)
         if wl.ndim != 1 or wl.size < 2 or not np.all(np.diff(wl) > 0):
             raise ConfigError(
-                "must be a 1-D, strictly increasing array of at least 2 wavelengths [um]",
+                "must be a 1-D, strictly increasing array of at least 2 wavelengths [µm]",
                 key="wavelength",
             )
         if vals.ndim == 0 or vals.shape[-1] != wl.size:
@@ -208,7 +208,7 @@ class SpectralResponse(abc.ABC):
         lo, hi = self.support
         if wl[0] > lo or wl[-1] < hi:
             raise ConfigError(
-                f"table {wl[0]:g}-{wl[-1]:g} um does not cover the support {lo:g}-{hi:g} um "
+                f"table {wl[0]:g}-{wl[-1]:g} µm does not cover the support {lo:g}-{hi:g} µm "
                 f"of response {self.name!r}",
                 key="wavelength",
             )
@@ -224,7 +224,7 @@ class SpectralResponse(abc.ABC):
 
     def __repr__(self) -> str:
         lo, hi = self.support
-        return f"{type(self).__name__}(name={self.name!r}, support=({lo:g}, {hi:g}) um)"
+        return f"{type(self).__name__}(name={self.name!r}, support=({lo:g}, {hi:g}) µm)"
 
 
 class RectangularResponse(SpectralResponse):
@@ -247,10 +247,10 @@ class RectangularResponse(SpectralResponse):
         lo = _real(wavelength_min, "wavelength_min")
         hi = _real(wavelength_max, "wavelength_max")
         if lo <= 0:
-            raise ConfigError(f"must be > 0 um; got {lo!r}", key="wavelength_min")
+            raise ConfigError(f"must be > 0 µm; got {lo!r}", key="wavelength_min")
         if hi <= lo:
             raise ConfigError(
-                f"must be > wavelength_min = {lo!r} um; got {hi!r}", key="wavelength_max"
+                f"must be > wavelength_min = {lo!r} µm; got {hi!r}", key="wavelength_max"
             )
         self.wavelength_min = lo
         self.wavelength_max = hi
@@ -303,12 +303,12 @@ class GaussianResponse(SpectralResponse):
         c = _real(center, "center")
         w = _real(fwhm, "fwhm")
         if w <= 0:
-            raise ConfigError(f"must be > 0 um; got {w!r}", key="fwhm")
+            raise ConfigError(f"must be > 0 µm; got {w!r}", key="fwhm")
         sigma = w * _FWHM_TO_SIGMA
         if c - GAUSSIAN_TRUNCATION * sigma <= 0:
             raise ConfigError(
-                f"center - {GAUSSIAN_TRUNCATION:g} sigma must be > 0 um "
-                f"(center {c!r} um, fwhm {w!r} um)",
+                f"center - {GAUSSIAN_TRUNCATION:g} sigma must be > 0 µm "
+                f"(center {c!r} µm, fwhm {w!r} µm)",
                 key="center",
             )
         self.center_wavelength = c
@@ -362,30 +362,29 @@ class TabulatedResponse(SpectralResponse):
     1.0
     """
 
-    def __init__(self, wavelength, response, name: str | None = None, *, _source=None):
-        where = f"{_source}: " if _source else ""
+    def __init__(self, wavelength, response, name: str | None = None):
         wl = np.asarray(wavelength, dtype=float)
         s = np.asarray(response, dtype=float)
         if wl.ndim != 1 or wl.size < 2 or s.shape != wl.shape:
             raise ConfigError(
-                f"{where}wavelength and response must be 1-D of equal length >= 2; "
+                f"wavelength and response must be 1-D of equal length >= 2; "
                 f"got shapes {wl.shape} and {s.shape}",
                 key="wavelength",
             )
         if not (np.all(np.isfinite(wl)) and np.all(np.isfinite(s))):
-            raise ConfigError(f"{where}wavelength and response must be finite", key="response")
+            raise ConfigError("wavelength and response must be finite", key="response")
         if wl[0] <= 0 or not np.all(np.diff(wl) > 0):
             raise ConfigError(
-                f"{where}wavelength must be > 0 um and strictly increasing", key="wavelength"
+                "wavelength must be > 0 µm and strictly increasing", key="wavelength"
             )
         if np.any(s < 0):
             raise ConfigError(
-                f"{where}response must be >= 0; got {s.min()!r} at {wl[np.argmin(s)]:g} um",
+                f"response must be >= 0; got {s.min()!r} at {wl[np.argmin(s)]:g} µm",
                 key="response",
             )
         area = float(np.sum(0.5 * (s[1:] + s[:-1]) * np.diff(wl)))
         if not area > 0:
-            raise ConfigError(f"{where}integral of the response must be > 0", key="response")
+            raise ConfigError("integral of the response must be > 0", key="response")
         nonzero = np.flatnonzero(s > 0)
         first = max(nonzero[0] - 1, 0)
         last = min(nonzero[-1] + 1, wl.size - 1)
@@ -448,12 +447,11 @@ class TabulatedResponse(SpectralResponse):
                 key=str(path),
             )
         data = np.array(rows)
-        return cls(
-            data[:, 0] * scale,
-            data[:, 1],
-            name=name if name is not None else path.stem,
-            _source=str(path),
-        )
+        try:
+            return cls(data[:, 0] * scale, data[:, 1],
+                       name=name if name is not None else path.stem)
+        except ConfigError as err:  # the file's values: the message names the file
+            raise ConfigError(f"{path}: {err.message}", key=err.key) from None
 
     @property
     def support(self):
@@ -508,7 +506,8 @@ def make_response(spec: Mapping) -> SpectralResponse:
     kind = str(spec["type"]).lower()
     if kind not in RESPONSES:
         raise ConfigError(
-            f"unknown spectral response type {spec['type']!r}; known: {', '.join(RESPONSES)}",
+            f"unknown spectral response type {spec['type']!r}; known: {', '.join(RESPONSES)}"
+            f"{did_you_mean(spec['type'], RESPONSES)}",
             key="type",
         )
     cls = RESPONSES[kind]

@@ -30,7 +30,7 @@ import math
 import numbers
 import re
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["UNITS", "CANONICAL_UNITS", "parse_quantity"]
 
@@ -248,7 +248,8 @@ def parse_quantity(value, kind: str, key: str | None = None) -> float:
     0.55
     """
     if kind not in UNITS:
-        raise ConfigError(f"unknown quantity kind {kind!r}; known: {', '.join(UNITS)}", key="kind")
+        raise ConfigError(f"unknown quantity kind {kind!r}; known: {', '.join(UNITS)}"
+                          f"{did_you_mean(kind, UNITS)}", key="kind")
     key = key if key is not None else kind
     table = UNITS[kind]
     if isinstance(value, numbers.Real) and not isinstance(value, bool):

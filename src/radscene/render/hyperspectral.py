@@ -311,8 +311,8 @@ def band_radiance(cube: xr.Dataset, response, variable: str = "radiance") -> xr.
     wl = np.asarray(cube["wavelength"].values, dtype=float)
     lo, hi = response.support
     if lo < wl[0] - 1e-12 or hi > wl[-1] + 1e-12:
-        raise ConfigError(f"response {response.name!r} spans {lo:g}–{hi:g} um, beyond the "
-                          f"cube's {wl[0]:g}–{wl[-1]:g} um", key="response")
+        raise ConfigError(f"response {response.name!r} spans {lo:g}–{hi:g} µm, beyond the "
+                          f"cube's {wl[0]:g}–{wl[-1]:g} µm", key="response")
     if variable not in cube.data_vars or "wavelength" not in cube[variable].dims:
         raise ConfigError(f"the cube has no spectral variable {variable!r}; it has "
                           f"{', '.join(spectral_variables(cube))}", key="variable")

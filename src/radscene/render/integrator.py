@@ -83,8 +83,8 @@ TILES_AHEAD = 2
 
 
 def render(scene, observer: str | None = None, *, progress: Callable[[int, int], None] | None = None,
-           bands=None, specular=None, _tables: SceneTables | None = None, _rays=None,
-           _depth: int = 0, _cache: FrameCache | None = None) -> xr.Dataset:
+           bands=None, specular=None, tables: SceneTables | None = None, rays=None,
+           cache: FrameCache | None = None) -> xr.Dataset:
     """Render one observer of a scene.
 
     Parameters
@@ -102,7 +102,13 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         Per material, whether its samples trace specular lobes; default: those with a
         nonzero specular coefficient in some band. Renders of one observer split over
         several band sets pass the same flags, so that they draw the same random numbers.
-    _cache : FrameCache, optional
+    tables : SceneTables, optional
+        The scene's tables (:func:`scene_tables`), when several renders of one scene share
+        them; built by default.
+    rays : RayBundle, optional
+        The rays to trace instead of the observer's own (one ``supersample`` grid), e.g. a
+        part of its image or its rays at other times.
+    cache : FrameCache, optional
         The rays of the observer's last frame (a sequence's): traced again only where
         something moved through them (:mod:`radscene.render.frame_cache`).
 
@@ -112,29 +118,36 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         ``radiance(band, y, x)`` [W m-2 sr-1], one variable per signature term (same dims),
         and the truth maps; see ``docs/outputs.md``.
     """
+    return _render(scene, observer, progress, bands, specular, tables, rays, cache, depth=0)
+
+
+def _render(scene, observer, progress, bands, specular, tables, rays, cache, depth):
+    """:func:`render`; ``depth`` is how many sheets the rays crossed (0 for the observer's,
+    1 and more for the rays beyond the sheets of an outer pass)."""
     setup = scene.observers[0] if observer is None else scene.observer(observer)
     if bands is None and getattr(setup, "spectral", None) is not None:
         from radscene.errors import ConfigError
 
         raise ConfigError(f"observer {setup.name!r} records a spectral grid: render it with "
                           "radscene.render_hyperspectral", key="observer")
-    tables = _tables or scene_tables(scene)
+    tables = tables or scene_tables(scene)
     bands = [scene.band(name) for name in setup.bands] if bands is None else list(bands)
     sun = tables.sun
     settings = scene.settings
-    # _rays, _depth: the rays beyond the sheets of an outer pass, and how many it crossed
-    rays = setup.camera.rays(supersample=setup.supersample) if _rays is None else _rays
+    given_rays = rays is not None
+    if not given_rays:
+        rays = setup.camera.rays(supersample=setup.supersample)
     started = _time.perf_counter()
     # the sun at each ray's time (scanners), or the scene's
     track = sun_track(scene, rays.time, getattr(setup.camera, "epoch", None))
 
-    cache = _cache if _cache is not None and _rays is None and FrameCache.usable(
-        scene, tables, track, rays) else None
-    if _cache is not None and cache is None:
-        _cache.reset()
+    frame_cache = cache
+    if cache is not None and (given_rays or not FrameCache.usable(scene, tables, track, rays)):
+        cache.reset()
+        frame_cache = None
     # first pass: primary hits, for the path nodes of the whole image
-    hits = (tables.tracer.intersect(rays.origins, rays.directions) if cache is None
-            else cache.primary(tables.tracer, rays))
+    hits = (tables.tracer.intersect(rays.origins, rays.directions) if frame_cache is None
+            else frame_cache.primary(tables.tracer, rays))
     hit = hits.hit
     hit_time = rays.time[hit] if track.moving else None
     sun_dir = track.direction(hit_time)  # per hit, or one row for all
@@ -146,22 +159,22 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
                                     settings.shadows, track.up)
         ds = _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir,
                           settings, rays, hits, hit, shadow_pass, worker, started, progress,
-                          specular, cache)
+                          specular, frame_cache)
     except BaseException:
-        if cache is not None:  # a frame left half done keeps nothing
-            cache.reset()
+        if frame_cache is not None:  # a frame left half done keeps nothing
+            frame_cache.reset()
         raise
     finally:
         worker.shutdown(wait=True, cancel_futures=True)
     layers = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS
     if tables.sheet_object.any():  # partial shadows, and the light from behind the sheets
         def behind(bundle):
-            return render(scene, setup.name, bands=bands, specular=specular, _tables=tables,
-                          _rays=bundle, _depth=_depth + 1)
+            return _render(scene, setup.name, None, bands, specular, tables, bundle, None,
+                           depth + 1)
         ds = sheets.apply(ds, tables, sheets.band_transmittance(scene.materials, bands), bands,
                           rays, hits, layers, sun_dir, track.up, settings.shadows,
                           lambda obj, pos: textures(scene, obj, pos)["transmittance"], behind,
-                          _depth)
+                          depth)
         layers += ("transmitted",)
     if scene.volumes:  # the light from behind through them, and their own
         atm = configured_atmosphere(scene, sun, None)
@@ -308,6 +321,6 @@ def render_all(scene, progress=None) -> dict[str, xr.Dataset]:
     """Render every observer of a scene; returns ``{observer name: Dataset}``."""
     tables = scene_tables(scene)
     return {
-        obs.name: render(scene, obs.name, progress=progress, _tables=tables)
+        obs.name: render(scene, obs.name, progress=progress, tables=tables)
         for obs in scene.observers
     }

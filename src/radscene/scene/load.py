@@ -18,7 +18,7 @@ import yaml
 from pydantic import ValidationError
 
 from radscene.atmosphere import Atmosphere, make_atmosphere
-from radscene.errors import ConfigError, unreadable
+from radscene.errors import ConfigError, did_you_mean, unreadable
 from radscene.scene import schema
 
 #: Surface temperature of faces without a given one when the heat balance does not run [K].
@@ -133,14 +133,18 @@ class Scene:
         for band in self.bands:
             if band.name == name:
                 return band
-        raise ConfigError(f"unknown band {name!r}; known: {', '.join(b.name for b in self.bands)}")
+        known = [b.name for b in self.bands]
+        raise ConfigError(f"unknown band {name!r}; known: {', '.join(known)}{did_you_mean(name, known)}",
+                          key="band")
 
     def observer(self, name: str) -> ObserverSetup:
         for obs in self.observers:
             if obs.name == name:
                 return obs
+        known = [o.name for o in self.observers]
         raise ConfigError(
-            f"unknown observer {name!r}; known: {', '.join(o.name for o in self.observers)}"
+            f"unknown observer {name!r}; known: {', '.join(known)}{did_you_mean(name, known)}",
+            key="observer",
         )
 
 
@@ -177,28 +181,29 @@ def _schema_keys() -> list[str]:
 
 def _validation_error(err: ValidationError) -> ConfigError:
     first = err.errors()[0]
+    key = _key(first.get("loc", ()))
     msg = first.get("msg", "invalid value")
     msg = msg.removeprefix("Value error, ")
     if first.get("type") == "extra_forbidden":
         msg = "unknown key"
         loc = first.get("loc", ())
         if loc and isinstance(loc[-1], str):
-            import difflib
-
-            close = difflib.get_close_matches(loc[-1], _schema_keys(), n=1, cutoff=0.75)
-            if close:
-                msg += f"; did you mean {close[0]!r}?"
+            msg += did_you_mean(loc[-1], _schema_keys(), cutoff=0.75)
     elif first.get("type") == "missing":
         msg = "required key is missing"
     elif first.get("type") == "union_tag_invalid":
         ctx = first.get("ctx", {})
-        msg = f"unknown type {ctx.get('tag')!r}; known: {ctx.get('expected_tags')}"
+        tag, expected = ctx.get("tag"), str(ctx.get("expected_tags", ""))
+        known = [t.strip().strip("'\"") for t in expected.split(",") if t.strip()]
+        field_name = str(ctx.get("discriminator", "type")).strip("'\"")
+        msg = f"unknown {field_name} {tag!r}; known: {', '.join(known)}{did_you_mean(tag, known)}"
+        key = _key((*first.get("loc", ()), field_name))
     elif first.get("type") == "union_tag_not_found":
         msg = f"a 'type' key is needed, one of: {first.get('ctx', {}).get('discriminator')}"
     more = len(err.errors()) - 1
     if more:
         msg += f" (and {more} more problem{'s' if more > 1 else ''})"
-    return ConfigError(msg, key=_key(first.get("loc", ())) or "scene")
+    return ConfigError(msg, key=key or "scene")
 
 
 def read_scene_file(path: str | Path) -> dict:
@@ -207,7 +212,7 @@ def read_scene_file(path: str | Path) -> dict:
     if not path.is_file():
         raise ConfigError(f"no such scene file: {path}", key="scene")
     try:
-        data = yaml.safe_load(path.read_text())
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -334,7 +339,8 @@ class _Resolver:
             except ConfigError:
                 known = sorted(set(list_materials()) | set(custom))
                 raise ConfigError(
-                    f"unknown material {name!r}; known: {', '.join(known)}", key=key
+                    f"unknown material {name!r}; known: {', '.join(known)}{did_you_mean(lname, known)}",
+                    key=key,
                 ) from None
         self.materials.append(material)
         self.material_names.append(lname)
@@ -851,7 +857,8 @@ class _Resolver:
                     example = spec.pop("example")
                     if example not in example_sensors():
                         raise ConfigError(f"unknown example sensor {example!r}; known: "
-                                          f"{', '.join(example_sensors())}", key=f"{key}.example")
+                                          f"{', '.join(example_sensors())}"
+                                          f"{did_you_mean(example, example_sensors())}", key=f"{key}.example")
                     path = example_sensor_path(example)
                 try:
                     base = read_sensor_file(path)["sensor"]  # the mapping, or a file's parts
@@ -883,7 +890,8 @@ class _Resolver:
             for j, bname in enumerate(bands):
                 if bname not in band_names:
                     raise ConfigError(
-                        f"unknown band {bname!r}; known: {', '.join(band_names)}",
+                        f"unknown band {bname!r}; known: {', '.join(band_names)}"
+                        f"{did_you_mean(bname, band_names)}",
                         key=f"{key}.bands[{j}]",
                     )
             if o.type in ("pushbroom", "whiskbroom"):
@@ -973,16 +981,16 @@ class _Resolver:
 
                 slo, shi = SOLAR_WAVELENGTH_RANGE
                 if wl[0] < slo or wl[-1] > shi:
-                    raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} um; the renderer's "
-                                      f"solar spectrum covers {slo:g}–{shi:g} um", key=key)
+                    raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} µm; the renderer's "
+                                      f"solar spectrum covers {slo:g}–{shi:g} µm", key=key)
                 spans.append((float(wl[0]), float(wl[-1])))
         lo, hi = min(s[0] for s in spans), max(s[1] for s in spans)
         for m_name, material in zip(self.material_names, self.materials, strict=True):
             mlo, mhi = _material_range(material)
             if lo < mlo or hi > mhi:
                 raise ConfigError(
-                    f"material {m_name!r} is defined over {mlo:g}–{mhi:g} um but the bands "
-                    f"and spectral grids span {lo:g}–{hi:g} um",
+                    f"material {m_name!r} is defined over {mlo:g}–{mhi:g} µm but the bands "
+                    f"and spectral grids span {lo:g}–{hi:g} µm",
                     key=f"materials.{m_name}",
                 )
         return Scene(

@@ -692,7 +692,7 @@ class VolumeSpec(_Model):
         "uniform")
     extinction: float | dict[str, Any] | None = Field(
         None, description="extinction coefficient at density 1 [m-1]: a number, or a spectrum "
-        "{wavelength [um], values} or {file}; exactly one of extinction and optical_depth")
+        "{wavelength [µm], values} or {file}; exactly one of extinction and optical_depth")
     optical_depth: float | dict[str, Any] | None = Field(
         None, description="vertical optical depth through the centre, from below [-]: a number or "
         "a spectrum; the extinction follows from it")
@@ -733,12 +733,12 @@ class BandSpec(_Model):
     type: Literal["rectangular", "gaussian", "tabulated", "library"] | None = Field(
         None, description="the kind of response; default inferred from the keys given (min/max "
         "rectangular, center/fwhm gaussian, file tabulated, sensor/band library)")
-    min: Wavelength | None = Field(None, description="rectangular: short-wave edge [um]")
-    max: Wavelength | None = Field(None, description="rectangular: long-wave edge [um], above min")
-    center: Wavelength | None = Field(None, description="gaussian: centre wavelength [um]")
-    fwhm: Wavelength | None = Field(None, description="gaussian: full width at half maximum [um]")
+    min: Wavelength | None = Field(None, description="rectangular: short-wave edge [µm]")
+    max: Wavelength | None = Field(None, description="rectangular: long-wave edge [µm], above min")
+    center: Wavelength | None = Field(None, description="gaussian: centre wavelength [µm]")
+    fwhm: Wavelength | None = Field(None, description="gaussian: full width at half maximum [µm]")
     file: str | None = Field(
-        None, description="tabulated: a two-column text/CSV file of wavelength [um] and relative "
+        None, description="tabulated: a two-column text/CSV file of wavelength [µm] and relative "
         "response")
     sensor: str | None = Field(None, description="a bundled sensor, e.g. landsat8_oli")
     band: str | None = Field(None, description="that sensor's band, e.g. B4")
@@ -767,7 +767,7 @@ class BandSpec(_Model):
         if missing:
             raise ValueError(f"a {kind} band needs {', '.join(need[kind])}; missing {', '.join(missing)}")
         if kind == "rectangular" and self.max <= self.min:
-            raise ValueError(f"max ({self.max:g} um) must exceed min ({self.min:g} um)")
+            raise ValueError(f"max ({self.max:g} µm) must exceed min ({self.min:g} µm)")
         object.__setattr__(self, "type", kind)
         return self
 
@@ -777,16 +777,16 @@ class SpectralGridSpec(_Model):
     triangular response (FWHM = step) reaching zero at its neighbours' centres
     (:mod:`radscene.radiometry.channels`)."""
 
-    min: Wavelength = Field(description="centre of the first channel [um]")
+    min: Wavelength = Field(description="centre of the first channel [µm]")
     max: Wavelength = Field(
-        description="centre of the last channel [um], or the last centre below it when the steps "
+        description="centre of the last channel [µm], or the last centre below it when the steps "
         "do not land on it")
     step: float = Field(description="spacing of the channel centres, e.g. '10 nm'",
                         json_schema_extra={"x-quantity": "wavelength", "gt": 0.0})
     terms: bool = Field(
         False, description="also keep every layer that sums to the radiance (sun_diffuse, "
         "sky_reflected, thermal_emission, path_radiance, ...) as a spectral variable of its "
-        "own, <term>(wavelength, y, x) [W m-2 sr-1 um-1], in memory and in the NetCDF or Zarr "
+        "own, <term>(wavelength, y, x) [W m-2 sr-1 µm-1], in memory and in the NetCDF or Zarr "
         "cube (the ENVI image stays radiance only); multiplies the cube's size by up to 13 "
         "and shrinks the render's passes")
 
@@ -797,7 +797,7 @@ class SpectralGridSpec(_Model):
             raise ValueError(f"expected a wavelength, got {value!r}")
         number = float(parse_quantity(value, "wavelength"))
         if not number > 0:
-            raise ValueError(f"must be > 0 um; got {value!r}")
+            raise ValueError(f"must be > 0 µm; got {value!r}")
         return number
 
 
@@ -892,7 +892,7 @@ class RenderSettings(_Model):
         "noise): the same seed gives the same outputs")
     video: Literal["auto", "gif", "mp4", "both", "none"] = Field(
         "auto", description="a sequence's animations per band: auto writes a GIF, and an MP4 too "
-        "when imageio and imageio-ffmpeg are installed (pip install radscene[video]); mp4 and both "
+        "when imageio and imageio-ffmpeg are installed (pip install imageio imageio-ffmpeg); mp4 and both "
         "need them")
     coupling: bool = Field(True, description="surface-atmosphere coupling: multiple reflection "
                            "and the diffusely transmitted surface radiance")
@@ -986,7 +986,7 @@ class ThermalSpec(_Model):
     """The heat balance that sets the temperatures of surfaces without a fixed one."""
 
     enabled: Literal["auto"] | bool = Field(
-        "auto", description="auto: when a band lies beyond 2.5 um and a surface has no fixed temperature")
+        "auto", description="auto: when a band lies beyond 2.5 µm and a surface has no fixed temperature")
     start: _dt.datetime | None = Field(None, description="default: one day before the scene's time")
     end: _dt.datetime | None = Field(None, description="default: the scene's time")
     step: Duration = Field(600.0, description="time step of the heat balance [s]")

@@ -57,7 +57,7 @@ from collections.abc import Mapping
 import numpy as np
 import xarray as xr
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.sensor import _parse as P
 from radscene.sensor import sampling
 from radscene.sensor.channel import (
@@ -116,7 +116,8 @@ def _build_channel(cfg: Mapping, key: str) -> Channel:
                           key=dkey)
     kind = str(dcfg.get("type", "photon")).lower()
     if kind not in DETECTORS:
-        raise ConfigError(f"unknown detector type {dcfg.get('type')!r}; known: {', '.join(DETECTORS)}",
+        raise ConfigError(f"unknown detector type {dcfg.get('type')!r}; known: {', '.join(DETECTORS)}"
+                          f"{did_you_mean(dcfg.get('type'), DETECTORS)}",
                           key=P.join(dkey, "type"))
     detector = DETECTORS[kind].from_config(dcfg, dkey)
     ecfg = cfg.get("electronics")
@@ -192,7 +193,7 @@ class Sensor:
 
     def __repr__(self) -> str:
         d = self.base.detector
-        return (f"Sensor(name={self.name!r}, detector={d.kind}, pitch={d.pitch * 1e6:g} um, "
+        return (f"Sensor(name={self.name!r}, detector={d.kind}, pitch={d.pitch * 1e6:g} µm, "
                 f"f={self.base.optics.focal_length * 1e3:g} mm, F/{self.base.optics.f_number:g}, "
                 f"oversample={self.oversample})")
 

@@ -187,7 +187,7 @@ def default_response(ds, band) -> SpectralResponse:
             f"band {band!r}: the radiance carries no wavelength_center / equivalent_width "
             "coordinates; give the band's spectral response", key=f"bands.{band}.response") from None
     if not width > 0:
-        raise ConfigError(f"band {band!r}: equivalent width {width!r} um is not positive",
+        raise ConfigError(f"band {band!r}: equivalent width {width!r} µm is not positive",
                           key=f"bands.{band}.response")
     return RectangularResponse(center - 0.5 * width, center + 0.5 * width, name=str(band))
 

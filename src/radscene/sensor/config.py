@@ -10,7 +10,7 @@ from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.sensor.chain import DETECTORS, Sensor
 
 __all__ = ["SENSOR_TYPES", "DETECTORS", "make_sensor", "load_sensor", "read_sensor_file",
@@ -57,7 +57,8 @@ def make_sensor(spec: Mapping | Sensor, key: str = "") -> Sensor:
     kind = str(spec.get("type", "staring")).lower()
     if kind not in SENSOR_TYPES:
         raise ConfigError(f"unknown sensor type {spec.get('type')!r}; known: "
-                          f"{', '.join(SENSOR_TYPES)}", key=f"{key}.type" if key else "type")
+                          f"{', '.join(SENSOR_TYPES)}"
+                          f"{did_you_mean(spec.get('type'), SENSOR_TYPES)}", key=f"{key}.type" if key else "type")
     return SENSOR_TYPES[kind].from_config(spec, key)
 
 
@@ -161,6 +162,7 @@ def example_sensor_path(name: str) -> Path:
     """Path of a bundled example sensor YAML file."""
     path = Path(str(_folder() / f"{name}.yaml"))
     if not path.is_file():
-        raise ConfigError(f"unknown example sensor {name!r}; known: {', '.join(example_sensors())}",
+        raise ConfigError(f"unknown example sensor {name!r}; known: {', '.join(example_sensors())}"
+                          f"{did_you_mean(name, example_sensors())}",
                           key="sensor")
     return path

@@ -91,6 +91,10 @@ class BandRadiometry:
         ``system_weights`` times the scene weighting, for the polychromatic OTF.
     scene_etendue : float
         A Ω_o (1 - ε²) [m2 sr].
+    cone_weights : numpy.ndarray
+        Rate per unit spectral radiance at the nodes of a source filling the optical cone,
+        quadrature weights included [A or V / (W m-2 sr-1 um-1)]: :meth:`shutter_rate` is
+        their product with a blackbody's spectral radiance.
     """
 
     nodes: np.ndarray
@@ -104,7 +108,7 @@ class BandRadiometry:
     system_weights: np.ndarray | None = None
     otf_weights: np.ndarray | None = None
     scene_etendue: float = 0.0
-    _cone_rate: np.ndarray | None = None
+    cone_weights: np.ndarray | None = None
 
     @property
     def background_rate_total(self) -> float:
@@ -113,7 +117,7 @@ class BandRadiometry:
 
     def shutter_rate(self, temperature: float) -> float:
         """Rate from a blackbody at `temperature` [K] filling the optical cone [A or V]."""
-        return float(self._cone_rate @ spectral_radiance(self.nodes, temperature))
+        return float(self.cone_weights @ spectral_radiance(self.nodes, temperature))
 
     def scene_rate_of_spectrum(self, spectral_radiance_values) -> np.ndarray:
         """Exact scene rate of a scene spectrum given at :attr:`nodes` [W m-2 sr-1 um-1].
@@ -233,4 +237,4 @@ def band_radiometry(optics, detector, response, key: str = "response",
         background_flux=flux, background_rate=rate, system_weights=system,
         otf_weights=system if t_w is None else system * spectral_radiance(nodes, t_w),
         scene_etendue=g_scene,
-        _cone_rate=g_cone * weights * resp)
+        cone_weights=g_cone * weights * resp)

@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = [
     "SHOT_NOISE_METHODS",
@@ -82,7 +82,8 @@ def shot_noise(mean, rng: np.random.Generator, method: str = "poisson") -> np.nd
             if low.any():
                 out[low] = rng.poisson(m[low])
         return out
-    raise ConfigError(f"unknown shot-noise method {method!r}; known: {', '.join(SHOT_NOISE_METHODS)}",
+    raise ConfigError(f"unknown shot-noise method {method!r}; known: {', '.join(SHOT_NOISE_METHODS)}"
+                      f"{did_you_mean(method, SHOT_NOISE_METHODS)}",
                       key="shot_noise")
 
 

@@ -56,7 +56,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.materials.spectrum import Spectrum
 from radscene.sensor import _parse as P
 from radscene.sensor.otf import defocus_otf, diffraction_otf, wavefront_error_otf
@@ -146,7 +146,8 @@ def relative_illumination(field_angle, law: str = "cos4"):
         return np.ones_like(angle)
     if law == "cos4":
         return np.cos(np.radians(angle)) ** 4
-    raise ConfigError(f"unknown law {law!r}; known: {', '.join(RELATIVE_ILLUMINATION)}",
+    raise ConfigError(f"unknown law {law!r}; known: {', '.join(RELATIVE_ILLUMINATION)}"
+                      f"{did_you_mean(law, RELATIVE_ILLUMINATION)}",
                       key="relative_illumination")
 
 
@@ -210,7 +211,8 @@ class Optics:
                               key="optics.obscuration")
         if self.relative_illumination not in RELATIVE_ILLUMINATION:
             raise ConfigError(f"unknown value {self.relative_illumination!r}; known: "
-                              f"{', '.join(RELATIVE_ILLUMINATION)}",
+                              f"{', '.join(RELATIVE_ILLUMINATION)}"
+                              f"{did_you_mean(self.relative_illumination, RELATIVE_ILLUMINATION)}",
                               key="optics.relative_illumination")
 
     # -- configuration ---------------------------------------------------------------------

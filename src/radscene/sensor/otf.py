@@ -121,7 +121,7 @@ def diffraction_otf(frequency, wavelength, f_number, obscuration=0.0):
     lam = np.asarray(wavelength, dtype=float)
     n = np.asarray(f_number, dtype=float)
     if np.any(~(lam > 0)):
-        raise ConfigError(f"must be > 0 um; got {wavelength!r}", key="wavelength")
+        raise ConfigError(f"must be > 0 µm; got {wavelength!r}", key="wavelength")
     if np.any(~(n > 0)):
         raise ConfigError(f"must be > 0; got {f_number!r}", key="f_number")
     eta = _check_obscuration(obscuration)
@@ -172,14 +172,14 @@ def wavefront_error_otf(frequency, wavelength, f_number, rms_error):
     """
     lam = np.asarray(wavelength, dtype=float)
     if np.any(~(lam > 0)):
-        raise ConfigError(f"must be > 0 um; got {wavelength!r}", key="wavelength")
+        raise ConfigError(f"must be > 0 µm; got {wavelength!r}", key="wavelength")
     w = np.asarray(rms_error, dtype=float) / lam
     if np.any(~np.isfinite(w)) or np.any(w < 0) or np.any(w > MAX_WAVEFRONT_ERROR + 1e-12):
         worst = np.unravel_index(np.nanargmax(np.where(np.isfinite(w), np.abs(w), np.inf)), w.shape)
         at = float(np.broadcast_to(lam, w.shape)[worst])
         raise ConfigError(
             f"rms wavefront error must be in [0, {MAX_WAVEFRONT_ERROR}] waves for Shannon's "
-            f"approximation; got {float(w[worst]):.4g} waves at {at:g} um", key="wavefront_error")
+            f"approximation; got {float(w[worst]):.4g} waves at {at:g} µm", key="wavefront_error")
     x = np.minimum(np.abs(np.asarray(frequency, dtype=float)) * lam * np.asarray(f_number), 1.0)
     return 1.0 - (w / MAX_WAVEFRONT_ERROR) ** 2 * (1.0 - 4.0 * (x - 0.5) ** 2)
 
@@ -219,7 +219,7 @@ def defocus_otf(frequency, wavelength, f_number, defocus):
     """
     lam = np.asarray(wavelength, dtype=float)
     if np.any(~(lam > 0)):
-        raise ConfigError(f"must be > 0 um; got {wavelength!r}", key="wavelength")
+        raise ConfigError(f"must be > 0 µm; got {wavelength!r}", key="wavelength")
     x = np.minimum(np.abs(np.asarray(frequency, dtype=float)) * lam * np.asarray(f_number), 1.0)
     a = 8.0 * np.pi * np.abs(np.asarray(defocus, dtype=float)) / lam * x * (1.0 - x)
     with np.errstate(invalid="ignore", divide="ignore"):

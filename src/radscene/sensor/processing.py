@@ -51,7 +51,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.sensor import _parse as P
 
 __all__ = [
@@ -237,7 +237,8 @@ def make_processing(cfg: Mapping | None, key: str = "processing") -> dict:
     stages = {}
     for name in cfg:
         if str(name).lower() not in PROCESSING:
-            raise ConfigError(f"unknown processing stage {name!r}; known: {', '.join(PROCESSING)}",
+            raise ConfigError(f"unknown processing stage {name!r}; known: {', '.join(PROCESSING)}"
+                              f"{did_you_mean(name, PROCESSING)}",
                               key=P.join(key, str(name)))
     lowered = {str(k).lower(): v for k, v in cfg.items()}
     for name, cls in PROCESSING.items():

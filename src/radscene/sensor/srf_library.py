@@ -76,7 +76,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError, unreadable
+from radscene.errors import ConfigError, did_you_mean, unreadable
 from radscene.radiometry.srf import TabulatedResponse
 
 __all__ = [
@@ -133,7 +133,8 @@ def _sensor_key(name) -> str:
     lib = _library()
     key = str(name).strip().lower()
     if key not in lib:
-        raise ConfigError(f"unknown sensor {name!r}; known: {', '.join(lib)} (or the path of a "
+        raise ConfigError(f"unknown sensor {name!r}; known: {', '.join(lib)}"
+                          f"{did_you_mean(name, lib)} (or the path of a "
                           "multi-band SRF file)", key="sensor")
     return key
 
@@ -260,7 +261,8 @@ def _select(table, bands, prefix, where):
         chosen = []
         for b in bands:
             if str(b).lower() not in lookup:
-                raise ConfigError(f"unknown band {b!r}; known: {', '.join(names)}",
+                raise ConfigError(f"unknown band {b!r}; known: {', '.join(names)}"
+                                  f"{did_you_mean(b, names)}",
                                   key=f"{where}.band")
             chosen.append(lookup[str(b).lower()])
     out = []

@@ -198,10 +198,10 @@ def toa_solar_irradiance(wavelength, distance=1.0, spectrum="radscene"):
     wl = np.asarray(wavelength, dtype=float)
     lo, hi = SOLAR_WAVELENGTH_RANGE
     if np.any(np.isnan(wl)):
-        raise ConfigError(f"must lie in {lo:g}-{hi:g} um; got NaN", key="wavelength")
+        raise ConfigError(f"must lie in {lo:g}-{hi:g} µm; got NaN", key="wavelength")
     if np.any((wl < lo) | (wl > hi)):
         raise ConfigError(
-            f"must lie in {lo:g}-{hi:g} um; got {wl.min():g}-{wl.max():g} um",
+            f"must lie in {lo:g}-{hi:g} µm; got {wl.min():g}-{wl.max():g} µm",
             key="wavelength",
         )
     d = _check_distance(distance)

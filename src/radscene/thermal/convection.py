@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["CONVECTION_MODELS", "convection_coefficient", "convective_flux", "mcadams", "no_convection", "watmuff"]
 
@@ -100,7 +100,8 @@ def convection_coefficient(wind_speed, model="mcadams"):
     """
     fn = CONVECTION_MODELS.get(str(model).strip().lower())
     if fn is None:
-        raise ConfigError(f"unknown convection model {model!r}; known: {', '.join(sorted(CONVECTION_MODELS))}", key="convection")
+        raise ConfigError(f"unknown convection model {model!r}; known: {', '.join(sorted(CONVECTION_MODELS))}"
+                          f"{did_you_mean(model, sorted(CONVECTION_MODELS))}", key="convection")
     return fn(wind_speed)
 
 

@@ -144,7 +144,7 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
     lo, hi = atmosphere.wavelength_range
     inside = (full >= lo) & (full <= hi)
     if inside.sum() < 2:
-        raise ConfigError(f"the {atmosphere.name!r} atmosphere covers {lo:g}-{hi:g} um: no short-wave for the heat balance",
+        raise ConfigError(f"the {atmosphere.name!r} atmosphere covers {lo:g}-{hi:g} µm: no short-wave for the heat balance",
                           key="environment.atmosphere")
     wl = full[inside]
     toa_full = toa_solar_irradiance(full, earth_sun_distance)

@@ -36,7 +36,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = [
     "MODELS",
@@ -138,7 +138,8 @@ def lookup(table: dict[str, int], name, key: str, what: str) -> int:
         code = table.get(name.strip().lower().replace("-", "_").replace(" ", "_"))
         if code is not None:
             return code
-    raise ConfigError(f"unknown {what} {name!r}; known: {', '.join(table)}", key=key)
+    raise ConfigError(f"unknown {what} {name!r}; known: {', '.join(table)}"
+                      f"{did_you_mean(name, table)}", key=key)
 
 
 @dataclass(frozen=True)

@@ -475,7 +475,7 @@ class LowtranAtmosphere(Atmosphere):
         """Checked wavelengths and the spectral window [cm-1] of the runs that cover them."""
         wl = self.check_wavelength(wavelength, key=key)
         if wl.ndim != 1 or wl.size == 0 or np.any(~np.isfinite(wl)) or np.any(wl <= 0):
-            raise ConfigError("a non-empty 1-D array of wavelengths > 0 um", key=key)
+            raise ConfigError("a non-empty 1-D array of wavelengths > 0 µm", key=key)
         v_lo, v_hi = 1e4 / wl.max(), 1e4 / wl.min()
         edges = _WINDOW_EDGES
         i1 = max(int(np.searchsorted(edges, v_lo, side="right")) - 1, 0)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from radscene.atmosphere.lowtran.cards import MAX_LEVELS, MODELS, TOP_ALTITUDE, ProfileLevel, lookup
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["profile_levels"]
 
@@ -67,7 +67,8 @@ def profile_levels(profile: dict, key: str = "atmosphere.profile") -> tuple[Prof
             raise ConfigError(f"{n} non-negative values", key=f"{key}.{name}")
         unit = str(profile.get(f"{name}_unit", default_unit)).lower()
         if unit not in units:
-            raise ConfigError(f"unknown unit {unit!r}; known: {', '.join(units)}",
+            raise ConfigError(f"unknown unit {unit!r}; known: {', '.join(units)}"
+                              f"{did_you_mean(unit, units)}",
                               key=f"{key}.{name}_unit")
         return values, units[unit]
 

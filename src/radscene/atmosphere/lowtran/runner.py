@@ -514,14 +514,14 @@ def runs_per_second(executable=None, repeats: int = 4, workers: int | None = Non
     ``workers`` parallel processes.
     """
     cases = {
-        "transmittance, 8-12 um, 5 cm-1": LowtranCase(
+        "transmittance, 8-12 µm, 5 cm-1": LowtranCase(
             model=2, itype=2, iemsct=0, ihaze=1, vis=23.0, h1=3.0, h2=0.0, angle=150.0,
             v1=830.0, v2=1250.0, dv=5.0),
-        "radiance + multiple scattering, 0.4-1 um, 5 cm-1": LowtranCase(
+        "radiance + multiple scattering, 0.4-1 µm, 5 cm-1": LowtranCase(
             model=2, itype=2, iemsct=2, imult=1, ihaze=1, vis=23.0, salb=0.2, h1=3.0,
             h2=0.001, angle=150.0, iparm=2, iph=2, parm1=90.0, parm2=30.0,
             v1=10000.0, v2=25000.0, dv=5.0),
-        "radiance + multiple scattering, 0.25-28 um, 5 cm-1": LowtranCase(
+        "radiance + multiple scattering, 0.25-28 µm, 5 cm-1": LowtranCase(
             model=2, itype=2, iemsct=2, imult=1, ihaze=1, vis=23.0, salb=0.2, h1=3.0,
             h2=0.001, angle=150.0, iparm=2, iph=2, parm1=90.0, parm2=30.0,
             v1=350.0, v2=40000.0, dv=5.0),

@@ -40,7 +40,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from types import ModuleType
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.materials.brdf import (
     base,
     coxmunk,
@@ -168,7 +168,8 @@ def make_brdf(spec, key: str = "brdf", *, base_dir=None) -> BRDF:
     name = str(spec["type"]).lower()
     if name not in BRDFS:
         raise ConfigError(
-            f"unknown BRDF type {spec['type']!r}; known: {', '.join(sorted(BRDFS))}",
+            f"unknown BRDF type {spec['type']!r}; known: {', '.join(sorted(BRDFS))}"
+            f"{did_you_mean(spec['type'], sorted(BRDFS))}",
             key=f"{key}.type",
         )
     params = {k: v for k, v in spec.items() if k != "type"}
@@ -203,5 +204,6 @@ def get_model(name: str, key: str = "brdf.type") -> ModuleType:
         return MODELS[str(name).lower()]
     except KeyError:
         raise ConfigError(
-            f"unknown BRDF model {name!r}; known: {', '.join(sorted(MODELS))}", key=key
+            f"unknown BRDF model {name!r}; known: {', '.join(sorted(MODELS))}"
+            f"{did_you_mean(name, sorted(MODELS))}", key=key
         ) from None

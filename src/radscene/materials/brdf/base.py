@@ -223,7 +223,7 @@ class BRDF:
             bad = p.violates(np.atleast_1d(knots))
             if np.any(bad):
                 i = int(np.argmax(bad))
-                where = "" if spec.is_constant else f" at {spec.wavelength[i]:g} um"
+                where = "" if spec.is_constant else f" at {spec.wavelength[i]:g} µm"
                 raise ConfigError(
                     f"{pname} must satisfy {p.bounds_text()} [{p.unit}]; got "
                     f"{float(np.atleast_1d(knots)[i]):g}{where}",
@@ -274,7 +274,7 @@ class BRDF:
         )
         if np.any(total > 1.0 + 1e-12):
             i = int(np.argmax(total))
-            where = "" if wl.size == 0 else f" at {grid[i]:g} um"
+            where = "" if wl.size == 0 else f" at {grid[i]:g} µm"
             raise ConfigError(
                 f"{' + '.join(names)} must not exceed 1 (energy conservation); got "
                 f"{total[i]:g}{where}",
@@ -300,7 +300,7 @@ class BRDF:
             if wavelength is None:
                 raise ConfigError(
                     f"{pname} of BRDF {self.name!r} varies with wavelength; pass wavelength "
-                    "[um]",
+                    "[µm]",
                     key=f"{self.key}.{pname}",
                 )
             return np.asarray(spec(wavelength))

@@ -134,7 +134,7 @@ class CoxMunk(Beckmann):
             return fresnel_reflectance(cos_d, self.parameter("refractive_index", wavelength),
                                        0.0 if k is None else k)
         if wavelength is None:
-            raise ConfigError("the Cox-Munk water surface needs a wavelength [um] (its "
+            raise ConfigError("the Cox-Munk water surface needs a wavelength [µm] (its "
                               "refractive index varies with it)", key=f"{self.key}.wavelength")
         from radscene.materials.water import water_refractive_index
 

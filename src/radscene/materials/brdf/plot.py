@@ -73,7 +73,7 @@ def plot_brdf(model, incidence_angles, path, wavelength=None, *, title: str | No
     azi = np.linspace(0.0, 360.0, 4 * resolution)
     zz, aa = np.meshgrid(zen, azi, indexing="ij")
     fig = Figure(figsize=(3.2 * (n + 1), 3.6), layout="constrained")
-    wl_text = "" if wavelength is None else f" at {float(wavelength):g} um"
+    wl_text = "" if wavelength is None else f" at {float(wavelength):g} µm"
     fig.suptitle(title or f"{type(model).__name__} BRDF{wl_text}: BRF = pi f")
     plane = fig.add_subplot(1, n + 1, n + 1)
     signed = np.linspace(-MAX_VIEW_ZENITH, MAX_VIEW_ZENITH, 2 * resolution - 1)

@@ -145,7 +145,7 @@ def read_table(path) -> tuple[dict[str, np.ndarray], np.ndarray]:
         col = data[:, header.index(name)]
         if name == "wavelength":
             out = ~np.isfinite(col) | (col <= 0.0)
-            rule = "be finite and > 0 [um]"
+            rule = "be finite and > 0 [µm]"
         else:
             lo, hi = _RANGES[name]
             out = ~np.isfinite(col) | (col < lo) | (col > hi)
@@ -302,14 +302,14 @@ class Tabulated(BRDF):
         dphi = np.degrees(np.arccos(np.clip(cos_dphi, -1.0, 1.0)))
         if "wavelength" in self.axes:
             if wavelength is None:
-                raise ConfigError("this BRDF table varies with wavelength; pass wavelength [um]",
+                raise ConfigError("this BRDF table varies with wavelength; pass wavelength [µm]",
                                   key=f"{self.key}.file")
             wl = np.asarray(wavelength, dtype=float)
             lo, hi = self.axes["wavelength"][[0, -1]]
             if self.parameter("extend") == "error" and np.any((wl < lo) | (wl > hi)):
                 bad = wl[(wl < lo) | (wl > hi)].flat[0]
                 raise ConfigError(
-                    f"wavelength {bad:g} um is outside the range [{lo:g}, {hi:g}] um of "
+                    f"wavelength {bad:g} µm is outside the range [{lo:g}, {hi:g}] µm of "
                     f"{self.parameter('file')} (extend: error; extend: edge holds the end "
                     "values)", key=f"{self.key}.file")
             forward = self._lookup((wl, ti, to, dphi))

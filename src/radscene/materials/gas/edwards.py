@@ -63,7 +63,7 @@ import numpy as np
 from scipy.constants import R, atm
 from scipy.special import gammaln
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 
 __all__ = ["absorptance", "combine", "GASES", "TEMPERATURE_RANGE", "PRESSURE_RANGE", "REFERENCE_TEMPERATURE",
            "BandParameters", "band_table", "temperature_functions", "band_parameters",
@@ -244,7 +244,8 @@ def _check_state(temperature, pressure, mole_fractions) -> None:
                           f"(Lorentz lines); got {pressure / atm:g} atm", key="pressure")
     for gas, x in mole_fractions.items():
         if gas not in GASES:
-            raise ConfigError(f"unknown gas {gas!r}; known: {', '.join(GASES)}", key=gas)
+            raise ConfigError(f"unknown gas {gas!r}; known: {', '.join(GASES)}"
+                              f"{did_you_mean(gas, GASES)}", key=gas)
         if not 0.0 <= x <= 1.0:
             raise ConfigError(f"a mole fraction lies in 0-1; got {x:g}", key=gas)
     if sum(mole_fractions.values()) > 1.0 + 1e-12:

@@ -33,7 +33,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.materials.libraries.base import QUANTITIES, LibrarySpectrum, SpectralLibrary
 from radscene.materials.libraries.earthlib_reader import (
     EARTHLIB_CITATION,
@@ -161,7 +161,8 @@ def read_library(path, format: str | None = None, **kwargs) -> SpectralLibrary:
         key = str(format).lower()
         if key not in FORMATS:
             raise ConfigError(
-                f"unknown library format {format!r}; known: {', '.join(sorted(FORMATS))}",
+                f"unknown library format {format!r}; known: {', '.join(sorted(FORMATS))}"
+                f"{did_you_mean(format, sorted(FORMATS))}",
                 key="format",
             )
         return FORMATS[key](path, **kwargs)

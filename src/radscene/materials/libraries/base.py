@@ -91,7 +91,7 @@ class LibrarySpectrum:
         if not np.all(np.isfinite(wl)) or np.any(wl <= 0) or np.any(np.diff(wl) <= 0):
             raise ConfigError(
                 f"spectrum {self.name!r}: wavelengths must be finite, positive and strictly "
-                "increasing [um]",
+                "increasing [µm]",
                 key=key,
             )
         lines = None
@@ -103,7 +103,7 @@ class LibrarySpectrum:
         if bad.size:
             i = int(bad[0])
             raise ConfigError(
-                f"spectrum {self.name!r}: {self.quantity} {vals[i]:g} at {wl[i]:g} um is "
+                f"spectrum {self.name!r}: {self.quantity} {vals[i]:g} at {wl[i]:g} µm is "
                 f"{'not finite' if not np.isfinite(vals[i]) else 'negative'}; a library "
                 f"{self.quantity} must be >= 0",
                 key=self.where(i, lines),
@@ -211,7 +211,7 @@ class LibrarySpectrum:
             if bad.size:
                 i = int(bad[0])
                 raise ConfigError(
-                    f"material {name!r}: {label} = {total[i]:.6g} at {self.wavelength[i]:g} um "
+                    f"material {name!r}: {label} = {total[i]:.6g} at {self.wavelength[i]:g} µm "
                     "exceeds 1 (reflectance plus transmittance must not exceed 1)",
                     key=self.where(i),
                 )
@@ -233,7 +233,7 @@ class LibrarySpectrum:
         lo, hi = self.range
         return (
             f"LibrarySpectrum({self.name!r}, {self.quantity}, {self.wavelength.size} samples on "
-            f"[{lo:g}, {hi:g}] um, source={self.source!r})"
+            f"[{lo:g}, {hi:g}] µm, source={self.source!r})"
         )
 
 

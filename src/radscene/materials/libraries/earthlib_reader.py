@@ -44,7 +44,7 @@ EARTHLIB_CITATION = (
 
 _INSTALL_HINT = (
     "the earthlib spectral library is an optional dependency of radscene: install it with "
-    "`pip install radscene[earthlib]` (or `pip install earthlib`)"
+    "`pip install earthlib` (from a radscene clone: `pip install '.[earthlib]'`)"
 )
 
 

@@ -258,7 +258,7 @@ def _read_arrays(path):
     if bad.size:
         r, c = (int(v) for v in bad[0])
         raise ConfigError(
-            f"spectrum {names[r]!r} (index {r}): reflectance {data[r, c]:g} at {wl[c]:g} um is "
+            f"spectrum {names[r]!r} (index {r}): reflectance {data[r, c]:g} at {wl[c]:g} µm is "
             "negative or not finite",
             key=str(data_path),
         )

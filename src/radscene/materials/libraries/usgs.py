@@ -181,7 +181,7 @@ def read_usgs(path, wavelength_file=None) -> LibrarySpectrum:
     if bad.size:
         i = int(bad[0])
         raise ConfigError(
-            f"spectrum {description!r}: {quantity} {vals[i]:g} at {wl[i]:g} um is negative",
+            f"spectrum {description!r}: {quantity} {vals[i]:g} at {wl[i]:g} µm is negative",
             key=f"{path}:{lines[i]}",
         )
     order = np.argsort(wl, kind="stable")
@@ -189,7 +189,7 @@ def read_usgs(path, wavelength_file=None) -> LibrarySpectrum:
     if np.any(np.diff(wl) <= 0):
         i = int(np.argmax(np.diff(wl) <= 0))
         raise ConfigError(
-            f"wavelength {wl[i + 1]:g} um repeats in {wpath.name}", key=f"{path}:{lines[i + 1]}"
+            f"wavelength {wl[i + 1]:g} µm repeats in {wpath.name}", key=f"{path}:{lines[i + 1]}"
         )
     name = description.split()[0] if description else path.stem
     return LibrarySpectrum(

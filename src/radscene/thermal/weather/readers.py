@@ -28,14 +28,13 @@ air; ``relative_humidity`` (%, 1, fraction) or ``dew_point`` (K, degC, ...), one
 from __future__ import annotations
 
 import csv
-import difflib
 import re
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.radiometry.units import parse_quantity
 from radscene.thermal.weather._table import (
     COLUMNS,
@@ -142,8 +141,7 @@ def read_weather_csv(path, *, max_gap=None):
             raise ConfigError(f"{path}: line {header_line}: column {number} is not 'name [unit]'", key="weather")
         name = "_".join(match.group(1).lower().split())
         if name != "time" and name not in COLUMNS:
-            close = difflib.get_close_matches(name, ["time", *COLUMNS], n=1, cutoff=0.8)
-            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            hint = did_you_mean(name, ["time", *COLUMNS], cutoff=0.8)
             raise ConfigError(f"{path}: line {header_line}: column {number} is none of time, "
                               f"{', '.join(COLUMNS)}{hint}", key="weather")
         if name in names:
@@ -345,7 +343,8 @@ def read_weather(path, *, latitude=None, longitude=None, start=None, end=None, t
         raise ConfigError(f"{path}: no such weather file", key="weather")
     kind = WEATHER_FORMATS.get(path.suffix.lower())
     if kind is None:
-        raise ConfigError(f"{path}: unknown weather file suffix {path.suffix!r}; known: {', '.join(WEATHER_FORMATS)}", key="weather")
+        raise ConfigError(f"{path}: unknown weather file suffix {path.suffix!r}; known: {', '.join(WEATHER_FORMATS)}"
+                          f"{did_you_mean(path.suffix, WEATHER_FORMATS)}", key="weather")
     t_start = None if start is None else to_utc_datetime64(start, "start")
     t_end = None if end is None else to_utc_datetime64(end, "end")
     if t_start is not None and t_end is not None and t_start > t_end:

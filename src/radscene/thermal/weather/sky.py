@@ -54,7 +54,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.radiometry.constants import SIGMA  # σ = 2π⁵k⁴/(15h³c²) [W m-2 K-4], CODATA
 from radscene.thermal.weather.humidity import vapour_pressure
 
@@ -211,7 +211,8 @@ CLOUD_EMISSIVITY_MODELS = {"crawford_duchon": crawford_duchon, "unsworth_monteit
 def _lookup(registry, name, key):
     fn = registry.get(str(name).strip().lower())
     if fn is None:
-        raise ConfigError(f"unknown model {name!r}; known: {', '.join(sorted(registry))}", key=key)
+        raise ConfigError(f"unknown model {name!r}; known: {', '.join(sorted(registry))}"
+                          f"{did_you_mean(name, sorted(registry))}", key=key)
     return fn
 
 

@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from radscene.errors import ConfigError
+from radscene.errors import ConfigError, did_you_mean
 from radscene.thermal.weather._table import build_series, check_shortwave, unit_factor
 from radscene.thermal.weather.humidity import dew_point_to_relative_humidity
 
@@ -106,7 +106,8 @@ def parse_fields(fields, path="weather", key="fields"):
             raise ConfigError(f"{path}: field {n}: {text!r} is not 'name [unit]', e.g. 'global_shortwave [W m-2]'", key=f"{key}.{n}")
         name, unit = match.group(1).lower(), match.group(2)
         if name not in DECLARABLE:
-            raise ConfigError(f"{path}: field {n}: unknown name {name!r}; known: {', '.join(DECLARABLE)}", key=f"{key}.{n}")
+            raise ConfigError(f"{path}: field {n}: unknown name {name!r}; known: {', '.join(DECLARABLE)}"
+                              f"{did_you_mean(name, DECLARABLE)}", key=f"{key}.{n}")
         if name in seen:
             raise ConfigError(f"{path}: fields {seen[name]} and {n} are both declared {name}", key=f"{key}.{n}")
         seen[name] = n
