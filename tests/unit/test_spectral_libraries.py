@@ -298,7 +298,7 @@ def test_earthlib_missing_gives_install_hint(monkeypatch):
     import radscene.materials.libraries.earthlib_reader as mod
 
     monkeypatch.setattr(mod.importlib.util, "find_spec", lambda name: None)
-    with pytest.raises(ConfigError, match=r"earthlib: .*optional dependency.*pip install radscene\[earthlib\]"):
+    with pytest.raises(ConfigError, match=r"earthlib: .*optional dependency.*pip install earthlib.*pip install '\.\[earthlib\]'"):
         mod.earthlib_data_dir()
 
 

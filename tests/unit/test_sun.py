@@ -163,7 +163,7 @@ def test_native_spectrum_integrates_to_the_solar_constant():
 @pytest.mark.parametrize(
     ("args", "match"),
     [
-        ((0.2,), r"^wavelength: must lie in 0.25-20 um"),
+        ((0.2,), r"^wavelength: must lie in 0.25-20 µm"),
         (([0.5, 25.0],), "^wavelength: "),
         ((float("nan"),), "^wavelength: "),
         ((0.5, 0.0), "^distance: must be > 0 AU"),
