@@ -776,10 +776,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         ih, fh = model.axis_weights(h_t, a["surface_altitude"])
         ix, fx = model.axis_weights(x, self._x_nodes)
         nh, nx = a["surface_altitude"].size, self._x_nodes.size
-        tr_s = self.t["tau_rayleigh"]
-        ta_s = self.t["tau_aerosol"]
-        tau_r_q = tr_s[:, ih] * (1 - fh) + tr_s[:, np.minimum(ih + 1, nh - 1)] * fh  # (λs, N)
-        tau_a_q = ta_s[:, ih] * (1 - fh) + ta_s[:, np.minimum(ih + 1, nh - 1)] * fh
+        tau_r_q, tau_a_q = self._column_depths(h_t)  # (λs, N)
         fr_q, x_q = self._fractions(h_t, np.where(space, model.TOP_OF_ATMOSPHERE, dh))
         rho = {}
         # the factor interpolated: ρ/ρ_ss where single scattering carries the angular
@@ -838,14 +835,19 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             rho[name] = total.T if wl is None else self._spectral(total.T, wl)  # (N, n)
         return rho
 
+    def _column_depths(self, h_t):
+        """The molecular and aerosol optical depths of the columns above targets at ``h_t``
+        [m], each (λs, N), linear between the surface-altitude nodes."""
+        ih, fh = model.axis_weights(h_t, self.axes["surface_altitude"])
+        ih1 = np.minimum(ih + 1, self.axes["surface_altitude"].size - 1)
+        return tuple(t[:, ih] * (1 - fh) + t[:, ih1] * fh
+                     for t in (self.t["tau_rayleigh"], self.t["tau_aerosol"]))
+
     def _single(self, sz_eff, u, h_t, vz, phis, simpson, ray):
         """The single-scattering path reflectance, averaged over ``phis`` as in
         :meth:`_scattering`, and the optical depth below the observer τ_l (the molecules' alone
         when ``ray``), each (N, λs), of observers at ``u`` over targets at ``h_t`` [m]."""
-        a, nh = self.axes, self.axes["surface_altitude"].size
-        ih, fh = model.axis_weights(h_t, a["surface_altitude"])
-        tau_r, tau_a = ((t[:, ih] * (1 - fh) + t[:, np.minimum(ih + 1, nh - 1)] * fh)
-                        for t in (self.t["tau_rayleigh"], self.t["tau_aerosol"]))
+        tau_r, tau_a = self._column_depths(h_t)
         fr, x = self._fractions(h_t, u - h_t)
         ss = 0.0
         for phi, w in zip(phis, simpson, strict=True):
@@ -1021,10 +1023,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                     tu = tu + (hw * xw * vw)[None, :] * tup[:, hi_, xi_, vi_]
         sa = self.t["spherical_albedo"]  # (λs, h)
         s_alb = sa[:, ih] * (1 - fh) + sa[:, np.minimum(ih + 1, nh - 1)] * fh
-        tr = self.t["tau_rayleigh"]
-        ta = self.t["tau_aerosol"]
-        tau_r = tr[:, ih] * (1 - fh) + tr[:, np.minimum(ih + 1, nh - 1)] * fh
-        tau_a = ta[:, ih] * (1 - fh) + ta[:, np.minimum(ih + 1, nh - 1)] * fh
+        tau_r, tau_a = self._column_depths(h_t)
         # fraction of each column below the observer
         frac = self.t["rayleigh_fraction"]  # (h, height)
         height = a["height"]

@@ -213,7 +213,7 @@ def render_sweep(scene, settings, output, *, client=None, workers: int | None = 
         render; results of an earlier sweep in ``output`` without ``overwrite``; the ``dask``
         extra missing.
     """
-    from radscene.io.files import check_output_folder
+    from radscene.io.files import atomic_output, check_output_folder
     from radscene.scene import load_scene
 
     try:
@@ -245,7 +245,7 @@ def render_sweep(scene, settings, output, *, client=None, workers: int | None = 
     client = Client(cluster) if own else client
     try:
         futures = {client.submit(_render_variant, doc, str(base_dir), str(output / name), name,
-                                 setting, key=f"radscene-{name}-{id(doc)}", pure=False): name
+                                 setting, pure=False): name
                    for name, doc, setting in zip(names, documents, todo, strict=True)}
         written = {}
         for done, future in enumerate(as_completed(futures), start=1):
@@ -260,8 +260,6 @@ def render_sweep(scene, settings, output, *, client=None, workers: int | None = 
              "variants": [{"name": name, "settings": setting,
                            "files": [str(p.relative_to(output)) for p in written[name]]}
                           for name, setting in zip(names, todo, strict=True)]}
-    from radscene.io.files import atomic_output
-
     with atomic_output(output / "sweep.json", suffix=".json") as tmp:
         Path(tmp).write_text(json.dumps(index, indent=1, default=str), encoding="utf-8")
     return {name: written[name] for name in names}

@@ -245,11 +245,8 @@ def provenance(scene, observer: str | None = None) -> dict:
 
 def _resolved(scene) -> str:
     """The validated scene model as YAML: every key with its default, quantities in SI."""
-    try:
-        model = scene.spec.model_dump(mode="json")
-    except Exception:  # noqa: BLE001 - a spec that cannot be dumped still renders
-        return ""
-    return yaml.safe_dump(model, sort_keys=False, allow_unicode=True)
+    return yaml.safe_dump(scene.spec.model_dump(mode="json"), sort_keys=False,
+                          allow_unicode=True)
 
 
 def _scene_part(scene) -> dict:

@@ -138,14 +138,18 @@ def draws(seed: int, first_sample: int, n_points: int, samples: int, bounces: in
                  int(bounces))
 
 
-def sky_radiance(tables, directions) -> np.ndarray:
+def sky_radiance(tables, directions, zenith=None) -> np.ndarray:
     """Band sky radiance along unit ``directions`` (N, 3): (N, n_b) [W m-2 sr-1]; 0 at and
-    below the horizon."""
+    below the horizon. With ``zenith`` [deg], the sky at that zenith angle in the directions'
+    azimuths instead (the horizon's: :func:`horizon_radiance`)."""
     d = np.asarray(directions, dtype=float)
     if len(d) == 0:
         return np.zeros((0, tables.bands))
-    zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
     azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
+    if zenith is not None:
+        return sky_node_weights(np.full(len(d), float(zenith)), azimuth,
+                                *tables.sky_nodes) @ tables.sky.T
+    zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
     hats = sky_node_weights(zenith, azimuth, *tables.sky_nodes)
     return (hats @ tables.sky.T) * (d[:, 2] > 0.0)[:, None]
 
@@ -211,12 +215,8 @@ HORIZON_ZENITH = 89.5
 def horizon_radiance(tables, directions) -> np.ndarray:
     """The sky's band radiance at the horizon in the azimuths of ``directions`` (N, 3):
     (N, n_b) [W m-2 sr-1], the radiance of a long horizontal path of the ground's air."""
-    d = np.asarray(directions, dtype=float)
-    if len(d) == 0:
-        return np.zeros((0, tables.bands))
-    azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
-    zenith = np.full(len(d), min(HORIZON_ZENITH, float(tables.sky_nodes[0][-1])))
-    return sky_node_weights(zenith, azimuth, *tables.sky_nodes) @ tables.sky.T
+    return sky_radiance(tables, directions,
+                        zenith=min(HORIZON_ZENITH, float(tables.sky_nodes[0][-1])))
 
 
 def air_path(tables, direction, distance):
@@ -464,7 +464,9 @@ def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,
     settings = scene.settings
     if settings.background_bounces == 0:
         return None
-    return Pass(tables.tracer, render_tables(scene, tables, bset, thermal), samples=-(-settings.background_samples // per_pixel),
+    pass_tables = render_tables(scene, tables, bset, thermal)
+    pass_tables.air_extinction = bset.air_extinction  # the paths between surfaces only
+    return Pass(tables.tracer, pass_tables, samples=-(-settings.background_samples // per_pixel),
                 bounces=settings.background_bounces, seed=settings.seed,
                 epsilon=tables.epsilon, shadows=settings.shadows, texture=texture,
                 media=media)
@@ -474,9 +476,6 @@ def render_tables(scene, tables, bset, thermal) -> BackgroundTables:
     """The band tables (:func:`band_tables`) of one render: ``tables``, ``bset`` and
     ``thermal`` as for :func:`for_render`; also those that reflect the volumes' own radiance
     where the render has no background pass."""
-    out = band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
-                      bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
-                      tables.face_material, tables.face_temperature)
-    out.air_extinction = np.asarray(getattr(bset, "air_extinction", out.air_extinction),
-                                    dtype=float)
-    return out
+    return band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
+                       bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
+                       tables.face_material, tables.face_temperature)
