@@ -33,23 +33,24 @@ ENGINES = {"database": 0.03, "sixs": 0.01}
 SENSORS = dict(ref.SENSORS_KM)
 
 
-def _scene(rho, sensor, view, engine):
+def _scene(rho, sensor, view, engine, refs=ref):
     zenith, azimuth = view
-    altitude = "700 km" if SENSORS[sensor] is None else f"{SENSORS[sensor]} km"
+    km = dict(refs.SENSORS_KM)[sensor]
+    altitude = "700 km" if km is None else f"{km} km"
     return {
         "name": "low_sun_plate",
         "environment": {
             "location": {"latitude": 0.0, "longitude": 0.0, "altitude": "0 m"},
-            "sun": {"zenith": ref.SUN_ZENITH, "azimuth": ref.SUN_AZIMUTH, "distance": 1.0},
+            "sun": {"zenith": refs.SUN_ZENITH, "azimuth": refs.SUN_AZIMUTH, "distance": 1.0},
             "atmosphere": {"type": engine, "profile": "us_standard", "aerosol": "rural",
-                           "aot550": ref.AOT550},
+                           "aot550": refs.AOT550},
         },
         "materials": {"plate": {"reflectance": rho}},
         "objects": [{"name": "plate", "shape": {"type": "plate", "width": "20 km",
                                                 "length": "20 km"},
                      "material": "plate", "temperature": "290 K"}],
         "bands": [{"name": f"b{lo:.2f}", "min": f"{lo} um", "max": f"{hi} um"}
-                  for lo, hi in ref.BANDS_UM],
+                  for lo, hi in refs.BANDS_UM],
         "observers": [{"name": "cam", "type": "orthographic", "center": [0, 0], "gsd": "50 m",
                        "shape": [12, 12], "altitude": altitude, "zenith": zenith,
                        # 6S's view azimuth 0 at nadir is any; 270 deg at 40 deg
@@ -58,19 +59,20 @@ def _scene(rho, sensor, view, engine):
     }
 
 
-def _failures(render, tmp_path, engine, sensor, view):
-    mu_s = np.cos(np.radians(ref.SUN_ZENITH))
+def _failures(render, tmp_path, engine, sensor, view, refs=ref, tolerance=None):
+    mu_s = np.cos(np.radians(refs.SUN_ZENITH))
+    tolerance = ENGINES[engine] if tolerance is None else tolerance
     failures = []
-    for rho in ref.RHOS:
-        ds = render(tmp_path / f"r{rho}", _scene(rho, sensor, view, engine))
-        for lo, hi in ref.BANDS_UM:
+    for rho in refs.RHOS:
+        ds = render(tmp_path / f"r{rho}", _scene(rho, sensor, view, engine, refs))
+        for lo, hi in refs.BANDS_UM:
             wl = np.linspace(lo, hi, 4001)
             e0 = np.trapezoid(toa_solar_irradiance(wl, 1.0), wl)
             value = np.pi * float(ds["radiance"].sel(band=f"b{lo:.2f}").mean()) / (mu_s * e0)
             case = f"{sensor}-vz{view[0]:02.0f}-b{(lo + hi) / 2:.2f}-r{rho:.2f}"
-            expected = ref.CASES[case]["apparent_reflectance"]
+            expected = refs.CASES[case]["apparent_reflectance"]
             error = value / expected - 1.0
-            if abs(error) > ENGINES[engine] and abs(value - expected) > ABSOLUTE:
+            if abs(error) > tolerance and abs(value - expected) > ABSOLUTE:
                 failures.append(f"{case}: radscene {value:.5f}, 6S {expected:.5f} "
                                 f"({100 * error:+.2f} %)")
     return failures
@@ -99,4 +101,25 @@ def _cases():
 @pytest.mark.parametrize("engine, sensor, view", list(_cases()))
 def test_plate_under_a_low_sun_equals_6s(render_scene, tmp_path, engine, sensor, view):
     failures = _failures(render_scene, tmp_path, engine, sensor, view)
+    assert not failures, "\n".join(failures)
+
+
+grazing = _load("grazing_sun_references")
+#: Under a grazing sun (85 deg) the database's tolerance: measured 2026-11-26, +9.17 % (black
+#: plate, 0.45 um; +8.25 % at 0.55, +2.60 % at 0.87; the plate of ρ = 0.2 within +3.06 %), plus
+#: a point; the sixs engine keeps its 1 % (measured within 0.70 %).
+GRAZING_DATABASE = 0.102
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("engine", ["database", "sixs"])
+def test_plate_under_a_grazing_sun_from_between_the_height_nodes(render_scene, tmp_path, engine):
+    """A plate seen from 2 km (between the database's height nodes 1 and 4 km) with the sun at
+    85 deg, continental AOT550 0.6 (a node), nadir, against 6S (``grazing_sun_references.py``, made by
+    ``scripts/make_low_sun_references.py --grazing``). Before the levels between the height
+    nodes were read as ρ_ms/τ_l linear in τ_l (``DatabaseAtmosphere._scattering_levels``)
+    the database's path reflectance 2 km up under this sun was up to +159 % off 6S."""
+    tolerance = GRAZING_DATABASE if engine == "database" else None
+    failures = _failures(render_scene, tmp_path, engine, "air2km", (0.0, 0.0), grazing,
+                         tolerance)
     assert not failures, "\n".join(failures)

@@ -124,3 +124,14 @@ GRAZING_HEIGHTS = [(2000.0, 26.0), (3000.0, 22.0), (500.0, 12.7)]
 def test_aircraft_between_height_nodes_under_a_grazing_sun(tmp_path, height, measured):
     errors = _errors("rural", 0.6, height, 85.0, VIEWS, tmp_path)
     assert np.abs(errors).max() < (measured + 1.0) / 100.0, errors
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "known gap: between the AOT550 nodes 0.3 and 0.6 the levels' factors are mixed linearly in "
+    "AOT550, which under a grazing sun (85 deg) fails: 1 km up, rural AOT550 0.5, nadir, "
+    "+73.6 % at 0.45 um and +45.0 % at 0.55 um (2 km: +42.0 and +26.2 %), where the nodes "
+    "themselves are within 3.7 %"))
+def test_aircraft_between_aot_nodes_under_a_grazing_sun(tmp_path):
+    errors = _errors("rural", 0.5, 1000.0, 85.0, [(0.0, 90.0)], tmp_path)
+    assert np.abs(errors).max() < 0.10, errors
