@@ -47,9 +47,11 @@ def _errors(aerosol, aot, observer, sun, views, cache):
 
 def test_one_off_node_geometry_from_the_top(tmp_path):
     """The quick suite's case: maritime AOT550 0.5 (between nodes), sun 30 deg, view 50 deg
-    across the principal plane. Measured within 0.5 % (1.5-7 % linearly on the old nodes)."""
+    across the principal plane. Measured -0.70, -0.38, -1.45 and -1.41 % (the AOT550 nodes
+    0.3, 0.6 and 1.0 it is read from are themselves -0.5 to -0.8 %, -0.0 to -0.6 %, -0.8 to
+    -1.6 % and -1.1 to -2.6 % at the four wavelengths); 1.5-7 % linearly on the old nodes."""
     errors = _errors("maritime", 0.5, TOP, 30.0, [(50.0, 90.0)], tmp_path)
-    assert np.abs(errors).max() < 0.01, errors
+    assert np.abs(errors).max() < 0.02, errors
 
 
 @pytest.mark.slow
@@ -84,9 +86,12 @@ def test_low_aircraft_under_thick_aerosol_at_a_low_sun(tmp_path):
 
 
 #: Aircraft at 0.5-3 km, between the sun nodes 40-60-75 deg, and the greatest error measured
-#: over the three views and four wavelengths (2026-11-25), in %.
+#: over the three views and four wavelengths (2026-11-25), in %. Maritime 0.5, 3 km, sun 67
+#: deg: 2.4 % when the smooth factors were mixed linearly between the AOT550 nodes; 3.5 %
+#: (0.45 um, view 30 deg in the backscatter plane) since each condition's own path
+#: reflectance is (the nodes 0.3 and 0.6 are -3.6 and -3.2 % there themselves).
 LOW_SUNS = [("rural", 0.6, 1000.0, 55.0, 2.0), ("rural", 0.6, 3000.0, 67.0, 2.2),
-            ("maritime", 0.5, 3000.0, 67.0, 2.4), ("maritime", 0.3, 1000.0, 67.0, 3.3),
+            ("maritime", 0.5, 3000.0, 67.0, 3.5), ("maritime", 0.3, 1000.0, 67.0, 3.3),
             ("rural", 0.3, 500.0, 67.0, 1.3), ("rural", 0.3, 500.0, 50.0, 3.1)]
 
 
@@ -126,12 +131,17 @@ def test_aircraft_between_height_nodes_under_a_grazing_sun(tmp_path, height, mea
     assert np.abs(errors).max() < (measured + 1.0) / 100.0, errors
 
 
+#: Aircraft between the AOT550 nodes 0.3 and 0.6 (rural 0.5) under a grazing sun (85 deg),
+#: nadir, and the greatest error measured over the four wavelengths (2026-11-26), in %: 1 km
+#: +3.01, +1.61, -1.09, -4.32 % and 2 km +8.86, +7.62, +0.20, -4.52 % at 0.45-1.63 um, where
+#: the nodes 0.3, 0.6 and 1.0 (:func:`~radscene.atmosphere.database._quadratic_nodes`) are off
+#: by as much themselves. With the levels' smooth factors mixed linearly in AOT550 instead of
+#: each condition's own path reflectance: 1 km +73.6 % and 2 km +42.0 % at 0.45 um.
+BETWEEN_AOT_NODES = [(1000.0, 4.4), (2000.0, 8.9)]
+
+
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "known gap: between the AOT550 nodes 0.3 and 0.6 the levels' factors are mixed linearly in "
-    "AOT550, which under a grazing sun (85 deg) fails: 1 km up, rural AOT550 0.5, nadir, "
-    "+73.6 % at 0.45 um and +45.0 % at 0.55 um (2 km: +42.0 and +26.2 %), where the nodes "
-    "themselves are within 3.7 %"))
-def test_aircraft_between_aot_nodes_under_a_grazing_sun(tmp_path):
-    errors = _errors("rural", 0.5, 1000.0, 85.0, [(0.0, 90.0)], tmp_path)
-    assert np.abs(errors).max() < 0.10, errors
+@pytest.mark.parametrize("height, measured", BETWEEN_AOT_NODES)
+def test_aircraft_between_aot_nodes_under_a_grazing_sun(tmp_path, height, measured):
+    errors = _errors("rural", 0.5, height, 85.0, [(0.0, 90.0)], tmp_path)
+    assert np.abs(errors).max() < (measured + 1.0) / 100.0, errors
