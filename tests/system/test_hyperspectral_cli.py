@@ -105,7 +105,7 @@ def test_envi_file_reads_back_with_the_spectral_package(tmp_path):
     x, y = cube["x"].values, cube["y"].values
     assert [float(v) for v in info[3:7]] == pytest.approx(
         [x[0] - 0.5, y[0] + 0.5, x[1] - x[0], y[0] - y[1]], abs=1e-9)
-    crs = xr.open_dataset(out / "hsi_spectral.nc", decode_coords="all").rio.crs
+    crs = xr.open_dataset(out / "hsi_spectral.nc").rio.crs
     wkt = ",".join(image.metadata["coordinate system string"])
     assert CRS.from_wkt(wkt).equals(CRS.from_wkt(crs.to_wkt()), ignore_axis_order=True)
 

@@ -84,10 +84,10 @@ def test_zarr_store_holds_what_the_netcdf_holds(runs):
             assert np.atleast_1d(zr[name].attrs[key]).tolist() == \
                 np.atleast_1d(value).tolist(), (name, key)
     # the map product's CRS, as rioxarray reads it from the store
-    opened = xr.open_zarr(store, decode_coords="all")
-    crs = xr.open_dataset(runs / "nc" / "map.nc", decode_coords="all").rio.crs
+    opened = xr.open_zarr(store)
+    crs = xr.open_dataset(runs / "nc" / "map.nc").rio.crs
     assert opened.rio.crs is not None and opened.rio.crs == crs
-    assert opened["radiance"].encoding["grid_mapping"] == "crs"
+    assert opened["radiance"].attrs["grid_mapping"] == "crs"  # opened plainly: an attribute
     # written whole: no temporaries beside it; the manifest lists the store's files
     assert not [p for p in (runs / "out.zarr").iterdir() if p.name.startswith(".map")]
     manifest = json.loads((runs / "out.zarr" / "manifest.json").read_text())
@@ -109,7 +109,7 @@ def test_zarr_run_is_checked_before_work_and_renders_again_from_a_store(runs, on
 
 def test_map_layers_are_cloud_optimised_geotiffs(runs):
     nc = read_netcdf(runs / "nc" / "map.nc")
-    crs = xr.open_dataset(runs / "nc" / "map.nc", decode_coords="all").rio.crs
+    crs = xr.open_dataset(runs / "nc" / "map.nc").rio.crs
     thermal = nc["wavelength_center"].values >= 2.5
     expected = {
         "radiance": nc["radiance"].values,
@@ -194,7 +194,7 @@ def test_band_envi_is_georeferenced_as_the_geotiffs(runs):
     image = envi.open(str(runs / "nc" / "map.hdr"), str(runs / "nc" / "map.img"))
     info = _map_info(image.metadata)
     nc = read_netcdf(runs / "nc" / "map.nc")
-    nc_crs = xr.open_dataset(runs / "nc" / "map.nc", decode_coords="all").rio.crs
+    nc_crs = xr.open_dataset(runs / "nc" / "map.nc").rio.crs
     with rasterio.open(runs / "nc" / "map_radiance.tif") as cog:
         transform, cog_crs = cog.transform, cog.crs
     # the tie point (1, 1) is the outer corner of the first pixel: the GeoTIFF's origin, and
@@ -270,3 +270,14 @@ def test_thermal_quiet_and_verbose(tmp_path):
     loud = _run("thermal", scene, "-o", tmp_path / "v.nc", "--verbose", *span)
     assert "heat balance solved: 3 time step(s)" in loud.output
     assert "wrote" in loud.output and str(tmp_path / "v.nc") in loud.output
+
+
+def test_a_map_product_opens_in_gdal_terms(runs):
+    """The grid mapping carries GDAL's GeoTransform of the pixel edges (rioxarray writes it):
+    the transform rioxarray reads from the file equals the one from the x/y coordinates."""
+    opened = xr.open_dataset(runs / "nc" / "map.nc")
+    x, y = opened["x"].values, opened["y"].values
+    got = [float(v) for v in opened["crs"].attrs["GeoTransform"].split()]
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    np.testing.assert_allclose(got, [x[0] - dx / 2, dx, 0.0, y[0] - dy / 2, 0.0, dy])
+    assert opened["radiance"].rio.transform() == opened.rio.transform()

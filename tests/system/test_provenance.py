@@ -112,14 +112,46 @@ def test_render_from_an_output_gives_the_same_numbers(tmp_path):
                 assert a.attrs[key] == b.attrs[key], key
 
 
-def test_render_from_refuses_a_changed_file(tmp_path, one_line_refusal):
+def test_render_from_the_file_alone(tmp_path):
+    """The output carries the files its scene names: moved elsewhere with the scene's folder
+    gone (or with the files changed), it renders the same numbers from its own copies."""
+    (tmp_path / "project").mkdir()
+    path = _scene(tmp_path / "project")
+    _render([path, "-o", tmp_path / "out"])
+    with xr.open_dataset(tmp_path / "out" / "vis.nc") as ds:
+        assert ds.attrs["scene_files_embedded"].startswith("yes: 2 file(s)")
+        assert not any(n.startswith("file_") for n in ds.variables)  # not in the image's group
+    sent = tmp_path / "colleague" / "vis.nc"
+    sent.parent.mkdir()
+    (tmp_path / "out" / "vis.nc").rename(sent)
+    for f in (tmp_path / "project").iterdir():
+        f.unlink()
+    result = _render(["--from", sent, "-o", tmp_path / "again"])
+    assert "terrain.file: taken from vis.nc" in result.output
+    taken = tmp_path / "again" / "scene_files" / "terrain.file" / "dem.npy"
+    assert taken.is_file()
+    with xr.open_dataset(sent) as a, xr.open_dataset(tmp_path / "again" / "vis.nc") as b:
+        _same_numbers(a, b)
+        files = {f["key"]: f for f in json.loads(b.attrs["scene_files"])}
+        assert files["terrain.file"]["path"] == str(taken.resolve())
+        assert b.attrs["scene_files_embedded"].startswith("yes")
+
+
+def test_render_from_refuses_a_changed_file_it_does_not_carry(tmp_path, one_line_refusal,
+                                                              monkeypatch):
+    from radscene.io import scene_files
+
+    monkeypatch.setattr(scene_files, "EMBED_LIMIT", 100)
     path = _scene(tmp_path)
     _render([path, "-o", tmp_path / "out"])
+    with xr.open_dataset(tmp_path / "out" / "cam.nc") as ds:
+        assert ds.attrs["scene_files_embedded"].startswith("no: ")
     np.save(tmp_path / "dem.npy", np.zeros((24, 24)))
     result = runner.invoke(app, ["render", "--from", str(tmp_path / "out" / "cam.nc"),
                                  "-o", str(tmp_path / "again")])
     assert result.exit_code == 2
     one_line_refusal(result.output, "terrain.file", "changed since cam.nc")
+    assert "does not carry it" in result.output
     assert not (tmp_path / "again" / "cam.nc").exists()
 
 
@@ -214,3 +246,16 @@ def test_a_boresight_that_meets_nothing_records_no_gsd(tmp_path):
     assert geometry["attitude_deg"] == [30.0, 10.0, 5.0]
     assert geometry["boresight_range_m"] is None and geometry["gsd_boresight_m"] is None
     assert geometry["gsd_boresight_surface_m"] is None
+
+
+def test_a_zarr_store_carries_the_files_too(tmp_path):
+    pytest.importorskip("zarr", reason="Zarr output needs the zarr extra")
+    from radscene.io import scene_files
+
+    path = _scene(tmp_path)
+    _render([path, "-o", tmp_path / "out.zarr", "--observer", "vis"])
+    store = tmp_path / "out.zarr" / "vis.zarr"
+    held = scene_files.embedded(store)
+    assert set(held) == {"terrain.file", "materials.paint.reflectance.file"}
+    assert held["terrain.file"][1] == (tmp_path / "dem.npy").read_bytes()
+    assert xr.open_zarr(store).attrs["scene_files_embedded"].startswith("yes")

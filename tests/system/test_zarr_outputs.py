@@ -100,11 +100,12 @@ def test_a_spectral_cube_goes_into_a_zarr_store(tmp_path):
     image = np.fromfile(out / "hsi_spectral.img", dtype="<f4").reshape(31, 8, 6)
     np.testing.assert_array_equal(image, store["radiance"].values)
     # a map product: rioxarray finds the CRS, the cube's and the maps' alike
-    opened = xr.open_zarr(out / "hsi_spectral.zarr", decode_coords="all")
+    opened = xr.open_zarr(out / "hsi_spectral.zarr")
     assert opened.rio.crs is not None
-    assert opened["radiance"].encoding["grid_mapping"] == "crs"
-    assert opened.rio.crs == xr.open_dataset(tmp_path / "nc" / "hsi_spectral.nc",
-                                             decode_coords="all").rio.crs
+    assert opened["radiance"].attrs["grid_mapping"] == "crs"  # opened plainly: an attribute
+    assert opened.rio.crs == xr.open_dataset(tmp_path / "nc" / "hsi_spectral.nc").rio.crs
+    # opened plainly, the cube itself carries the grid mapping as a coordinate
+    assert opened["radiance"].rio.crs == opened.rio.crs
     listed = {e["file"] for e in json.loads((out / MANIFEST).read_text())["files"]}
     assert {"hsi_spectral.zarr/.zmetadata", "hsi_spectral.zarr/radiance/.zarray",
             "hsi_spectral.img"} <= listed

@@ -217,7 +217,9 @@ def render(
     of another machine writing into OUTPUT (shared storage) counts as running until its
     heartbeat in the marker is 10 min old (radscene.io.run_record). With --from out/NAME.nc (or
     out.zarr/NAME.zarr), the scene that file was rendered from is rendered again (its
-    observer, unless --observer), to the same numbers. --quiet prints only errors; --verbose
+    observer, unless --observer), to the same numbers; a file the scene names that is gone
+    or changed is taken from the output, which carries them up to 64 MiB in all, into
+    OUTPUT/scene_files/. --quiet prints only errors; --verbose
     adds each stage and its time."""
     from radscene.atmosphere import check_engine
     from radscene.io import run_record
@@ -235,7 +237,10 @@ def render(
         if from_file is not None:
             from radscene.pipeline.provenance import scene_from_output
 
-            recorded = scene_from_output(from_file)
+            recorded = scene_from_output(from_file, extract_to=Path(output) / "scene_files")
+            for key, where in recorded.extracted.items():
+                report.warn(f"{key}: taken from {from_file.name} into {where} (gone from, "
+                            "or changed at, its recorded place)")
             scene = load_scene(recorded.document, base_dir=recorded.base_dir,
                                max_memory=max_memory, confine=confine)
             scene.source = recorded.scene_file

@@ -141,6 +141,9 @@ class SequenceWriter:
         return enc
 
     def _create(self, layer: xr.Dataset) -> None:
+        from radscene.io.netcdf import with_grid_mapping_coordinates
+
+        layer = with_grid_mapping_coordinates(layer)
         self._first = {"attrs": dict(layer.attrs),
                        "vars": {n: dict(layer[n].attrs) for n in self._timed(layer)}}
         self._shapes = {n: (layer[n].dims, layer[n].shape[1:]) for n in self._timed(layer)}
@@ -240,12 +243,16 @@ class SequenceWriter:
     def _finish(self) -> None:
         if self.frames == 0:
             raise ValueError(f"no frame was written to {self.path}")
+        from radscene.io import scene_files
+
         if self.zarr:
             import zarr
 
             group = zarr.open_group(self._tmp, mode="a", zarr_format=2)
             group.attrs["frames"] = self.frames
+            scene_files.embed(self._tmp, self._first["attrs"], zarr=True)
             zarr.consolidate_metadata(self._tmp, zarr_format=2)
             return
         self._file.attrs["frames"] = self.frames
         self._close()
+        scene_files.embed(self._tmp, self._first["attrs"])

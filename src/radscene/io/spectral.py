@@ -23,7 +23,7 @@ import xarray as xr
 from radscene.errors import ConfigError
 from radscene.io.envi import header_text, map_fields, pixel_size
 from radscene.io.files import atomic_output
-from radscene.io.netcdf import _encoding
+from radscene.io.netcdf import _encoding, with_grid_mapping_coordinates
 
 __all__ = ["write_spectral", "envi_header"]
 
@@ -173,6 +173,16 @@ def grid_mapping(maps: xr.Dataset) -> str | None:
                  if "grid_mapping" in v.encoding), None)
 
 
+def cube_coordinates(maps: xr.Dataset, cube: xr.DataArray) -> str:
+    """A cube variable's ``coordinates``: ``fwhm``, the maps' auxiliary coordinates over its
+    pixels (``latitude``, ``longitude``, ``height``) and the grid mapping of a map product."""
+    pixels = set(cube.dims[1:])
+    names = [str(n) for n, c in maps.coords.items()
+             if n not in maps.dims and c.dims and set(c.dims) <= pixels]
+    mapping = grid_mapping(maps)
+    return " ".join(["fwhm", *names, *([mapping] if mapping else [])])
+
+
 @contextlib.contextmanager
 def _netcdf_cube(path: Path, wavelength, fwhm, compress: bool):
     """Yield ``start(maps, cubes)``, which writes the maps into a temporary NetCDF file beside
@@ -185,10 +195,12 @@ def _netcdf_cube(path: Path, wavelength, fwhm, compress: bool):
 
     def start(maps: xr.Dataset, cubes: dict[str, xr.DataArray]):
         nonlocal nc
+        maps = with_grid_mapping_coordinates(maps)
         maps.to_netcdf(tmp, engine="h5netcdf", encoding=_encoding(maps, compress))
         nc = h5netcdf.File(tmp, "a")
         _wavelength_axis(nc, cubes["radiance"], wavelength, fwhm)
-        return {name: _cube_variable(nc, name, cube, compress, grid_mapping(maps))
+        return {name: _cube_variable(nc, name, cube, compress, grid_mapping(maps),
+                                     cube_coordinates(maps, cube))
                 for name, cube in cubes.items()}
 
     with atomic_output(path) as tmp:
@@ -208,12 +220,13 @@ def _wavelength_axis(nc, cube: xr.DataArray, wavelength, fwhm) -> None:
         v.attrs.update(source.attrs)
 
 
-def _cube_variable(nc, name: str, cube: xr.DataArray, compress: bool, mapping: str | None):
+def _cube_variable(nc, name: str, cube: xr.DataArray, compress: bool, mapping: str | None,
+                   coordinates: str):
     """Create the empty float32 cube variable ``name`` in ``nc``, one chunk per channel."""
     options = {"compression": "gzip", "compression_opts": 1, "shuffle": True} if compress else {}
     var = nc.create_variable(name, ("wavelength",) + tuple(cube.dims[1:]), dtype="f4",
                              chunks=(1,) + tuple(cube.shape[1:]), **options)
-    var.attrs.update({**cube.attrs, "coordinates": "fwhm"})
+    var.attrs.update({**cube.attrs, "coordinates": coordinates})
     if mapping is not None:
         var.attrs["grid_mapping"] = mapping
     return var

@@ -21,7 +21,9 @@ import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
+from radscene.io import scene_files
 from radscene.io.files import atomic_output_dir
+from radscene.io.netcdf import with_grid_mapping_coordinates
 
 __all__ = ["write_zarr", "read_zarr", "cube_store", "TILE"]
 
@@ -48,7 +50,7 @@ def _encoding(ds: xr.Dataset, compress: bool) -> dict:
     codec = _codec()
     enc = {}
     for name, var in ds.data_vars.items():
-        e = {k: var.encoding[k] for k in ("grid_mapping", "coordinates") if k in var.encoding}
+        e = {k: var.encoding[k] for k in ("grid_mapping",) if k in var.encoding}
         if var.dtype.kind == "f" and var.ndim >= 2:
             e["dtype"] = "float32"
         if var.ndim >= 2:
@@ -84,13 +86,16 @@ def write_zarr(ds: xr.Dataset, path: str | os.PathLike, compress: bool = True) -
     --------
     >>> ds = radscene.render(scene, "map")                         # doctest: +SKIP
     >>> radscene.write_zarr(ds, "out/map.zarr")                     # doctest: +SKIP
-    >>> xr.open_zarr("out/map.zarr", decode_coords="all").rio.crs   # doctest: +SKIP
+    >>> xr.open_zarr("out/map.zarr").rio.crs                        # doctest: +SKIP
     """
-    _zarr()
+    zarr = _zarr()
     path = Path(path)
+    ds = with_grid_mapping_coordinates(ds)
     with atomic_output_dir(path) as tmp:
-        ds.to_zarr(tmp, mode="w", zarr_format=2, consolidated=True,
+        ds.to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
                    encoding=_encoding(ds, compress))
+        scene_files.embed(tmp, ds.attrs, zarr=True)
+        zarr.consolidate_metadata(tmp, zarr_format=2)
     return path
 
 
@@ -117,13 +122,14 @@ def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True)
     compress : bool
         Compress the cube and the maps (zstd).
     """
-    from radscene.io.spectral import grid_mapping
+    from radscene.io.spectral import cube_coordinates, grid_mapping
 
     zarr = _zarr()
     wavelength = np.asarray(wavelength, dtype=float)
     fwhm = np.asarray(fwhm, dtype=float)
 
     def start(maps: xr.Dataset, cubes: dict[str, xr.DataArray]):
+        maps = with_grid_mapping_coordinates(maps)
         maps.to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
                      encoding=_encoding(maps, compress))
         group = zarr.open_group(tmp, mode="a", zarr_format=2)
@@ -136,7 +142,8 @@ def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True)
         arrays = {}
         for name, cube in cubes.items():
             dims = ("wavelength",) + tuple(cube.dims[1:])
-            attrs = {**cube.attrs, "coordinates": "fwhm", "_ARRAY_DIMENSIONS": list(dims)}
+            attrs = {**cube.attrs, "coordinates": cube_coordinates(maps, cube),
+                     "_ARRAY_DIMENSIONS": list(dims)}
             if mapping is not None:
                 attrs["grid_mapping"] = mapping
             shape = (wavelength.size,) + tuple(cube.shape[1:])
@@ -153,9 +160,8 @@ def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True)
 
 def read_zarr(path: str | os.PathLike) -> xr.Dataset:
     """Open a radscene Zarr store (loaded into memory) as :func:`radscene.io.read_netcdf` opens
-    a NetCDF file: auxiliary coordinates decoded, the ``crs`` grid mapping a variable (open with
-    ``xr.open_zarr(path, decode_coords="all")`` to get it as a coordinate), IDs as int32 with −1
-    for none."""
+    a NetCDF file: auxiliary coordinates decoded, the ``crs`` grid mapping among them, IDs as
+    int32 with −1 for none."""
     _zarr()
     path = Path(path)
     if not path.is_dir():

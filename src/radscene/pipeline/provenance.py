@@ -35,7 +35,8 @@ attribute                content
 
 ``radscene render --from FILE.nc -o OUT`` reads these back (:func:`scene_from_output`): the
 same scene, resolved against the same folder, each named file checked against its recorded
-SHA-256, renders the same numbers (tests/system/test_provenance.py checks bit-identity).
+SHA-256 (or taken from the output, which carries them: :mod:`radscene.io.scene_files`),
+renders the same numbers (tests/system/test_provenance.py checks bit-identity).
 """
 
 from __future__ import annotations
@@ -295,9 +296,10 @@ class RecordedScene(NamedTuple):
     base_dir: Path
     observer: str
     scene_file: Path | None
+    extracted: dict = {}  # scene key → a file taken from the output (gone or changed at its path)
 
 
-def scene_from_output(path) -> RecordedScene:
+def scene_from_output(path, extract_to=None) -> RecordedScene:
     """The scene an output file was rendered from, to render it again.
 
     Parameters
@@ -305,6 +307,10 @@ def scene_from_output(path) -> RecordedScene:
     path : path-like
         A NetCDF file or Zarr store (``*.zarr``) written by radscene (any output with
         :func:`provenance`).
+    extract_to : path-like, optional
+        A folder: a named file that is gone from its recorded place, or whose bytes changed
+        there, is taken from the output when it carries it (:mod:`radscene.io.scene_files`),
+        written here, and the scene refers to it there.
 
     Returns
     -------
@@ -319,7 +325,8 @@ def scene_from_output(path) -> RecordedScene:
     radscene.errors.ConfigError
         (key ``--from``) when the file is missing, not radscene's, lacks provenance or was
         edited; (key: the scene's, e.g. ``terrain.file``) when a file the scene names is gone
-        or its bytes changed since.
+        or its bytes changed since, and the output does not carry it (or ``extract_to`` is
+        not given).
     """
     import xarray as xr
 
@@ -347,15 +354,29 @@ def scene_from_output(path) -> RecordedScene:
     document = yaml.safe_load(text)
     if not isinstance(document, dict):
         raise ConfigError(f"{path}: its scene_document is not a scene mapping", key="--from")
+    problems = {}
     for entry in json.loads(attrs["scene_files"]):
         named = Path(entry["path"])
         if not named.is_file():
-            raise ConfigError(f"{named} is gone since {path.name} was rendered from it",
-                              key=entry["key"])
-        if file_sha256(named) != entry["sha256"]:
-            raise ConfigError(f"{named} changed since {path.name} was rendered from it "
-                              f"(SHA-256 {entry['sha256'][:12]}… then, {file_sha256(named)[:12]}… "
-                              "now)", key=entry["key"])
+            problems[entry["key"]] = f"{named} is gone since {path.name} was rendered from it"
+        elif file_sha256(named) != entry["sha256"]:
+            problems[entry["key"]] = (
+                f"{named} changed since {path.name} was rendered from it (SHA-256 "
+                f"{entry['sha256'][:12]}… then, {file_sha256(named)[:12]}… now)")
+    carried = {}
+    if problems and extract_to is not None:
+        from radscene.io import scene_files
+
+        carried = scene_files.extract(path, problems, extract_to)
+    for key, problem in problems.items():
+        if key not in carried:
+            note = str(attrs.get("scene_files_embedded", "no"))
+            raise ConfigError(f"{problem}, and {path.name} does not carry it (embedded: {note})",
+                              key=key)
+    if carried:
+        from radscene.scene.confine import with_files
+
+        document = with_files(document, {k: str(v) for k, v in carried.items()})
     source = str(attrs.get("scene_file", ""))
     return RecordedScene(document, Path(attrs["scene_base_dir"]), str(attrs.get("observer", "")),
-                         Path(source) if source else None)
+                         Path(source) if source else None, dict(carried))

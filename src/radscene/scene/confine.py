@@ -16,7 +16,7 @@ from pathlib import Path
 
 from radscene.errors import ConfigError
 
-__all__ = ["check_confined", "named_files", "FILE_KEYS", "FILE_SUFFIXES", "REFUSED_KEYS"]
+__all__ = ["check_confined", "named_files", "with_files", "FILE_KEYS", "FILE_SUFFIXES", "REFUSED_KEYS"]
 
 #: Keys whose string value is a file path.
 FILE_KEYS = frozenset({"file", "temperature_map"})
@@ -61,6 +61,22 @@ def named_files(data: dict) -> list[tuple[str, str]]:
     for item in _walk(data, ""):
         seen.setdefault(item)
     return list(seen)
+
+
+def with_files(data, replaced: dict[str, str], key: str = ""):
+    """A copy of the raw scene ``data`` with the file names at the keys of ``replaced`` (as
+    :func:`named_files` gives them) replaced by its values."""
+    if isinstance(data, dict):
+        out = {}
+        for k, v in data.items():
+            here = f"{key}.{k}" if key else str(k)
+            out[k] = replaced[here] if isinstance(v, str) and here in replaced else with_files(
+                v, replaced, here)
+        return out
+    if isinstance(data, (list, tuple)):
+        return [replaced.get(f"{key}[{i}]", v) if isinstance(v, str)
+                else with_files(v, replaced, f"{key}[{i}]") for i, v in enumerate(data)]
+    return data
 
 
 def check_confined(data: dict, base: Path) -> None:
