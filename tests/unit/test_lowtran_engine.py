@@ -286,3 +286,15 @@ def test_the_type_tagged_dict_builds_and_checks_the_engine(make, monkeypatch):
     assert info.value.key == "atmosphere.aerosol"
     with pytest.raises(ConfigError, match="bad parameters for the 'lowtran' engine"):
         make_atmosphere({"type": "lowtran", "visibilty": 10.0})
+
+
+def test_sky_parts_are_the_scattered_and_thermal_columns(make):
+    atm = make()
+    geometry = SkyGeometry(target_altitude=0.0, sun_zenith=35.0, sun_azimuth=120.0)
+    parts = atm.sky_parts([60.0, 10.0], [90.0, 150.0], WL, geometry)
+    assert parts.solar == pytest.approx(np.full((2, 4), SCATTER * 1e4), rel=REL)
+    assert parts.thermal == pytest.approx(np.full((2, 4), THERMAL * 1e4), rel=REL)
+    assert parts.solar + parts.thermal == pytest.approx(
+        atm.sky([60.0, 10.0], [90.0, 150.0], WL, geometry), rel=1e-15)
+    night = atm.sky_parts(0.0, 0.0, WL, SkyGeometry(0.0, 120.0, 0.0))
+    assert np.all(night.solar == 0.0) and np.all(night.thermal > 0.0)

@@ -8,11 +8,13 @@ Engines are chosen by a type-tagged dict, the same from Python, YAML and the CLI
 from __future__ import annotations
 
 from radscene.atmosphere.base import (
+    SKY_CROSSOVER_WAVELENGTH,
     Atmosphere,
     CouplingSpectra,
     PathNodes,
     PathSpectra,
     SkyGeometry,
+    SkyParts,
     SunSpectra,
     azimuth_hat_weights,
     sky_node_weights,
@@ -31,6 +33,8 @@ __all__ = [
     "PathNodes",
     "PathSpectra",
     "SkyGeometry",
+    "SkyParts",
+    "SKY_CROSSOVER_WAVELENGTH",
     "SunSpectra",
     "UniformAtmosphere",
     "LowtranAtmosphere",

@@ -11,7 +11,8 @@ that is always the last axis of the result:
     normal to the beam at the target [W m-2 um-1].
 ``sky``
     The radiance of the sky seen from a target in given directions, scattered and emitted
-    [W m-2 sr-1 um-1].
+    [W m-2 sr-1 um-1]; ``sky_parts`` the same split into the downwelled scattered sunlight
+    and the downwelled emission of the air (seed 001 eq. 1's E_ds/π and E_de/π).
 
 Speed comes from separating the spectrum from space (ARCHITECTURE.md): the renderer integrates
 spectra over each band once per *node* and only interpolates between nodes per pixel. An engine
@@ -42,6 +43,8 @@ __all__ = [
     "CouplingSpectra",
     "PathNodes",
     "SkyGeometry",
+    "SkyParts",
+    "SKY_CROSSOVER_WAVELENGTH",
     "zenith_hat_weights",
     "azimuth_hat_weights",
     "sky_node_weights",
@@ -218,6 +221,33 @@ class SkyGeometry:
     sun_azimuth: float = 0.0
 
 
+#: Where an engine cannot tell its sky's scattered sunlight from its emission
+#: (:meth:`Atmosphere.sky_parts`), the sky below this wavelength counts as scattered sunlight
+#: and the sky at and beyond it as emission [um]: about where the two cross in a clear
+#: daytime sky (the downwelled scattered sunlight falls with the solar spectrum, the emission
+#: of the air at 250–300 K rises with Planck's law; near 4 µm both are a few hundredths of a
+#: W m-2 sr-1 um-1 in the 3.5–4.1 µm window).
+SKY_CROSSOVER_WAVELENGTH = 4.0
+
+
+@dataclass(frozen=True)
+class SkyParts:
+    """The sky's radiance split by origin (wavelength on the last axis); ``solar + thermal``
+    is :meth:`Atmosphere.sky`.
+
+    Attributes
+    ----------
+    solar : numpy.ndarray
+        Downwelled sunlight scattered by the air and aerosol (and the ground–air exchange of
+        it) [W m-2 sr-1 um-1].
+    thermal : numpy.ndarray
+        Downwelled emission of the air [W m-2 sr-1 um-1].
+    """
+
+    solar: np.ndarray
+    thermal: np.ndarray
+
+
 class Atmosphere(abc.ABC):
     """Base class of atmosphere engines.
 
@@ -297,6 +327,18 @@ class Atmosphere(abc.ABC):
             Radiance, shape ``broadcast(zenith, azimuth).shape + (n_wavelength,)``
             [W m-2 sr-1 um-1].
         """
+
+    def sky_parts(self, zenith, azimuth, wavelength, geometry: SkyGeometry) -> SkyParts:
+        """:meth:`sky` split into scattered sunlight and emission (:class:`SkyParts`).
+
+        Parameters are those of :meth:`sky`. Engines that compute the two apart return them
+        (their sum is :meth:`sky`); this default, for an engine that cannot, counts its sky
+        below :data:`SKY_CROSSOVER_WAVELENGTH` as scattered sunlight and the rest as
+        emission.
+        """
+        total = self.sky(zenith, azimuth, wavelength, geometry)
+        emitted = np.asarray(wavelength, dtype=float) >= SKY_CROSSOVER_WAVELENGTH
+        return SkyParts(solar=np.where(emitted, 0.0, total), thermal=np.where(emitted, total, 0.0))
 
     #: Whether :meth:`coupling` gives the diffuse transmittance and spherical albedo.
     couples: bool = False

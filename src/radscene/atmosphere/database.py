@@ -117,6 +117,7 @@ from radscene.atmosphere.base import (
     PathNodes,
     PathSpectra,
     SkyGeometry,
+    SkyParts,
     SunDependentAtmosphere,
     SunSpectra,
 )
@@ -1323,11 +1324,19 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         return SunSpectra(transmittance=out, irradiance=out * np.asarray(toa_irradiance, float))
 
     def sky(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None) -> np.ndarray:
+        parts = self.sky_parts(zenith, azimuth, wavelength, geometry)
+        return parts.solar + parts.thermal
+
+    def sky_parts(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None
+                  ) -> SkyParts:
+        """The sky's scattered sunlight (the reflective tables, the sun up) and emission (the
+        thermal sky table) apart; :meth:`sky` is their sum."""
         wl = self.check_wavelength(wavelength)
         geometry = geometry or SkyGeometry(sun_zenith=self.sun_zenith or 0.0,
                                            sun_azimuth=self.sun_azimuth)
         z, az = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(azimuth, float))
         out = np.zeros(z.shape + wl.shape)
+        thermal = np.zeros(z.shape + wl.shape)
         refl = wl <= self.reflective_range[1]
         if np.any(refl) and geometry.sun_zenith < 90.0:
             w = wl[refl]
@@ -1358,8 +1367,9 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                 nw = tw.size
                 at = (col[:, iz] * (1 - fz) + col[:, np.minimum(iz + 1, nz - 1)] * fz)  # (λt, S)
                 at = np.moveaxis(at, 0, -1)
-                out[..., inside] += at[..., iw] * (1 - fw) + at[..., np.minimum(iw + 1, nw - 1)] * fw
-        return out
+                thermal[..., inside] = (at[..., iw] * (1 - fw)
+                                        + at[..., np.minimum(iw + 1, nw - 1)] * fw)
+        return SkyParts(solar=out, thermal=thermal)
 
     # -- nodes ---------------------------------------------------------------------------------
     def path_nodes(self, observer_altitude, target_altitude, view_zenith,

@@ -78,6 +78,7 @@ from radscene.atmosphere.base import (
     PathNodes,
     PathSpectra,
     SkyGeometry,
+    SkyParts,
     SunDependentAtmosphere,
     SunSpectra,
 )
@@ -582,6 +583,12 @@ class SixSAtmosphere(SunDependentAtmosphere):
             row["gas_transmittance_down"], row["optical_depth_rayleigh"],
             row["optical_depth_aerosol"], om, angles, pr, pa, t_down, row["spherical_albedo"],
             self.surface_albedo)
+
+    def sky_parts(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None
+                  ) -> SkyParts:
+        """:meth:`sky`, all of it scattered sunlight: 6S computes no emission."""
+        solar = self.sky(zenith, azimuth, wavelength, geometry)
+        return SkyParts(solar=solar, thermal=np.zeros_like(solar))
 
     # -- nodes -------------------------------------------------------------------------------
     def path_nodes(self, observer_altitude, target_altitude, view_zenith,

@@ -13,11 +13,18 @@ name                        unit                  default    meaning
 ``sun_transmittance``       -                     τ_a        τ_so, sun to target
 ``path_radiance``           W m-2 sr-1 um-1       0          path radiance, thermal + scattered
 ``sky_radiance``            W m-2 sr-1 um-1       0          sky radiance seen from the ground
+``sky_solar_radiance``      W m-2 sr-1 um-1       (none)     its scattered sunlight, given apart
+``sky_thermal_radiance``    W m-2 sr-1 um-1       (none)     its emission, given apart
 ``sky_zenith``              deg                   (none)     zenith nodes of a tabulated sky
 ``sky_profile``             -                     (none)     multiplier of ``sky_radiance`` there
 ==========================  ====================  =========  =======================================
 
-Each spectral value is a number or ``{wavelength: [...], values: [...]}``. Example::
+Each spectral value is a number or ``{wavelength: [...], values: [...]}``. The sky is either
+``sky_radiance``, or its two parts (either or both; a missing one is 0): the sky's scattered
+sunlight and its emission, which the render keeps apart (``sky_reflected_solar``,
+``sky_reflected_thermal``). A ``sky_radiance`` the engine cannot split: it counts as
+scattered sunlight below :data:`~radscene.atmosphere.base.SKY_CROSSOVER_WAVELENGTH` (4 µm)
+and as emission beyond (:meth:`~radscene.atmosphere.base.Atmosphere.sky_parts`). Example::
 
     atmosphere:
       type: uniform
@@ -36,12 +43,40 @@ from radscene.atmosphere.base import (
     Atmosphere,
     PathSpectra,
     SkyGeometry,
+    SkyParts,
     SunSpectra,
     zenith_hat_weights,
 )
 from radscene.errors import ConfigError
 
 __all__ = ["VacuumAtmosphere", "UniformAtmosphere"]
+
+
+def _sky_parts_given(total, solar, thermal):
+    """The sky's parts (solar, thermal), each a spectrum or None, where the user gave them;
+    None where the sky is ``total`` alone."""
+    if solar is None and thermal is None:
+        return None
+    if total is not None:
+        raise ConfigError("give sky_radiance or its parts sky_solar_radiance and "
+                          "sky_thermal_radiance, not both", key="atmosphere.sky_radiance")
+    return tuple(None if v is None else _spectrum(v, f"atmosphere.sky_{n}_radiance")
+                 for v, n in ((solar, "solar"), (thermal, "thermal")))
+
+
+class _SkySum:
+    """The sky's two given parts summed, a spectrum as ``make_spectrum`` makes them."""
+
+    def __init__(self, solar, thermal):
+        self.parts = tuple(p for p in (solar, thermal) if p is not None)
+        self.values = np.concatenate([np.atleast_1d(p.values) for p in self.parts])
+        grids = [np.asarray(p.wavelength, float) for p in self.parts if p.wavelength is not None]
+        self.wavelength = np.unique(np.concatenate(grids)) if grids else None  # breakpoints
+        ranges = [p.defined_range for p in self.parts]
+        self.defined_range = (max(r[0] for r in ranges), min(r[1] for r in ranges))
+
+    def __call__(self, wavelength):
+        return sum(p(wavelength) for p in self.parts)
 
 
 def _spectrum(value, key):
@@ -60,7 +95,8 @@ class UniformAtmosphere(Atmosphere):
     def wavelength_range(self) -> tuple[float, float]:
         """Where every one of its spectra can be evaluated, within 0.2-100 um [um]."""
         lo, hi = 0.2, 100.0
-        for spec in (self.transmittance, self.sun_transmittance, self.path_radiance, self.sky_radiance):
+        for spec in (self.transmittance, self.sun_transmittance, self.path_radiance,
+                     self.sky_radiance, *(p for p in self._sky_given if p is not None)):
             a, b = spec.defined_range
             lo, hi = max(lo, a), min(hi, b)
         return (lo, hi)
@@ -70,9 +106,11 @@ class UniformAtmosphere(Atmosphere):
         transmittance=1.0,
         sun_transmittance=None,
         path_radiance=0.0,
-        sky_radiance=0.0,
+        sky_radiance=None,
         sky_zenith=None,
         sky_profile=None,
+        sky_solar_radiance=None,
+        sky_thermal_radiance=None,
     ):
         self.transmittance = _spectrum(transmittance, "atmosphere.transmittance")
         self.sun_transmittance = (
@@ -81,7 +119,12 @@ class UniformAtmosphere(Atmosphere):
             else _spectrum(sun_transmittance, "atmosphere.sun_transmittance")
         )
         self.path_radiance = _spectrum(path_radiance, "atmosphere.path_radiance")
-        self.sky_radiance = _spectrum(sky_radiance, "atmosphere.sky_radiance")
+        self._sky_given = _sky_parts_given(sky_radiance, sky_solar_radiance,
+                                           sky_thermal_radiance)
+        self.sky_radiance = (_spectrum(0.0 if sky_radiance is None else sky_radiance,
+                                       "atmosphere.sky_radiance")
+                             if self._sky_given is None else _SkySum(*self._sky_given))
+        self._sky_given = self._sky_given or ()
         for key, spec in (
             ("transmittance", self.transmittance),
             ("sun_transmittance", self.sun_transmittance),
@@ -140,8 +183,24 @@ class UniformAtmosphere(Atmosphere):
     def sky(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None) -> np.ndarray:
         wl = self.check_wavelength(wavelength)
         zenith, _ = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(azimuth, float))
-        factor = zenith_hat_weights(zenith, self._sky_nodes) @ self._sky_profile
-        return factor[..., None] * self.sky_radiance(wl)
+        return self._sky_factor(zenith, azimuth)[..., None] * self.sky_radiance(wl)
+
+    def sky_parts(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None
+                  ) -> SkyParts:
+        """The user's ``sky_solar_radiance`` and ``sky_thermal_radiance``, where given; else
+        ``sky_radiance`` split at the crossover wavelength (the module's description)."""
+        if not self._sky_given:
+            return super().sky_parts(zenith, azimuth, wavelength, geometry)
+        wl = self.check_wavelength(wavelength)
+        factor = self._sky_factor(zenith, azimuth)[..., None]
+        solar, thermal = (factor * (0.0 if p is None else p(wl)) for p in self._sky_given)
+        return SkyParts(solar=np.broadcast_to(solar, factor.shape[:-1] + wl.shape).copy(),
+                        thermal=np.broadcast_to(thermal, factor.shape[:-1] + wl.shape).copy())
+
+    def _sky_factor(self, zenith, azimuth) -> np.ndarray:
+        """The sky profile's multiplier in each direction (broadcast zenith, azimuth)."""
+        zenith, _ = np.broadcast_arrays(np.asarray(zenith, float), np.asarray(azimuth, float))
+        return zenith_hat_weights(zenith, self._sky_nodes) @ self._sky_profile
 
     def sky_zenith_nodes(self) -> np.ndarray:
         return self._sky_nodes.copy()

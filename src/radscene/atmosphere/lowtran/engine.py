@@ -124,6 +124,7 @@ from radscene.atmosphere.base import (
     PathNodes,
     PathSpectra,
     SkyGeometry,
+    SkyParts,
     SunSpectra,
 )
 from radscene.atmosphere.lowtran import coupling as _coupling
@@ -580,6 +581,13 @@ class LowtranAtmosphere(Atmosphere):
     def sky(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None) -> np.ndarray:
         thermal, scattered = self._sky_parts(zenith, azimuth, wavelength, geometry)
         return thermal + scattered
+
+    def sky_parts(self, zenith, azimuth, wavelength, geometry: SkyGeometry | None = None
+                  ) -> SkyParts:
+        """The sky's scattered sunlight (TAPE7's SUMSSR) and emission (its thermal path
+        radiance) apart, from the same LOWTRAN runs as :meth:`sky`."""
+        thermal, scattered = self._sky_parts(zenith, azimuth, wavelength, geometry)
+        return SkyParts(solar=scattered, thermal=thermal)
 
     def _sky_parts(self, zenith, azimuth, wavelength, geometry, window=None):
         if window is None:
