@@ -212,7 +212,7 @@ def test_the_lobe_split_equals_the_brdf_mixture_in_expectation():
     hits = tracer.intersect(origin[point[go]], wi[go])
     go, hits = go[hits.hit], background_first.take(hits, hits.hit)
     vertices = background._vertices(tables, hits, wi[go], 1e-3, None)
-    own = background._own(tracer, tables, vertices, np.array([0.0, 0.0, 1.0]), True)
+    own = background._own(tracer, tables, vertices, np.array([0.0, 0.0, 1.0]), True)[0]
     np.add.at(mixture, point[go], weight[go] * own)
     mixture /= samples
     assert np.mean(split[:, 1] > 0.0) > 0.9  # most points see the warm box

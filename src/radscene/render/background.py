@@ -95,7 +95,7 @@ from radscene.render.background_tables import (
 )
 
 __all__ = ["BackgroundTables", "band_tables", "draws", "reflected", "reflected_reference",
-           "sky_radiance", "brdf", "brdf_reference", "brdf_weight", "brdf_weight_reference",
+           "reflected_parts", "reflected_reference_parts", "sky_radiance", "air_emission", "brdf", "brdf_reference", "brdf_weight", "brdf_weight_reference",
            "directions", "Draws", "Fan", "Pass", "for_render", "render_tables",
            "WEIGHTING_TEMPERATURE", "CHUNK_SAMPLES"]
 
@@ -138,20 +138,29 @@ def draws(seed: int, first_sample: int, n_points: int, samples: int, bounces: in
                  int(bounces))
 
 
-def sky_radiance(tables, directions, zenith=None) -> np.ndarray:
+def sky_radiance(tables, directions, zenith=None, thermal=False) -> np.ndarray:
     """Band sky radiance along unit ``directions`` (N, 3): (N, n_b) [W m-2 sr-1]; 0 at and
     below the horizon. With ``zenith`` [deg], the sky at that zenith angle in the directions'
-    azimuths instead (the horizon's: :func:`horizon_radiance`)."""
+    azimuths instead (the horizon's: :func:`horizon_radiance`). With ``thermal``, only the
+    sky's emission (``tables.sky_thermal``)."""
     d = np.asarray(directions, dtype=float)
+    sky = tables.sky_thermal if thermal else tables.sky
     if len(d) == 0:
         return np.zeros((0, tables.bands))
     azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
     if zenith is not None:
         return sky_node_weights(np.full(len(d), float(zenith)), azimuth,
-                                *tables.sky_nodes) @ tables.sky.T
+                                *tables.sky_nodes) @ sky.T
     zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
     hats = sky_node_weights(zenith, azimuth, *tables.sky_nodes)
-    return (hats @ tables.sky.T) * (d[:, 2] > 0.0)[:, None]
+    return (hats @ sky.T) * (d[:, 2] > 0.0)[:, None]
+
+
+def _sky_pair(tables, directions):
+    """(the sky, its emission or None where the sky emits nothing) along ``directions``."""
+    emits = bool(np.any(tables.sky_thermal != 0.0))
+    return (sky_radiance(tables, directions),
+            sky_radiance(tables, directions, thermal=True) if emits else None)
 
 
 @dataclass
@@ -183,13 +192,14 @@ def _vertices(tables, hits, directions, epsilon, texture) -> _Vertices:
                      tables.face_temperature[face])
 
 
-def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None) -> np.ndarray:
-    """Emission and reflected sun of vertices towards the previous vertex: (N, n_b); the sun
-    through the ``media``'s volumes where given; ``f`` and ``occluded`` default to
-    :func:`brdf` and :func:`_occluded`."""
-    out = emission(tables, v.material, v.temperature) * v.emissivity[:, None]
+def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None):
+    """Emission and reflected sun of vertices towards the previous vertex, and the emission
+    alone: (N, n_b) each; the sun through the ``media``'s volumes where given; ``f`` and
+    ``occluded`` default to :func:`brdf` and :func:`_occluded`."""
+    emitted = emission(tables, v.material, v.temperature) * v.emissivity[:, None]
+    out = emitted.copy()
     if not np.any(tables.sun_irradiance > 0.0) or len(out) == 0:
-        return out
+        return out, emitted
     sun = np.broadcast_to(sun, v.normal.shape)
     cos_s = np.einsum("nc,nc->n", v.normal, sun)
     lit = cos_s > 0.0
@@ -204,7 +214,7 @@ def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None) -> 
         if media is not None and media.volumes:
             values *= media.sun_transmittance(v.origin[lit], sun[lit])
         out[lit] += values
-    return out
+    return out, emitted
 
 
 #: Zenith angle [deg] at which the sky is read for the radiance of the air along a
@@ -212,11 +222,13 @@ def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None) -> 
 HORIZON_ZENITH = 89.5
 
 
-def horizon_radiance(tables, directions) -> np.ndarray:
+def horizon_radiance(tables, directions, thermal=False) -> np.ndarray:
     """The sky's band radiance at the horizon in the azimuths of ``directions`` (N, 3):
-    (N, n_b) [W m-2 sr-1], the radiance of a long horizontal path of the ground's air."""
+    (N, n_b) [W m-2 sr-1], the radiance of a long horizontal path of the ground's air; with
+    ``thermal``, its emission alone."""
     return sky_radiance(tables, directions,
-                        zenith=min(HORIZON_ZENITH, float(tables.sky_nodes[0][-1])))
+                        zenith=min(HORIZON_ZENITH, float(tables.sky_nodes[0][-1])),
+                        thermal=thermal)
 
 
 def air_path(tables, direction, distance):
@@ -230,31 +242,59 @@ def air_path(tables, direction, distance):
     return trans, (1.0 - trans) * horizon_radiance(tables, direction)
 
 
+def air_emission(tables, direction, transmittance):
+    """The emission's part (N, n_b) [W m-2 sr-1] of the light of :func:`air_path` whose
+    transmittance is ``transmittance`` (N, n_b): (1 − τ) L_horizon,thermal."""
+    return (1.0 - transmittance) * horizon_radiance(tables, direction, thermal=True)
+
+
 def _segment(media, origin, direction, distance, beta, out, rows, sky=None, tables=None):
     """A path segment through the ``media`` and, between surfaces (``distance`` given), the
     ground's air (:func:`air_path`, with ``tables``): adds β L (and β T L_sky where ``sky``
-    (N, n_b) is the sky at its end) to ``out`` at ``rows``; returns β T, the weight beyond it."""
+    is the sky at its end, :func:`_sky_pair`) to ``out``, the (total, thermal) sums, at
+    ``rows``; returns β T, the weight beyond it. The volumes' radiance counts in the total
+    alone (:mod:`radscene.render.sky_split`)."""
+    total, heat = out
     if distance is not None and tables is not None:
         trans, light = air_path(tables, direction, distance)
-        _add(out, rows, beta * light)
+        _add(total, rows, beta * light)
+        if np.any(tables.sky_thermal != 0.0) and np.any(light != 0.0):
+            _add(heat, rows, beta * air_emission(tables, direction, trans))
         beta = beta * trans
     if media is None:
         if sky is not None:
-            _add(out, rows, beta * sky)
+            _add(total, rows, beta * sky[0])
+            if sky[1] is not None:
+                _add(heat, rows, beta * sky[1])
         return beta
     trans, light = media.along(origin, direction, distance, sheets=False)
     beta_t = beta * trans
-    _add(out, rows, beta * light if sky is None else beta * light + beta_t * sky)
+    _add(total, rows, beta * light if sky is None else beta * light + beta_t * sky[0])
+    if sky is not None and sky[1] is not None:
+        _add(heat, rows, beta_t * sky[1])
     return beta_t
 
 
 def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, shadows=True,
               texture: Callable | None = None, media=None, fan: Fan | None = None,
               kept=None) -> np.ndarray:
-    """Background radiance reflected by surface points, at the surface: (N, n_b).
+    """Background radiance reflected by surface points, at the surface: (N, n_b); the first
+    of :func:`reflected_parts`, whose parameters it takes."""
+    return reflected_parts(tracer, tables, origin, normal, wo, material, sun, u,
+                           epsilon=epsilon, shadows=shadows, texture=texture, media=media,
+                           fan=fan, kept=kept)[0]
+
+
+def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon,
+                    shadows=True, texture: Callable | None = None, media=None,
+                    fan: Fan | None = None, kept=None) -> tuple[np.ndarray, np.ndarray]:
+    """Background radiance reflected by surface points, at the surface, and its
+    self-emitted part: (N, n_b) each.
 
     Vectorised over the paths; the same estimator and random numbers as
-    :func:`reflected_reference`.
+    :func:`reflected_reference_parts`. The self-emitted part is what the paths bring of the
+    vertices' emission, the sky's emission (``tables.sky_thermal``) and the air's
+    (:func:`air_emission`); the rest is sunlight (seed 001 eq. 1's H and G).
 
     Parameters
     ----------
@@ -281,13 +321,13 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
 
     Returns
     -------
-    numpy.ndarray
+    total, thermal : numpy.ndarray
         (N, n_b) band radiance [W m-2 sr-1], without the target-to-sensor τ_a and x's Δρ.
     """
     n, samples, bounces = u.points, u.samples, u.bounces
-    out = np.zeros((n, tables.bands))
+    out, heat = np.zeros((n, tables.bands)), np.zeros((n, tables.bands))
     if n == 0 or samples == 0 or bounces == 0:
-        return out
+        return out, heat
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
     step = max(1, CHUNK_SAMPLES // samples)
     sky_on = bool(np.any(tables.sky > 0.0)) or (media is not None and bool(media.volumes))
@@ -299,15 +339,16 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
             tracer, tables, origin, normal, wo, material, u, fan, start, min(start + step, n),
             kept)
         alive = np.arange(len(paths))  # rows of paths
-        beta = _segment(media, origin[point], d, hits.distance, beta, out, point,
+        beta = _segment(media, origin[point], d, hits.distance, beta, (out, heat), point,
                         tables=tables)
         for bounce in range(1, bounces + 1):
             if len(alive) == 0:
                 break
             v = _vertices(tables, hits, d, epsilon, texture)
             p_sun = sun if len(sun) == 1 else sun[point[alive]]
-            _add(out, point[alive], beta * _own(tracer, tables, v, p_sun, shadows,
-                                                media=media))
+            own, emitted = _own(tracer, tables, v, p_sun, shadows, media=media)
+            _add(out, point[alive], beta * own)
+            _add(heat, point[alive], beta * emitted)
             wi_v, w_v = brdf_weight(tables, v.material, v.to_previous, v.normal,
                                     u.at(paths[alive], bounce))
             beta = beta * w_v * v.reflectance[:, None]
@@ -319,20 +360,21 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
                 if sky_on:
                     sky = np.flatnonzero(d[:, 2] > 0.0)
                     sky = sky[~_occluded(tracer, o[sky], d[sky])]
-                    _segment(media, o[sky], d[sky], None, beta[sky], out, point[alive[sky]],
-                             sky_radiance(tables, d[sky]))
+                    _segment(media, o[sky], d[sky], None, beta[sky], (out, heat),
+                             point[alive[sky]], _sky_pair(tables, d[sky]))
                 break
             hits = tracer.intersect(o, d)  # the vertex's sky, or the next vertex
             sky = ~hits.hit & (d[:, 2] > 0.0)
             if np.any(sky):
-                _segment(media, o[sky], d[sky], None, beta[sky], out, point[alive[sky]],
-                         sky_radiance(tables, d[sky]))
+                _segment(media, o[sky], d[sky], None, beta[sky], (out, heat),
+                         point[alive[sky]], _sky_pair(tables, d[sky]))
             keep = hits.hit
             alive, beta, d, hits = alive[keep], beta[keep], d[keep], first.take(hits, keep)
-            beta = _segment(media, o[keep], d, hits.distance, beta, out, point[alive],
+            beta = _segment(media, o[keep], d, hits.distance, beta, (out, heat), point[alive],
                             tables=tables)
     out /= samples
-    return out
+    heat /= samples
+    return out, heat
 
 
 def _add(out, rows, values):
@@ -357,11 +399,23 @@ def _occluded(tracer, origins, directions) -> np.ndarray:
 def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon,
                         shadows=True, texture: Callable | None = None, media=None,
                         fan: Fan | None = None) -> np.ndarray:
-    """:func:`reflected`, one path at a time: the slow, obvious version (the tests' oracle).
-    Every first direction is intersected (the fan's ``blocked`` flags are not used)."""
+    """:func:`reflected`, one path at a time: the first of :func:`reflected_reference_parts`,
+    whose parameters it takes."""
+    return reflected_reference_parts(tracer, tables, origin, normal, wo, material, sun, u,
+                                     epsilon=epsilon, shadows=shadows, texture=texture,
+                                     media=media, fan=fan)[0]
+
+
+def reflected_reference_parts(tracer, tables, origin, normal, wo, material, sun, u, *,
+                              epsilon, shadows=True, texture: Callable | None = None,
+                              media=None, fan: Fan | None = None
+                              ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`reflected_parts`, one path at a time: the slow, obvious version (the tests'
+    oracle). Every first direction is intersected (the fan's ``blocked`` flags are not
+    used)."""
     n, samples = u.points, u.samples
     sun = np.reshape(np.asarray(sun, dtype=float), (-1, 3))
-    out = np.zeros((n, tables.bands))
+    out = np.zeros((2, n, tables.bands))
     for i in range(n):
         s_dir = sun[0] if len(sun) == 1 else sun[i]
         for s in range(samples):
@@ -369,34 +423,34 @@ def reflected_reference(tracer, tables, origin, normal, wo, material, sun, u, *,
             for path, wi, beta in first.first_reference(tables, material, wo, normal, u, fan,
                                                         i, s):
                 if np.any(beta > 0.0):
-                    out[i] += _path_reference(tracer, tables, origin[i:i + 1], wi, beta, u,
-                                              path, s_dir, epsilon, shadows, texture, media)
-        out[i] /= max(samples, 1)
-    return out
+                    out[:, i] += _path_reference(tracer, tables, origin[i:i + 1], wi, beta,
+                                                 u, path, s_dir, epsilon, shadows, texture,
+                                                 media)
+        out[:, i] /= max(samples, 1)
+    return out[0], out[1]
 
 
 def _path_reference(tracer, tables, o, d, beta, u, path, sun, epsilon, shadows, texture,
                     media) -> np.ndarray:
     """The radiance (n_b,) that one path brings back along its first direction ``d`` (1, 3)
-    from ``o``, with its first weight ``beta`` (1, n_b)."""
-    out = np.zeros(tables.bands)
+    from ``o``, with its first weight ``beta`` (1, n_b), and its self-emitted part: (2, n_b)."""
+    out = np.zeros((2, tables.bands))
     depth = u.bounces + 1
     for bounce in range(1, depth):
         hits = tracer.intersect(o, d)
         if not hits.hit[0]:
             if bounce > 1 and d[0, 2] > 0.0:
-                trans, light = _along_reference(media, o, d, None)
-                out += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
+                out += _sky_reference(tables, media, o, d, beta[0])
             break
         air, glow = air_path(tables, d, hits.distance)
-        out += beta[0] * glow[0]
+        out += beta[0] * np.stack([glow[0], air_emission(tables, d, air)[0]])
         beta = beta * air
         trans, light = _along_reference(media, o, d, hits.distance)
-        out += beta[0] * light
+        out[0] += beta[0] * light
         beta = beta * trans
         v = _vertices(tables, hits, d, epsilon, texture)
-        out += beta[0] * _own(tracer, tables, v, sun[None], shadows, brdf_reference, media,
-                              tracer.occluded)[0]
+        out += beta[0] * np.concatenate(_own(tracer, tables, v, sun[None], shadows,
+                                             brdf_reference, media, tracer.occluded))
         d, w = brdf_weight_reference(tables, v.material, v.to_previous, v.normal,
                                      u.at([path], bounce))
         beta = beta * w * v.reflectance[0]
@@ -404,9 +458,16 @@ def _path_reference(tracer, tables, o, d, beta, u, path, sun, epsilon, shadows, 
             break
         o = v.origin
         if bounce == depth - 1 and d[0, 2] > 0.0 and not tracer.occluded(o, d)[0]:
-            trans, light = _along_reference(media, o, d, None)
-            out += beta[0] * (trans * sky_radiance(tables, d)[0] + light)
+            out += _sky_reference(tables, media, o, d, beta[0])
     return out
+
+
+def _sky_reference(tables, media, o, d, beta):
+    """The sky that one path sees along ``d`` (1, 3) from ``o`` through the media, times
+    ``beta`` (n_b,), and its emission: (2, n_b)."""
+    trans, light = _along_reference(media, o, d, None)
+    return beta * np.stack([trans * sky_radiance(tables, d)[0] + light,
+                            trans * sky_radiance(tables, d, thermal=True)[0]])
 
 
 def _along_reference(media, origin, direction, distance):
@@ -441,12 +502,13 @@ class Pass:
         self.media = media if media is not None and media.volumes else None
 
     def __call__(self, origin, normal, wo, material, sun, first_sample, fan=None,
-                 kept=None) -> np.ndarray:
-        """(N, n_b) background radiance at the surface of a tile's hits (:func:`reflected`);
-        ``first_sample`` is the index of the tile's first ray sample, ``fan`` the hits' sky
-        fans (:class:`Fan`) or None, ``kept`` as for :func:`reflected`."""
+                 kept=None) -> tuple[np.ndarray, np.ndarray]:
+        """(N, n_b) background radiance at the surface of a tile's hits and its self-emitted
+        part (:func:`reflected_parts`); ``first_sample`` is the index of the tile's first ray
+        sample, ``fan`` the hits' sky fans (:class:`Fan`) or None, ``kept`` as for
+        :func:`reflected`."""
         u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
-        return reflected(self.tracer, self.tables, origin, normal, wo, material, sun, u,
+        return reflected_parts(self.tracer, self.tables, origin, normal, wo, material, sun, u,
                          epsilon=self.epsilon, shadows=self.shadows, texture=self.texture,
                          media=self.media, fan=fan, kept=kept)
 
@@ -476,6 +538,8 @@ def render_tables(scene, tables, bset, thermal) -> BackgroundTables:
     """The band tables (:func:`band_tables`) of one render: ``tables``, ``bset`` and
     ``thermal`` as for :func:`for_render`; also those that reflect the volumes' own radiance
     where the render has no background pass."""
-    return band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
-                       bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
-                       tables.face_material, tables.face_temperature)
+    out = band_tables(scene.materials, scene.brdfs, bset.quadrature, bset.sun_spectra,
+                      bset.coefficients.sky_view, bset.sky_nodes, thermal, tables.face_offset,
+                      tables.face_material, tables.face_temperature)
+    out.sky_thermal = bset.sky_split.view  # the sky's emission (sky_split.py)
+    return out

@@ -43,6 +43,8 @@ class BackgroundTables:
     face_offset, face_material, face_temperature : the scene's per-face tables
     air_extinction : (n_b,) the air's extinction coefficient at the ground [m-1], which
         dims the paths between surfaces (:func:`air_extinction`; zeros: clear air)
+    sky_thermal : (n_b, n_k) the emission's part of ``sky`` [W m-2 sr-1] (zeros: none;
+        :mod:`radscene.render.sky_split`)
     """
 
     diffuse: np.ndarray
@@ -62,10 +64,13 @@ class BackgroundTables:
     face_material: np.ndarray
     face_temperature: np.ndarray
     air_extinction: np.ndarray | None = None
+    sky_thermal: np.ndarray | None = None
 
     def __post_init__(self):
         if self.air_extinction is None:
             self.air_extinction = np.zeros(len(self.centre))
+        if self.sky_thermal is None:
+            self.sky_thermal = np.zeros_like(self.sky)
 
     @property
     def bands(self) -> int:

@@ -22,11 +22,13 @@ from radscene.atmosphere.nodes import fold_relative_azimuth
 from radscene.render.background_tables import air_extinction
 from radscene.render.brdf_tables import BrdfTables
 from radscene.render.coupling_pass import CouplingTables
+from radscene.render.sky_split import SkySplit
 from radscene.render.spectral import (
     BandCoefficients,
     band_quadrature,
     breakpoints,
     emission_coefficients,
+    sky_table,
     solar_spectrum,
 )
 from radscene.render.sun_track import combine_nodes
@@ -69,6 +71,8 @@ class BandSetup:
             sky_view=np.zeros((n_b, n_k)),
         )
         self.quadrature = []
+        #: the sky's sunlight and emission apart (:mod:`radscene.render.sky_split`)
+        self.sky_split = SkySplit(n_m, n_b, n_s * n_j, n_k)
         self.emissivity_tau = []
         taus = []  # the direct transmittance at the nodes, per band
         couplings = []  # the engine's coupling spectra at the nodes, per band
@@ -93,18 +97,22 @@ class BandSetup:
                     e_sun = np.zeros_like(nodes)
                 tau, radiance = _path_spectra(atm, path_nodes, sun, nodes)  # (j, q), (a, j, q)
                 sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
-                sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k·l, q)
+                split = atm.sky_parts(sky_zenith, sky_azimuth, nodes, sky_geom)
+                sky, thermal = split.solar + split.thermal, split.thermal  # (k·l, q)
                 if atm_ref.couples:
                     cp = atm.coupling(path_nodes.observer_altitude,
                                       path_nodes.target_altitude, path_nodes.view_zenith, nodes)
                     parts.append(cp)
                     scales.append(_sky_scale(atm, sky, hemisphere, cp))
-                    sky = sky * scales[-1]
+                    sky, thermal = sky * scales[-1], thermal * scales[-1]
                 wt = weights * e_sun
                 c.sun_diffuse[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_d / np.pi, tau)
                 c.sun_specular[:, b, block] = np.einsum("q,mq,jq->mj", wt, rho_s, tau)
-                c.sky_diffuse[:, b, block, :] = _sky_table(weights * rho_d, sky, tau)
-                c.sky_specular[:, b, block, :] = _sky_table(weights * rho_s, sky, tau)
+                c.sky_diffuse[:, b, block, :] = sky_table(weights * rho_d, sky, tau)
+                c.sky_specular[:, b, block, :] = sky_table(weights * rho_s, sky, tau)
+                self.sky_split.add(b, block, (split.solar, thermal),
+                                   (weights * rho_d, weights * rho_s), tau,
+                                   weights if s == reference else None)
                 c.path[:, b, block] = radiance @ weights
                 c.transmittance[b, block] = tau @ weights / weights.sum()
                 if s == reference:
@@ -118,12 +126,13 @@ class BandSetup:
                 couplings.append(CouplingSpectra(*(np.concatenate(
                     [getattr(p, f.name) for p in parts]) for f in fields(CouplingSpectra))))
         self.coefficients = c
+        self.sky_split.finish()
         self.coupling = (CouplingTables(self.quadrature, taus, couplings, n_s * n_j)
                          if atm_ref.couples and scene.settings.coupling else None)
         self.sky_nodes = (zen_nodes, az_nodes)
         self._air = (atm_ref, float(scene.location.altitude))
         self.brdf = BrdfTables(scene, bands, self.quadrature, path_nodes, suns, target_alt,
-                               sky_zenith, sky_azimuth, self.sky_scale
+                               sky_zenith, sky_azimuth, self.sky_scale, self.sky_split.split
                                ) if scene.brdfs else None
 
     @property
@@ -134,15 +143,6 @@ class BandSetup:
         if not hasattr(self, "_air_extinction"):
             self._air_extinction = air_extinction(*self._air, self.quadrature)
         return self._air_extinction
-
-
-def _sky_table(rho, sky, tau):
-    """Σ_q ρ_mq L_kq τ_jq: a material × path node × sky node table (m, j, k) from the weighted
-    reflectance ``rho`` (m, q), the sky ``sky`` (k, q) and the path transmittance ``tau``
-    (j, q); one matrix product."""
-    n_m, n_j = rho.shape[0], tau.shape[0]
-    left = (rho[:, None, :] * tau[None, :, :]).reshape(n_m * n_j, -1)
-    return (left @ sky.T).reshape(n_m, n_j, sky.shape[0])
 
 
 def _path_spectra(atm, path_nodes, sun, wavelength):

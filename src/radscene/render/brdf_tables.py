@@ -22,7 +22,8 @@ from radscene.atmosphere import SkyGeometry
 from radscene.render.node_mixing import gather_band, sky_sum
 from radscene.render.spectral import emission_coefficients, solar_spectrum
 
-__all__ = ["BrdfTables", "brdf_terms", "view_weights", "VIEW_COSINES", "BRDF_WAVELENGTHS"]
+__all__ = ["BrdfTables", "brdf_terms", "brdf_sky", "view_weights", "VIEW_COSINES",
+           "BRDF_WAVELENGTHS"]
 
 #: Cosines of the view zenith at which BRDF materials' directional emissivity and albedo are
 #: tabulated per band; between them the renderer interpolates linearly, beyond them it holds
@@ -38,11 +39,13 @@ class BrdfTables:
     ``quadrature`` holds each band's (nodes [um], weights [um]); ``suns`` pairs each sun
     node with the atmosphere set up for it, the tables' node axis running over sun node ×
     path node of ``path_nodes``; ``sky_scale`` the sky table's factors per band and sun node
-    (:class:`radscene.render.band_setup.BandSetup`).
+    (:class:`radscene.render.band_setup.BandSetup`); ``split`` the bands whose sky holds
+    both sunlight and emission, whose thermal sky tables ``sky_thermal`` keeps apart
+    (:mod:`radscene.render.sky_split`).
     """
 
     def __init__(self, scene, bands, quadrature, path_nodes, suns, target_alt, sky_zenith,
-                 sky_azimuth, sky_scale=()):
+                 sky_azimuth, sky_scale=(), split=()):
         from radscene.sun import toa_solar_irradiance
 
         mu = VIEW_COSINES
@@ -54,6 +57,9 @@ class BrdfTables:
         self.emissivity_tau = {m: [] for m in self.models}
         self.sky = {m: np.zeros((mu.size, n_b, n_s * n_j, np.size(sky_zenith)))
                     for m in self.models}
+        split = [int(b) for b in split]
+        self.sky_thermal = {m: np.zeros((mu.size, len(split), n_s * n_j, np.size(sky_zenith)))
+                            for m in self.models}
         for b, (nodes, weights) in enumerate(quadrature):
             coarse = np.linspace(nodes.min(), nodes.max(), BRDF_WAVELENGTHS)
             # the hemispherical integrals are costly: evaluate them on a coarse grid
@@ -70,12 +76,16 @@ class BrdfTables:
                     e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance
                     self.sun[b, block] = tau @ (weights * e_sun)
                 sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)
-                sky = atm.sky(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q)
+                parts = atm.sky_parts(sky_zenith, sky_azimuth, nodes, sky_geom)  # (k, q) each
+                sky, thermal = parts.solar + parts.thermal, parts.thermal
                 if sky_scale and sky_scale[b]:
-                    sky = sky * sky_scale[b][s]
+                    sky, thermal = sky * sky_scale[b][s], thermal * sky_scale[b][s]
                 for m in self.models:
                     self.sky[m][:, b, block] = np.einsum("q,vq,kq,jq->vjk", weights, rho[m],
                                                          sky, tau)
+                    if b in split:
+                        self.sky_thermal[m][:, split.index(b), block] = np.einsum(
+                            "q,vq,kq,jq->vjk", weights, rho[m], thermal, tau)
             tau = np.tile(tau, (n_s, 1))  # the same line of sight under every sun node
             for m in self.models:
                 self.emissivity_tau[m].append(eps[m][:, None, :] * tau[None, :, :])
@@ -115,11 +125,9 @@ def brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f, no
         values["sun_diffuse"][sel] = f * geometry[:, None] * gather_band(tables.sun, sub)
         values["sun_specular"][sel] = 0.0
         lower, frac = view_weights(cos_v[sel])
-        sky = 0.0
+        sky = brdf_sky(tables.sky[m], cos_v[sel], sub, sky_f[sel])
         emission = np.zeros((int(sel.sum()), len(bset.quadrature)))
         for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)):
-            # Σ_j w_j Σ_k sky[v, :, j, k] F_k, the view cosine as the table's row
-            sky = sky + v_weight[:, None] * sky_sum(tables.sky[m], v_index, sub, sky_f[sel])
             for b, (q_nodes, q_weights) in enumerate(bset.quadrature):
                 coef = emission_coefficients(tables.emissivity_tau[m][b], q_nodes, q_weights,
                                              v_index, temp[sel])  # (n, j)
@@ -127,3 +135,14 @@ def brdf_terms(bset, values, mat, temp, cos_i, cos_v, cos_g, lit, tex, sky_f, no
                                               * sub.weight).sum(1)
         values["sky_reflected"][sel] = sky * tex["reflectance"][sel, None]
         values["thermal_emission"][sel] = emission * tex["emissivity"][sel, None]
+
+
+def brdf_sky(table, cos_view, nodes, sky_fractions):
+    """The reflected sky of samples of a BRDF material (N, n_b) [W m-2 sr-1], without Δρ:
+    Σ_j w_j Σ_k table[v, :, j, k] F_k, the view cosines ``cos_view`` (N,) interpolated
+    between the table's rows v (:data:`VIEW_COSINES`); ``table`` is (n_v, n_b, n_j, n_k)."""
+    lower, frac = view_weights(cos_view)
+    sky = 0.0
+    for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)):
+        sky = sky + v_weight[:, None] * sky_sum(table, v_index, nodes, sky_fractions)
+    return sky

@@ -216,7 +216,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     # without BRDF models nothing but the diffuse sky sum needs the sky fractions: the
     # sky fan is folded straight into it on the worker thread
     fused_sky = None if bset.brdf is not None else (
-        sky_diffuse, geo.nodes_all.index, geo.nodes_all.weight)
+        bset.sky_split.fused_table(sky_diffuse), geo.nodes_all.index, geo.nodes_all.weight)
     # The shadow, sky and lobe rays of the next tiles are traced on a worker thread while this
     # thread evaluates the terms of tile i (Embree and the numba kernels release the GIL). The
     # random rotations are drawn here, per ray sample of each tile (surface.fan_shifts).
@@ -286,14 +286,15 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
                             labelled, hit_rank, geo.nodes_all, geo.obs_alt, geo.tgt_alt,
                             geo.view_zenith, image.radiance, layers)
     return _assemble(scene, setup, bands, sun, track, rays, hits, labelled, image, coupled,
-                     started, worker, geolocation, pixel_coords)
+                     started, worker, geolocation, pixel_coords, bset.sky_split)
 
 
 def _assemble(scene, setup, bands, sun, track, rays, hits, labelled, image, coupled, started,
-              worker, geolocation, pixel_coords) -> xr.Dataset:
+              worker, geolocation, pixel_coords, split) -> xr.Dataset:
     """The render's Dataset from the tiles' sums ``image`` and the ``coupled`` layers;
     ``worker`` may take the brightness temperatures, ``geolocation`` and ``pixel_coords``
-    are those made during the tiles (None: not yet made)."""
+    are those made during the tiles (None: not yet made), ``split`` the band setup's
+    :class:`~radscene.render.sky_split.SkySplit`."""
     from radscene.radiometry import band_brightness_temperature
 
     if image.brightness is not None:
@@ -302,8 +303,7 @@ def _assemble(scene, setup, bands, sun, track, rays, hits, labelled, image, coup
                 image.brightness[b] = band_brightness_temperature(image.radiance[b],
                                                                   bands[b].response)
     image.sums.update(coupled)
-    if image.media_light is not None:  # after the coupling pass: it is not light from the sky
-        image.sums["sky_reflected"] += image.media_light
+    image.finish(split)  # the volumes' light and the layers' parts (sky_split.py)
     elapsed = _time.perf_counter() - started
     ds = dataset(scene, setup, bands, rays.shape, image.sums, image.transmittance, image.truth,
                  image.object_id, image.material_id, image.normal_map, sun, elapsed,

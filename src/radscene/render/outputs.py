@@ -14,11 +14,13 @@ import numpy as np
 import xarray as xr
 
 from radscene.render import truth
+from radscene.render.sky_split import PART_COMMENTS, PART_LAYERS, PART_NAMES
 from radscene.render.spectral import solar_spectrum
 from radscene.render.volumes import VOLUME_TERMS
 
 __all__ = ["TERMS", "TERM_LONG_NAMES", "BACKGROUND_TERM", "BACKGROUND_LONG_NAME",
-           "COUPLING_TERMS", "COUPLING_LONG_NAMES", "TERM_LAYERS", "THERMAL_BAND_START", "GEOLOCATION_COORDS",
+           "COUPLING_TERMS", "COUPLING_LONG_NAMES", "TERM_LAYERS", "PART_LAYERS", "PART_NAMES",
+           "PART_LONG_NAMES", "THERMAL_BAND_START", "GEOLOCATION_COORDS",
            "CONSTANT_ANGLES", "dataset", "cf_conventions", "grid_mapping_attrs", "pixel_coordinates",
            "sky_view_transmitted"]
 
@@ -54,6 +56,16 @@ COUPLING_LONG_NAMES = {
 #: hyperspectral term cubes, the ``all`` GeoTIFF level and the terms quicklook take their
 #: layers from here.
 TERM_LAYERS = TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS + VOLUME_TERMS
+#: The parts of ``sky_reflected`` and ``background_reflected`` by the light's origin
+#: (:data:`PART_LAYERS`, :mod:`radscene.render.sky_split`): each pair sums to its layer. Not in
+#: :data:`TERM_LAYERS`, which would count them twice; a band render writes them beside it.
+PART_LONG_NAMES = {
+    "sky_reflected_solar": "reflected sky radiance: the sky's scattered sunlight",
+    "sky_reflected_thermal": "reflected sky radiance: the sky's own emission",
+    "background_reflected_solar": "reflected background: the other surfaces' sunlight",
+    "background_reflected_thermal": "reflected background: the other surfaces' self-emitted "
+                                    "radiance",
+}
 #: Bands whose response centre is at or beyond this wavelength get a brightness temperature [um].
 THERMAL_BAND_START = 2.5
 #: Per-pixel geolocation stored as CF auxiliary coordinates of the image.
@@ -132,6 +144,10 @@ def _radiance_layers(total, cube) -> dict:
     for name in COUPLING_TERMS:
         data[name] = (("band", "y", "x"), cube[name],
                       {**radiance_attrs, "long_name": COUPLING_LONG_NAMES[name]})
+    for name in (n for n in PART_NAMES if n in cube):
+        data[name] = (("band", "y", "x"), cube[name], {
+            **radiance_attrs, "long_name": PART_LONG_NAMES[name],
+            "comment": PART_COMMENTS[name]})
     return data
 
 

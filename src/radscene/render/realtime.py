@@ -202,7 +202,7 @@ class RealtimeRenderer:
                                              shift=sky_shift, scratch=scratch,
                                              blocked=None if fan is None else fan.blocked)
             if reflect is not None:  # at the surface, then through τ_a and Δρ, as the render
-                values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start, fan)
+                values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start, fan)[0]
                 values *= node_mixing.gather_band(bset.coefficients.transmittance,
                                        nodes_all.subset(st.rank))
                 values *= textures(scene, st.obj, st.pos)["reflectance"][:, None]

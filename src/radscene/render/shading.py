@@ -68,12 +68,14 @@ class TileShader:
         if self.reflect is not None:  # at the surface, then through τ_a and Δρ
             kept = None if self.cache is None else self.cache.background(
                 self.tables.tracer, st, sl, self.reflect.samples)
-            values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
-                                  getattr(st, "fan", None), kept)
-            values *= node_mixing.gather_band(self.bset.coefficients.transmittance,
-                                              self.nodes.nodes_all.subset(st.rank))
-            values *= tex["reflectance"][:, None]
-            image.add_background(p, wh, values.T)
+            values, emitted = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
+                                           getattr(st, "fan", None), kept)
+            tau_a = node_mixing.gather_band(self.bset.coefficients.transmittance,
+                                            self.nodes.nodes_all.subset(st.rank))
+            for part in (values, emitted):
+                part *= tau_a
+                part *= tex["reflectance"][:, None]
+            image.add_background(p, wh, values.T, emitted.T)
         truth_rows = (st.cos_i, 1.0 - lit, sky_view, st.temp, self.hits.distance[st.hidx], None)
         image.add(p, wh, out, tau, truth_rows, self.per_pixel, self.unit_weight)
         image.label(p, st.hidx, st.obj, st.mat, st.nrm, self.per_pixel)
@@ -93,6 +95,7 @@ class TileShader:
             sky_f, sky_sums, sky_view = sky_out, None, sky_out.sum(axis=1)
         else:
             sky_f, (sky_sums, sky_view) = None, sky_out
+            sky_sums, fused_thermal = bset.sky_split.columns(sky_sums, len(self.bands))
         out, tau, out_pixel, out_weight = self.image.buffers(p, wh)
         node_mixing.mix_terms(
             out, tau, out_pixel, out_weight, st.rank, st.mat, self.emission_pair,
@@ -106,6 +109,10 @@ class TileShader:
             cos_g = np.einsum("nc,nc->n", st.wo, np.broadcast_to(st.sun, st.wo.shape))
             brdf_terms(bset, values, st.mat, st.temp, st.cos_i, st.cos_v, cos_g, lit, tex,
                        sky_f, nodes.nodes_all.subset(st.rank))
+        if len(bset.sky_split.split):  # the sky's emission apart (sky_split.py)
+            self.image.add_sky_thermal(p, wh, bset.sky_split.tile_thermal(
+                st, tex["reflectance"], sky_f, lobe_f, None if sky_f is not None else
+                fused_thermal, nodes.nodes_all.subset(st.rank), bset.brdf))
         return out, tau, lit, sky_view
 
     def _media(self, st, tex, out, p, wh, sky_view):

@@ -25,7 +25,7 @@ from scipy.interpolate import CubicSpline
 from radscene.radiometry import spectral_radiance
 
 __all__ = ["band_quadrature", "BandCoefficients", "emission_coefficients", "solar_spectrum",
-           "breakpoints"]
+           "breakpoints", "sky_table"]
 
 #: Gauss–Legendre order per sub-interval.
 GL_ORDER = 4
@@ -108,6 +108,16 @@ class BandCoefficients:
     path: np.ndarray
     transmittance: np.ndarray
     sky_view: np.ndarray
+
+
+def sky_table(rho, sky, tau):
+    """Σ_q ρ_mq L_kq τ_jq: a material × path node × sky node table (m, j, k) from the weighted
+    reflectance ``rho`` (m, q), the sky ``sky`` (k, q) and the path transmittance ``tau``
+    (j, q); one matrix product."""
+    n_m, n_j = rho.shape[0], tau.shape[0]
+    left = (rho[:, None, :] * tau[None, :, :]).reshape(n_m * n_j, -1)
+    return (left @ sky.T).reshape(n_m, n_j, sky.shape[0])
+
 
 
 def emission_coefficients(emissivity_tau, nodes, weights, material_index, temperature,

@@ -14,6 +14,7 @@ import numpy as np
 
 from radscene.render import terms
 from radscene.render.outputs import BACKGROUND_TERM, TERMS, THERMAL_BAND_START
+from radscene.render.sky_split import PART_NAMES, part_layers
 from radscene.render.truth import TRUTH_SUMS
 
 __all__ = ["TileSums", "tile_slices", "pixel_sums", "pixel_runs", "as_slice", "touch_pages"]
@@ -33,7 +34,11 @@ class TileSums:
     ----------
     acc : (term, band, pixel) the signature terms, :data:`~radscene.render.outputs.TERMS`
     sums : dict — each layer (band, pixel) by name: the terms (views of ``acc``) and the
-        reflected background
+        reflected background; after :meth:`finish` also their parts
+        (:mod:`radscene.render.sky_split`)
+    sky_thermal, background_thermal : the sky's emission reflected in the bands whose sky
+        also holds sunlight (split band, pixel) (None: no such band yet), and the reflected
+        background's self-emitted part (band, pixel)
     transmittance : (band, pixel) the path transmittance
     truth : dict — :data:`~radscene.render.truth.TRUTH_SUMS`, (pixel,) each
     object_id, material_id, normal_map : the labels of the sub-sample nearest each centre
@@ -73,6 +78,8 @@ class TileSums:
         self.radiance = np.empty((n_b, n_pix)) if direct else None
         self.has_background = background
         self.sums[BACKGROUND_TERM] = self.background = np.zeros((n_b, n_pix))
+        self.background_thermal = np.zeros((n_b, n_pix)) if background else None
+        self.sky_thermal = None
 
     def leaving(self, pixel, weight, directions, sky_nodes, sky_view):
         """Add the path radiance of samples whose rays leave the scene: the sky (upwards)
@@ -140,10 +147,37 @@ class TileSums:
             self.material_id[pixel[c]] = mat[c]
             self.normal_map[:, pixel[c]] = nrm[c].T
 
-    def add_background(self, pixel, weight, values):
-        """Add the reflected background of a tile's hits, ``values`` (band, hit)."""
+    def add_background(self, pixel, weight, values, emitted):
+        """Add the reflected background of a tile's hits, ``values`` (band, hit), and its
+        self-emitted part ``emitted`` (band, hit)."""
+        n_b = len(values)
+        pixels, totals = pixel_sums(pixel, weight, np.vstack([values, emitted]))
+        self.background[:, pixels] += totals[:n_b]
+        self.background_thermal[:, pixels] += totals[n_b:]
+
+    def add_sky_thermal(self, pixel, weight, values):
+        """Add the sky's emission reflected by a tile's hits in the bands whose sky also
+        holds sunlight, ``values`` (split band, hit)."""
+        if self.sky_thermal is None:
+            self.sky_thermal = np.zeros((len(values), self.acc.shape[2]))
         pixels, totals = pixel_sums(pixel, weight, values)
-        self.background[:, pixels] += totals
+        self.sky_thermal[:, pixels] += totals
+
+    def finish(self, split):
+        """The layers once the tiles and the coupling pass are done: the volumes' own
+        radiance reflected along the sky rays added to ``sky_reflected`` (it is not light
+        from the sky, so after the coupling pass), and the parts of the reflected sky and
+        background (:func:`~radscene.render.sky_split.part_layers`; ``split`` the render's
+        :class:`~radscene.render.sky_split.SkySplit`) into :attr:`sums`."""
+        if self.media_light is not None:
+            self.sums["sky_reflected"] += self.media_light
+        sky = self.sums["sky_reflected"]
+        thermal = self.sky_thermal if self.sky_thermal is not None else np.zeros(
+            (len(split.split),) + sky.shape[1:])
+        parts = part_layers(sky, thermal, split.solar, split.thermal, split.split)
+        parts += part_layers(self.background, 0.0 if self.background_thermal is None
+                             else self.background_thermal, None, None, None)
+        self.sums.update(zip(PART_NAMES, parts, strict=True))
 
     def add_media(self, pixel, weight, light, view):
         """Add the volumes' own radiance reflected along the sky rays of a tile's hits,

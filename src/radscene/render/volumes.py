@@ -44,6 +44,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from radscene.render.sky_split import PART_LAYERS
+
 __all__ = ["Volume", "VOLUME_TERMS", "VOLUME_LONG_NAMES", "MARCH_STEPS", "entry_exit",
            "density", "optical_path", "optical_path_reference", "path_transmittance",
            "band_transmittance",
@@ -473,6 +475,8 @@ def apply(ds, scene, bands, rays, hits, sun_dir, sun_up, atmosphere, layers,
         behind = np.ones(n_pix, dtype=bool) if name != "path_radiance" else ~surface_seen
         transmitted[:, behind] += crossing_share[:, behind] * values[:, behind]
         values[:, behind] *= clear_share[behind]
+        for part in (p for p in PART_LAYERS.get(name, ()) if p in ds):  # its parts as it
+            ds[part].values.reshape(n_b, n_pix)[:, behind] *= clear_share[behind]
     emission, scattered = per_pixel(light[0]), per_pixel(light[1])
     total = ds["radiance"].values
     total[...] = 0.0
