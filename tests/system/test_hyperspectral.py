@@ -207,6 +207,7 @@ def _check_terms(scene, bands, observer, band, per_pass, approximate=()):
     band's response is band mode's layer of the same name (exactly but for the layers
     ``approximate`` and those band mode makes with band means)."""
     from radscene.render.hyperspectral import TERM_LAYERS
+    from radscene.render.outputs import PART_LAYERS
 
     cube = radscene.render_hyperspectral(scene, observer, channels_per_pass=per_pass,
                                          terms=True)
@@ -220,6 +221,11 @@ def _check_terms(scene, bands, observer, band, per_pass, approximate=()):
     size = sum(np.abs(cube[n].values.astype(float)) for n in names)
     np.testing.assert_array_less(np.abs(total - cube["radiance"].values),
                                  EPS32 * size + 1e-30)
+    for layer, parts in PART_LAYERS.items():  # the parts by origin, beside their layer
+        assert all(p in cube.data_vars for p in parts)
+        pair = sum(cube[p].values.astype(float) for p in parts)
+        np.testing.assert_array_less(np.abs(pair - cube[layer].values),
+                                     EPS32 * (np.abs(pair) + np.abs(cube[layer].values)) + 1e-30)
     response = scene.band(band).response
     radiance = bands["radiance"].sel(band=band).values
     for name in names:
@@ -285,7 +291,7 @@ def test_terms_shrink_the_pass(tmp_path):
     from radscene.render.hyperspectral import (
         LAYERS_PER_CHANNEL,
         PASS_MEMORY,
-        TERM_LAYERS,
+        SPECTRAL_TERMS,
         pass_size,
         render_passes,
     )
@@ -293,9 +299,9 @@ def test_terms_shrink_the_pass(tmp_path):
     scene = _scene(tmp_path, 1)
     grid = scene.observer("vnir").spectral
     pixels = 1024 * 1024
-    assert pass_size(grid, pixels) == int(PASS_MEMORY // (LAYERS_PER_CHANNEL * 8 * pixels)) == 16
+    assert pass_size(grid, pixels) == int(PASS_MEMORY // (LAYERS_PER_CHANNEL * 8 * pixels)) == 11
     assert pass_size(grid, pixels, terms=True) == int(
-        PASS_MEMORY // ((LAYERS_PER_CHANNEL + len(TERM_LAYERS)) * 8 * pixels)) == 7
+        PASS_MEMORY // ((LAYERS_PER_CHANNEL + len(SPECTRAL_TERMS)) * 8 * pixels)) == 5
     # the render's passes: 400 samples, a memory of 5 channels without terms
     memory = 5 * LAYERS_PER_CHANNEL * 8 * 400
     plain = [p.sizes["wavelength"] for p in render_passes(scene, "vnir", memory=memory)]

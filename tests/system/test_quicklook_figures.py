@@ -8,7 +8,7 @@ import pytest
 
 from radscene import render
 from radscene.io.quicklook import term_layers, terms_plot
-from radscene.render.outputs import TERM_LAYERS
+from radscene.render.outputs import PART_LAYERS, TERM_LAYERS, finest_layers
 
 
 def _slab_scene():
@@ -58,8 +58,12 @@ def test_terms_figure_shows_the_volume_layers(slab):
 
 def test_terms_figure_layers_sum_to_the_radiance(slab):
     shown, left_out = term_layers(slab)
-    assert set(shown) | set(left_out["all zero"]) | set(left_out["no finite value"]) == {
-        n for n in TERM_LAYERS if n in slab}
+    assert set(shown) | set(left_out["all zero"]) | set(left_out["no finite value"]) == set(
+        finest_layers(slab.data_vars))
+    # the reflected sky and background as their parts: seed 001 eq. 1's B, E, G, H apart
+    for layer, parts in PART_LAYERS.items():
+        assert layer in TERM_LAYERS and layer not in finest_layers(slab.data_vars)
+        assert set(parts) <= set(finest_layers(slab.data_vars))
     total = sum(slab[name].values for name in shown)
     assert np.allclose(total, slab["radiance"].values, rtol=1e-12, atol=0.0)
 

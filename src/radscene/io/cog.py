@@ -34,6 +34,7 @@ import xarray as xr
 
 from radscene.errors import ConfigError, did_you_mean
 from radscene.io.geotiff import _atomic, _crs, _prepare, _regular
+from radscene.render.outputs import PART_NAMES
 from radscene.render.outputs import TERM_LAYERS as _RADIANCE_LAYERS
 
 __all__ = ["write_cog", "write_map_cogs", "map_layers", "layer_names", "is_map_product", "LEVELS",
@@ -45,8 +46,9 @@ LEVELS = ("none", "radiance", "maps", "all")
 TRUTH_LAYERS = ("surface_temperature", "object_id", "material_id", "range", "shadow_fraction",
                 "sky_view_fraction", "cos_incidence")
 #: The band layers level ``all`` adds, where a render has them: every layer that sums to the
-#: radiance (:data:`radscene.render.outputs.TERM_LAYERS`) and the transmittances.
-TERM_LAYERS = _RADIANCE_LAYERS + ("path_transmittance", "volume_transmittance")
+#: radiance (:data:`radscene.render.outputs.TERM_LAYERS`), the parts of the reflected sky and
+#: background (:data:`radscene.render.outputs.PART_NAMES`) and the transmittances.
+TERM_LAYERS = _RADIANCE_LAYERS + PART_NAMES + ("path_transmittance", "volume_transmittance")
 
 
 def layer_names(level: str) -> tuple[str, ...]:

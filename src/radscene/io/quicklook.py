@@ -250,7 +250,9 @@ TERMS_COLUMNS = 5
 
 def term_layers(ds: xr.Dataset) -> tuple[list[str], dict[str, list[str]]]:
     """The layers the terms figure shows: every layer of ``ds`` that sums to its radiance
-    (:data:`radscene.render.outputs.TERM_LAYERS`, in that order), less those it leaves out.
+    (:data:`radscene.render.outputs.TERM_LAYERS`, in that order), the reflected sky and
+    background as their solar and thermal parts where ``ds`` has them
+    (:func:`radscene.render.outputs.finest_layers`), less those it leaves out.
 
     Returns
     -------
@@ -261,11 +263,11 @@ def term_layers(ds: xr.Dataset) -> tuple[list[str], dict[str, list[str]]]:
         not drawn, zero (or NaN) in every band with a finite radiance, or with no finite value
         at all; they add nothing to the radiance.
     """
-    from radscene.render.outputs import TERM_LAYERS
+    from radscene.render.outputs import finest_layers
 
     bands = [b for b in ds["band"].values if np.isfinite(ds["radiance"].sel(band=b).values).any()]
     shown, zero, empty = [], [], []
-    for name in (n for n in TERM_LAYERS if n in ds):
+    for name in finest_layers(ds.data_vars):
         values = [ds[name].sel(band=b).values for b in bands]
         finite = [v[np.isfinite(v)] for v in values]
         if not any(f.size for f in finite):
@@ -281,8 +283,8 @@ def terms_plot(ds: xr.Dataset) -> Figure:
     """Every layer that sums to the radiance, and the radiance, band by band.
 
     The layers are those of :func:`term_layers` (:data:`radscene.render.outputs.TERM_LAYERS`
-    present in ``ds``: the signature terms, the reflected background, the coupling layers, the
-    sheet and volume layers), followed by the radiance they sum to, in rows of at most
+    present in ``ds``: the signature terms, the reflected sky and background as their solar and
+    thermal parts, the coupling layers, the sheet and volume layers), followed by the radiance they sum to, in rows of at most
     :data:`TERMS_COLUMNS` panels per band. Each band shares one colour scale (0.5–99.5 % of
     its radiance), so the size of each layer in its band can be read off; its colour bar shows
     where a layer passes the scale. The layers zero everywhere, or without a finite value,

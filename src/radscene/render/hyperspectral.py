@@ -26,18 +26,24 @@ import xarray as xr
 
 from radscene.errors import ConfigError
 from radscene.radiometry import ChannelGrid
-from radscene.render.outputs import TERM_LAYERS  # the layers that sum to the radiance
+from radscene.render.outputs import PART_NAMES, TERM_LAYERS  # the layers that sum to the radiance
+
+#: The spectral term layers of a cube rendered with ``terms``: those that sum to the radiance
+#: (:data:`TERM_LAYERS`), then the parts of the reflected sky and background by the light's
+#: origin (:data:`radscene.render.outputs.PART_NAMES`, not summed again).
+SPECTRAL_TERMS = TERM_LAYERS + PART_NAMES
 
 __all__ = ["Channel", "channels", "pass_size", "render_passes", "render_hyperspectral",
            "band_radiance", "spectral_attributes", "term_attributes", "spectral_variables",
-           "PASS_MEMORY", "LAYERS_PER_CHANNEL", "TERM_LAYERS"]
+           "PASS_MEMORY", "LAYERS_PER_CHANNEL", "TERM_LAYERS", "SPECTRAL_TERMS"]
 
-#: Memory a pass may hold in its per-channel image layers [bytes]; with the eleven float64
-#: layers a render keeps per band (five terms, three coupling layers, the total, the
-#: brightness temperature, the transmittance) that is 16 channels per pass at 1024 × 1024.
+#: Memory a pass may hold in its per-channel image layers [bytes]; with the fifteen float64
+#: layers a render keeps per band (five terms, three coupling layers, the four parts of the
+#: reflected sky and background, the total, the brightness temperature, the transmittance)
+#: that is 11 channels per pass at 1024 × 1024.
 PASS_MEMORY = 1.5e9
 #: Per-band image layers of one render (see PASS_MEMORY) and their bytes per value.
-LAYERS_PER_CHANNEL = 11
+LAYERS_PER_CHANNEL = 15
 _BYTES = 8
 
 
@@ -59,11 +65,11 @@ def pass_size(grid: ChannelGrid, pixels: int, memory: float = PASS_MEMORY, *,
     """How many channels one pass renders so that its image layers fit in ``memory`` [bytes]
     for ``pixels`` ray samples (at least one, at most all).
 
-    With ``terms`` a pass hands on its term layers (:data:`TERM_LAYERS`, float64) besides the
-    radiance, and they stay alive in the consumer's hands while the next pass renders: each
-    channel counts ``len(TERM_LAYERS)`` layers more than :data:`LAYERS_PER_CHANNEL`.
+    With ``terms`` a pass hands on its term layers (:data:`SPECTRAL_TERMS`, float64) besides
+    the radiance, and they stay alive in the consumer's hands while the next pass renders:
+    each channel counts ``len(SPECTRAL_TERMS)`` layers more than :data:`LAYERS_PER_CHANNEL`.
     """
-    layers = LAYERS_PER_CHANNEL + (len(TERM_LAYERS) if terms else 0)
+    layers = LAYERS_PER_CHANNEL + (len(SPECTRAL_TERMS) if terms else 0)
     per_channel = layers * _BYTES * max(int(pixels), 1)
     return int(min(len(grid), max(1, memory // per_channel)))
 
@@ -215,7 +221,7 @@ def _spectral_part(ds: xr.Dataset, grid: ChannelGrid, part: slice, terms: bool =
     out = xr.Dataset(keep, coords={k: v for k, v in ds.coords.items()
                                    if k not in _BAND_VARIABLES})
     out["radiance"] = xr.Variable(("wavelength", "y", "x"), radiance, spectral_attributes(grid))
-    for name in TERM_LAYERS if terms else ():
+    for name in SPECTRAL_TERMS if terms else ():
         if name in ds.data_vars:
             layer = ds[name].values
             layer /= width  # in place, as the radiance
@@ -278,8 +284,8 @@ def render_hyperspectral(scene, observer: str | None = None, grid: ChannelGrid |
 
 def spectral_variables(part: xr.Dataset) -> list[str]:
     """The names of a pass's (or cube's) spectral variables: ``radiance``, then its term
-    layers in :data:`TERM_LAYERS` order."""
-    return ["radiance"] + [name for name in TERM_LAYERS
+    layers in :data:`SPECTRAL_TERMS` order."""
+    return ["radiance"] + [name for name in SPECTRAL_TERMS
                            if name in part.data_vars and "wavelength" in part[name].dims]
 
 

@@ -20,7 +20,7 @@ from radscene.render.volumes import VOLUME_TERMS
 
 __all__ = ["TERMS", "TERM_LONG_NAMES", "BACKGROUND_TERM", "BACKGROUND_LONG_NAME",
            "COUPLING_TERMS", "COUPLING_LONG_NAMES", "TERM_LAYERS", "PART_LAYERS", "PART_NAMES",
-           "PART_LONG_NAMES", "THERMAL_BAND_START", "GEOLOCATION_COORDS",
+           "PART_LONG_NAMES", "finest_layers", "THERMAL_BAND_START", "GEOLOCATION_COORDS",
            "CONSTANT_ANGLES", "dataset", "cf_conventions", "grid_mapping_attrs", "pixel_coordinates",
            "sky_view_transmitted"]
 
@@ -149,6 +149,18 @@ def _radiance_layers(total, cube) -> dict:
             **radiance_attrs, "long_name": PART_LONG_NAMES[name],
             "comment": PART_COMMENTS[name]})
     return data
+
+
+def finest_layers(names) -> list[str]:
+    """The layers of :data:`TERM_LAYERS` among ``names`` (in that order), each with parts
+    (:data:`PART_LAYERS`) replaced by them where ``names`` holds them all: a set of layers
+    that still sums to the radiance, each term of seed 001 eq. 1 apart."""
+    names = set(names)
+    out = []
+    for name in (n for n in TERM_LAYERS if n in names):
+        parts = PART_LAYERS.get(name, ())
+        out.extend(parts if parts and names.issuperset(parts) else (name,))
+    return out
 
 
 def _band_coordinates(bands) -> dict:

@@ -785,9 +785,11 @@ class SpectralGridSpec(_Model):
                         json_schema_extra={"x-quantity": "wavelength", "gt": 0.0})
     terms: bool = Field(
         False, description="also keep every layer that sums to the radiance (sun_diffuse, "
-        "sky_reflected, thermal_emission, path_radiance, ...) as a spectral variable of its "
-        "own, <term>(wavelength, y, x) [W m-2 sr-1 µm-1], in memory and in the NetCDF or Zarr "
-        "cube (the ENVI image stays radiance only); multiplies the cube's size by up to 13 "
+        "sky_reflected, thermal_emission, path_radiance, ...) and the parts of the reflected "
+        "sky and background by the light's origin (sky_reflected_solar, ...) as a spectral "
+        "variable of its own, <term>(wavelength, y, x) [W m-2 sr-1 µm-1], in memory and in the "
+        "NetCDF or Zarr cube (the ENVI image stays radiance only); multiplies the cube's size "
+        "by up to 17 "
         "and shrinks the render's passes")
 
     @field_validator("step", mode="before")
