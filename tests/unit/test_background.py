@@ -340,3 +340,31 @@ def test_vectorised_pass_through_a_volume_equals_reference(bounces, albedo):
     # in the LWIR too)
     changed = np.abs(fast - clear) > 0.01 * np.abs(clear)
     assert np.all(changed.sum(axis=0) >= 6)
+
+
+@pytest.mark.parametrize("bounces", [1, 3])
+@pytest.mark.parametrize("air", [False, True])
+def test_self_emitted_part_equals_reference(bounces, air):
+    """The self-emitted part of the background (the vertices' emission, the sky's and the
+    air's, seed 001 eq. 1's H) against the reference, with a sky that emits and air between
+    the surfaces; the total is unchanged by the split."""
+    tracer, tables, origin, normal, wo, material, u = _setup(bounces, 0.3)
+    whole = background.reflected(tracer, tables, origin, normal, wo, material, SUN, u,
+                                 epsilon=1e-3)
+    tables.sky_thermal = tables.sky * np.array([[0.0], [0.8]])  # the thermal band's sky emits
+    if air:
+        tables.air_extinction = np.array([0.0, 2e-3])
+    args = (tracer, tables, origin, normal, wo, material, SUN, u)
+    fast = background.reflected_parts(*args, epsilon=1e-3)
+    slow = background.reflected_reference_parts(*args, epsilon=1e-3)
+    for got, want in zip(fast, slow, strict=True):
+        assert got == pytest.approx(want, rel=1e-12, abs=1e-12)
+    total, thermal = fast
+    if not air:
+        assert np.array_equal(total, whole)
+    assert np.all(thermal[:, 1] > 0.0) and np.all(thermal[:, 1] < total[:, 1])
+    # the visible band: the 300-320 K surfaces' emission only, next to nothing of the total
+    assert np.all(thermal[:, 0] < 1e-20 * total[:, 0])
+    no_sun = background.reflected_parts(tracer, tables, origin, normal, wo, material,
+                                        -SUN, u, epsilon=1e-3)
+    assert np.all(no_sun[1][:, 1] > 0.0)
