@@ -18,6 +18,7 @@ import yaml
 
 import radscene
 from radscene.render import BACKGROUND_TERM, COUPLING_TERMS, TERMS
+from radscene.render.outputs import PART_LAYERS, PART_NAMES
 
 STATS = Path(__file__).with_name("demo_stats.json")
 #: Relative tolerance: renders are seeded and deterministic; this allows for floating-point
@@ -48,7 +49,7 @@ def _statistics() -> dict:
             entry = {"mean": float(rad.mean()), "std": float(rad.std()),
                      "min": float(rad.min()), "max": float(rad.max())}
             entry.update({f"{t}_mean": float(sel[t].values.mean())
-                          for t in TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS})
+                          for t in TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS + PART_NAMES})
             stats[f"{name}/{band}"] = entry
         stats[f"{name}/truth"] = {
             "shadow_fraction_mean": float(ds["shadow_fraction"].mean()),
@@ -86,3 +87,6 @@ def test_demo_statistics_are_physical(stats):
             assert np.isclose(sum(entry[f"{t}_mean"]
                                   for t in TERMS + (BACKGROUND_TERM,) + COUPLING_TERMS),
                               entry["mean"], rtol=1e-9)
+            for layer, parts in PART_LAYERS.items():  # the parts by origin sum to their layer
+                assert np.isclose(sum(entry[f"{p}_mean"] for p in parts), entry[f"{layer}_mean"],
+                                  rtol=1e-9, atol=1e-15)
