@@ -160,12 +160,16 @@ def part_layers(layer, thermal_part, solar, thermal, split):
     """A layer's (solar, thermal) parts (n_b, ...): ``thermal_part`` is its thermal part
     where computed (rows of the ``split`` bands, or of every band: ``split`` None); a band whose
     sky holds only sunlight (``solar`` and not ``thermal``, (n_b,) bool) is all solar, one
-    with only emission all thermal."""
-    thermal_layer = np.zeros_like(layer)
+    with only emission all thermal. Bands of one part are copied, not subtracted."""
+    thermal_layer = np.zeros(layer.shape)  # pages of zeros, written only where needed
     if split is None:
         thermal_layer[...] = thermal_part
-    else:
-        only = np.asarray(thermal) & ~np.asarray(solar)
-        thermal_layer[only] = layer[only]
+        return layer - thermal_layer, thermal_layer
+    only = np.asarray(thermal) & ~np.asarray(solar)
+    solar_layer = np.zeros(layer.shape)
+    for b in range(len(layer)):
+        (thermal_layer if only[b] else solar_layer)[b] = layer[b]
+    if len(split):
         thermal_layer[split] = thermal_part
-    return layer - thermal_layer, thermal_layer
+        solar_layer[split] -= thermal_part
+    return solar_layer, thermal_layer

@@ -175,8 +175,10 @@ class TileSums:
         thermal = self.sky_thermal if self.sky_thermal is not None else np.zeros(
             (len(split.split),) + sky.shape[1:])
         parts = part_layers(sky, thermal, split.solar, split.thermal, split.split)
-        parts += part_layers(self.background, 0.0 if self.background_thermal is None
-                             else self.background_thermal, None, None, None)
+        if self.background_thermal is None:  # no background pass: nothing to split
+            parts += (np.zeros(sky.shape), np.zeros(sky.shape))
+        else:
+            parts += part_layers(self.background, self.background_thermal, None, None, None)
         self.sums.update(zip(PART_NAMES, parts, strict=True))
 
     def add_media(self, pixel, weight, light, view):
