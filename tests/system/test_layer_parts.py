@@ -184,3 +184,28 @@ def test_parts_under_a_volume_stay_their_layers_share(make_plate_scene):
     assert "transmitted" in ds and float(ds["transmitted"].max()) > 0.0
     _check_sums(ds)
     assert float(ds["sky_reflected_thermal"].sel(band="mwir").mean()) > 0.0
+
+
+def test_a_volume_dims_each_part_of_the_sky_as_its_own(make_plate_scene):
+    """A cold (50 K: its own radiance, which is not split, ~1e-9), absorbing smoke box above
+    the plate hides part of each hit's sky: each part of the reflected sky is what a render
+    with that part of the sky alone gives (the volume's change of the sky split as the sky
+    is, sky_change_thermal), and none is negative."""
+    def sky_of(**sky):
+        scene = make_plate_scene({"reflectance": 0.3}, _uniform(**sky), [VIS, MWIR, LWIR],
+                                 sun_zenith=30.0, background_bounces=0)
+        scene["volumes"] = [{"name": "smoke", "shape": {"type": "box", "size": [6.0, 6.0, 2.0]},
+                             "position": [3, 0, 4], "temperature": 50.0,
+                             "single_scattering_albedo": 0.0, "optical_depth": 2.0}]
+        return render(load_scene(scene))
+
+    both = sky_of(sky_solar_radiance=SKY_SOLAR, sky_thermal_radiance=SKY_THERMAL)
+    solar = sky_of(sky_solar_radiance=SKY_SOLAR)
+    thermal = sky_of(sky_thermal_radiance=SKY_THERMAL)
+    _check_sums(both)
+    dimmed = both["sky_view_transmitted"].sel(band="mwir").values < 0.99
+    assert dimmed.any()
+    for part, alone in (("sky_reflected_solar", solar), ("sky_reflected_thermal", thermal)):
+        np.testing.assert_allclose(both[part].values, alone["sky_reflected"].values, rtol=SUM,
+                                   atol=1e-9, err_msg=part)
+        assert float(both[part].min()) >= 0.0

@@ -13,11 +13,11 @@ import numpy as np
 from radscene.atmosphere import sky_node_weights
 from radscene.render import media, node_mixing, sheets
 from radscene.render.band_setup import sun_irradiance
-from radscene.render.brdf_tables import view_weights
+from radscene.render.brdf_tables import brdf_sky as brdf_sky_sum
 from radscene.render.spectral import breakpoints
 from radscene.render.surface import textures
 
-__all__ = ["for_render", "sky_change", "MEDIA_CHUNK"]
+__all__ = ["for_render", "sky_change", "sky_change_thermal", "MEDIA_CHUNK"]
 
 #: Sky-fan rays whose sky-node weights are formed at once (P × sky nodes floats).
 MEDIA_CHUNK = 1 << 13
@@ -58,26 +58,11 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
     if len(change.point) == 0:
         return d_sky, d_light
     tau_a = node_mixing.gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
+    brdf_sky = None if bset.brdf is None else bset.brdf.sky
     for start in range(0, len(change.point), MEDIA_CHUNK):
         c = slice(start, start + MEDIA_CHUNK)
-        point, d = change.point[c], change.direction[c]
-        zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
-        azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
-        hats = sky_node_weights(zenith, azimuth, *bset.sky_nodes)  # (P, K)
-        nodes = nodes_all.subset(st.rank[point])
+        point, d, share = _shares(change, c, bset, sky_diffuse, brdf_sky, st, nodes_all)
         mat = st.mat[point]
-        share = node_mixing.mix_sky(sky_diffuse, mat, nodes.index, nodes.weight, hats)
-        if bset.brdf is not None:  # by reciprocity, ρ_dh at the view angle (brdf_terms)
-            for m in bset.brdf.models:
-                sel = np.flatnonzero(mat == m)
-                if len(sel) == 0:
-                    continue
-                lower, frac = view_weights(st.cos_v[point[sel]])
-                sub = nodes.subset(sel)
-                share[sel] = sum(
-                    v_weight[:, None] * node_mixing.sky_sum(bset.brdf.sky[m], v_index, sub,
-                                                            hats[sel])
-                    for v_index, v_weight in ((lower, 1.0 - frac), (lower + 1, frac)))
         light = change.light[c]
         own = np.zeros_like(light)
         lit = np.flatnonzero(np.any(light > 0.0, axis=1))
@@ -89,3 +74,39 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
             d_light[:, b] += np.bincount(point, own[:, b], n)
     scale = tex["reflectance"][:, None] / change.samples
     return d_sky * scale, d_light * scale
+
+
+def sky_change_thermal(change, bset, st, tex, nodes_all):
+    """The thermal part of :func:`sky_change`'s change of the reflected sky, in the bands
+    whose sky holds sunlight and emission (``bset.sky_split.split``): (N, n_split)
+    [W m-2 sr-1], the same sums with the thermal sky's tables
+    (:mod:`radscene.render.sky_split`)."""
+    split = bset.sky_split
+    n = len(st.mat)
+    out = np.zeros((n, len(split.split)))
+    brdf_sky = None if bset.brdf is None else bset.brdf.sky_thermal
+    for start in range(0, len(change.point), MEDIA_CHUNK):
+        c = slice(start, start + MEDIA_CHUNK)
+        point, _, share = _shares(change, c, bset, split.diffuse, brdf_sky, st, nodes_all)
+        for s, b in enumerate(split.split):
+            out[:, s] += np.bincount(point, change.delta[c, b] * share[:, s], n)
+    return out * (tex["reflectance"][:, None] / change.samples)
+
+
+def _shares(change, c, bset, sky_diffuse, brdf_sky, st, nodes_all):
+    """The changed rays ``c`` of a tile's sky fans: their hits (P,), directions (P, 3) and
+    shares of the reflected sky (P, bands of ``sky_diffuse``), the sky sum of ``sky_diffuse``
+    (a material's BRDF model: of its table in ``brdf_sky``) with each ray's sky-node
+    weights as fractions."""
+    point, d = change.point[c], change.direction[c]
+    zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
+    azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
+    hats = sky_node_weights(zenith, azimuth, *bset.sky_nodes)  # (P, K)
+    nodes = nodes_all.subset(st.rank[point])
+    mat = st.mat[point]
+    share = node_mixing.mix_sky(sky_diffuse, mat, nodes.index, nodes.weight, hats)
+    for m, table in (brdf_sky or {}).items():  # by reciprocity, ρ_dh at the view angle
+        sel = np.flatnonzero(mat == m)
+        if len(sel):
+            share[sel] = brdf_sky_sum(table, st.cos_v[point[sel]], nodes.subset(sel), hats[sel])
+    return point, d, share

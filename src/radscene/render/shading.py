@@ -132,4 +132,7 @@ class TileShader:
             out[3][:, p] += (d_sky * wh[:, None]).T
         else:
             out[3] += d_sky.T
+        if len(self.bset.sky_split.split):  # the thermal sky's share of the change
+            self.image.add_sky_thermal(p, wh, media_sky.sky_change_thermal(
+                change, self.bset, st, tex, self.nodes.nodes_all).T)
         self.image.add_media(p, wh, d_light.T, sky_view[None, :] + change.view(len(st.hidx)).T)

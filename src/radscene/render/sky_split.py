@@ -19,9 +19,11 @@ tables (:meth:`SkySplit.tile_thermal`) — and the solar part is the layer less 
 pass carries its vertices' emission, their thermal sky and the air's emission apart
 (:mod:`radscene.render.background`); its solar part is the layer less that.
 
-Limits: the change of the reflected sky by volumes and sheets and the volumes' own radiance
-reflected along the sky rays (:mod:`radscene.render.media_sky`), and the volumes' radiance on
-the background's paths, are counted in the solar parts.
+Volumes and sheets on the sky rays dim each part as their own
+(:func:`radscene.render.media_sky.sky_change_thermal`). Limits: the volumes' own radiance
+reflected along the sky rays and met on the background's paths (emission and scattered
+sunlight together) is not split; in a band whose sky holds both parts it counts in the solar
+part.
 """
 
 from __future__ import annotations
