@@ -15,6 +15,10 @@ sky_reflected       Δρ · Σ_k [∫ S ρ_d L_sky,k τ_a dλ · F_k + ∫ S ρ_
 path_radiance       ∫ S L_path dλ
 ==================  ================================================================
 
+``sky_reflected`` is also written as its two parts, the sky's scattered sunlight and its
+emission (``sky_reflected_solar``, ``sky_reflected_thermal``: the same sums with each part of
+L_sky; :mod:`radscene.render.sky_split`).
+
 F_k is the cosine-weighted fraction of the hemisphere that sees sky node k,
 (1/π)∫_visible sky h_k(ω) cos θ dω, and G_k the same fraction under the Phong lobe; with
 E_sun the irradiance normal to the beam, the OSSIM diffuse term α_s cos θ_s ∫ε_s L(T_s) ρ_o
