@@ -109,6 +109,45 @@ def _frames(times: list[float], single: float) -> dict:
             "frame_over_single": round(median / single, 3)}
 
 
+def _lockstep(scene, base, frames: int):
+    """Two incremental sequences of ``scene`` stepped together, with key frames (the
+    default, :mod:`radscene.render.key_frames`) and without (``render.key_frames: false``,
+    every pixel shaded at its own instant): (each frame's wall time [s] of each, and per
+    observer and frame the largest and the 99th-percentile relative difference of radiance
+    between the two). The label maps must match exactly (an error otherwise)."""
+    import copy
+
+    import numpy as np
+
+    import radscene
+
+    sims, times = [], ([], [])
+    for flag in (True, False):
+        document = copy.deepcopy(scene)
+        document.setdefault("render", {})["key_frames"] = flag
+        sims.append(radscene.Simulation(radscene.load_scene(document, base_dir=base)))
+    errors = {}
+    for k in range(frames):
+        shown = []
+        for sim, spent in zip(sims, times, strict=True):
+            t = time.perf_counter()
+            shown.append(sim.render() if k == 0 else sim.step(STEP))
+            spent.append(time.perf_counter() - t)
+        for name, got in shown[0].radiance.items():
+            want = shown[1].radiance[name]
+            for var in ("object_id", "material_id", "range", "latitude", "longitude"):
+                if var in want and not np.array_equal(got[var].values, want[var].values,
+                                                      equal_nan=True):
+                    raise AssertionError(f"frame {k}, {name}: {var} differs")
+            x, y = want.radiance.values, got.radiance.values
+            rel = (np.abs(y - x) / np.maximum(np.abs(x), 1e-30))[x > 0]
+            errors.setdefault(name, []).append((float(rel.max()), float(np.quantile(rel, 0.99))))
+        print(f"frame {k}: {times[0][-1]:.2f} s with key frames, {times[1][-1]:.2f} s without;",
+              {n: f"{e[-1][0]:.1e} (p99 {e[-1][1]:.1e})" for n, e in errors.items()}, flush=True)
+        del shown
+    return times, errors
+
+
 def _stepped(loaded, frames: int, incremental: bool, keep: bool):
     """The frames of a sequence as :func:`radscene.render_sequence` renders them (a
     :class:`radscene.Simulation` at the first instant, then a step of ``STEP`` per frame),
@@ -162,8 +201,16 @@ def run_sequence(args) -> dict:
     result = {"machine": machine(), "source": source_version(), "load_before": load_before,
               "step_s": STEP, "heat_balance_s": round(thermal, 2), "single_render_s": round(single, 3)}
     runs = {}
+    if args.compare_key_frames:  # with key frames and without, their differences
+        (keyed, every), errors = _lockstep(scene, base, args.frames)
+        result["sequence_key_frames"] = _frames(keyed, single)
+        result["sequence_no_key_frames"] = _frames(every, single)
+        result["key_frames_max_rel"] = {n: max(e[0] for e in v) for n, v in errors.items()}
+        result["key_frames_p99_rel"] = {n: max(e[1] for e in v) for n, v in errors.items()}
+        result["load_after_compare"] = os.getloadavg()
     for key, incremental in (("sequence", True), ("sequence_full_frames", False)):
-        if key == "sequence_full_frames" and args.no_full_frames:
+        if key == "sequence_full_frames" and args.no_full_frames or (
+                key == "sequence" and args.compare_key_frames):
             continue
         loaded = radscene.load_scene(scene, base_dir=base)
         times, runs[key] = _stepped(loaded, args.frames, incremental,
@@ -251,6 +298,9 @@ def main() -> None:
                         help="frames of the sequence (default 100; --refit: 10)")
     parser.add_argument("--no-full-frames", action="store_true",
                         help="the incremental sequence only, not the one of full frames")
+    parser.add_argument("--compare-key-frames", action="store_true",
+                        help="the incremental sequence with key frames and without, stepped "
+                        "together: each one's frame times and their largest differences")
     parser.add_argument("--realtime-frames", type=int, default=100,
                         help="frames of the real-time part of the sequence (0: none)")
     args = parser.parse_args()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from radscene.render import background, media_sky, node_mixing, terms
+from radscene.render import background, key_frames, media_sky, node_mixing, terms
 from radscene.render.brdf_tables import brdf_terms
 from radscene.render.outputs import TERMS, THERMAL_BAND_START
 from radscene.render.surface import textures
@@ -66,10 +66,13 @@ class TileShader:
         if self.medium is not None:  # the sky rays' change by volumes and sheets
             self._media(st, tex, out, p, wh, sky_view)
         if self.reflect is not None:  # at the surface, then through τ_a and Δρ
-            kept = None if self.cache is None else self.cache.background(
-                self.tables.tracer, st, sl, self.reflect.samples)
-            values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
-                                  getattr(st, "fan", None), kept)
+            if hasattr(st, "full"):  # some hits of the tile, between key frames
+                values = key_frames.reflected_rows(self.reflect, st, sl)
+            else:
+                kept = None if self.cache is None else self.cache.background(
+                    self.tables.tracer, st, sl, self.reflect.samples)
+                values = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
+                                      getattr(st, "fan", None), kept)
             values *= node_mixing.gather_band(self.bset.coefficients.transmittance,
                                               self.nodes.nodes_all.subset(st.rank))
             values *= tex["reflectance"][:, None]

@@ -1,0 +1,303 @@
+"""Key frames: a sequence's unchanged pixels extrapolated in time between fully shaded frames.
+
+Between two frames of a sequence the sun moves a little (the demo's 1.7e-4° in 40 ms) and the
+heat balance's temperatures, linear in time between its steps, change a little; where nothing
+that moved touched a pixel's rays its radiance is a smooth function of time. An incremental
+frame (:mod:`radscene.render.frame_cache`) still shades every ray sample again; with key
+frames only some frames do — the *key frames* — and the frames between them shade only the
+pixels that something moved through since the older of the last two key frames, and take
+every other pixel's sums (the signature terms, the background, the transmittance and the
+truth sums) extrapolated linearly in time from the last two key frames:
+
+.. math::
+    L(t) = L(t_a) + \\frac{t - t_a}{t_b - t_a}\\,\\bigl(L(t_b) - L(t_a)\\bigr).
+
+The shaded pixels of a frame between take the band tables (sun, sky, path radiance and
+transmittance at the atmosphere's path nodes) extrapolated the same way from those of the
+key frames; their geometry, shadows, fans, temperatures, emission and reflected background
+are the frame's own. The surface–atmosphere coupling layers are formed every frame from the
+image so made. Truth maps of labels and positions (object and material ids, normals,
+geolocation, range) are the frame's own, exactly: an unchanged pixel sees what it saw.
+
+What makes a pixel *shaded* in a frame between (any of its ray samples):
+
+* its primary ray was traced again (it passes through the bounding sphere of an object moved
+  since the last frame: :meth:`~radscene.render.frame_cache.FrameCache.primary`);
+* a direction of its sky fan or specular lobe fan passes through such a sphere
+  (:func:`~radscene.render.kept_fans.fans_meet_spheres`);
+* its sun shadow ray (traced every frame) answers otherwise than in either key frame — a
+  moved object's shadow, or a shadow edge that the sun moved across the sample;
+
+once shaded, a pixel is shaded until the next key frame but one (its key-frame values hold
+what moved). A frame is a key frame (every sample shaded, its sums kept) where fewer than two
+key frames are kept, where the frame lies more than ``render.key_frame_interval`` after the
+newer key frame, where the sun has turned by more than :data:`MAX_SUN_STEP` since the older
+one, where the heat balance has passed one of its time steps (or was solved again) since the
+older one, where the atmosphere's path nodes differ from the key frames', and wherever the
+frame cache cannot keep the rays (a full frame). Not probed: the rays beyond the first
+vertex of a reflected-background path (its vertex's sun and sky) — a moved object that
+shades the vertex of a path of an unchanged pixel changes that path's share of the pixel's
+background term, which the pixel keeps from the key frames (see ``docs/simulation.md``).
+
+Memory: per observer two key frames of per-pixel sums (the five terms, the background and
+the transmittance per band, six truth sums, the labels) and one shadow flag per ray sample:
+for the demo's two observers at supersample 2 and eight bands about 160 MB.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import fields, replace
+from types import SimpleNamespace
+
+import numpy as np
+
+from radscene.render.kept_fans import fans_meet_spheres
+
+__all__ = ["KeyFrames", "MAX_SUN_STEP"]
+
+#: The most the sun may turn between the older key frame and a frame extrapolated from it
+#: [deg]: 12 s of the sun's motion. Extrapolating a sun term over an angle θ is off by
+#: about θ² (radians) relative: 8e-7 at this step.
+MAX_SUN_STEP = 0.05
+
+#: How far two frames' path nodes may lie apart and count as the same: observer and target
+#: altitude [m], view zenith and relative azimuth [deg]. Engines whose path does not depend
+#: on the geometry put one node at the hits' mean geometry, which a moving object shifts a
+#: little every frame (the demo's truck: its mean target altitude by about 1e-4 m); an
+#: engine's spectra change over 0.01 m of altitude by about 1e-6 relative (scale heights of
+#: kilometres). A relative azimuth node that the pixels share follows the sun's azimuth,
+#: smoothly: it may move as far as the sun may turn.
+NODE_TOLERANCE = (0.01, 0.01, 1e-4, MAX_SUN_STEP)
+
+
+def _sun_vector(zenith, azimuth) -> np.ndarray:
+    z, a = np.radians(zenith), np.radians(azimuth)
+    return np.array([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)])
+
+
+class KeyFrames:
+    """The last two key frames of one observer, and the pixels changed since each.
+
+    Parameters
+    ----------
+    interval : float
+        The longest time from the newer key frame to a frame extrapolated from it [s]
+        (``render.key_frame_interval``).
+
+    The simulation tells it each frame's instant (:meth:`at`); the render asks it whether the
+    frame is a key frame (:meth:`plan`), which samples to shade (:meth:`tile`), and keeps or
+    fills the sums (:meth:`finish`). ``between`` counts the frames made between key frames,
+    ``shaded`` the pixels the last frame shaded.
+    """
+
+    def __init__(self, interval: float):
+        self.interval = float(interval)
+        self.keys = []  # oldest first, at most two
+        self.instant = None
+        self.between = 0
+        self.shaded = 0
+
+    def reset(self) -> None:
+        """Keep no key frame: the next frame is one."""
+        self.keys = []
+
+    def at(self, elapsed: float, sun_zenith: float, sun_azimuth: float, segment=None) -> None:
+        """The instant of the next frame: ``elapsed`` [s] since the start, the sun [deg], and
+        ``segment`` — anything equal for two instants between the same time steps of the
+        heat balance's solution (None without one)."""
+        self.instant = SimpleNamespace(elapsed=float(elapsed), sun=_sun_vector(sun_zenith, sun_azimuth),
+                                       segment=segment)
+
+    def _weight(self):
+        """The extrapolation weight (t - t_a) / (t_b - t_a) of the next frame, or None where it
+        must be a key frame by time, sun or heat balance."""
+        now = self.instant
+        if now is None or len(self.keys) < 2:
+            return None
+        a, b = self.keys
+        if not (b.elapsed < now.elapsed <= b.elapsed + self.interval * (1 + 1e-9)):
+            return None
+        turned = np.degrees(np.arccos(np.clip(a.sun @ now.sun, -1.0, 1.0)))
+        if turned > MAX_SUN_STEP or not (a.segment == b.segment == now.segment):
+            return None
+        return (now.elapsed - a.elapsed) / (b.elapsed - a.elapsed)
+
+    def plan(self, cache, rays, hits, shadow_pass, path_nodes, build_tables):
+        """What this frame is: a namespace with ``bset`` (the band tables: built by
+        ``build_tables()`` for a key frame, extrapolated for a frame between), ``between``
+        (bool) and what :meth:`launch` and :meth:`finish` need. ``shadow_pass`` is the
+        future of every hit's sun flag, ``path_nodes`` the atmosphere's nodes of the
+        frame's hits."""
+        n = len(rays.pixel)
+        nodes = _fingerprint(path_nodes)
+        w = self._weight()
+        if w is not None and not (self.keys[0].n == n and _same(self.keys[0].nodes, nodes)
+                                  and _same(self.keys[1].nodes, nodes)
+                                  and self.keys[1].bset.brdf is None):
+            w = None
+        between = w is not None
+        if between:
+            a, b = self.keys
+            bset = copy.copy(b.bset)
+            bset.coefficients = replace(b.bset.coefficients, **{
+                f.name: _extrapolate(getattr(a.bset.coefficients, f.name),
+                                     getattr(b.bset.coefficients, f.name), w)
+                for f in fields(b.bset.coefficients)})
+        else:
+            bset = build_tables()
+        return SimpleNamespace(between=between, weight=w, bset=bset, nodes=nodes, cache=cache,
+                               rays=rays, hits=hits, shadow_pass=shadow_pass, lit=None,
+                               active=np.zeros(n, bool) if between else None,
+                               n_pix=rays.shape[0] * rays.shape[1])
+
+    @staticmethod
+    def _lit(plan) -> np.ndarray:
+        """Each ray sample's sun flag (NaN: no hit), from the frame's shadow rays."""
+        if plan.lit is None:
+            plan.lit = np.full(len(plan.rays.pixel), np.nan)
+            plan.lit[plan.hits.hit] = plan.shadow_pass.result()
+        return plan.lit
+
+    def launch(self, plan, sl, st, shifts, settings, exponent):
+        """Mark the pixels of tile ``sl`` that something moved through (see the module's
+        description) in every kept key frame's record; return the tile's hits to shade and
+        their fans' rotations: ``st`` (:func:`~radscene.render.surface.surface_state`, None
+        where the tile has no hit) and ``shifts`` (:func:`~radscene.render.surface.fan_shifts`)
+        as they are in a key frame, else only those of the pixels changed since the older key
+        frame (None where there are none), with ``full`` = (the tile's hits, the rows kept,
+        the rotations of every hit's sky fan). ``exponent`` is every material's lobe
+        exponent."""
+        if self.keys:
+            self._mark(plan, sl, st, shifts, settings, exponent)
+        if not plan.between:
+            return st, shifts
+        active = self.keys[0].touched[plan.rays.pixel[sl]]
+        plan.active[sl] = active
+        if st is None:
+            return None, None
+        rows = np.flatnonzero(active[st.hidx - sl.start])
+        if not len(rows):
+            return None, None
+        n = len(st.hidx)
+        sub = SimpleNamespace(**{k: v[rows] if isinstance(v, np.ndarray) and len(v) == n
+                                 and not (k == "sun" and len(v) == 1) else v
+                                 for k, v in vars(st).items()})
+        sub.full = (st, rows, shifts[0])
+        lobe = None
+        if shifts[1] is not None:
+            chosen = np.zeros(n, dtype=bool)
+            chosen[rows] = True
+            lobe = shifts[1][chosen[st.specular]]
+            lobe = lobe if len(lobe) else None
+        return sub, (shifts[0][rows], lobe)
+
+    def _mark(self, plan, sl, st, shifts, settings, exponent):
+        cache = plan.cache
+        dirty = cache.kept.fresh[sl].copy()  # primary rays traced again
+        if st is not None:
+            spheres = cache.spheres
+            moved = fans_meet_spheres(st.origin, st.nrm, settings.sky_samples, shifts[0],
+                                      spheres)
+            if shifts[1] is not None and len(spheres):
+                sel = st.specular
+                axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
+                moved[sel] |= fans_meet_spheres(st.origin[sel], st.nrm[sel],
+                                                settings.specular_samples, shifts[1], spheres,
+                                                lobe=(axis, exponent[st.mat[sel]]))
+            lit = self._lit(plan)[st.hidx]
+            for key in self.keys:
+                moved |= lit != key.lit[st.hidx]
+            dirty[st.hidx - sl.start] |= moved
+        changed = plan.rays.pixel[sl][dirty]
+        for key in self.keys:
+            key.touched[changed] = True
+
+    def finish(self, plan, image) -> None:
+        """After the tiles: in a frame between, the pixels not shaded take the key frames'
+        sums extrapolated (and the totals are formed again); in a key frame its sums are kept
+        and the older key frame let go where two are kept."""
+        if plan.between:
+            a, b = self.keys
+            clean = ~a.touched
+            for name, target in _layers(image):
+                extrapolated = _extrapolate(a.sums[name], b.sums[name], plan.weight)
+                np.copyto(target, extrapolated, where=np.broadcast_to(clean, target.shape))
+            for name, target in _labels(image):
+                np.copyto(target, b.sums[name], where=np.broadcast_to(clean, target.shape))
+            if image.radiance is not None:  # formed per tile: again for every pixel
+                image.totals(np.arange(plan.n_pix))
+            plan.cache.hold()  # its background paths' first rays not kept
+            self.between += 1
+            self.shaded = int(np.count_nonzero(~clean))
+            return
+        plan.cache.release()
+        self.shaded = plan.n_pix
+        now = self.instant
+        if now is None:  # no instant known: nothing to extrapolate over
+            self.keys = []
+            return
+        sums = {name: target.copy() for name, target in (*_layers(image), *_labels(image))}
+        self.keys.append(SimpleNamespace(
+            n=len(plan.rays.pixel), elapsed=now.elapsed, sun=now.sun, segment=now.segment,
+            sums=sums, lit=self._lit(plan), nodes=plan.nodes, bset=plan.bset,
+            touched=np.zeros(plan.n_pix, dtype=bool)))
+        self.keys = self.keys[-2:]
+
+
+def reflected_rows(reflect, st, sl) -> np.ndarray:
+    """The reflected background (:class:`radscene.render.background.Pass`) of the hits
+    ``st`` that :meth:`KeyFrames.launch` kept of tile ``sl``, with the random numbers they
+    have among all the tile's hits: the paths of the others are not followed (their first
+    rays taken as leaving the scene). (N, n_b) as ``reflect`` returns."""
+    from radscene.render.background import Fan
+
+    full, rows, shift = st.full
+    n, samples = len(full.hidx), reflect.samples
+    fan = getattr(st, "fan", None)
+    if fan is not None:
+        blocked = np.zeros((n, fan.samples), dtype=bool)
+        blocked[rows] = fan.blocked
+        fan = Fan(shift, fan.samples, blocked)
+    retrace = np.zeros(n, dtype=bool)
+    retrace[rows] = True
+    kept = SimpleNamespace(retrace=retrace, known=np.zeros(2 * n * samples, dtype=bool),
+                           spheres=np.zeros((0, 4)),
+                           out=SimpleNamespace(blocked=np.zeros(2 * n * samples, dtype=bool),
+                                               filled=np.zeros(n, dtype=bool)))
+    return reflect(full.origin, full.nrm, full.wo, full.mat, full.sun, sl.start, fan, kept)[rows]
+
+
+def _extrapolate(a, b, w):
+    return a + w * (b - a)
+
+
+def _layers(image):
+    """The per-pixel sums of a :class:`~radscene.render.tiles.TileSums` that change in time:
+    (name, array) with the pixel as the last axis."""
+    out = [("acc", image.acc), ("transmittance", image.transmittance),
+           ("background", image.background)]
+    out += [(f"truth_{k}", v) for k, v in image.truth.items()]
+    return out
+
+
+def _labels(image):
+    """The labels of the pixels (object, material, normal): those of the newer key frame."""
+    return [("object_id", image.object_id), ("material_id", image.material_id),
+            ("normal_map", image.normal_map)]
+
+
+def _fingerprint(path_nodes) -> list:
+    """The arrays that define the atmosphere's path nodes (not the hits' mixing of them), to
+    compare two frames' nodes."""
+    return [np.asarray(getattr(path_nodes, name), dtype=float) for name in
+            ("observer_altitude", "target_altitude", "view_zenith", "relative_azimuth")
+            if getattr(path_nodes, name) is not None]
+
+
+def _same(a, b) -> bool:
+    """Whether two frames' path nodes (:func:`_fingerprint`) are the same, to
+    :data:`NODE_TOLERANCE` each."""
+    return len(a) == len(b) and all(
+        x.shape == y.shape and np.allclose(x, y, rtol=0.0, atol=tol)
+        for x, y, tol in zip(a, b, NODE_TOLERANCE, strict=False))
