@@ -82,9 +82,6 @@ class FrameCache:
         self.traced = {}
         #: the observer's key frames (:class:`radscene.render.key_frames.KeyFrames`) or None
         self.keys = keys
-        #: what moved since the background paths' first rays were last kept (frames between
-        #: key frames do not keep them): the samples traced again and the spheres
-        self.held = None
 
     def moved(self, spheres) -> None:
         """Record spheres (4,) (centre [m], radius [m]) that something moved through."""
@@ -94,19 +91,8 @@ class FrameCache:
         """Keep nothing: the next frame is traced in full."""
         self.kept = None
         self.pending = []
-        self.held = None
         if self.keys is not None:
             self.keys.reset()
-
-    def hold(self) -> None:
-        """This frame leaves the background paths' kept first rays as they are: the next
-        frame that keeps them traces again what moved through them since."""
-        if self.held is None:
-            self.held = SimpleNamespace(fresh=self.kept.fresh.copy(), spheres=[self.spheres])
-
-    def release(self) -> None:
-        """The background paths' first rays are up to date (a frame kept them)."""
-        self.held = None
 
     @staticmethod
     def usable(scene, tables, track, rays) -> bool:
@@ -138,7 +124,6 @@ class FrameCache:
             self.pending = []
             self.spheres = np.zeros((0, 4))
             self.traced = {"primary": n}
-            self.held = None
             if self.keys is not None:  # other rays: the key frames no longer apply
                 self.keys.reset()
             return hits
@@ -157,9 +142,6 @@ class FrameCache:
                 columns[name] = column
             kept.hits = Hits(**columns)
         kept.fresh = redo
-        if self.held is not None:
-            self.held.fresh |= redo
-            self.held.spheres.append(self.spheres)
         self.traced = {"primary": len(at)}
         return kept.hits
 
@@ -205,12 +187,10 @@ class FrameCache:
         out = SimpleNamespace(blocked=np.zeros(2 * n * samples, dtype=bool),
                               filled=np.zeros(n, dtype=bool))  # the points whose paths it holds
         kept.background[sl.start] = (st.hidx.copy(), out)
-        held = self.held
-        local = (self.spheres if held is None else np.concatenate(held.spheres)).copy()
+        local = self.spheres.copy()
         local[:, :3] -= tracer.center
         if not same:
             return SimpleNamespace(retrace=np.ones(n, dtype=bool), known=out.blocked,
                                    spheres=local, out=out)
-        fresh = kept.fresh if held is None else held.fresh
-        return SimpleNamespace(retrace=fresh[st.hidx] | ~previous[1].filled,
+        return SimpleNamespace(retrace=kept.fresh[st.hidx] | ~previous[1].filled,
                                known=previous[1].blocked, spheres=local, out=out)

@@ -6,18 +6,22 @@ that moved touched a pixel's rays its radiance is a smooth function of time. An 
 frame (:mod:`radscene.render.frame_cache`) still shades every ray sample again; with key
 frames only some frames do — the *key frames* — and the frames between them shade only the
 pixels that something moved through since the older of the last two key frames, and take
-every other pixel's sums (the signature terms, the background, the transmittance and the
-truth sums) extrapolated linearly in time from the last two key frames:
+every other pixel's sums (the signature terms, the transmittance and the truth sums)
+extrapolated linearly in time from the last two key frames:
 
 .. math::
     L(t) = L(t_a) + \\frac{t - t_a}{t_b - t_a}\\,\\bigl(L(t_b) - L(t_a)\\bigr).
 
 The shaded pixels of a frame between take the band tables (sun, sky, path radiance and
 transmittance at the atmosphere's path nodes) extrapolated the same way from those of the
-key frames; their geometry, shadows, fans, temperatures, emission and reflected background
-are the frame's own. The surface–atmosphere coupling layers are formed every frame from the
-image so made. Truth maps of labels and positions (object and material ids, normals,
-geolocation, range) are the frame's own, exactly: an unchanged pixel sees what it saw.
+key frames; their geometry, shadows, fans, temperatures and emission are the frame's own.
+The reflected background is every pixel's own in every frame (its paths' vertices may see
+what moved anywhere: the pass follows them all, as an incremental frame does), with the band
+tables of the newer key frame's sun. The surface–atmosphere coupling layers are formed every
+frame from the image so made. Truth maps of labels and positions (object and material ids,
+normals, geolocation, range) are the frame's own, exactly: an unchanged pixel sees what it
+saw; the truth sums (cos θ_i, shadow, sky view, surface temperature) are extrapolated as the
+radiance is.
 
 What makes a pixel *shaded* in a frame between (any of its ray samples):
 
@@ -29,19 +33,21 @@ What makes a pixel *shaded* in a frame between (any of its ray samples):
   moved object's shadow, or a shadow edge that the sun moved across the sample;
 
 once shaded, a pixel is shaded until the next key frame but one (its key-frame values hold
-what moved). A frame is a key frame (every sample shaded, its sums kept) where fewer than two
-key frames are kept, where the frame lies more than ``render.key_frame_interval`` after the
-newer key frame, where the sun has turned by more than :data:`MAX_SUN_STEP` since the older
-one, where the heat balance has passed one of its time steps (or was solved again) since the
-older one, where the atmosphere's path nodes differ from the key frames', and wherever the
-frame cache cannot keep the rays (a full frame). Not probed: the rays beyond the first
-vertex of a reflected-background path (its vertex's sun and sky) — a moved object that
-shades the vertex of a path of an unchanged pixel changes that path's share of the pixel's
-background term, which the pixel keeps from the key frames (see ``docs/simulation.md``).
+what moved). Key frames lie ``render.key_frame_interval`` apart (the first frame, then the
+first frame at least that long after the newer key frame), so that a frame is extrapolated
+from a baseline of that interval, at most as far again: an extrapolation from two frames
+40 ms apart would carry every small step of a frame's numbers (the emission's 1 mK
+temperature step, :data:`~radscene.render.band_setup.EMISSION_TEMPERATURE_STEP`) 25 times
+over a second. Until a second key frame is kept, and wherever a frame cannot be
+extrapolated, every pixel is shaded (an incremental frame). A frame cannot be extrapolated
+where the sun has turned by more than :data:`MAX_SUN_STEP` since the older key frame, where
+the heat balance has passed one of its time steps (or was solved again) since then — such a
+frame starts the key frames afresh —, where the atmosphere's path nodes differ from the key
+frames', and wherever the frame cache cannot keep the rays (a full frame).
 
-Memory: per observer two key frames of per-pixel sums (the five terms, the background and
-the transmittance per band, six truth sums, the labels) and one shadow flag per ray sample:
-for the demo's two observers at supersample 2 and eight bands about 160 MB.
+Memory: per observer two key frames of per-pixel sums (the five terms and the transmittance
+per band, six truth sums, the labels) and one sun flag per ray sample (float64), and their
+band tables: for the demo's two observers at supersample 2 and eight bands about 0.14 GB.
 """
 
 from __future__ import annotations
@@ -82,8 +88,8 @@ class KeyFrames:
     Parameters
     ----------
     interval : float
-        The longest time from the newer key frame to a frame extrapolated from it [s]
-        (``render.key_frame_interval``).
+        The time between key frames [s] (``render.key_frame_interval``): frames are
+        extrapolated from the last two over less than that past the newer.
 
     The simulation tells it each frame's instant (:meth:`at`); the render asks it whether the
     frame is a key frame (:meth:`plan`), which samples to shade (:meth:`tile`), and keeps or
@@ -111,17 +117,33 @@ class KeyFrames:
 
     def _weight(self):
         """The extrapolation weight (t - t_a) / (t_b - t_a) of the next frame, or None where it
-        must be a key frame by time, sun or heat balance."""
+        cannot be extrapolated by time, sun or heat balance."""
         now = self.instant
         if now is None or len(self.keys) < 2:
             return None
         a, b = self.keys
-        if not (b.elapsed < now.elapsed <= b.elapsed + self.interval * (1 + 1e-9)):
-            return None
-        turned = np.degrees(np.arccos(np.clip(a.sun @ now.sun, -1.0, 1.0)))
-        if turned > MAX_SUN_STEP or not (a.segment == b.segment == now.segment):
+        if not (b.elapsed < now.elapsed < b.elapsed + self.interval * (1 - 1e-9)):
+            return None  # at an interval from the newer key frame: the next one
+        if self._turned(a, now) > MAX_SUN_STEP or not (a.segment == b.segment == now.segment):
             return None
         return (now.elapsed - a.elapsed) / (b.elapsed - a.elapsed)
+
+    @staticmethod
+    def _turned(key, now) -> float:
+        """The angle the sun turned from a key frame to ``now`` [deg]."""
+        return float(np.degrees(np.arccos(np.clip(key.sun @ now.sun, -1.0, 1.0))))
+
+    def _due(self, nodes) -> bool:
+        """Whether a frame shaded in full is kept as a key frame: the first; one across a jump
+        of the sun, the heat balance or the path nodes (the key frames start afresh); one an
+        interval after the newer key frame."""
+        now = self.instant
+        if self.keys:
+            newest = self.keys[-1]
+            if (self._turned(newest, now) > MAX_SUN_STEP or newest.segment != now.segment
+                    or not _same(newest.nodes, nodes)):
+                self.keys = []
+        return not self.keys or now.elapsed >= self.keys[-1].elapsed + self.interval * (1 - 1e-9)
 
     def plan(self, cache, rays, hits, shadow_pass, path_nodes, build_tables):
         """What this frame is: a namespace with ``bset`` (the band tables: built by
@@ -177,8 +199,6 @@ class KeyFrames:
         if st is None:
             return None, None
         rows = np.flatnonzero(active[st.hidx - sl.start])
-        if not len(rows):
-            return None, None
         n = len(st.hidx)
         sub = SimpleNamespace(**{k: v[rows] if isinstance(v, np.ndarray) and len(v) == n
                                  and not (k == "sun" and len(v) == 1) else v
@@ -227,15 +247,15 @@ class KeyFrames:
                 np.copyto(target, b.sums[name], where=np.broadcast_to(clean, target.shape))
             if image.radiance is not None:  # formed per tile: again for every pixel
                 image.totals(np.arange(plan.n_pix))
-            plan.cache.hold()  # its background paths' first rays not kept
             self.between += 1
             self.shaded = int(np.count_nonzero(~clean))
             return
-        plan.cache.release()
         self.shaded = plan.n_pix
         now = self.instant
         if now is None:  # no instant known: nothing to extrapolate over
             self.keys = []
+            return
+        if not self._due(plan.nodes):
             return
         sums = {name: target.copy() for name, target in (*_layers(image), *_labels(image))}
         self.keys.append(SimpleNamespace(
@@ -245,27 +265,21 @@ class KeyFrames:
         self.keys = self.keys[-2:]
 
 
-def reflected_rows(reflect, st, sl) -> np.ndarray:
-    """The reflected background (:class:`radscene.render.background.Pass`) of the hits
-    ``st`` that :meth:`KeyFrames.launch` kept of tile ``sl``, with the random numbers they
-    have among all the tile's hits: the paths of the others are not followed (their first
-    rays taken as leaving the scene). (N, n_b) as ``reflect`` returns."""
+def whole_fan(cache, st) -> None:
+    """Give the tile's hits ``st.full`` (:meth:`KeyFrames.launch`) their sky fans (the first
+    directions of the reflected background's paths): the shaded hits' as this frame traced
+    them (``st.fan``), the others' from the frame cache's bits, as a kept fan gives them."""
     from radscene.render.background import Fan
 
-    full, rows, shift = st.full
-    n, samples = len(full.hidx), reflect.samples
+    whole, rows, shift = st.full
     fan = getattr(st, "fan", None)
-    if fan is not None:
-        blocked = np.zeros((n, fan.samples), dtype=bool)
-        blocked[rows] = fan.blocked
-        fan = Fan(shift, fan.samples, blocked)
-    retrace = np.zeros(n, dtype=bool)
-    retrace[rows] = True
-    kept = SimpleNamespace(retrace=retrace, known=np.zeros(2 * n * samples, dtype=bool),
-                           spheres=np.zeros((0, 4)),
-                           out=SimpleNamespace(blocked=np.zeros(2 * n * samples, dtype=bool),
-                                               filled=np.zeros(n, dtype=bool)))
-    return reflect(full.origin, full.nrm, full.wo, full.mat, full.sun, sl.start, fan, kept)[rows]
+    if fan is None:
+        whole.fan = None
+        return
+    bits = cache.kept.sky[whole.hidx]
+    blocked = ((bits[:, None] >> np.arange(fan.samples, dtype=np.uint64)) & np.uint64(1)) == 0
+    blocked[rows] = fan.blocked
+    whole.fan = Fan(shift, fan.samples, blocked)
 
 
 def _extrapolate(a, b, w):
@@ -273,10 +287,10 @@ def _extrapolate(a, b, w):
 
 
 def _layers(image):
-    """The per-pixel sums of a :class:`~radscene.render.tiles.TileSums` that change in time:
-    (name, array) with the pixel as the last axis."""
-    out = [("acc", image.acc), ("transmittance", image.transmittance),
-           ("background", image.background)]
+    """The per-pixel sums of a :class:`~radscene.render.tiles.TileSums` extrapolated in
+    time: (name, array) with the pixel as the last axis. Not the reflected background: every
+    pixel's is the frame's own."""
+    out = [("acc", image.acc), ("transmittance", image.transmittance)]
     out += [(f"truth_{k}", v) for k, v in image.truth.items()]
     return out
 
