@@ -8,7 +8,12 @@ terrain, refit against rebuild.
 frame let go once timed, so 100 frames fit in memory; every frame renders both observers: the
 map and the oblique camera), twice: with incremental frames (the default:
 each frame after the first traces only the rays that something moved through,
-:mod:`radscene.render.frame_cache`) and with full frames (``incremental=False``). Reported:
+:mod:`radscene.render.frame_cache`, and with the scene's key frames, the default, shades only
+the pixels something moved through between key frames, :mod:`radscene.render.key_frames`) and
+with full frames (``incremental=False``). With ``--compare-key-frames`` the incremental
+sequence is stepped together with one without key frames (``render.key_frames: false``):
+both frame times, and per observer the largest and 99th-percentile relative difference of
+radiance between them. Reported:
 the single render of the same scene (``radscene.render_all`` after its heat balance, the second
 of two: warm), each sequence's first frame (its heat balance included) and the median and 90th
 percentile of the later frames, and their ratio to the single render (the goal: at most 0.3
@@ -104,9 +109,12 @@ def _single(scene, base) -> tuple[float, float]:
 def _frames(times: list[float], single: float) -> dict:
     later = sorted(times[1:])
     median = statistics.median(later)
+    mean = statistics.fmean(later)
     return {"frames": len(times), "first_frame_s": round(times[0], 3), "frame_median_s": round(median, 4),
             "frame_p90_s": round(later[int(0.9 * (len(later) - 1))], 4),
-            "frame_over_single": round(median / single, 3)}
+            "frame_mean_s": round(mean, 4), "frame_over_single": round(median / single, 3),
+            "mean_over_single": round(mean / single, 3),
+            "frame_s": [round(t, 3) for t in times]}
 
 
 def _lockstep(scene, base, frames: int):

@@ -14,8 +14,11 @@ alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved,
 
 Frames after the first of each observer are incremental (``incremental=True``, the default):
 they keep the rays of the observer's last frame that nothing moved through and trace only the
-others (:mod:`radscene.render.frame_cache`), shading every ray sample with the frame's own sun
-and temperatures: the same frames as tracing every ray.
+others (:mod:`radscene.render.frame_cache`): the same frames as tracing every ray. With
+``render.key_frames`` (the default) only key frames, ``render.key_frame_interval`` apart, shade
+every ray sample; the frames between shade the pixels something moved through and extrapolate
+the others in time from the last two key frames (:mod:`radscene.render.key_frames`); with
+``key_frames: false`` every sample is shaded with the frame's own sun and temperatures.
 
 Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
 ``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
@@ -181,7 +184,10 @@ class Simulation:
     incremental : bool
         Frames after the first keep the rays of the observer's last frame that nothing moved
         through (:mod:`radscene.render.frame_cache`) and trace only the others: the same
-        images as full frames. Default True; False traces every ray of every frame.
+        images as full frames; with ``render.key_frames`` (the scene's, default true) the
+        frames between key frames extrapolate the pixels nothing moved through
+        (:mod:`radscene.render.key_frames`). Default True; False traces every ray of every
+        frame.
 
     Examples
     --------
