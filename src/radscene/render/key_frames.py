@@ -166,6 +166,9 @@ class KeyFrames:
                 f.name: _extrapolate(getattr(a.bset.coefficients, f.name),
                                      getattr(b.bset.coefficients, f.name), w)
                 for f in fields(b.bset.coefficients)})
+            # the sun at the reflected background's vertices (radscene.render.background)
+            bset.sun_spectra = [_extrapolate(x, y, w) for x, y in
+                                zip(a.bset.sun_spectra, b.bset.sun_spectra, strict=True)]
         else:
             bset = build_tables()
         return SimpleNamespace(between=between, weight=w, bset=bset, nodes=nodes, cache=cache,
