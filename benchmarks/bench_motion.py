@@ -8,7 +8,13 @@ terrain, refit against rebuild.
 frame let go once timed, so 100 frames fit in memory; every frame renders both observers: the
 map and the oblique camera), twice: with incremental frames (the default:
 each frame after the first traces only the rays that something moved through,
-:mod:`radscene.render.frame_cache`) and with full frames (``incremental=False``). Reported:
+:mod:`radscene.render.frame_cache`, and with key frames, ``render.key_frames: true`` set here
+(off by default), shades only the pixels something moved through between key frames,
+:mod:`radscene.render.key_frames`) and
+with full frames (``incremental=False``). With ``--compare-key-frames`` the incremental
+sequence is stepped together with one without key frames (``render.key_frames: false``):
+both frame times, and per observer the largest and 99th-percentile relative difference of
+radiance between them. Reported:
 the single render of the same scene (``radscene.render_all`` after its heat balance, the second
 of two: warm), each sequence's first frame (its heat balance included) and the median and 90th
 percentile of the later frames, and their ratio to the single render (the goal: at most 0.3
@@ -79,6 +85,7 @@ def demo_scene(frames: int, supersample: int | None = None) -> tuple[dict, objec
     end = [x + SPEED * duration * np.sin(heading), y + SPEED * duration * np.cos(heading)]
     truck["trajectory"] = {"waypoints": [[0.0, x, y, z], [duration, *end, z]], "attitude": "path"}
     truck["rotation"] = [0, 0, 0]  # the path gives the heading
+    scene.setdefault("render", {})["key_frames"] = True  # off by default: the goal's mode
     if supersample is not None:
         for observer in scene["observers"]:
             observer["supersample"] = supersample
@@ -104,9 +111,51 @@ def _single(scene, base) -> tuple[float, float]:
 def _frames(times: list[float], single: float) -> dict:
     later = sorted(times[1:])
     median = statistics.median(later)
+    mean = statistics.fmean(later)
     return {"frames": len(times), "first_frame_s": round(times[0], 3), "frame_median_s": round(median, 4),
             "frame_p90_s": round(later[int(0.9 * (len(later) - 1))], 4),
-            "frame_over_single": round(median / single, 3)}
+            "frame_mean_s": round(mean, 4), "frame_over_single": round(median / single, 3),
+            "mean_over_single": round(mean / single, 3),
+            "frame_s": [round(t, 3) for t in times]}
+
+
+def _lockstep(scene, base, frames: int):
+    """Two incremental sequences of ``scene`` stepped together, with key frames
+    (:mod:`radscene.render.key_frames`) and without (``render.key_frames: false``,
+    every pixel shaded at its own instant): (each frame's wall time [s] of each, and per
+    observer and frame the largest and the 99th-percentile relative difference of radiance
+    between the two). The label maps must match exactly (an error otherwise)."""
+    import copy
+
+    import numpy as np
+
+    import radscene
+
+    sims, times = [], ([], [])
+    for flag in (True, False):
+        document = copy.deepcopy(scene)
+        document.setdefault("render", {})["key_frames"] = flag
+        sims.append(radscene.Simulation(radscene.load_scene(document, base_dir=base)))
+    errors = {}
+    for k in range(frames):
+        shown = []
+        for sim, spent in zip(sims, times, strict=True):
+            t = time.perf_counter()
+            shown.append(sim.render() if k == 0 else sim.step(STEP))
+            spent.append(time.perf_counter() - t)
+        for name, got in shown[0].radiance.items():
+            want = shown[1].radiance[name]
+            for var in ("object_id", "material_id", "range", "latitude", "longitude"):
+                if var in want and not np.array_equal(got[var].values, want[var].values,
+                                                      equal_nan=True):
+                    raise AssertionError(f"frame {k}, {name}: {var} differs")
+            x, y = want.radiance.values, got.radiance.values
+            rel = (np.abs(y - x) / np.maximum(np.abs(x), 1e-30))[x > 0]
+            errors.setdefault(name, []).append((float(rel.max()), float(np.quantile(rel, 0.99))))
+        print(f"frame {k}: {times[0][-1]:.2f} s with key frames, {times[1][-1]:.2f} s without;",
+              {n: f"{e[-1][0]:.1e} (p99 {e[-1][1]:.1e})" for n, e in errors.items()}, flush=True)
+        del shown
+    return times, errors
 
 
 def _stepped(loaded, frames: int, incremental: bool, keep: bool):
@@ -162,8 +211,16 @@ def run_sequence(args) -> dict:
     result = {"machine": machine(), "source": source_version(), "load_before": load_before,
               "step_s": STEP, "heat_balance_s": round(thermal, 2), "single_render_s": round(single, 3)}
     runs = {}
+    if args.compare_key_frames:  # with key frames and without, their differences
+        (keyed, every), errors = _lockstep(scene, base, args.frames)
+        result["sequence_key_frames"] = _frames(keyed, single)
+        result["sequence_no_key_frames"] = _frames(every, single)
+        result["key_frames_max_rel"] = {n: max(e[0] for e in v) for n, v in errors.items()}
+        result["key_frames_p99_rel"] = {n: max(e[1] for e in v) for n, v in errors.items()}
+        result["load_after_compare"] = os.getloadavg()
     for key, incremental in (("sequence", True), ("sequence_full_frames", False)):
-        if key == "sequence_full_frames" and args.no_full_frames:
+        if key == "sequence_full_frames" and args.no_full_frames or (
+                key == "sequence" and args.compare_key_frames):
             continue
         loaded = radscene.load_scene(scene, base_dir=base)
         times, runs[key] = _stepped(loaded, args.frames, incremental,
@@ -251,6 +308,9 @@ def main() -> None:
                         help="frames of the sequence (default 100; --refit: 10)")
     parser.add_argument("--no-full-frames", action="store_true",
                         help="the incremental sequence only, not the one of full frames")
+    parser.add_argument("--compare-key-frames", action="store_true",
+                        help="the incremental sequence with key frames and without, stepped "
+                        "together: each one's frame times and their largest differences")
     parser.add_argument("--realtime-frames", type=int, default=100,
                         help="frames of the real-time part of the sequence (0: none)")
     args = parser.parse_args()

@@ -1,6 +1,7 @@
 """Incremental frames (radscene.render.frame_cache): frame k ≥ 1 of a sequence that keeps the
 rays nothing moved through equals the frame traced in full — the radiance to 1e-6 relative,
-the truth maps exactly — while it traces a fraction of the rays."""
+the truth maps exactly — while it traces a fraction of the rays. Every frame shaded at its own
+instant (``render.key_frames: false``; with key frames: tests/system/test_key_frames.py)."""
 
 from __future__ import annotations
 
@@ -38,6 +39,8 @@ def _run(scene, steps, *, between=None, base_dir=None):
     """Step a full-frame and an incremental simulation of ``scene`` in lockstep; ``between(sim,
     k)`` moves things before step k. Returns the incremental simulation, its frames and, per
     frame after the first, the rays it traced again per observer and kind."""
+    scene = copy.deepcopy(scene)
+    scene["render"]["key_frames"] = False
     sims = [radscene.Simulation(radscene.load_scene(copy.deepcopy(scene), base_dir=base_dir),
                                 incremental=flag) for flag in (False, True)]
     traced, kept = [], []
@@ -161,7 +164,7 @@ def test_render_sequence_incremental_or_not_gives_the_same_frames():
     scene = _terrain_scene()
     scene["observers"] = scene["observers"][:1]
     scene["observers"][0]["shape"] = [24, 24]
-    scene["render"]["background_bounces"] = 0
+    scene["render"].update({"background_bounces": 0, "key_frames": False})
     start = dt.datetime(2026, 6, 21, 9, tzinfo=dt.UTC)
     runs = [radscene.render_sequence(copy.deepcopy(scene), start=start, end=start + dt.timedelta(seconds=1),
                                      step=0.5, progress=False, incremental=flag) for flag in (False, True)]

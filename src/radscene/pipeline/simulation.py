@@ -14,8 +14,11 @@ alone (:meth:`radscene.geometry.RayTracer.update`), so a frame costs what moved,
 
 Frames after the first of each observer are incremental (``incremental=True``, the default):
 they keep the rays of the observer's last frame that nothing moved through and trace only the
-others (:mod:`radscene.render.frame_cache`), shading every ray sample with the frame's own sun
-and temperatures: the same frames as tracing every ray.
+others (:mod:`radscene.render.frame_cache`): the same frames as tracing every ray. With
+``render.key_frames: true`` (off by default) only key frames, ``render.key_frame_interval`` apart, shade
+every ray sample; the frames between shade the pixels something moved through and extrapolate
+the others in time from the last two key frames (:mod:`radscene.render.key_frames`); with
+``key_frames: false`` every sample is shaded with the frame's own sun and temperatures.
 
 Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
 ``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
@@ -181,7 +184,10 @@ class Simulation:
     incremental : bool
         Frames after the first keep the rays of the observer's last frame that nothing moved
         through (:mod:`radscene.render.frame_cache`) and trace only the others: the same
-        images as full frames. Default True; False traces every ray of every frame.
+        images as full frames; with ``render.key_frames`` (the scene's, default false) the
+        frames between key frames extrapolate the pixels nothing moved through
+        (:mod:`radscene.render.key_frames`). Default True; False traces every ray of every
+        frame.
 
     Examples
     --------
@@ -247,8 +253,13 @@ class Simulation:
         self._caches = {}
         if incremental and not realtime and self.scene.settings.motion_blur is None:
             from radscene.render.frame_cache import FrameCache
+            from radscene.render.key_frames import KeyFrames
 
-            self._caches = {setup.name: FrameCache() for setup in self.scene.observers}
+            settings = self.scene.settings
+            self._caches = {setup.name: FrameCache(KeyFrames(settings.key_frame_interval)
+                                                   if settings.key_frames else None)
+                            for setup in self.scene.observers}
+        self._thermal_solves = 0  # how many times the heat balance was solved: a key frame each
         if realtime:
             from radscene.render.realtime import RealtimeRenderer
 
@@ -308,6 +319,7 @@ class Simulation:
         if self._thermal:
             self._apply_thermal()
         tables = scene_tables(scene, self.tracer)  # the sun and temperatures of this instant
+        self._key_instant(tables.sun)
         self._index += 1
         frame = Frame(self._index, self._elapsed, self.time)
         for setup in scene.observers:
@@ -355,6 +367,19 @@ class Simulation:
                 seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
                 frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
         return frame
+
+    def _key_instant(self, sun) -> None:
+        """Tell the observers' key frames (:mod:`radscene.render.key_frames`) this frame's
+        instant, its sun [deg] and the heat balance's time step it lies in."""
+        segment = None
+        solution = self.scene.render_cache.get("thermal") if self._thermal else None
+        if solution is not None:
+            now = np.datetime64(self.scene.time.astimezone(_dt.UTC).replace(tzinfo=None), "ns")
+            segment = (self._thermal_solves,
+                       int(np.searchsorted(solution.time.values, now, side="right")))
+        for cache in self._caches.values():
+            if cache.keys is not None:
+                cache.keys.at(self._elapsed, sun.zenith, sun.azimuth, segment)
 
     def _carried(self, name) -> bool:
         """Whether an object moves with time: by its own motion or a moving ancestor's."""
@@ -534,6 +559,7 @@ class Simulation:
             if spec.end is not None and spec.end > end:
                 end = spec.end
             solution = solve_thermal(scene, start=start, end=end)
+            self._thermal_solves += 1
         apply_thermal(scene, solution, scene.time)
 
     def _rebuild_scanners(self, offset=0.0):

@@ -75,11 +75,13 @@ class FrameCache:
     again by the last frame, per kind.
     """
 
-    def __init__(self):
+    def __init__(self, keys=None):
         self.kept = None
         self.pending = []  # the spheres of what moved since the kept frame
         self.spheres = np.zeros((0, 4))  # those the current frame traces through
         self.traced = {}
+        #: the observer's key frames (:class:`radscene.render.key_frames.KeyFrames`) or None
+        self.keys = keys
 
     def moved(self, spheres) -> None:
         """Record spheres (4,) (centre [m], radius [m]) that something moved through."""
@@ -89,6 +91,8 @@ class FrameCache:
         """Keep nothing: the next frame is traced in full."""
         self.kept = None
         self.pending = []
+        if self.keys is not None:
+            self.keys.reset()
 
     @staticmethod
     def usable(scene, tables, track, rays) -> bool:
@@ -120,6 +124,8 @@ class FrameCache:
             self.pending = []
             self.spheres = np.zeros((0, 4))
             self.traced = {"primary": n}
+            if self.keys is not None:  # other rays: the key frames no longer apply
+                self.keys.reset()
             return hits
         self.spheres = np.array(self.pending).reshape(-1, 4)
         self.pending = []

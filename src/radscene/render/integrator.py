@@ -195,7 +195,14 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     """
     n_pix = rays.shape[0] * rays.shape[1]
     geo = path_setup(scene, rays, hits, hit, track, hit_time)
-    bset = BandSetup(scene, bands, geo.path_nodes, geo.suns, track.reference)
+    keys = None if cache is None else cache.keys
+    if keys is None:
+        plan = None
+        bset = BandSetup(scene, bands, geo.path_nodes, geo.suns, track.reference)
+    else:  # a key frame, or one between key frames (radscene.render.key_frames)
+        plan = keys.plan(cache, rays, hits, shadow_pass, geo.path_nodes, lambda: BandSetup(
+            scene, bands, geo.path_nodes, geo.suns, track.reference))
+        bset = plan.bset
     coef = bset.coefficients
     # the sub-sample nearest each pixel centre labels ids and normals
     central = truth.central_subsample(rays)
@@ -226,10 +233,14 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     def launch(sl):
         state = surface_state(tables, rays, hits, hit, hit_rank, sl, sun_dir, hit_material,
                               hit_temp)
+        if state is not None:
+            state.specular = specular_material[state.mat]
+            shifts = fan_shifts(settings.seed, sl, state.hidx, state.specular)
+        if plan is not None:  # between key frames: only the hits of the pixels to shade
+            state, shifts = keys.launch(plan, sl, state, None if state is None else shifts,
+                                        settings, tables.exponent)
         if state is None:
             return None
-        state.specular = specular_material[state.mat]
-        shifts = fan_shifts(settings.seed, sl, state.hidx, state.specular)
         # the sky fan's blocked directions, for the reflected background's first bounce
         state.fan = background.Fan(shifts[0], settings.sky_samples, np.empty(
             (len(state.mat), settings.sky_samples), dtype=bool)) if reflecting else None
@@ -273,6 +284,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         if layers is not None:
             touch_pages(layers, i, len(tiles))
         miss = ~hit[sl]  # rays that leave the scene see the sky (upwards) or nothing
+        if plan is not None and plan.between:
+            miss &= plan.active[sl]
         if np.any(miss):
             image.leaving(rays.pixel[sl][miss], rays.weight[sl][miss],
                           rays.directions[sl][miss], bset.sky_nodes, coef.sky_view)
@@ -281,6 +294,8 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         image.totals(rays.pixel[sl])
         if progress is not None:
             progress(sl.stop, len(rays.pixel))
+    if plan is not None:  # the pixels not shaded, extrapolated; or the key frame kept
+        keys.finish(plan, image)
     # the layers are added to the total radiance (where it is formed per tile) as they are made
     coupled = coupling_pass(scene, bset, image.acc, image.truth["hit_weight"], rays, hits,
                             labelled, hit_rank, geo.nodes_all, geo.obs_alt, geo.tgt_alt,

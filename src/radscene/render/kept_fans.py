@@ -21,9 +21,16 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from radscene.render.kernels import _fan_outputs, _flags, _meets, _packet_fans
+from radscene.render.kernels import (
+    _FAN_CHUNK,
+    _fan_outputs,
+    _fan_point,
+    _flags,
+    _meets,
+    _packet_fans,
+)
 
-__all__ = ["MAX_FAN", "kept_fans", "meets_spheres", "bounding_sphere"]
+__all__ = ["MAX_FAN", "kept_fans", "meets_spheres", "bounding_sphere", "fans_meet_spheres"]
 
 #: The most directions a kept fan may have (one bit each in a uint64).
 MAX_FAN = 64
@@ -52,6 +59,49 @@ def meets_spheres(origins, directions, spheres) -> np.ndarray:
         _meets_spheres(np.ascontiguousarray(origins, dtype=np.float64),
                        np.ascontiguousarray(directions, dtype=np.float64),
                        np.ascontiguousarray(spheres, dtype=np.float64), out)
+    return out
+
+
+@numba.njit(parallel=True, cache=True)
+def _fans_meet(position, normal, axis, exponent, lobe, shift, base, side, spheres, out):
+    n = position.shape[0]
+    m = base.shape[0]
+    levels = side if side > 0 else m
+    origin = np.zeros(3)
+    for c in numba.prange((n + _FAN_CHUNK - 1) // _FAN_CHUNK):
+        sin_t, cos_t = np.empty(levels), np.empty(levels)
+        cos_phi, sin_phi = np.empty(levels), np.empty(levels)
+        dirs = np.empty((m, 3), np.float32)
+        for i in range(c * _FAN_CHUNK, min(n, (c + 1) * _FAN_CHUNK)):
+            ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, origin, 0.0,
+                                    shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
+            met = False
+            for j in range(m):
+                if _meets(ox, oy, oz, dirs[j, 0], dirs[j, 1], dirs[j, 2], spheres):
+                    met = True
+                    break
+            out[i] = met
+
+
+def fans_meet_spheres(origins, normals, n_samples, shift, spheres, lobe=None) -> np.ndarray:
+    """(N,) bool: whether a direction of each point's fan passes within one of ``spheres``
+    (S, 4) (centre [m], radius [m], the frame of ``origins``): the test :func:`kept_fans`
+    makes before keeping a fan, without tracing or folding anything. ``origins``,
+    ``normals``, ``n_samples``, ``shift`` and ``lobe`` as :func:`kept_fans` takes them; the
+    directions are those the fan would trace, in float64."""
+    from radscene.render.illumination import _fan_setup
+
+    shift, base, side, pos, nrm = _fan_setup(origins, normals, n_samples, None, shift)
+    out = np.zeros(len(pos), dtype=bool)
+    spheres = np.ascontiguousarray(spheres, dtype=np.float64).reshape(-1, 4)
+    if not len(pos) or not len(spheres):
+        return out
+    if lobe is None:
+        axis, exponent = nrm, np.zeros(0)
+    else:
+        axis = np.ascontiguousarray(lobe[0], np.float64)
+        exponent = np.ascontiguousarray(lobe[1], np.float64)
+    _fans_meet(pos, nrm, axis, exponent, lobe is not None, shift, base, side, spheres, out)
     return out
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from radscene.render import background, media_sky, node_mixing, terms
+from radscene.render import background, key_frames, media_sky, node_mixing, terms
 from radscene.render.brdf_tables import brdf_terms
 from radscene.render.outputs import TERMS, THERMAL_BAND_START
 from radscene.render.surface import textures
@@ -57,25 +57,38 @@ class TileShader:
     def __call__(self, st, job, sl):
         """Shade the hits of tile ``sl``: ``st`` their surface state
         (:func:`~radscene.render.surface.surface_state`), ``job`` the future of their
-        secondary rays (:func:`~radscene.render.surface.secondary_rays`)."""
+        secondary rays (:func:`~radscene.render.surface.secondary_rays`). Between key frames
+        (:mod:`radscene.render.key_frames`) ``st`` holds the hits to shade, maybe none, and
+        ``st.full`` every hit of the tile: the reflected background is that of all of them."""
         image, rays = self.image, self.rays
-        tex = textures(self.scene, st.obj, st.pos)
-        p = rays.pixel[st.hidx]
-        wh = rays.weight[st.hidx]
-        out, tau, lit, sky_view = self._terms(st, tex, job, p, wh)
-        if self.medium is not None:  # the sky rays' change by volumes and sheets
-            self._media(st, tex, out, p, wh, sky_view)
+        whole = st.full[0] if hasattr(st, "full") else st
+        if len(st.hidx):
+            tex = textures(self.scene, st.obj, st.pos)
+            p = rays.pixel[st.hidx]
+            wh = rays.weight[st.hidx]
+            out, tau, lit, sky_view = self._terms(st, tex, job, p, wh)
+            if self.medium is not None:  # the sky rays' change by volumes and sheets
+                self._media(st, tex, out, p, wh, sky_view)
         if self.reflect is not None:  # at the surface, then through τ_a and Δρ
+            if whole is not st:  # the fans of the hits not shaded: their kept answers
+                key_frames.whole_fan(self.cache, st)
+                tex_whole = textures(self.scene, whole.obj, whole.pos)
+            else:
+                tex_whole = tex
             kept = None if self.cache is None else self.cache.background(
-                self.tables.tracer, st, sl, self.reflect.samples)
-            values, emitted = self.reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
-                                           getattr(st, "fan", None), kept)
+                self.tables.tracer, whole, sl, self.reflect.samples)
+            values, emitted = self.reflect(whole.origin, whole.nrm, whole.wo, whole.mat,
+                                           whole.sun, sl.start, getattr(whole, "fan", None),
+                                           kept)
             tau_a = node_mixing.gather_band(self.bset.coefficients.transmittance,
-                                            self.nodes.nodes_all.subset(st.rank))
+                                            self.nodes.nodes_all.subset(whole.rank))
             for part in (values, emitted):
                 part *= tau_a
-                part *= tex["reflectance"][:, None]
-            image.add_background(p, wh, values.T, emitted.T)
+                part *= tex_whole["reflectance"][:, None]
+            image.add_background(rays.pixel[whole.hidx], rays.weight[whole.hidx], values.T,
+                                 emitted.T)
+        if not len(st.hidx):
+            return
         truth_rows = (st.cos_i, 1.0 - lit, sky_view, st.temp, self.hits.distance[st.hidx], None)
         image.add(p, wh, out, tau, truth_rows, self.per_pixel, self.unit_weight)
         image.label(p, st.hidx, st.obj, st.mat, st.nrm, self.per_pixel)

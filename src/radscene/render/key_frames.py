@@ -1,0 +1,328 @@
+"""Key frames: a sequence's unchanged pixels extrapolated in time between fully shaded frames.
+
+Between two frames of a sequence the sun moves a little (the demo's 1.7e-4° in 40 ms) and the
+heat balance's temperatures, linear in time between its steps, change a little; where nothing
+that moved touched a pixel's rays its radiance is a smooth function of time. An incremental
+frame (:mod:`radscene.render.frame_cache`) still shades every ray sample again; with key
+frames only some frames do — the *key frames* — and the frames between them shade only the
+pixels that something moved through since the older of the last two key frames, and take
+every other pixel's sums (the signature terms, the transmittance and the truth sums)
+extrapolated linearly in time from the last two key frames:
+
+.. math::
+    L(t) = L(t_a) + \\frac{t - t_a}{t_b - t_a}\\,\\bigl(L(t_b) - L(t_a)\\bigr).
+
+The shaded pixels of a frame between take the band tables (sun, sky, path radiance and
+transmittance at the atmosphere's path nodes) extrapolated the same way from those of the
+key frames; their geometry, shadows, fans, temperatures and emission are the frame's own.
+The reflected background is every pixel's own in every frame (its paths' vertices may see
+what moved anywhere: the pass follows them all, as an incremental frame does), with the band
+tables of the newer key frame's sun. The surface–atmosphere coupling layers are formed every
+frame from the image so made. Truth maps of labels and positions (object and material ids,
+normals, geolocation, range) are the frame's own, exactly: an unchanged pixel sees what it
+saw; the truth sums (cos θ_i, shadow, sky view, surface temperature) are extrapolated as the
+radiance is.
+
+What makes a pixel *shaded* in a frame between (any of its ray samples):
+
+* its primary ray was traced again (it passes through the bounding sphere of an object moved
+  since the last frame: :meth:`~radscene.render.frame_cache.FrameCache.primary`);
+* a direction of its sky fan or specular lobe fan passes through such a sphere
+  (:func:`~radscene.render.kept_fans.fans_meet_spheres`);
+* its sun shadow ray (traced every frame) answers otherwise than in either key frame — a
+  moved object's shadow, or a shadow edge that the sun moved across the sample;
+
+once shaded, a pixel is shaded until the next key frame but one (its key-frame values hold
+what moved). Key frames lie ``render.key_frame_interval`` apart (the first frame, then the
+first frame at least that long after the newer key frame), so that a frame is extrapolated
+from a baseline of that interval, at most as far again: an extrapolation from two frames
+40 ms apart would carry every small step of a frame's numbers (the emission's 1 mK
+temperature step, :data:`~radscene.render.band_setup.EMISSION_TEMPERATURE_STEP`) 25 times
+over a second. Until a second key frame is kept, and wherever a frame cannot be
+extrapolated, every pixel is shaded (an incremental frame). A frame cannot be extrapolated
+where the sun has turned by more than :data:`MAX_SUN_STEP` since the older key frame, where
+the heat balance has passed one of its time steps (or was solved again) since then — such a
+frame starts the key frames afresh —, where the atmosphere's path nodes differ from the key
+frames', and wherever the frame cache cannot keep the rays (a full frame).
+
+Memory: per observer two key frames of per-pixel sums (the five terms and the transmittance
+per band, six truth sums, the labels) and one sun flag per ray sample (float64), and their
+band tables: for the demo's two observers at supersample 2 and eight bands about 0.14 GB.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import fields, replace
+from types import SimpleNamespace
+
+import numpy as np
+
+from radscene.render.kept_fans import fans_meet_spheres
+
+__all__ = ["KeyFrames", "MAX_SUN_STEP"]
+
+#: The most the sun may turn between the older key frame and a frame extrapolated from it
+#: [deg]: 12 s of the sun's motion. Extrapolating a sun term over an angle θ is off by
+#: about θ² (radians) relative: 8e-7 at this step.
+MAX_SUN_STEP = 0.05
+
+#: How far two frames' path nodes may lie apart and count as the same: observer and target
+#: altitude [m], view zenith and relative azimuth [deg]. Engines whose path does not depend
+#: on the geometry put one node at the hits' mean geometry, which a moving object shifts a
+#: little every frame (the demo's truck: its mean target altitude by about 1e-4 m); an
+#: engine's spectra change over 0.01 m of altitude by about 1e-6 relative (scale heights of
+#: kilometres). A relative azimuth node that the pixels share follows the sun's azimuth,
+#: smoothly: it may move as far as the sun may turn.
+NODE_TOLERANCE = (0.01, 0.01, 1e-4, MAX_SUN_STEP)
+
+
+def _sun_vector(zenith, azimuth) -> np.ndarray:
+    z, a = np.radians(zenith), np.radians(azimuth)
+    return np.array([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)])
+
+
+class KeyFrames:
+    """The last two key frames of one observer, and the pixels changed since each.
+
+    Parameters
+    ----------
+    interval : float
+        The time between key frames [s] (``render.key_frame_interval``): frames are
+        extrapolated from the last two over less than that past the newer.
+
+    The simulation tells it each frame's instant (:meth:`at`); the render asks it whether the
+    frame is a key frame (:meth:`plan`), which samples to shade (:meth:`tile`), and keeps or
+    fills the sums (:meth:`finish`). ``between`` counts the frames made between key frames,
+    ``shaded`` the pixels the last frame shaded.
+    """
+
+    def __init__(self, interval: float):
+        self.interval = float(interval)
+        self.keys = []  # oldest first, at most two
+        self.instant = None
+        self.between = 0
+        self.shaded = 0
+
+    def reset(self) -> None:
+        """Keep no key frame: the next frame is one."""
+        self.keys = []
+
+    def at(self, elapsed: float, sun_zenith: float, sun_azimuth: float, segment=None) -> None:
+        """The instant of the next frame: ``elapsed`` [s] since the start, the sun [deg], and
+        ``segment`` — anything equal for two instants between the same time steps of the
+        heat balance's solution (None without one)."""
+        self.instant = SimpleNamespace(elapsed=float(elapsed), sun=_sun_vector(sun_zenith, sun_azimuth),
+                                       segment=segment)
+
+    def _weight(self):
+        """The extrapolation weight (t - t_a) / (t_b - t_a) of the next frame, or None where it
+        cannot be extrapolated by time, sun or heat balance."""
+        now = self.instant
+        if now is None or len(self.keys) < 2:
+            return None
+        a, b = self.keys
+        if not (b.elapsed < now.elapsed < b.elapsed + self.interval * (1 - 1e-9)):
+            return None  # at an interval from the newer key frame: the next one
+        if self._turned(a, now) > MAX_SUN_STEP or not (a.segment == b.segment == now.segment):
+            return None
+        return (now.elapsed - a.elapsed) / (b.elapsed - a.elapsed)
+
+    @staticmethod
+    def _turned(key, now) -> float:
+        """The angle the sun turned from a key frame to ``now`` [deg]."""
+        return float(np.degrees(np.arccos(np.clip(key.sun @ now.sun, -1.0, 1.0))))
+
+    def _due(self, nodes) -> bool:
+        """Whether a frame shaded in full is kept as a key frame: the first; one across a jump
+        of the sun, the heat balance or the path nodes (the key frames start afresh); one an
+        interval after the newer key frame."""
+        now = self.instant
+        if self.keys:
+            newest = self.keys[-1]
+            if (self._turned(newest, now) > MAX_SUN_STEP or newest.segment != now.segment
+                    or not _same(newest.nodes, nodes)):
+                self.keys = []
+        return not self.keys or now.elapsed >= self.keys[-1].elapsed + self.interval * (1 - 1e-9)
+
+    def plan(self, cache, rays, hits, shadow_pass, path_nodes, build_tables):
+        """What this frame is: a namespace with ``bset`` (the band tables: built by
+        ``build_tables()`` for a key frame, extrapolated for a frame between), ``between``
+        (bool) and what :meth:`launch` and :meth:`finish` need. ``shadow_pass`` is the
+        future of every hit's sun flag, ``path_nodes`` the atmosphere's nodes of the
+        frame's hits."""
+        n = len(rays.pixel)
+        nodes = _fingerprint(path_nodes)
+        w = self._weight()
+        if w is not None and not (self.keys[0].n == n and _same(self.keys[0].nodes, nodes)
+                                  and _same(self.keys[1].nodes, nodes)
+                                  and self.keys[1].bset.brdf is None):
+            w = None
+        between = w is not None
+        if between:
+            a, b = self.keys
+            bset = copy.copy(b.bset)
+            bset.coefficients = replace(b.bset.coefficients, **{
+                f.name: _extrapolate(getattr(a.bset.coefficients, f.name),
+                                     getattr(b.bset.coefficients, f.name), w)
+                for f in fields(b.bset.coefficients)})
+            # the sun at the reflected background's vertices (radscene.render.background)
+            bset.sun_spectra = [_extrapolate(x, y, w) for x, y in
+                                zip(a.bset.sun_spectra, b.bset.sun_spectra, strict=True)]
+        else:
+            bset = build_tables()
+        return SimpleNamespace(between=between, weight=w, bset=bset, nodes=nodes, cache=cache,
+                               rays=rays, hits=hits, shadow_pass=shadow_pass, lit=None,
+                               active=np.zeros(n, bool) if between else None,
+                               n_pix=rays.shape[0] * rays.shape[1])
+
+    @staticmethod
+    def _lit(plan) -> np.ndarray:
+        """Each ray sample's sun flag (NaN: no hit), from the frame's shadow rays."""
+        if plan.lit is None:
+            plan.lit = np.full(len(plan.rays.pixel), np.nan)
+            plan.lit[plan.hits.hit] = plan.shadow_pass.result()
+        return plan.lit
+
+    def launch(self, plan, sl, st, shifts, settings, exponent):
+        """Mark the pixels of tile ``sl`` that something moved through (see the module's
+        description) in every kept key frame's record; return the tile's hits to shade and
+        their fans' rotations: ``st`` (:func:`~radscene.render.surface.surface_state`, None
+        where the tile has no hit) and ``shifts`` (:func:`~radscene.render.surface.fan_shifts`)
+        as they are in a key frame, else only those of the pixels changed since the older key
+        frame (None where there are none), with ``full`` = (the tile's hits, the rows kept,
+        the rotations of every hit's sky fan). ``exponent`` is every material's lobe
+        exponent."""
+        if self.keys:
+            self._mark(plan, sl, st, shifts, settings, exponent)
+        if not plan.between:
+            return st, shifts
+        active = self.keys[0].touched[plan.rays.pixel[sl]]
+        plan.active[sl] = active
+        if st is None:
+            return None, None
+        rows = np.flatnonzero(active[st.hidx - sl.start])
+        n = len(st.hidx)
+        sub = SimpleNamespace(**{k: v[rows] if isinstance(v, np.ndarray) and len(v) == n
+                                 and not (k == "sun" and len(v) == 1) else v
+                                 for k, v in vars(st).items()})
+        sub.full = (st, rows, shifts[0])
+        lobe = None
+        if shifts[1] is not None:
+            chosen = np.zeros(n, dtype=bool)
+            chosen[rows] = True
+            lobe = shifts[1][chosen[st.specular]]
+            lobe = lobe if len(lobe) else None
+        return sub, (shifts[0][rows], lobe)
+
+    def _mark(self, plan, sl, st, shifts, settings, exponent):
+        cache = plan.cache
+        dirty = cache.kept.fresh[sl].copy()  # primary rays traced again
+        if st is not None:
+            spheres = cache.spheres
+            moved = fans_meet_spheres(st.origin, st.nrm, settings.sky_samples, shifts[0],
+                                      spheres)
+            if shifts[1] is not None and len(spheres):
+                sel = st.specular
+                axis = 2.0 * st.cos_v[sel, None] * st.nrm[sel] - st.wo[sel]
+                moved[sel] |= fans_meet_spheres(st.origin[sel], st.nrm[sel],
+                                                settings.specular_samples, shifts[1], spheres,
+                                                lobe=(axis, exponent[st.mat[sel]]))
+            lit = self._lit(plan)[st.hidx]
+            for key in self.keys:
+                moved |= lit != key.lit[st.hidx]
+            dirty[st.hidx - sl.start] |= moved
+        changed = plan.rays.pixel[sl][dirty]
+        for key in self.keys:
+            key.touched[changed] = True
+
+    def finish(self, plan, image) -> None:
+        """After the tiles: in a frame between, the pixels not shaded take the key frames'
+        sums extrapolated (and the totals are formed again); in a key frame its sums are kept
+        and the older key frame let go where two are kept."""
+        if plan.between:
+            a, b = self.keys
+            clean = ~a.touched
+            if image.sky_thermal is None and "sky_thermal" in b.sums:  # no split band shaded
+                image.sky_thermal = np.zeros_like(b.sums["sky_thermal"])
+            for name, target in _layers(image):
+                if name not in a.sums or name not in b.sums:
+                    continue
+                extrapolated = _extrapolate(a.sums[name], b.sums[name], plan.weight)
+                np.copyto(target, extrapolated, where=np.broadcast_to(clean, target.shape))
+            for name, target in _labels(image):
+                np.copyto(target, b.sums[name], where=np.broadcast_to(clean, target.shape))
+            if image.radiance is not None:  # formed per tile: again for every pixel
+                image.totals(np.arange(plan.n_pix))
+            self.between += 1
+            self.shaded = int(np.count_nonzero(~clean))
+            return
+        self.shaded = plan.n_pix
+        now = self.instant
+        if now is None:  # no instant known: nothing to extrapolate over
+            self.keys = []
+            return
+        if not self._due(plan.nodes):
+            return
+        sums = {name: target.copy() for name, target in (*_layers(image), *_labels(image))}
+        self.keys.append(SimpleNamespace(
+            n=len(plan.rays.pixel), elapsed=now.elapsed, sun=now.sun, segment=now.segment,
+            sums=sums, lit=self._lit(plan), nodes=plan.nodes, bset=plan.bset,
+            touched=np.zeros(plan.n_pix, dtype=bool)))
+        self.keys = self.keys[-2:]
+
+
+def whole_fan(cache, st) -> None:
+    """Give the tile's hits ``st.full`` (:meth:`KeyFrames.launch`) their sky fans (the first
+    directions of the reflected background's paths): the shaded hits' as this frame traced
+    them (``st.fan``), the others' from the frame cache's bits, as a kept fan gives them."""
+    from radscene.render.background import Fan
+
+    whole, rows, shift = st.full
+    fan = getattr(st, "fan", None)
+    if fan is None:
+        whole.fan = None
+        return
+    bits = cache.kept.sky[whole.hidx]
+    blocked = ((bits[:, None] >> np.arange(fan.samples, dtype=np.uint64)) & np.uint64(1)) == 0
+    blocked[rows] = fan.blocked
+    whole.fan = Fan(shift, fan.samples, blocked)
+
+
+def _extrapolate(a, b, w):
+    return a + w * (b - a)
+
+
+def _layers(image):
+    """The per-pixel sums of a :class:`~radscene.render.tiles.TileSums` extrapolated in
+    time: (name, array) with the pixel as the last axis. Not the reflected background: every
+    pixel's is the frame's own."""
+    out = [("acc", image.acc), ("transmittance", image.transmittance)]
+    out += [(f"truth_{k}", v) for k, v in image.truth.items()]
+    # the sky's emission in the bands whose sky also holds sunlight (its part layer), and the
+    # volumes' own radiance along the sky rays and the sky view through them, where present
+    out += [(name, v) for name in ("sky_thermal", "media_light", "sky_open")
+            if (v := getattr(image, name)) is not None]
+    return out
+
+
+def _labels(image):
+    """The labels of the pixels (object, material, normal): those of the newer key frame."""
+    return [("object_id", image.object_id), ("material_id", image.material_id),
+            ("normal_map", image.normal_map)]
+
+
+def _fingerprint(path_nodes) -> list:
+    """The arrays that define the atmosphere's path nodes (not the hits' mixing of them), to
+    compare two frames' nodes."""
+    return [np.asarray(getattr(path_nodes, name), dtype=float) for name in
+            ("observer_altitude", "target_altitude", "view_zenith", "relative_azimuth")
+            if getattr(path_nodes, name) is not None]
+
+
+def _same(a, b) -> bool:
+    """Whether two frames' path nodes (:func:`_fingerprint`) are the same, to
+    :data:`NODE_TOLERANCE` each."""
+    return len(a) == len(b) and all(
+        x.shape == y.shape and np.allclose(x, y, rtol=0.0, atol=tol)
+        for x, y, tol in zip(a, b, NODE_TOLERANCE, strict=False))
