@@ -100,3 +100,23 @@ def test_every_id_in_a_map_has_a_cf_flag_meaning(written, variable, none):
                                 flags.attrs["flag_meanings"].split(), strict=True))
             assert meanings[-1] == none
             assert set(np.unique(flags.values).tolist()) <= set(meanings)
+
+
+def test_a_maps_cells_have_cf_axes_and_bounds(written):
+    """cf-xarray writes the map's axes and its pixels' edges; a camera's pixel indices get
+    neither."""
+    import cf_xarray  # noqa: F401
+
+    with xr.open_dataset(written / "map.nc") as ds:
+        assert ds["x"].attrs["axis"] == "X" and ds["y"].attrs["axis"] == "Y"
+        assert ds.cf.axes == {"X": ["x"], "Y": ["y"]}
+        x_edges, y_edges = ds.cf.get_bounds("x").values, ds.cf.get_bounds("y").values
+        np.testing.assert_allclose(x_edges[:, 1] - x_edges[:, 0], 20.0)
+        np.testing.assert_allclose(x_edges.mean(axis=1), ds["x"].values)
+        np.testing.assert_allclose(y_edges.mean(axis=1), ds["y"].values)
+        assert x_edges.min() == pytest.approx(ds.rio.bounds()[0])
+    with h5netcdf.File(written / "map.nc", "r") as raw:  # bounds are not auxiliary coordinates
+        assert raw["x"].attrs["bounds"] == "x_bounds"
+        assert "x_bounds" not in raw["radiance"].attrs["coordinates"].split()
+    with xr.open_dataset(written / "cam.nc") as ds:
+        assert "axis" not in ds["x"].attrs and "x_bounds" not in ds.variables

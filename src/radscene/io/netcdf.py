@@ -9,24 +9,10 @@ import numpy as np
 import xarray as xr
 
 from radscene.io import scene_files
+from radscene.io.cf import with_cf_coordinates, with_grid_mapping_coordinates
 from radscene.io.files import atomic_output
 
-__all__ = ["write_netcdf", "read_netcdf", "with_grid_mapping_coordinates"]
-
-
-def with_grid_mapping_coordinates(ds: xr.Dataset) -> xr.Dataset:
-    """``ds`` (a shallow copy) whose variables with a grid mapping list it among their
-    coordinates, as rioxarray's own files do, so that a file opened plainly
-    (``xr.open_dataset(path)``) keeps it as a coordinate and ``ds.rio.crs`` finds it; xarray
-    leaves it out of ``coordinates`` by itself, and the file then needs
-    ``decode_coords="all"``."""
-    out = ds.copy(deep=False)
-    for var in out.data_vars.values():
-        mapping = var.encoding.get("grid_mapping")
-        if mapping and "coordinates" not in var.encoding:
-            names = [str(c) for c in var.coords if c not in var.dims and c != mapping]
-            var.encoding["coordinates"] = " ".join([*names, mapping])
-    return out
+__all__ = ["write_netcdf", "read_netcdf", "with_cf_coordinates", "with_grid_mapping_coordinates"]
 
 
 def _encoding(ds: xr.Dataset, compress: bool) -> dict:
@@ -62,7 +48,7 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, compress: bool = True)
         The written file.
     """
     path = Path(path)
-    ds = with_grid_mapping_coordinates(ds)
+    ds = with_cf_coordinates(ds)
     with atomic_output(path) as tmp:
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=_encoding(ds, compress))
         scene_files.embed(tmp, ds.attrs)

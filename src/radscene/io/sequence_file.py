@@ -91,6 +91,7 @@ class SequenceWriter:
         self._file = None  # the NetCDF file, open for appending
         self._shapes = {}  # per variable along time: its dims
         self._first = None  # the first frame's structure: attrs, variables' attrs
+        self._store_coordinates = None  # a Zarr store's global `coordinates`
         self._written = {}  # the encoding of the first frame's variables
 
     def __enter__(self) -> SequenceWriter:
@@ -141,9 +142,9 @@ class SequenceWriter:
         return enc
 
     def _create(self, layer: xr.Dataset) -> None:
-        from radscene.io.netcdf import with_grid_mapping_coordinates
+        from radscene.io.cf import with_cf_coordinates
 
-        layer = with_grid_mapping_coordinates(layer)
+        layer = with_cf_coordinates(layer)
         self._first = {"attrs": dict(layer.attrs),
                        "vars": {n: dict(layer[n].attrs) for n in self._timed(layer)}}
         self._shapes = {n: (layer[n].dims, layer[n].shape[1:]) for n in self._timed(layer)}
@@ -151,6 +152,12 @@ class SequenceWriter:
         if self.zarr:
             layer.to_zarr(self._tmp, mode="w", zarr_format=2, consolidated=False,
                           encoding=self._written)
+            import zarr
+
+            # the coordinates no variable lists (cell bounds): appending frames rewrites the
+            # store's attributes without them, so they are put back at the end
+            self._store_coordinates = zarr.open_group(self._tmp, mode="r", zarr_format=2) \
+                .attrs.get("coordinates")
             return
         layer.to_netcdf(self._tmp, engine="h5netcdf", encoding=self._written,
                         unlimited_dims=["time"])
@@ -250,6 +257,8 @@ class SequenceWriter:
 
             group = zarr.open_group(self._tmp, mode="a", zarr_format=2)
             group.attrs["frames"] = self.frames
+            if self._store_coordinates:
+                group.attrs["coordinates"] = self._store_coordinates
             scene_files.embed(self._tmp, self._first["attrs"], zarr=True)
             zarr.consolidate_metadata(self._tmp, zarr_format=2)
             return

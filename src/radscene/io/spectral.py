@@ -21,9 +21,10 @@ import numpy as np
 import xarray as xr
 
 from radscene.errors import ConfigError
+from radscene.io.cf import with_cf_coordinates
 from radscene.io.envi import header_text, map_fields, pixel_size
 from radscene.io.files import atomic_output
-from radscene.io.netcdf import _encoding, with_grid_mapping_coordinates
+from radscene.io.netcdf import _encoding
 
 __all__ = ["write_spectral", "envi_header"]
 
@@ -195,7 +196,7 @@ def _netcdf_cube(path: Path, wavelength, fwhm, compress: bool):
 
     def start(maps: xr.Dataset, cubes: dict[str, xr.DataArray]):
         nonlocal nc
-        maps = with_grid_mapping_coordinates(maps)
+        maps = with_cf_coordinates(maps)
         maps.to_netcdf(tmp, engine="h5netcdf", encoding=_encoding(maps, compress))
         nc = h5netcdf.File(tmp, "a")
         _wavelength_axis(nc, cubes["radiance"], wavelength, fwhm)

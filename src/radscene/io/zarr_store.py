@@ -22,8 +22,8 @@ import xarray as xr
 
 from radscene.errors import ConfigError
 from radscene.io import scene_files
+from radscene.io.cf import with_cf_coordinates
 from radscene.io.files import atomic_output_dir
-from radscene.io.netcdf import with_grid_mapping_coordinates
 
 __all__ = ["write_zarr", "read_zarr", "cube_store", "TILE"]
 
@@ -90,7 +90,7 @@ def write_zarr(ds: xr.Dataset, path: str | os.PathLike, compress: bool = True) -
     """
     zarr = _zarr()
     path = Path(path)
-    ds = with_grid_mapping_coordinates(ds)
+    ds = with_cf_coordinates(ds)
     with atomic_output_dir(path) as tmp:
         ds.to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
                    encoding=_encoding(ds, compress))
@@ -129,7 +129,7 @@ def cube_store(path: str | os.PathLike, wavelength, fwhm, compress: bool = True)
     fwhm = np.asarray(fwhm, dtype=float)
 
     def start(maps: xr.Dataset, cubes: dict[str, xr.DataArray]):
-        maps = with_grid_mapping_coordinates(maps)
+        maps = with_cf_coordinates(maps)
         maps.to_zarr(tmp, mode="w", zarr_format=2, consolidated=False,
                      encoding=_encoding(maps, compress))
         group = zarr.open_group(tmp, mode="a", zarr_format=2)

@@ -274,9 +274,7 @@ def pixel_coordinates(setup, shape) -> dict:
     ny, nx = shape
     if setup.kind == "orthographic" and getattr(setup.camera, "zenith", 0.0) == 0.0:
         xs, ys = setup.camera.map_axes()
-        return {"x": ("x", xs, {"units": "m", "long_name": "easting in the scene frame",
-                                "axis": "X"}),
-                "y": ("y", ys, {"units": "m", "long_name": "northing in the scene frame",
-                                "axis": "Y"})}
+        return {"x": ("x", xs, {"units": "m", "long_name": "easting in the scene frame"}),
+                "y": ("y", ys, {"units": "m", "long_name": "northing in the scene frame"})}
     return {"x": ("x", np.arange(nx), {"long_name": "pixel column"}),
             "y": ("y", np.arange(ny), {"long_name": "pixel row"})}
