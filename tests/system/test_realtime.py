@@ -193,6 +193,67 @@ def test_the_background_is_the_key_frames_where_a_pixel_sees_the_same_object():
     assert error.mean() < 0.01 and error.max() < 0.4
 
 
+#: The parts of the reflected sky and background, and the layer each pair sums to.
+PARTS = {"sky_reflected": ("sky_reflected_solar", "sky_reflected_thermal"),
+         "background_reflected": ("background_reflected_solar", "background_reflected_thermal")}
+#: A band whose uniform sky (split at 4 um) holds both sunlight and emission.
+MWIR = {"name": "mwir", "min": 3.0, "max": 5.0}
+
+
+def _parts_pair(frames):
+    """Real-time and full frames of the boxes' motion with the sky, the background and a band
+    whose sky holds both parts."""
+    spec = _scene(SKY, bounces=1)
+    spec["bands"] = BANDS + [MWIR]
+    fast = radscene.Simulation(spec, realtime=True)
+    full = radscene.Simulation(spec)
+    out = []
+    for k in range(frames):
+        _move(fast, k)
+        _move(full, k)
+        out.append((fast.step(0.04).radiance["map"], full.step(0.04).radiance["map"]))
+    return out
+
+
+def test_the_parts_of_the_reflected_sky_and_background_sum_to_their_layers():
+    """Each frame writes the four part layers; each pair sums to its layer (to rounding, the
+    solar part being the layer less the thermal one); the key frame's parts are the full
+    render's, and later frames keep the background's parts where the layer is kept."""
+    frames = _parts_pair(3)
+    key, full = frames[0]
+    for parts in PARTS.values():
+        for name in parts:
+            assert key[name].dims == ("band", "y", "x"), name
+            assert key[name].attrs["units"] == "W m-2 sr-1"
+            assert _relative(key[name], full[name]) <= KEY_FRAME_TOLERANCE, name
+    for fast, _ in frames:
+        for layer, (solar, thermal) in PARTS.items():
+            np.testing.assert_allclose(fast[solar].values + fast[thermal].values,
+                                       fast[layer].values, rtol=1e-12,
+                                       atol=1e-15 * float(fast[layer].max()), err_msg=layer)
+        mwir = fast.sel(band="mwir")
+        # the band holds both parts of the sky, the others one each
+        assert float(mwir.sky_reflected_solar.max()) > 0.0
+        assert float(mwir.sky_reflected_thermal.max()) > 0.0
+        assert not fast.sel(band="vis").sky_reflected_thermal.values.any()
+        assert not fast.sel(band="lwir").sky_reflected_solar.values.any()
+        assert float(fast.sel(band="lwir").background_reflected_thermal.max()) > 0.0
+    last = frames[-1][0]
+    same = last.object_id.values == key.object_id.values
+    assert not same.all()
+    for name in PARTS["background_reflected"]:
+        np.testing.assert_array_equal(last[name].values[:, same], key[name].values[:, same])
+        assert not last[name].values[:, ~same].any()
+
+
+def test_a_frame_without_the_background_has_the_sky_parts_alone():
+    fast, full = _pair(SKY, frames=1)[0]
+    assert {"sky_reflected_solar", "sky_reflected_thermal"} <= set(fast["map"].data_vars)
+    assert "background_reflected_solar" not in fast["map"].data_vars
+    for name in PARTS["sky_reflected"]:
+        assert _relative(fast["map"][name], full["map"][name]) <= KEY_FRAME_TOLERANCE, name
+
+
 def test_a_sensor_records_a_real_time_frame_as_a_full_one():
     scene = _scene()
     scene["bands"] = [{"name": "lwir", "min": "8 um", "max": "14 um"}]

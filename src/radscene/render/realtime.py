@@ -22,6 +22,12 @@ What a frame gives up against the full render (``docs/simulation.md``, "Real-tim
   zero where it sees another;
 * no surface–atmosphere coupling layers, no supersampling, no geolocation maps.
 
+The parts of the reflected sky and background by the light's origin
+(:data:`radscene.render.outputs.PART_LAYERS`) are written beside their layers, as the full
+render does: the sky's emission reflected is formed with the thermal sky's tables only in
+bands whose sky holds both parts (:class:`radscene.render.sky_split.SkySplit`), from the same
+frozen fractions; the background's self-emitted part is the key frame's, as the layer is.
+
 With the sky's visible fractions frozen, a key frame equals the full render of the same
 instant (the same random numbers): to 1e-12 relative in the tests.
 """
@@ -42,10 +48,13 @@ from radscene.render.integrator import TILE_SAMPLES
 from radscene.render.outputs import (
     BACKGROUND_LONG_NAME,
     BACKGROUND_TERM,
+    PART_LAYERS,
+    PART_LONG_NAMES,
     TERM_LONG_NAMES,
     TERMS,
     THERMAL_BAND_START,
 )
+from radscene.render.sky_split import PART_COMMENTS, part_layers
 from radscene.render.sun_track import sun_track
 from radscene.render.surface import fan_shifts, shadows, surface_state, textures
 
@@ -155,7 +164,7 @@ class RealtimeRenderer:
             path_index=_rows(geo.path_index, rows, len(pixel)),
             path_weight=_rows(geo.path_weight, rows, len(pixel), fill=1.0),
             face_pair=face_pair, specular=specular, tables=mix_tables(coef, emission),
-            sky_seen=sky_seen, exponent=tables.exponent, last=None)
+            sky_seen=sky_seen, exponent=tables.exponent, split=bset.sky_split, last=None)
         self._freeze_sky(key, bset, nodes_all, hits, hit, n_pix)
         key.seconds = _time.perf_counter() - started
         return key
@@ -171,6 +180,7 @@ class RealtimeRenderer:
             (lambda obj, pos: textures(scene, obj, pos))
             if any(obj.textures for obj in scene.objects) else None)
         key.background = np.zeros((len(key.bands), n_pix)) if reflect is not None else None
+        key.background_thermal = None if reflect is None else np.zeros_like(key.background)
         key.object = np.full(n_pix, -1, dtype=np.int64)
         rays = key.rays
         n_k = bset.coefficients.sky_view.shape[1]
@@ -202,11 +212,15 @@ class RealtimeRenderer:
                                              shift=sky_shift, scratch=scratch,
                                              blocked=None if fan is None else fan.blocked)
             if reflect is not None:  # at the surface, then through τ_a and Δρ, as the render
-                values = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start, fan)[0]
-                values *= node_mixing.gather_band(bset.coefficients.transmittance,
-                                       nodes_all.subset(st.rank))
-                values *= textures(scene, st.obj, st.pos)["reflectance"][:, None]
-                key.background[:, p] = values.T
+                values, emitted = reflect(st.origin, st.nrm, st.wo, st.mat, st.sun, sl.start,
+                                          fan)
+                tau_a = node_mixing.gather_band(bset.coefficients.transmittance,
+                                                nodes_all.subset(st.rank))
+                reflectance = textures(scene, st.obj, st.pos)["reflectance"][:, None]
+                for part, layer in ((values, key.background), (emitted, key.background_thermal)):
+                    part *= tau_a
+                    part *= reflectance
+                    layer[:, p] = part.T
             key.sky_fractions[p] = sky
             key.lobe_fractions[p] = sky  # what a surface that was not specular lends the lobe
             if n_spec:
@@ -223,6 +237,7 @@ class RealtimeRenderer:
                                                    key.material[at], key.index[at],
                                                    key.weight[at], key.sky_fractions[at])
         key.sky_view = key.sky_fractions.sum(axis=1)
+        key.sky_thermal_sums = _thermal_sky_sums(key, key.material, np.arange(n_pix))
 
     # -- a frame ------------------------------------------------------------------------------
 
@@ -239,6 +254,8 @@ class RealtimeRenderer:
             out = SimpleNamespace(
                 acc=np.zeros((len(TERMS), n_b, n_pix)), tau=np.full((n_b, n_pix), np.nan),
                 background=None if key.background is None else np.zeros((n_b, n_pix)),
+                background_thermal=None if key.background is None else np.zeros((n_b, n_pix)),
+                sky_thermal=np.zeros((len(key.split.split), n_pix)),
                 radiance=np.zeros((n_b, n_pix)), bt=np.full((n_b, n_pix), np.nan),
                 maps={name: np.full(n_pix, fill, dtype=dtype)
                       for name, (dtype, fill) in MAPS.items()})
@@ -247,6 +264,9 @@ class RealtimeRenderer:
             out = SimpleNamespace(acc=last.acc.copy(), tau=last.tau.copy(),
                                   background=None if last.background is None
                                   else last.background.copy(),
+                                  background_thermal=None if last.background is None
+                                  else last.background_thermal.copy(),
+                                  sky_thermal=last.sky_thermal.copy(),
                                   radiance=last.radiance.copy(), bt=last.bt.copy(),
                                   maps={k: v.copy() for k, v in last.maps.items()})
         if len(dirty):
@@ -360,6 +380,10 @@ class RealtimeRenderer:
             sky_fractions=np.zeros((0, n_k)), lobe_fractions=lobe_fractions,
             sky_sums=sky_sums, path_index=key.path_index, path_weight=key.path_weight,
             **key.tables)
+        if len(key.split.split):  # the sky's emission reflected, where the sky holds both
+            out.sky_thermal[:, dirty] = 0.0
+            out.sky_thermal[:, p] = _thermal_sky(key, p, mat, spec, lobe_fractions,
+                                                 tex["reflectance"]).T
         miss = dirty[~hit]
         if len(miss):  # rays that leave the scene see the sky, or nothing
             out.acc[TERMS.index("path_radiance")][:, miss] = key.sky_seen[:, miss]
@@ -367,9 +391,11 @@ class RealtimeRenderer:
         for t in range(1, len(TERMS)):
             total += out.acc[t][:, dirty]
         if out.background is not None:  # the key frame's, where the pixel sees its object
-            out.background[:, dirty] = 0.0
-            same = obj == key.object[p]
-            out.background[:, p[same]] = key.background[:, p[same]]
+            same = p[obj == key.object[p]]
+            for layer, kept in ((out.background, key.background),
+                                (out.background_thermal, key.background_thermal)):
+                layer[:, dirty] = 0.0
+                layer[:, same] = kept[:, same]
             total += out.background[:, dirty]
         out.radiance[:, dirty] = total
         for b, band in enumerate(key.bands):
@@ -397,6 +423,7 @@ class RealtimeRenderer:
                 **units, "long_name": BACKGROUND_LONG_NAME,
                 "comment": "the key frame's, where the pixel sees the key frame's object; 0 "
                 "elsewhere"})
+        data.update(_part_variables(key, out, image, units))
         data["brightness_temperature"] = (image, out.bt.reshape(n_b, ny, nx), {
             "units": "K", "long_name": "band brightness temperature of the total radiance",
             "comment": f"bands centred at or beyond {THERMAL_BAND_START} um; NaN elsewhere"})
@@ -436,6 +463,60 @@ MAP_ATTRS = {
     "surface_temperature": {"units": "K", "standard_name": "surface_temperature",
                             "long_name": "surface temperature"},
 }
+
+
+def _thermal_sky_sums(key, material, pixels) -> np.ndarray:
+    """The key frame's diffuse sums of the thermal sky for ``pixels`` seen as ``material``
+    (-1: nothing), in the bands whose sky holds both parts: (len(pixels), n_split), zero
+    where nothing is seen (:func:`~radscene.render.node_mixing.mix_sky`, the thermal tables
+    of :class:`~radscene.render.sky_split.SkySplit`)."""
+    out = np.zeros((len(pixels), len(key.split.split)))
+    seen = np.flatnonzero(material >= 0)
+    if len(seen) and out.shape[1]:
+        at = pixels[seen]
+        out[seen] = node_mixing.mix_sky(key.split.diffuse, material[seen], key.index[at],
+                                        key.weight[at], key.sky_fractions[at])
+    return out
+
+
+def _thermal_sky(key, p, mat, spec, lobe_fractions, reflectance) -> np.ndarray:
+    """The sky's emission reflected by the hits of pixels ``p`` (materials ``mat``, specular
+    flags ``spec``, the lobe's sky fractions ``lobe_fractions`` of every hit, Δρ
+    ``reflectance``) in the bands whose sky holds both parts: (len(p), n_split), the sums
+    of the reflected sky with the thermal tables (as
+    :meth:`~radscene.render.sky_split.SkySplit.tile_thermal`)."""
+    out = key.sky_thermal_sums[p]
+    changed = np.flatnonzero(mat != key.material[p])
+    if len(changed):
+        out[changed] = _thermal_sky_sums(key, mat[changed], p[changed])
+    sel = np.flatnonzero(spec)
+    if len(sel):
+        at = p[sel]
+        out[sel] += node_mixing.mix_sky(key.split.specular, mat[sel], key.index[at],
+                                        key.weight[at], lobe_fractions[sel])
+    out *= reflectance[:, None]
+    return out
+
+
+def _part_variables(key, out, image, units) -> dict:
+    """The frame's parts of ``sky_reflected`` and, where the frame has it,
+    ``background_reflected`` (:data:`~radscene.render.outputs.PART_LAYERS`) as Dataset
+    variables ``image`` (band, y, x) [W m-2 sr-1]."""
+    n_b, n_pix = out.radiance.shape
+    shape = (n_b,) + key.shape
+    split = key.split
+    parts = {"sky_reflected": part_layers(out.acc[TERMS.index("sky_reflected")],
+                                          out.sky_thermal, split.solar, split.thermal,
+                                          split.split)}
+    if out.background is not None:
+        parts[BACKGROUND_TERM] = part_layers(out.background, out.background_thermal, None,
+                                             None, None)
+    data = {}
+    for layer, values in parts.items():
+        for name, value in zip(PART_LAYERS[layer], values, strict=True):
+            data[name] = (image, value.reshape(shape), {
+                **units, "long_name": PART_LONG_NAMES[name], "comment": PART_COMMENTS[name]})
+    return data
 
 
 def _swept(lo, hi, sun, floor):
