@@ -54,7 +54,7 @@ from radscene.render.outputs import (
     TERMS,
     THERMAL_BAND_START,
 )
-from radscene.render.sky_split import PART_COMMENTS, part_layers
+from radscene.render.sky_split import PART_COMMENTS
 from radscene.render.sun_track import sun_track
 from radscene.render.surface import fan_shifts, shadows, surface_state, textures
 
@@ -501,22 +501,40 @@ def _thermal_sky(key, p, mat, spec, lobe_fractions, reflectance) -> np.ndarray:
 def _part_variables(key, out, image, units) -> dict:
     """The frame's parts of ``sky_reflected`` and, where the frame has it,
     ``background_reflected`` (:data:`~radscene.render.outputs.PART_LAYERS`) as Dataset
-    variables ``image`` (band, y, x) [W m-2 sr-1]."""
-    n_b, n_pix = out.radiance.shape
+    variables ``image`` (band, y, x) [W m-2 sr-1]: the values of
+    :func:`~radscene.render.sky_split.part_layers`, each value written once."""
+    n_b = out.radiance.shape[0]
     shape = (n_b,) + key.shape
     split = key.split
-    parts = {"sky_reflected": part_layers(out.acc[TERMS.index("sky_reflected")],
-                                          out.sky_thermal, split.solar, split.thermal,
-                                          split.split)}
-    if out.background is not None:
-        parts[BACKGROUND_TERM] = part_layers(out.background, out.background_thermal, None,
-                                             None, None)
+    parts = {"sky_reflected": _split_rows(out.acc[TERMS.index("sky_reflected")],
+                                          out.sky_thermal, split)}
+    if out.background is not None:  # the thermal part is the frame's own array, as the layer
+        parts[BACKGROUND_TERM] = (out.background - out.background_thermal,
+                                  out.background_thermal)
     data = {}
     for layer, values in parts.items():
         for name, value in zip(PART_LAYERS[layer], values, strict=True):
             data[name] = (image, value.reshape(shape), {
                 **units, "long_name": PART_LONG_NAMES[name], "comment": PART_COMMENTS[name]})
     return data
+
+
+def _split_rows(layer, thermal_rows, split) -> tuple[np.ndarray, np.ndarray]:
+    """(solar, thermal) parts (n_b, N) of the reflected sky ``layer`` (n_b, N), as
+    :func:`~radscene.render.sky_split.part_layers` forms them: a band whose sky holds one part
+    is all that part; the bands ``split.split`` have their thermal part in ``thermal_rows``
+    (n_split, N) and the layer less it as the solar part."""
+    solar, thermal = np.zeros_like(layer), np.zeros_like(layer)  # rows of zeros stay unwritten
+    row = {int(b): i for i, b in enumerate(split.split)}
+    for b in range(len(layer)):
+        if b in row:
+            thermal[b] = thermal_rows[row[b]]
+            np.subtract(layer[b], thermal[b], out=solar[b])
+        elif split.thermal[b] and not split.solar[b]:
+            thermal[b] = layer[b]
+        else:
+            solar[b] = layer[b]
+    return solar, thermal
 
 
 def _swept(lo, hi, sun, floor):
