@@ -34,6 +34,7 @@ instant (the same random numbers): to 1e-12 relative in the tests.
 
 from __future__ import annotations
 
+import sys
 import time as _time
 from types import SimpleNamespace
 
@@ -238,6 +239,8 @@ class RealtimeRenderer:
                                                    key.weight[at], key.sky_fractions[at])
         key.sky_view = key.sky_fractions.sum(axis=1)
         key.sky_thermal_sums = _thermal_sky_sums(key, key.material, np.arange(n_pix))
+        if key.background is not None:  # its solar part, as the full render forms it
+            key.background_solar = key.background - key.background_thermal
 
     # -- a frame ------------------------------------------------------------------------------
 
@@ -254,8 +257,7 @@ class RealtimeRenderer:
             out = SimpleNamespace(
                 acc=np.zeros((len(TERMS), n_b, n_pix)), tau=np.full((n_b, n_pix), np.nan),
                 background=None if key.background is None else np.zeros((n_b, n_pix)),
-                background_thermal=None if key.background is None else np.zeros((n_b, n_pix)),
-                sky_thermal=np.zeros((len(key.split.split), n_pix)),
+                parts={name: np.empty((n_b, n_pix)) for name in _part_names(key)},
                 radiance=np.zeros((n_b, n_pix)), bt=np.full((n_b, n_pix), np.nan),
                 maps={name: np.full(n_pix, fill, dtype=dtype)
                       for name, (dtype, fill) in MAPS.items()})
@@ -264,9 +266,7 @@ class RealtimeRenderer:
             out = SimpleNamespace(acc=last.acc.copy(), tau=last.tau.copy(),
                                   background=None if last.background is None
                                   else last.background.copy(),
-                                  background_thermal=None if last.background is None
-                                  else last.background_thermal.copy(),
-                                  sky_thermal=last.sky_thermal.copy(),
+                                  parts=_carried(last.parts),
                                   radiance=last.radiance.copy(), bt=last.bt.copy(),
                                   maps={k: v.copy() for k, v in last.maps.items()})
         if len(dirty):
@@ -380,10 +380,6 @@ class RealtimeRenderer:
             sky_fractions=np.zeros((0, n_k)), lobe_fractions=lobe_fractions,
             sky_sums=sky_sums, path_index=key.path_index, path_weight=key.path_weight,
             **key.tables)
-        if len(key.split.split):  # the sky's emission reflected, where the sky holds both
-            out.sky_thermal[:, dirty] = 0.0
-            out.sky_thermal[:, p] = _thermal_sky(key, p, mat, spec, lobe_fractions,
-                                                 tex["reflectance"]).T
         miss = dirty[~hit]
         if len(miss):  # rays that leave the scene see the sky, or nothing
             out.acc[TERMS.index("path_radiance")][:, miss] = key.sky_seen[:, miss]
@@ -392,12 +388,12 @@ class RealtimeRenderer:
             total += out.acc[t][:, dirty]
         if out.background is not None:  # the key frame's, where the pixel sees its object
             same = p[obj == key.object[p]]
-            for layer, kept in ((out.background, key.background),
-                                (out.background_thermal, key.background_thermal)):
-                layer[:, dirty] = 0.0
-                layer[:, same] = kept[:, same]
+            out.background[:, dirty] = 0.0
+            out.background[:, same] = key.background[:, same]
             total += out.background[:, dirty]
         out.radiance[:, dirty] = total
+        self._shade_parts(key, out, dirty, hidx, obj, mat, spec, lobe_fractions,
+                          tex["reflectance"])
         for b, band in enumerate(key.bands):
             if band.response.center >= THERMAL_BAND_START:
                 out.bt[b, dirty] = band_brightness_temperature(total[b], band.response)
@@ -407,6 +403,32 @@ class RealtimeRenderer:
         for name, (_, fill) in MAPS.items():
             out.maps[name][dirty] = fill
             out.maps[name][p] = values[name]
+
+    def _shade_parts(self, key, out, dirty, hidx, obj, mat, spec, lobe_fractions,
+                     reflectance):
+        """The part layers (:data:`~radscene.render.outputs.PART_LAYERS`) at the pixels
+        ``dirty``, whose hits are ``hidx`` among them (objects ``obj``, materials ``mat``,
+        specular flags ``spec``, the lobe's sky fractions, Δρ ``reflectance``), once their
+        layers are shaded: the reflected sky's from its layer and, in the bands whose sky holds
+        both parts, the sky's emission reflected (:func:`_thermal_sky`); the background's the
+        key frame's where the pixel sees the key frame's object, as the layer."""
+        split = key.split
+        p = dirty[hidx]
+        rows = np.zeros((len(split.split), len(dirty)))
+        if len(split.split) and len(p):  # the sky's emission reflected, where it holds both
+            rows[:, hidx] = _thermal_sky(key, p, mat, spec, lobe_fractions, reflectance).T
+        solar, thermal = _split_rows(out.acc[TERMS.index("sky_reflected")][:, dirty], rows,
+                                     split)
+        for name, values in zip(PART_LAYERS["sky_reflected"], (solar, thermal), strict=True):
+            for row, value in zip(out.parts[name], values, strict=True):  # a band at a time:
+                row[dirty] = value  # numpy indexes rows faster than (band, pixel) columns
+        if key.background is not None:
+            same = p[obj == key.object[p]]
+            for name, kept in zip(PART_LAYERS[BACKGROUND_TERM],
+                                  (key.background_solar, key.background_thermal), strict=True):
+                for row, value in zip(out.parts[name], kept, strict=True):
+                    row[dirty] = 0.0
+                    row[same] = value[same]
 
     def _dataset(self, key, setup, out, seconds) -> xr.Dataset:
         ny, nx = key.shape
@@ -423,7 +445,9 @@ class RealtimeRenderer:
                 **units, "long_name": BACKGROUND_LONG_NAME,
                 "comment": "the key frame's, where the pixel sees the key frame's object; 0 "
                 "elsewhere"})
-        data.update(_part_variables(key, out, image, units))
+        for name, values in out.parts.items():  # beside their layers, as the full render
+            data[name] = (image, values.reshape(n_b, ny, nx), {
+                **units, "long_name": PART_LONG_NAMES[name], "comment": PART_COMMENTS[name]})
         data["brightness_temperature"] = (image, out.bt.reshape(n_b, ny, nx), {
             "units": "K", "long_name": "band brightness temperature of the total radiance",
             "comment": f"bands centred at or beyond {THERMAL_BAND_START} um; NaN elsewhere"})
@@ -498,25 +522,25 @@ def _thermal_sky(key, p, mat, spec, lobe_fractions, reflectance) -> np.ndarray:
     return out
 
 
-def _part_variables(key, out, image, units) -> dict:
-    """The frame's parts of ``sky_reflected`` and, where the frame has it,
-    ``background_reflected`` (:data:`~radscene.render.outputs.PART_LAYERS`) as Dataset
-    variables ``image`` (band, y, x) [W m-2 sr-1]: the values of
-    :func:`~radscene.render.sky_split.part_layers`, each value written once."""
-    n_b = out.radiance.shape[0]
-    shape = (n_b,) + key.shape
-    split = key.split
-    parts = {"sky_reflected": _split_rows(out.acc[TERMS.index("sky_reflected")],
-                                          out.sky_thermal, split)}
-    if out.background is not None:  # the thermal part is the frame's own array, as the layer
-        parts[BACKGROUND_TERM] = (out.background - out.background_thermal,
-                                  out.background_thermal)
-    data = {}
-    for layer, values in parts.items():
-        for name, value in zip(PART_LAYERS[layer], values, strict=True):
-            data[name] = (image, value.reshape(shape), {
-                **units, "long_name": PART_LONG_NAMES[name], "comment": PART_COMMENTS[name]})
-    return data
+def _part_names(key) -> tuple[str, ...]:
+    """The part layers of a key frame's frames: the reflected sky's, and the background's
+    where the frames have the layer."""
+    names = PART_LAYERS["sky_reflected"]
+    return names + (PART_LAYERS[BACKGROUND_TERM] if key.background is not None else ())
+
+
+def _carried(parts) -> dict:
+    """The last frame's part layers ``parts`` for the next frame to change at its pixels
+    traced again: each array itself where nothing else holds it any more (the caller let go of
+    the last frame's images), else a copy, so that a frame kept is never changed. A frame then
+    writes only its pixels traced again, not every pixel of four more layers."""
+    out = {}
+    for name in list(parts):
+        array = parts.pop(name)
+        # two references: this name and getrefcount's argument; a view of it (the last
+        # frame's Dataset variable, kept) adds one
+        out[name] = array if sys.getrefcount(array) <= 2 else array.copy()
+    return out
 
 
 def _split_rows(layer, thermal_rows, split) -> tuple[np.ndarray, np.ndarray]:
@@ -524,12 +548,12 @@ def _split_rows(layer, thermal_rows, split) -> tuple[np.ndarray, np.ndarray]:
     :func:`~radscene.render.sky_split.part_layers` forms them: a band whose sky holds one part
     is all that part; the bands ``split.split`` have their thermal part in ``thermal_rows``
     (n_split, N) and the layer less it as the solar part."""
-    solar, thermal = np.zeros_like(layer), np.zeros_like(layer)  # rows of zeros stay unwritten
+    solar, thermal = np.zeros_like(layer), np.zeros_like(layer)
     row = {int(b): i for i, b in enumerate(split.split)}
     for b in range(len(layer)):
         if b in row:
             thermal[b] = thermal_rows[row[b]]
-            np.subtract(layer[b], thermal[b], out=solar[b])
+            solar[b] = layer[b] - thermal[b]
         elif split.thermal[b] and not split.solar[b]:
             thermal[b] = layer[b]
         else:
