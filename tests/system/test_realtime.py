@@ -246,6 +246,33 @@ def test_the_parts_of_the_reflected_sky_and_background_sum_to_their_layers():
         assert not last[name].values[:, ~same].any()
 
 
+def test_a_frame_kept_by_the_caller_is_not_changed_by_the_next():
+    """The part layers are changed in place from frame to frame only where the caller let go
+    of the last frame: frames kept and frames let go have the same values."""
+    spec = _scene(SKY, bounces=1)
+    spec["bands"] = BANDS + [MWIR]
+    runs = {}
+    for keep in (True, False):
+        sim = radscene.Simulation(spec, realtime=True)
+        kept, copies = [], []
+        for k in range(4):
+            _move(sim, k)
+            frame = sim.step(0.04).radiance["map"]
+            copies.append({n: frame[n].values.copy() for n in PARTS["background_reflected"]
+                           + PARTS["sky_reflected"]})
+            if keep:
+                kept.append(frame)
+            del frame
+        if keep:  # each kept frame as it was when made
+            for frame, values in zip(kept, copies, strict=True):
+                for name, value in values.items():
+                    np.testing.assert_array_equal(frame[name].values, value, err_msg=name)
+        runs[keep] = copies
+    for a, b in zip(runs[True], runs[False], strict=True):
+        for name in a:
+            np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+
+
 def test_a_frame_without_the_background_has_the_sky_parts_alone():
     fast, full = _pair(SKY, frames=1)[0]
     assert {"sky_reflected_solar", "sky_reflected_thermal"} <= set(fast["map"].data_vars)

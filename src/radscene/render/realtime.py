@@ -257,7 +257,7 @@ class RealtimeRenderer:
             out = SimpleNamespace(
                 acc=np.zeros((len(TERMS), n_b, n_pix)), tau=np.full((n_b, n_pix), np.nan),
                 background=None if key.background is None else np.zeros((n_b, n_pix)),
-                parts={name: np.empty((n_b, n_pix)) for name in _part_names(key)},
+                parts={name: np.empty((n_b, n_pix)) for name in _part_names(key)}, older={},
                 radiance=np.zeros((n_b, n_pix)), bt=np.full((n_b, n_pix), np.nan),
                 maps={name: np.full(n_pix, fill, dtype=dtype)
                       for name, (dtype, fill) in MAPS.items()})
@@ -266,7 +266,7 @@ class RealtimeRenderer:
             out = SimpleNamespace(acc=last.acc.copy(), tau=last.tau.copy(),
                                   background=None if last.background is None
                                   else last.background.copy(),
-                                  parts=_carried(last.parts),
+                                  parts=_carried(last), older=last.parts,
                                   radiance=last.radiance.copy(), bt=last.bt.copy(),
                                   maps={k: v.copy() for k, v in last.maps.items()})
         if len(dirty):
@@ -277,6 +277,7 @@ class RealtimeRenderer:
                 self._shade(key, dirty, out)
             finally:
                 numba.set_num_threads(threads)
+        out.dirty = dirty
         out.counts = tracer.move_count.copy()
         out.lo, out.hi = tracer.mesh_bounds
         out.half = tracer.half_size
@@ -529,17 +530,27 @@ def _part_names(key) -> tuple[str, ...]:
     return names + (PART_LAYERS[BACKGROUND_TERM] if key.background is not None else ())
 
 
-def _carried(parts) -> dict:
-    """The last frame's part layers ``parts`` for the next frame to change at its pixels
-    traced again: each array itself where nothing else holds it any more (the caller let go of
-    the last frame's images), else a copy, so that a frame kept is never changed. A frame then
-    writes only its pixels traced again, not every pixel of four more layers."""
+def _carried(last) -> dict:
+    """The part layers of the frame after ``last``, to be changed at its pixels traced again.
+
+    A frame's images stay as they were made, so a frame cannot write into the last frame's
+    arrays (the caller holds them while it asks for the next), but it may into those of the
+    frame before (``last.older``) once nothing else holds them: brought up to date at the
+    pixels ``last`` traced again, they are ``last``'s. Then a frame writes its pixels traced
+    again and ``last``'s, not every pixel of four more layers; where the older arrays are held
+    (a caller that keeps its frames) the last frame's are copied.
+    """
     out = {}
-    for name in list(parts):
-        array = parts.pop(name)
-        # two references: this name and getrefcount's argument; a view of it (the last
-        # frame's Dataset variable, kept) adds one
-        out[name] = array if sys.getrefcount(array) <= 2 else array.copy()
+    for name, array in last.parts.items():
+        older = last.older.pop(name, None)
+        # two references: this name and getrefcount's argument; a view of it (a Dataset
+        # variable of that frame, kept) adds one
+        if older is None or sys.getrefcount(older) > 2:
+            out[name] = array.copy()
+            continue
+        for row, value in zip(older, array, strict=True):  # a band at a time (see _shade_parts)
+            row[last.dirty] = value[last.dirty]
+        out[name] = older
     return out
 
 
