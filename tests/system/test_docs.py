@@ -29,8 +29,17 @@ def schema():
 
 
 @pytest.fixture(scope="module")
-def reference():
+def full_reference():
     return scene_reference()
+
+
+@pytest.fixture(scope="module")
+def reference(full_reference):
+    """The reference's model sections (the engines' keys of its last section are apart)."""
+    return full_reference.split(ATMOSPHERE_SECTION, 1)[0]
+
+
+ATMOSPHERE_SECTION = "\n## environment.atmosphere\n"
 
 
 @pytest.fixture(scope="module")
@@ -249,3 +258,33 @@ def test_table_examples_are_valid_values_of_their_keys(schema):
         annotation = Annotated[(field.annotation, *field.metadata)] if field.metadata \
             else field.annotation
         TypeAdapter(annotation).validate_python(example)
+
+
+def test_reference_lists_every_atmosphere_engines_keys(full_reference):
+    """Per engine, the keys its constructor takes, with the names it knows."""
+    from radscene.atmosphere.keys import engine_keys
+
+    section = full_reference.split(ATMOSPHERE_SECTION, 1)[1]
+    for engine, keys in engine_keys().items():
+        part = section.split(f"### type: {engine}\n", 1)[1].split("\n### ", 1)[0]
+        listed = {line.split("`")[1] for line in part.splitlines() if line.startswith("| `")}
+        assert listed == set(keys), engine
+    database = section.split("### type: database\n", 1)[1].split("\n### ", 1)[0]
+    assert "`midlatitude_summer`" in database and "`maritime`" in database
+
+
+@pytest.mark.parametrize("atmosphere, valid", [
+    ({"type": "database", "profile": "tropical", "aerosol": "maritime", "aot550": 0.2}, True),
+    ({"type": "sixs", "profile": "us_standard", "water": 2.0}, True),
+    ({"type": "lowtran", "model": "tropical", "visibility": "23 km"}, True),
+    ({"type": "none"}, True),
+    ({"type": "database", "profle": "tropical"}, False),  # a misspelt key
+    ({"type": "sixs", "transmittance": 0.9}, False),  # another engine's key
+    ({"type": "uniform", "profile": "tropical"}, False),
+    ({"type": "modtran"}, False),
+    ({"profile": "tropical"}, False),  # no type
+])
+def test_json_schema_knows_each_engines_keys(validator, atmosphere, valid):
+    scene = _demo()
+    scene["environment"]["atmosphere"] = atmosphere
+    assert validator.is_valid(scene) == valid

@@ -50,7 +50,7 @@ def test_hat_weights_sum_to_one():
     ({"type": "uniform", "path_radiance": -1.0}, "radiance must be >= 0"),
     ({"type": "uniform", "sky_zenith": [0, 60]}, "give both sky_zenith and sky_profile"),
     ({"type": "uniform", "sky_zenith": [60, 0], "sky_profile": [1, 1]}, "increasing"),
-    ({"type": "uniform", "visibility": 5}, "bad parameters"),
+    ({"type": "uniform", "visibility": 5}, "the .uniform. engine takes no key .visibility.; it takes: transmittance"),
 ])
 def test_bad_parameters_name_the_key(spec, match):
     with pytest.raises(ConfigError, match=match):

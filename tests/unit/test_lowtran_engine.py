@@ -284,8 +284,9 @@ def test_the_type_tagged_dict_builds_and_checks_the_engine(make, monkeypatch):
     with pytest.raises(ConfigError, match="unknown aerosol model") as info:
         make_atmosphere({"type": "lowtran", "aerosol": "smog"})
     assert info.value.key == "atmosphere.aerosol"
-    with pytest.raises(ConfigError, match="bad parameters for the 'lowtran' engine"):
+    with pytest.raises(ConfigError, match="takes no key 'visibilty'.*did you mean 'visibility'") as info:
         make_atmosphere({"type": "lowtran", "visibilty": 10.0})
+    assert info.value.key == "environment.atmosphere.visibilty"
 
 
 def test_sky_parts_are_the_scattered_and_thermal_columns(make):

@@ -219,7 +219,34 @@ def scene_json_schema() -> dict:
            "definitions": defs}
     doc["title"] = "radscene scene file"
     doc = _walk_json(doc, _to_draft_07)
-    return _walk_json(doc, _describe_units)
+    doc = _walk_json(doc, _describe_units)
+    doc["definitions"]["Environment"]["properties"]["atmosphere"] = atmosphere_schema()
+    return doc
+
+
+def atmosphere_schema() -> dict:
+    """The JSON schema of ``environment.atmosphere``: one branch per engine (its ``type``),
+    with the keys its constructor takes, their defaults and the names it knows
+    (:func:`radscene.atmosphere.keys.engine_keys`). Values are not typed here: quantities
+    take numbers or strings with units, and the engine checks them."""
+    from radscene.atmosphere.keys import engine_keys
+
+    branches = []
+    for engine, keys in engine_keys().items():
+        props = {"type": {"const": engine}}
+        for key, entry in keys.items():
+            prop = {}
+            if "default" in entry:
+                prop["default"] = entry["default"]
+            if "names" in entry:
+                prop["examples"] = entry["names"]
+                prop["description"] = "one of: " + ", ".join(entry["names"])
+            props[key] = prop
+        branches.append({"title": f"{engine} engine", "type": "object", "required": ["type"],
+                         "properties": props, "additionalProperties": False})
+    return {"title": "Atmosphere", "description": "the atmosphere engine: {type: "
+            + "|".join(engine_keys()) + ", ...}; the keys of each engine below",
+            "type": "object", "required": ["type"], "oneOf": branches}
 
 
 # ----------------------------------------------------------------------------- the models
@@ -497,9 +524,9 @@ def scene_reference() -> str:
         "key's default, or its type. Unknown keys are refused. For completion and checking in",
         "an editor, see [the JSON schema](editor.md).",
         "",
-        "Keys that take a type-tagged mapping described elsewhere: `environment.atmosphere`",
-        "([atmosphere engines](api/atmosphere.md)), `materials` ([materials and BRDFs]",
-        "(api/materials.md)), `sensors` (`radscene sensor list`).",
+        "Keys that take a type-tagged mapping: `environment.atmosphere` (its keys per engine",
+        "are [below](#environmentatmosphere); what they mean: [atmosphere engines](api/atmosphere.md)),",
+        "`materials` ([materials and BRDFs](api/materials.md)), `sensors` (`radscene sensor list`).",
         "",
     ]
     for name, model in models.items():
@@ -552,4 +579,28 @@ def scene_reference() -> str:
                 f"`{key}`", _cell(type_text), _cell(unit), _cell(default),
                 _cell(description).replace("[", "\\[") or "–", example_text]) + " |")
         lines.append("")
-    return "\n".join(lines)
+    return "\n".join(lines + _atmosphere_reference())
+
+
+def _atmosphere_reference() -> list[str]:
+    """The reference's section on ``environment.atmosphere``: per engine, its keys, their
+    defaults and the names the engine knows."""
+    from radscene.atmosphere.keys import engine_keys
+
+    lines = ["## environment.atmosphere", "",
+             "The keys each engine takes beside `type`, read from its constructor "
+             "(`radscene.atmosphere.ENGINES`); units and meanings are on the engine's "
+             "[API page](api/atmosphere.md). A database built with `radscene atmosphere build` "
+             "may hold other profiles and aerosols than the shipped one's listed here.", ""]
+    for engine, keys in engine_keys().items():
+        lines += [f"### type: {engine}", ""]
+        if not keys:
+            lines += ["No other key.", ""]
+            continue
+        lines += ["| key | default | names |", "|---|---|---|"]
+        for key, entry in keys.items():
+            default = _yaml_value(entry["default"]) if "default" in entry else "–"
+            names = ", ".join(f"`{n}`" for n in entry.get("names", [])) or "–"
+            lines.append(f"| `{key}` | {_cell(default)} | {names} |")
+        lines.append("")
+    return lines
