@@ -91,3 +91,42 @@ def test_the_cli_sweeps_on_a_local_cluster_and_refuses_bad_settings(tmp_path):
     assert bad.exit_code == 2
     assert len(bad.output.strip().splitlines()) == 1 and "zenit" in bad.output
     assert not (tmp_path / "bad").exists()
+
+
+def test_the_cli_sweep_quiet_and_verbose(tmp_path, monkeypatch, one_line_refusal):
+    """--quiet prints nothing; --verbose adds the variants, the cluster and each variant
+    finished with its time; both together are refused before any render. The printing alone
+    is checked here: the renders are the test above's."""
+    import radscene.distributed as distributed
+
+    calls = []
+
+    def fake_sweep(scene, settings, output, *, client=None, workers=None, overwrite=False,
+                   progress=None):
+        calls.append(settings)
+        files = {f"variant_{i:03d}": [output / f"variant_{i:03d}" / "map.nc"] for i in range(2)}
+        for done in (1, 2):
+            progress(done, 2)
+        return files
+
+    monkeypatch.setattr(distributed, "render_sweep", fake_sweep)
+    scene_file = tmp_path / "scene.yaml"
+    scene_file.write_text(yaml.safe_dump(_scene()))
+    args = ["sweep", str(scene_file), "-o", str(tmp_path / "out"), "--set",
+            "environment.sun.zenith=20,40", "--set", "observers[map].gsd=2"]
+    runner = CliRunner()
+    normal = runner.invoke(app, args)
+    assert normal.exit_code == 0 and "variant 2/2" in normal.output and "sweep.json" in normal.output
+    quiet = runner.invoke(app, [*args, "--quiet"])
+    assert quiet.exit_code == 0 and quiet.output == "", quiet.output
+    loud = runner.invoke(app, [*args, "-v"])
+    assert loud.exit_code == 0, loud.output
+    for words in ("2 variant(s) of 2 setting(s): environment.sun.zenith=20,40; "
+                  "observers[map].gsd=2",
+                  "local dask cluster of 1 process(es)", "variant 2/2 finished (",
+                  "2 variant(s) rendered and written"):
+        assert words in loud.output, words
+    assert len(calls) == 3
+    both = runner.invoke(app, [*args, "-q", "-v"])
+    assert both.exit_code == 2 and one_line_refusal(both.output, "--quiet")
+    assert len(calls) == 3

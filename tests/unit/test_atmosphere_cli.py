@@ -48,6 +48,43 @@ def test_sky_table_and_plot(tmp_path):
     assert png.stat().st_size > 10_000
 
 
+def test_los_and_sky_quiet_write_their_files_and_print_nothing(tmp_path):
+    """With --quiet the tables are not printed, the -o and --plot files are written; --verbose
+    adds the computation and each file with its size and time; --quiet refuses --json (all
+    that it prints) and --verbose."""
+    span = ["--wavelength-min", "0.5", "--wavelength-max", "0.6"]
+    out, png = tmp_path / "los.nc", tmp_path / "sky.png"
+    quiet = runner.invoke(app, ["los", *span, "-q", "-o", str(out)])
+    assert quiet.exit_code == 0 and quiet.output == "", quiet.output
+    assert xr.open_dataset(out, engine="h5netcdf").sizes["band"] == 1
+    quiet = runner.invoke(app, ["sky", *span, "--zenith", "0,60", "--azimuth", "0,180",
+                                "--quiet", "--plot", str(png)])
+    assert quiet.exit_code == 0 and quiet.output == "", quiet.output
+    assert png.stat().st_size > 10_000
+    loud = runner.invoke(app, ["los", *span, "--verbose", "-o", str(tmp_path / "v.nc")])
+    assert loud.exit_code == 0, loud.output
+    for words in ("line of sight (database): 21 wavelength(s), 1 band(s) (",
+                  f"wrote {tmp_path / 'v.nc'} (", "kB) (", "spectral samples"):
+        assert words in loud.output, words
+    loud = runner.invoke(app, ["sky", *span, "--zenith", "0,60", "--azimuth", "0,180", "-v"])
+    assert loud.exit_code == 0 and "sky (database): 2×2 directions" in loud.output
+    for command in ("los", "sky"):
+        for flags in (["-q", "--json"], ["-q", "-v"]):
+            res = runner.invoke(app, [command, *span, *flags, "-o", str(tmp_path / "x.nc")])
+            assert isinstance(res.exception, ConfigError) and res.exception.key == "--quiet"
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_build_refuses_quiet_with_verbose_before_any_work(tmp_path):
+    from radscene.cli import app as main_app
+
+    out = tmp_path / "atm.nc"
+    res = runner.invoke(main_app, ["atmosphere", "build", "default", "-o", str(out), "--quiet",
+                                   "--verbose"])
+    assert res.exit_code == 2 and "error: --quiet: give --quiet or --verbose" in res.output
+    assert len(res.output.strip().splitlines()) == 1 and not out.exists()
+
+
 @pytest.mark.parametrize(("args", "match"), [
     (["los", "--visibility", "0"], "visibility: must be > 0"),
     (["los", "--profile", "venus"], "profile 'venus'"),
@@ -104,7 +141,8 @@ def test_band_values_integrate_the_spectrum():
 
 def test_build_without_a_terminal_reports_each_stage(tmp_path):
     """Written to a log (no terminal), ``atmosphere build`` prints one line per finished
-    stage instead of a live progress bar, then its summary; the file is a database."""
+    stage instead of a live progress bar, then its summary; the file is a database. Built
+    again from the cache, with --quiet and --verbose."""
     from radscene.atmosphere.sixs_runner import sixs_available
 
     ok, reason = sixs_available()
@@ -126,6 +164,16 @@ def test_build_without_a_terminal_reports_each_stage(tmp_path):
     assert "runs in" in res.output
     with xr.open_dataset(out) as ds:
         assert float(ds["rho_mixture"].min()) >= 0.0
+    # again from the 6S cache, quick: --quiet prints nothing, --verbose each stage's time
+    again = ["build", str(config), "--cache", str(tmp_path / "cache"), "-o"]
+    quiet = runner.invoke(app, [*again, str(tmp_path / "q.nc"), "--quiet"])
+    assert quiet.exit_code == 0 and quiet.output == "", quiet.output
+    assert (tmp_path / "q.nc").is_file()
+    loud = runner.invoke(app, [*again, str(tmp_path / "v.nc"), "--verbose"])
+    assert loud.exit_code == 0, loud.output
+    for words in ("configuration ", "phase functions: 60 runs (", f"wrote {tmp_path / 'v.nc'}",
+                  "6S runs"):
+        assert words in loud.output, words
 
 
 def test_an_engine_failure_is_one_line_and_exit_code_1(tmp_path, monkeypatch):

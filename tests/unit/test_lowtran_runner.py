@@ -165,6 +165,34 @@ def test_disk_cache_is_keyed_by_deck_and_executable(fake_exe, tmp_path, counter)
     assert len(list(cache.rglob("*.npz"))) == 3
 
 
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
+def test_cache_entries_get_the_mode_of_other_new_files(fake_exe, tmp_path, umask):
+    """0666 less the umask, as any output, so that colleagues sharing the cache folder
+    (RADSCENE_CACHE_DIR on shared storage) read them; no temporary is left beside them."""
+    cache = tmp_path / "cache"
+    old = os.umask(umask)
+    try:
+        first = LowtranRunner(executable=fake_exe, cache_dir=cache).run([deck(0)])[0]
+    finally:
+        os.umask(old)
+    (entry,) = [p for p in cache.rglob("*") if p.is_file()]
+    assert entry.suffix == ".npz" and entry.stat().st_mode & 0o777 == 0o666 & ~umask
+    again = LowtranRunner(executable=fake_exe, cache_dir=cache).run([deck(0)])[0]
+    np.testing.assert_array_equal(again.transmittance, first.transmittance)
+
+
+def test_a_failed_cache_write_leaves_neither_entry_nor_temporary(tmp_path):
+    from radscene.atmosphere.cache_files import write_entry
+
+    def fail(handle):
+        handle.write(b"half")
+        raise OSError("disk full")
+
+    with pytest.raises(OSError, match="disk full"):
+        write_entry(tmp_path / "entry.npz", fail)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_parallel_runs_share_identical_decks(fake_exe, tmp_path, counter):
     runner = LowtranRunner(executable=fake_exe, cache=False, workers=3)
     decks = [deck(0, f"case {i % 3}") for i in range(9)]

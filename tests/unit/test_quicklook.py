@@ -79,6 +79,22 @@ def test_categorical_maps_use_a_discrete_colour_map():
     assert image.cmap.N == 2 and image.norm.boundaries.tolist() == [-0.5, 0.5, 1.5]
 
 
+def test_truth_colour_bars_sit_beside_their_own_maps():
+    """Each map's colour bar right of it, closer to it than to the next panel, also in a row
+    below the categorical maps, whose legends widen their columns."""
+    fig = truth_plot(_dataset())
+    fig.draw_without_rendering()
+    axes = [*fig.axes, *(child for ax in fig.axes for child in ax.child_axes)]
+    bars = [ax.get_window_extent() for ax in axes if ax.get_label() == "<colorbar>"]
+    maps = [ax for ax in fig.axes if ax.get_label() != "<colorbar>" and ax.get_legend() is None]
+    assert len(maps) == 5 and len(bars) == 5
+    for ax in maps:
+        box = ax.get_window_extent()
+        right = [b.x0 - box.x1 for b in bars if b.x0 >= box.x1 - 1 and b.y0 < box.y1
+                 and b.y1 > box.y0]
+        assert right and 0 <= min(right) < 0.1 * box.width, (ax.get_title(), right)
+
+
 def test_categories_fall_back_to_numbers_when_the_names_do_not_split():
     variable = xr.DataArray([0, 1], attrs={"flag_values": [0, 1],
                                            "flag_meanings": "0.6 grass + 0.4 soil"})

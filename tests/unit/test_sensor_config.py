@@ -245,3 +245,28 @@ def test_cli_list_info_and_apply(tmp_path):
                                  "--oversample", "32"])
     assert isinstance(result.exception, ConfigError)
     assert result.exception.key == "detector.pitch"
+
+
+def test_cli_apply_quiet_and_verbose(tmp_path):
+    """--quiet prints nothing and writes the file; --verbose adds each stage and its time on
+    standard error; both together are refused (exit code 2 through the radscene command)."""
+    from radscene.cli import app as main_app
+    from radscene.io import write_netcdf
+
+    runner = CliRunner()
+    cfg = tmp_path / "cam.yaml"
+    cfg.write_text(yaml.safe_dump(BASE))
+    rad = tmp_path / "radiance.nc"
+    write_netcdf(_radiance(), rad)
+    args = ["apply", str(rad), "--sensor", str(cfg), "--seed", "3", "-o"]
+    quiet = runner.invoke(app, [*args, str(tmp_path / "q.nc"), "--quiet"])
+    assert quiet.exit_code == 0 and quiet.output == "", quiet.output
+    assert (tmp_path / "q.nc").is_file()
+    loud = runner.invoke(app, [*args, str(tmp_path / "v.nc"), "-v"])
+    assert loud.exit_code == 0, loud.output
+    for words in ("loaded sensor test", "read ", "1 band(s), 16×16 px", "sensor applied: 1 "
+                  "frame(s)", f"wrote {tmp_path / 'v.nc'} (", " s)", "8 x 8 detectors"):
+        assert words in loud.output, words
+    both = runner.invoke(main_app, ["sensor", *args, str(tmp_path / "b.nc"), "-q", "-v"])
+    assert both.exit_code == 2 and "error: --quiet: give --quiet or --verbose" in both.output
+    assert len(both.output.strip().splitlines()) == 1 and not (tmp_path / "b.nc").exists()

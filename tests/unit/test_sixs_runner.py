@@ -172,3 +172,19 @@ def test_6s_runs_with_a_malloc_top_pad_and_gives_the_same_report(monkeypatch):
     finally:
         monkeypatch.delenv("GLIBC_TUNABLES")
         sr._environment.cache_clear()
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o002, 0o077])
+def test_cache_entries_get_the_mode_of_other_new_files(tmp_path, umask):
+    """0666 less the umask, as any output, so that colleagues sharing the cache folder read
+    them; no temporary is left beside them."""
+    runner, key = sr.SixSRunner(workers=1, cache_dir=tmp_path), "ab" + "0" * 62
+    old = os.umask(umask)
+    try:
+        runner._store(key, {"apparent_reflectance": 0.1})
+    finally:
+        os.umask(old)
+    (entry,) = [p for p in tmp_path.rglob("*") if p.is_file()]
+    assert entry == tmp_path / "ab" / f"{key}.json"
+    assert entry.stat().st_mode & 0o777 == 0o666 & ~umask
+    assert sr.SixSRunner(workers=1, cache_dir=tmp_path)._load(key) == {"apparent_reflectance": 0.1}

@@ -9,7 +9,9 @@ Python. Results are cached on disk under the SHA-256 of the input deck and the e
 case is computed once per machine.
 
 The cache folder is ``$RADSCENE_CACHE/sixs`` (default ``~/.cache/radscene/sixs``); pass
-``cache_dir=False`` to :class:`SixSRunner` to switch it off.
+``cache_dir=False`` to :class:`SixSRunner` to switch it off. Entries are written atomically
+(:mod:`radscene.atmosphere.cache_files`) and readable as other new files are (0666 less the
+umask), so a folder on shared storage serves colleagues too.
 
 References
 ----------
@@ -39,6 +41,7 @@ from dataclasses import asdict, dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
 
+from radscene.atmosphere.cache_files import write_entry
 from radscene.errors import ConfigError, EngineError
 
 __all__ = [
@@ -541,10 +544,7 @@ class SixSRunner:
         folder = self.cache / key[:2]
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=folder, suffix=".tmp")
-            with os.fdopen(fd, "w") as f:
-                json.dump(values, f)
-            os.replace(tmp, folder / f"{key}.json")
+            write_entry(folder / f"{key}.json", lambda f: json.dump(values, f), binary=False)
         except OSError:  # a read-only cache is no reason to fail a run
             pass
 

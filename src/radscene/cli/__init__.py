@@ -90,10 +90,11 @@ class Report:
             err_console.print(f"warning: {escape(text)}", highlight=False)
 
     def stage(self, text: str, seconds: float | None = None) -> None:
-        """With --verbose: a stage, what it did and how long it took (standard error)."""
+        """With --verbose: a stage, what it did and how long it took (standard error). The
+        text is printed as it is: brackets ("observers[map].gsd") are not Rich markup."""
         if self.verbose:
             took = "" if seconds is None else f" ({seconds:.2f} s)"
-            err_console.print(f"[dim]{time.strftime('%H:%M:%S')}[/] {text}{took}",
+            err_console.print(f"[dim]{time.strftime('%H:%M:%S')}[/] {escape(text)}{took}",
                               highlight=False, soft_wrap=True)
 
     def progress(self, *columns, **kwargs) -> Progress:

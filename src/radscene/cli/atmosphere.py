@@ -79,6 +79,11 @@ _JSON = typer.Option(False, "--json", help="Print JSON instead of a table.")
 _OUT = typer.Option(None, "-o", "--output", help="Write the Dataset to this NetCDF file.")
 _PLOT = typer.Option(None, "--plot", help="Write a PNG plot to this file.")
 _DB_OUT = typer.Option(..., "-o", "--output", help="NetCDF database to write.")
+_QUIET = typer.Option(False, "--quiet", "-q", help="Print only errors: no table, no JSON; the "
+                      "-o and --plot files are still written (without either, the exit code "
+                      "alone says whether the inputs hold and the engine ran). Not with --json.")
+_VERBOSE = typer.Option(False, "--verbose", "-v", help="Also print each stage on standard "
+                        "error: what it does and its time.")
 _WORKERS = typer.Option(None, help="Parallel 6S processes (default: CPUs).")
 _CACHE = typer.Option(None, help="Cache folder of 6S results (default: none).")
 
@@ -222,15 +227,34 @@ def _band_label(ds, b) -> str:
             f"{name.rsplit(' ', 1)[-1]} ({float(ds['band_center'][b]):.4g})")
 
 
-def _write(ds, output, plot, plotter):
+def _report(quiet, verbose, as_json):
+    """The :class:`radscene.cli.Report` of ``los`` and ``sky``: --quiet prints nothing, so it
+    refuses --json, whose JSON is all the command prints."""
+    from radscene.cli import Report
+
+    report = Report(quiet, verbose)
+    if quiet and as_json:
+        raise ConfigError("give --quiet or --json, not both: with --quiet nothing is printed "
+                          "(write the Dataset with -o)", key="--quiet")
+    return report
+
+
+def _write(ds, output, plot, plotter, report):
+    """The -o file and the --plot PNG, each named on standard error unless quiet."""
+    def wrote(path, started):
+        if report.verbose:
+            report.wrote(path, started)
+        elif not report.quiet:
+            err_console.print(f"wrote {path}")
+
     if output is not None:
         from radscene.io import write_netcdf
 
-        path = write_netcdf(ds, output, compress=False)
-        err_console.print(f"wrote {path}")
+        t = time.perf_counter()
+        wrote(write_netcdf(ds, output, compress=False), t)
     if plot is not None:
-        path = plotter(ds, Path(plot))
-        err_console.print(f"wrote {path}")
+        t = time.perf_counter()
+        wrote(plotter(ds, Path(plot)), t)
 
 
 def _json_dump(ds) -> str:
@@ -249,14 +273,25 @@ def _json_dump(ds) -> str:
 def build(
     config: str = typer.Argument("default", help="Build configuration (YAML), or 'default'."),
     output: Path = _DB_OUT, workers: int = _WORKERS, cache: Path = _CACHE,
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only errors: no progress, "
+                               "no summary table."),
+    verbose: bool = typer.Option(False, "--verbose", "-v", help="Also print each stage on "
+                                 "standard error as it finishes: its runs and its time."),
 ):
-    """Sample the geometry space with 6S (and LOWTRAN for the thermal range) into a database."""
+    """Sample the geometry space with 6S (and LOWTRAN for the thermal range) into a database.
+    Shows a progress bar per stage on a terminal (elsewhere, a line per finished stage), then
+    a summary table; --quiet prints only errors; --verbose adds each stage and its time."""
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     from radscene.atmosphere.build import build_database, load_config
+    from radscene.cli import Report
+    from radscene.cli import err_console as stages
     from radscene.io import write_netcdf
 
+    report = Report(quiet, verbose)
+    t = time.perf_counter()
     cfg = load_config(None if config == "default" else config)
+    report.stage(f"configuration {config} read", time.perf_counter() - t)
     user = {k: v for k, v in cfg.items() if not k.startswith("_")}
     if workers is not None:
         if workers < 1:
@@ -265,10 +300,11 @@ def build(
     if cache is not None:
         user["cache"] = str(cache)
     started = time.perf_counter()
-    live = err_console.is_terminal  # elsewhere (a log file, CI) one line per finished stage
+    # on a terminal a live bar; elsewhere (a log file, CI) one line per finished stage
+    live = stages.is_terminal and not quiet
     with Progress(TextColumn("[bold]{task.description}"), BarColumn(),
                   TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
-                  console=err_console, disable=not live) as bar:
+                  console=stages, disable=not live) as bar:
         tasks, begun = {}, {}
 
         def progress(stage, done, total):
@@ -276,12 +312,18 @@ def build(
                 tasks[stage] = bar.add_task(stage, total=total)
                 begun[stage] = time.perf_counter()
             bar.update(tasks[stage], completed=done, total=total)
-            if not live and done == total:
-                err_console.print(f"{stage}: {total} runs in "
-                                  f"{time.perf_counter() - begun[stage]:.0f} s")
+            if done == total:
+                took = time.perf_counter() - begun[stage]
+                if verbose:
+                    report.stage(f"{stage}: {total} runs", took)
+                elif not live and not quiet:
+                    stages.print(f"{stage}: {total} runs in {took:.0f} s")
 
         ds = build_database(user, progress=progress)
-    path = write_netcdf(ds, output, compress=True)
+    t = time.perf_counter()
+    path = report.wrote(write_netcdf(ds, output, compress=True), t)
+    if quiet:
+        return
     table = Table(title=f"atmosphere database {path}")
     table.add_column("item")
     table.add_column("value", justify="right")
@@ -347,14 +389,17 @@ def los(
     wavelength_min: str = _WMIN, wavelength_max: str = _WMAX, step: float = _STEP,
     band: list[str] = _BAND, sensor: str = _SENSOR, srf: list[Path] = _SRF,
     srf_unit: str = _SRF_UNIT, database: str = _DB, as_json: bool = _JSON,
-    output: Path = _OUT, plot: Path = _PLOT,
+    output: Path = _OUT, plot: Path = _PLOT, quiet: bool = _QUIET, verbose: bool = _VERBOSE,
 ):
     """One line of sight: transmittance, path radiance (thermal and solar) and the apparent
     radiance of a Lambertian ground, per wavelength and per band (brightness temperatures
-    beyond 3 µm)."""
+    beyond 3 µm). Prints them as tables (or JSON), and writes the Dataset (-o) and a plot
+    (--plot) if asked; --quiet writes those files and prints only errors."""
     from radscene.atmosphere.api import line_of_sight
 
+    report = _report(quiet, verbose, as_json)
     bands, origins = _band_options(band, sensor, srf, srf_unit)
+    t = time.perf_counter()
     ds = _run(
         line_of_sight, origins,
         _q(observer_altitude, "length", "observer_altitude"),
@@ -370,7 +415,11 @@ def los(
             surface_temperature, "temperature", "surface_temperature"),
         wavelength_range=_range(wavelength_min, wavelength_max), step=step,
         bands=bands, database=database)
-    _write(ds, output, plot, _los_plot)
+    report.stage(f"line of sight ({ds.attrs['engine']}): {ds.sizes['wavelength']} "
+                 f"wavelength(s), {ds.sizes.get('band', 0)} band(s)", time.perf_counter() - t)
+    _write(ds, output, plot, _los_plot, report)
+    if quiet:
+        return
     if as_json:
         console.print_json(_json_dump(ds))
         return
@@ -471,13 +520,17 @@ def sky(
     wavelength_min: str = _WMIN, wavelength_max: str = _WMAX, step: float = _STEP,
     band: list[str] = _BAND, sensor: str = _SENSOR, srf: list[Path] = _SRF,
     srf_unit: str = _SRF_UNIT, database: str = _DB, as_json: bool = _JSON,
-    output: Path = _OUT, plot: Path = _PLOT,
+    output: Path = _OUT, plot: Path = _PLOT, quiet: bool = _QUIET, verbose: bool = _VERBOSE,
 ):
     """Sky radiance map from the surface and the downwelling irradiance, per wavelength and
-    per band (brightness temperatures beyond 3 µm)."""
+    per band (brightness temperatures beyond 3 µm). Prints a table per band (or JSON), and
+    writes the Dataset (-o) and a plot (--plot) if asked; --quiet writes those files and
+    prints only errors."""
     from radscene.atmosphere.api import sky_radiance
 
+    report = _report(quiet, verbose, as_json)
     bands, origins = _band_options(band, sensor, srf, srf_unit)
+    t = time.perf_counter()
     ds = _run(
         sky_radiance, origins, _angles(zenith, "zenith"), _angles(azimuth, "azimuth"),
         target_altitude=_q(target_altitude, "length", "target_altitude"), engine=engine,
@@ -488,7 +541,12 @@ def sky(
         solar_spectrum=solar_spectrum, surface_albedo=surface_albedo,
         wavelength_range=_range(wavelength_min, wavelength_max), step=step,
         bands=bands, database=database)
-    _write(ds, output, plot, _sky_plot)
+    report.stage(f"sky ({ds.attrs['engine']}): {ds.sizes['zenith']}×{ds.sizes['azimuth']} "
+                 f"directions, {ds.sizes['wavelength']} wavelength(s), "
+                 f"{ds.sizes.get('band', 0)} band(s)", time.perf_counter() - t)
+    _write(ds, output, plot, _sky_plot, report)
+    if quiet:
+        return
     if as_json:
         console.print_json(_json_dump(ds))
         return

@@ -34,28 +34,48 @@ def apply_command(
     seed: Annotated[int | None, typer.Option(help="Temporal noise seed (default: random).")] = None,
     oversample: Annotated[int | None, typer.Option(
         help="Rendered samples per detector pitch (default: the sensor's).")] = None,
+    quiet: Annotated[bool, typer.Option(
+        "--quiet", "-q", help="Print only errors: no summary line.")] = False,
+    verbose: Annotated[bool, typer.Option(
+        "--verbose", "-v", help="Also print each stage on standard error: what it does and "
+                                "its time.")] = False,
 ):
-    """Turn a rendered radiance file into digital numbers, with the truth carried along."""
+    """Turn a rendered radiance file into digital numbers, with the truth carried along.
+    Prints one line: the file written, its frames, bands, detectors and range of DN; --quiet
+    prints only errors; --verbose adds each stage and its time."""
+    import time
+
     import xarray as xr
 
+    from radscene.cli import Report
     from radscene.io import write_netcdf
     from radscene.sensor.config import load_sensor
 
+    report = Report(quiet, verbose)
     if not radiance.is_file():
         raise ConfigError("no such file", key=str(radiance))
+    t = time.perf_counter()
     model = load_sensor(sensor)
+    report.stage(f"loaded sensor {model.name}", time.perf_counter() - t)
+    t = time.perf_counter()
     try:
         ds = xr.load_dataset(radiance, engine="h5netcdf")
     except (OSError, ValueError):
         raise ConfigError("not a readable NetCDF file", key=str(radiance)) from None
+    report.stage(f"read {radiance}: {ds.sizes.get('band', 1)} band(s), "
+                 f"{ds.sizes.get('x')}×{ds.sizes.get('y')} px", time.perf_counter() - t)
     if frames < 1:
         raise ConfigError(f"must be >= 1; got {frames}", key="--frames")
+    t = time.perf_counter()
     signal = model.apply(ds, frames=frames, seed=seed, oversample=oversample)
-    path = write_netcdf(signal, output)
+    report.stage(f"sensor applied: {frames} frame(s)", time.perf_counter() - t)
+    t = time.perf_counter()
+    path = report.wrote(write_netcdf(signal, output), t)
     dn = signal["dn"]
-    typer.echo(f"{path}: {dn.sizes['frame']} frame(s), bands {', '.join(map(str, signal.band.values))}, "
-               f"{dn.sizes['y']} x {dn.sizes['x']} detectors, DN {float(dn.min()):.0f} "
-               f"to {float(dn.max()):.0f}")
+    if not quiet:
+        typer.echo(f"{path}: {dn.sizes['frame']} frame(s), bands "
+                   f"{', '.join(map(str, signal.band.values))}, {dn.sizes['y']} x "
+                   f"{dn.sizes['x']} detectors, DN {float(dn.min()):.0f} to {float(dn.max()):.0f}")
 
 
 @app.command("info")

@@ -35,13 +35,25 @@ def sweep(
                                        "tcp://host:8786, instead of a local cluster."),
     overwrite: bool = typer.Option(False, "--overwrite",
                                    help="Replace the results of an earlier sweep in OUTPUT."),
+    quiet: bool = typer.Option(False, "--quiet", "-q",
+                               help="Print only errors: no progress lines, no list of files."),
+    verbose: bool = typer.Option(False, "--verbose", "-v",
+                                 help="Also print each stage on standard error: the variants, "
+                                      "the cluster, each variant finished and the time taken."),
 ) -> None:
-    """Render SCENE_FILE once per combination of the --set values, in parallel on dask."""
-    from rich.console import Console
+    """Render SCENE_FILE once per combination of the --set values, in parallel on dask.
+    Prints a line as each variant finishes, then the files written; --quiet prints only
+    errors; --verbose adds each stage and its time."""
+    import time
 
-    from radscene.distributed import render_sweep
+    from radscene.cli import Report
+    from radscene.distributed import render_sweep, variants
 
+    report = Report(quiet, verbose)
     settings = dict(_setting(s) for s in setting)
+    report.stage(f"{len(variants(settings))} variant(s) of {len(settings)} setting(s): "
+                 + "; ".join(f"{key}={','.join(map(str, values))}"
+                             for key, values in settings.items()))
     client = None
     if scheduler is not None:
         try:
@@ -53,15 +65,23 @@ def sweep(
             client = Client(scheduler, timeout="10s")
         except OSError as err:
             raise ConfigError(f"no dask scheduler at {scheduler}: {err}", key="--scheduler") from None
-    console = Console()
+    report.stage(f"rendering on the dask scheduler {scheduler}" if client is not None else
+                 f"rendering on a local dask cluster of {workers} process(es)")
+    started = time.perf_counter()
+
+    def progress(done, total):
+        report.say(f"variant {done}/{total}")
+        report.stage(f"variant {done}/{total} finished", time.perf_counter() - started)
+
     try:
         files = render_sweep(scene_file, settings, output, client=client, workers=workers,
-                             overwrite=overwrite,
-                             progress=lambda done, total: console.print(f"variant {done}/{total}"))
+                             overwrite=overwrite, progress=progress)
     finally:
         if client is not None:
             client.close()
+    report.stage(f"{len(files)} variant(s) rendered and written, indexed in "
+                 f"{output / 'sweep.json'}", time.perf_counter() - started)
     for name, paths in files.items():
         for path in paths:
-            console.print(f"{name}: {path}")
-    console.print(f"wrote {output / 'sweep.json'}")
+            report.say(f"{name}: {path}", markup=False)
+    report.say(f"wrote {output / 'sweep.json'}", markup=False)

@@ -185,9 +185,25 @@ def _display_limits(image, low: float, high: float) -> tuple[float, float]:
 
 def _colorbar(fig, im, ax, image, **kwargs):
     lo, hi = im.get_clim()
-    bar = fig.colorbar(im, ax=ax, extend=colorbar_extend(image, lo, hi), **kwargs)
+    if "cax" not in kwargs:
+        kwargs["ax"] = ax
+    bar = fig.colorbar(im, extend=colorbar_extend(image, lo, hi), **kwargs)
     bar.formatter.set_useOffset(False)
     return bar
+
+
+def _bar_axes(ax):
+    """The axes of a colour bar right beside the map of ``ax`` (equal aspect), 80 % of its
+    height: placed on the map as drawn, so that a map narrower than its grid cell keeps its
+    bar next to it, where a bar of the cell would sit at the cell's edge, by the next panel.
+    Its width is a twentieth of the map's longer side, about that of the grid cell, so that
+    every panel's bar is as wide."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    tall = abs(y1 - y0) / abs(x1 - x0) if x1 != x0 else 1.0
+    width = 0.05 * max(1.0, tall)
+    cax = ax.inset_axes([1.0 + 0.8 * width, 0.1, width, 0.8])
+    cax.set_label("<colorbar>")
+    return cax
 
 
 def _stretched(fig, ax, image, cmap, label, extent=None):
@@ -461,7 +477,7 @@ def truth_plot(ds: xr.Dataset) -> Figure:
                        extent=extent)
         ax.set_title(title, fontsize=8)
         _truth_axes(ax, ds, extent, shape, left, bottom)
-        _colorbar(fig, im, ax, image, shrink=0.8).ax.tick_params(labelsize=6)
+        _colorbar(fig, im, ax, image, cax=_bar_axes(ax)).ax.tick_params(labelsize=6)
     for ax in axes.ravel()[len(panels):]:
         fig.delaxes(ax)
     title = f"truth maps — {ds.attrs.get('observer', '')}"

@@ -11,7 +11,8 @@ Cache: ``<cache_dir>/<key[:2]>/<key>.npz`` where ``key`` is the SHA-256 of the c
 the executable's own SHA-256 and the cache format version, so a changed input or a rebuilt
 LOWTRAN never reuses a stale result. The default folder is ``$RADSCENE_CACHE_DIR/lowtran``,
 else ``$XDG_CACHE_HOME/radscene/lowtran``, else ``~/.cache/radscene/lowtran``. Entries are
-written atomically, so parallel renders may share a folder.
+written atomically (:mod:`radscene.atmosphere.cache_files`), so parallel renders may share a
+folder, and readable as other new files are (0666 less the umask), by colleagues too.
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
+from radscene.atmosphere.cache_files import write_entry
 from radscene.atmosphere.lowtran.build import EXECUTABLE_NAME, candidate_executable_paths
 from radscene.atmosphere.lowtran.cards import LowtranCase, write_tape5
 from radscene.atmosphere.lowtran.parser import (
@@ -409,10 +411,7 @@ class LowtranRunner:
             arrays = {k: getattr(result, k) for k in _SPECTRA if getattr(result, k) is not None}
             meta = json.dumps({"deck": result.deck, "iemsct": result.iemsct,
                                "summary": result.summary})
-            fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
-            with os.fdopen(fd, "wb") as handle:
-                np.savez(handle, meta=np.array(meta), **arrays)
-            os.replace(tmp, path)
+            write_entry(path, lambda handle: np.savez(handle, meta=np.array(meta), **arrays))
         except OSError:
             pass  # an unwritable cache costs time, not correctness
 
