@@ -288,3 +288,31 @@ def test_json_schema_knows_each_engines_keys(validator, atmosphere, valid):
     scene = _demo()
     scene["environment"]["atmosphere"] = atmosphere
     assert validator.is_valid(scene) == valid
+
+
+@pytest.mark.parametrize("material, valid", [
+    ({"type": "library", "name": "asphalt"}, True),
+    ({"reflectance": 0.3, "emissivity": 0.9}, True),  # no type: a custom material
+    ({"type": "canopy", "lai": 3.0, "soil": "bare_soil", "chlorophyll": 40.0}, True),
+    ({"type": "mixture", "parts": [{"fraction": 0.5, "material": "asphalt"},
+                                   {"fraction": 0.5, "material": "concrete"}]}, True),
+    ({"type": "library", "nmae": "asphalt"}, False),  # a misspelt key
+    ({"type": "water", "lai": 2.0}, False),  # another type's key
+    ({"reflectanse": 0.3}, False),
+    ({"type": "plastic"}, False),
+])
+def test_json_schema_knows_each_material_types_keys(validator, material, valid):
+    scene = _demo()
+    scene["materials"] = {"mine": material}
+    assert validator.is_valid(scene) == valid
+
+
+def test_material_schema_is_the_builders_keys():
+    """The schema's keys per type are those make_material accepts."""
+    from radscene.materials.factory import MATERIAL_TYPES, material_keys
+    from radscene.scene.reference import material_schema
+
+    branches = {b["properties"]["type"]["const"]: b for b in material_schema()["oneOf"]}
+    assert set(branches) == set(MATERIAL_TYPES)
+    for kind, keys in material_keys().items():
+        assert set(branches[kind]["properties"]) == {"type", *keys}

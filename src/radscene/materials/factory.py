@@ -50,7 +50,7 @@ import numpy as np
 
 from radscene.errors import ConfigError, did_you_mean
 
-__all__ = ["make_material", "MATERIAL_TYPES", "extend_with_thermal", "THERMAL_START"]
+__all__ = ["make_material", "MATERIAL_TYPES", "material_keys", "extend_with_thermal", "THERMAL_START"]
 
 #: Wavelength where a thermal extension starts [um].
 THERMAL_START = 3.0
@@ -117,6 +117,12 @@ def extend_with_thermal(spectrum, thermal_emissivity, key: str = "thermal_emissi
         name=spectrum.name,
         source=f"{spectrum.source}; from {THERMAL_START:g} µm 1 - thermal emissivity, linear across the gap",
     )
+
+
+def material_keys() -> dict[str, list[str]]:
+    """The keys each material type takes besides ``type``, by type (sorted): what
+    :func:`make_material` accepts, for the scene-file reference and its JSON schema."""
+    return {kind: sorted(_KEYS[kind]) for kind in MATERIAL_TYPES}
 
 
 def _check_keys(spec, kind, key):

@@ -221,7 +221,31 @@ def scene_json_schema() -> dict:
     doc = _walk_json(doc, _to_draft_07)
     doc = _walk_json(doc, _describe_units)
     doc["definitions"]["Environment"]["properties"]["atmosphere"] = atmosphere_schema()
+    doc["properties"]["materials"]["additionalProperties"] = material_schema()
     return doc
+
+
+def material_schema() -> dict:
+    """The JSON schema of one entry of ``materials``: one branch per material type, with the
+    keys its builder accepts (:func:`radscene.materials.factory.material_keys`); a mapping
+    without ``type`` is a custom material. Values are not typed here: the builders check
+    them."""
+    from radscene.materials import list_materials
+    from radscene.materials.factory import material_keys
+
+    branches = []
+    for kind, keys in material_keys().items():
+        props = {"type": {"const": kind}, **{k: {} for k in keys}}
+        if kind == "library":
+            props["name"] = {"examples": list(list_materials()),
+                             "description": "a built-in material (radscene materials list)"}
+        branch = {"title": f"{kind} material", "type": "object", "properties": props,
+                  "additionalProperties": False}
+        if kind != "custom":
+            branch["required"] = ["type"]
+        branches.append(branch)
+    return {"title": "Material", "description": "{type: " + "|".join(material_keys())
+            + ", ...}; without type a custom material", "type": "object", "oneOf": branches}
 
 
 def atmosphere_schema() -> dict:
@@ -526,7 +550,7 @@ def scene_reference() -> str:
         "",
         "Keys that take a type-tagged mapping: `environment.atmosphere` (its keys per engine",
         "are [below](#environmentatmosphere); what they mean: [atmosphere engines](api/atmosphere.md)),",
-        "`materials` ([materials and BRDFs](api/materials.md)), `sensors` (`radscene sensor list`).",
+        "`materials` (its keys per type [below](#materials-by-type)), `sensors` (`radscene sensor list`).",
         "",
     ]
     for name, model in models.items():
@@ -579,7 +603,20 @@ def scene_reference() -> str:
                 f"`{key}`", _cell(type_text), _cell(unit), _cell(default),
                 _cell(description).replace("[", "\\[") or "–", example_text]) + " |")
         lines.append("")
-    return "\n".join(lines + _atmosphere_reference())
+    return "\n".join(lines + _atmosphere_reference() + _material_reference())
+
+
+def _material_reference() -> list[str]:
+    """The reference's section on the entries of ``materials``: per type, its keys."""
+    from radscene.materials.factory import material_keys
+
+    lines = ["## materials (by type)", "",
+             "Each entry of `materials` is a mapping with a `type` (none: `custom`) and that "
+             "type's keys; what they mean: [materials and BRDFs](api/materials.md).", "",
+             "| type | keys |", "|---|---|"]
+    for kind, keys in material_keys().items():
+        lines.append(f"| {kind} | " + ", ".join(f"`{k}`" for k in keys) + " |")
+    return lines + [""]
 
 
 def _atmosphere_reference() -> list[str]:
