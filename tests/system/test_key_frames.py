@@ -245,3 +245,16 @@ def test_the_key_frame_ahead_stays_within_the_heat_balance_step():
     assert ahead._next_key(0.28, key, 0.2) is None
     key.segment = 1
     assert ahead._next_key(0.6, key, 0.2) == pytest.approx(0.76)  # the last frame
+
+
+def test_the_memory_check_counts_the_key_frame_held_ahead():
+    from radscene.scene.memory import check_sequence_memory
+
+    observers = [((64, 64), 2, 64 * 64 * 4)]
+    limit = (1e15, "test")
+    for streamed in (False, True):
+        held = [check_sequence_memory(10, observers, limit, streamed=streamed, ahead=ahead)
+                for ahead in (False, True)]
+        per_frame = check_sequence_memory(11, observers, limit) - check_sequence_memory(
+            10, observers, limit)
+        assert held[1] - held[0] == pytest.approx(per_frame)

@@ -861,8 +861,10 @@ def check_sequence(scene, *, start=None, end=None, step=None, observers=None, ou
         renders = estimate(scene.spec, scene.base_dir)["observers"]
         chosen = {f"observers[{i}]" for i, o in enumerate(scene.spec.observers) if o.name in names}
         render = max((need for need, key, _ in renders if key.split(".")[0] in chosen), default=0.0)
+    # key frames rendered ahead (pipeline.look_ahead): one frame more held
+    ahead = cached and scene.settings.key_frames and not (scene.sea is not None and scene.sea.moves)
     check_sequence_memory(count, sizes, scene.memory_limit or memory_limit(scene.spec),
-                          streamed=output is not None, render=render)
+                          streamed=output is not None, render=render, ahead=bool(ahead))
     if output is not None:
         check_sequence_disk(count, sizes, output)
     return count

@@ -45,6 +45,16 @@ the heat balance has passed one of its time steps (or was solved again) since th
 frame starts the key frames afresh —, where the atmosphere's path nodes differ from the key
 frames', and wherever the frame cache cannot keep the rays (a full frame).
 
+With look-ahead (``look_ahead``, set by :mod:`radscene.pipeline.look_ahead` for a sequence
+whose frame times are known) the second key frame lies ahead of the frames between: it is
+rendered (``rendering_ahead``) right after the key frame behind, and a frame between, at
+``t_a < t < t_b``, takes the same line between the two, interpolated (weight in (0, 1)); the
+pixels it shades are those something moved through since the key frame behind, which the
+render ahead marks for the moved objects' places at ``t_b``. Reaching the key frame ahead
+(:meth:`KeyFrames.advance`) makes it the one behind. A frame shaded in full between two key
+frames that cannot be interpolated is not kept; any other frame shaded in full starts the key
+frames afresh.
+
 Memory: per observer two key frames of per-pixel sums (the five terms and the transmittance
 per band, six truth sums, the labels) and one sun flag per ray sample (float64), and their
 band tables: for the demo's two observers at supersample 2 and eight bands about 0.14 GB.
