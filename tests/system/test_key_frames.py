@@ -1,6 +1,8 @@
 """Key frames (radscene.render.key_frames): the frames between key frames shade only the pixels
-something moved through and extrapolate the others in time — within KEY_FRAME of the frames
-shaded in full at their own instant, the labels and positions exactly."""
+something moved through and extrapolate the others in time — or, in a sequence, interpolate
+them between the key frame behind and one rendered ahead (radscene.pipeline.look_ahead) —
+within KEY_FRAME of the frames shaded in full at their own instant, the labels and positions
+exactly."""
 
 from __future__ import annotations
 

@@ -17,8 +17,11 @@ they keep the rays of the observer's last frame that nothing moved through and t
 others (:mod:`radscene.render.frame_cache`): the same frames as tracing every ray. With
 ``render.key_frames: true`` (off by default) only key frames, ``render.key_frame_interval`` apart, shade
 every ray sample; the frames between shade the pixels something moved through and extrapolate
-the others in time from the last two key frames (:mod:`radscene.render.key_frames`); with
-``key_frames: false`` every sample is shaded with the frame's own sun and temperatures.
+the others in time from the last two key frames (:mod:`radscene.render.key_frames`); a
+sequence, whose frame times are known (:meth:`Simulation.schedule`, :func:`render_sequence`),
+renders each next key frame ahead and interpolates between the key frames behind and ahead
+instead (:mod:`radscene.pipeline.look_ahead`); with ``key_frames: false`` every sample is
+shaded with the frame's own sun and temperatures.
 
 Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
 ``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
