@@ -240,6 +240,13 @@ def run_sequence(args) -> dict:
         result[key] = _frames(times, single)
         result[f"load_after_{key}"] = os.getloadavg()
         print(key, result[key], result[f"load_after_{key}"], flush=True)
+    if args.single_after:  # the single render again, at the load the frames ran at
+        _, after = _single(scene, base)
+        result["single_render_after_s"] = round(after, 3)
+        for key in ("sequence", "sequence_full_frames"):
+            if key in result:
+                result[key]["mean_over_single_after"] = round(
+                    result[key]["frame_mean_s"] / after, 3)
     if len(runs) == 2 and None not in runs.values():
         result["incremental_vs_full_max_rel"] = _largest_difference(*runs.values())
     if args.realtime_frames:
@@ -327,6 +334,9 @@ def main() -> None:
                         help="the frames between key frames extrapolated from the last two (as "
                         "the live step API makes them), not interpolated between the key frame "
                         "behind and one rendered ahead (as render_sequence makes them)")
+    parser.add_argument("--single-after", action="store_true",
+                        help="time the single render again after the sequences (the machine's "
+                        "load may have changed while they ran)")
     parser.add_argument("--realtime-frames", type=int, default=100,
                         help="frames of the real-time part of the sequence (0: none)")
     args = parser.parse_args()
