@@ -119,7 +119,15 @@ def _frames(times: list[float], single: float) -> dict:
             "frame_s": [round(t, 3) for t in times]}
 
 
-def _lockstep(scene, base, frames: int):
+def _schedule(sim, frames: int, look_ahead: bool) -> None:
+    """Tell ``sim`` the sequence's frame times, as :func:`radscene.render_sequence` does (the
+    key frames rendered ahead, the frames between interpolated); not with ``look_ahead``
+    False (the frames between extrapolated, as the live step API makes them)."""
+    if look_ahead:
+        sim.schedule([k * STEP for k in range(frames)])
+
+
+def _lockstep(scene, base, frames: int, look_ahead: bool = True):
     """Two incremental sequences of ``scene`` stepped together, with key frames
     (:mod:`radscene.render.key_frames`) and without (``render.key_frames: false``,
     every pixel shaded at its own instant): (each frame's wall time [s] of each, and per
@@ -136,6 +144,7 @@ def _lockstep(scene, base, frames: int):
         document = copy.deepcopy(scene)
         document.setdefault("render", {})["key_frames"] = flag
         sims.append(radscene.Simulation(radscene.load_scene(document, base_dir=base)))
+        _schedule(sims[-1], frames, look_ahead)
     errors = {}
     for k in range(frames):
         shown = []
@@ -158,7 +167,7 @@ def _lockstep(scene, base, frames: int):
     return times, errors
 
 
-def _stepped(loaded, frames: int, incremental: bool, keep: bool):
+def _stepped(loaded, frames: int, incremental: bool, keep: bool, look_ahead: bool = True):
     """The frames of a sequence as :func:`radscene.render_sequence` renders them (a
     :class:`radscene.Simulation` at the first instant, then a step of ``STEP`` per frame),
     each let go once timed: (each frame's wall time [s], per observer the radiance and the
@@ -169,6 +178,7 @@ def _stepped(loaded, frames: int, incremental: bool, keep: bool):
     import radscene
 
     sim = radscene.Simulation(loaded, incremental=incremental)
+    _schedule(sim, frames, look_ahead)
     times, kept = [], {}
     for k in range(frames):
         t = time.perf_counter()
@@ -209,10 +219,11 @@ def run_sequence(args) -> dict:
     scene, base = demo_scene(args.frames)
     thermal, single = _single(scene, base)
     result = {"machine": machine(), "source": source_version(), "load_before": load_before,
+              "look_ahead": not args.no_look_ahead,
               "step_s": STEP, "heat_balance_s": round(thermal, 2), "single_render_s": round(single, 3)}
     runs = {}
     if args.compare_key_frames:  # with key frames and without, their differences
-        (keyed, every), errors = _lockstep(scene, base, args.frames)
+        (keyed, every), errors = _lockstep(scene, base, args.frames, not args.no_look_ahead)
         result["sequence_key_frames"] = _frames(keyed, single)
         result["sequence_no_key_frames"] = _frames(every, single)
         result["key_frames_max_rel"] = {n: max(e[0] for e in v) for n, v in errors.items()}
@@ -224,10 +235,18 @@ def run_sequence(args) -> dict:
             continue
         loaded = radscene.load_scene(scene, base_dir=base)
         times, runs[key] = _stepped(loaded, args.frames, incremental,
-                                    keep=not args.no_full_frames)
+                                    keep=not args.no_full_frames,
+                                    look_ahead=not args.no_look_ahead)
         result[key] = _frames(times, single)
         result[f"load_after_{key}"] = os.getloadavg()
         print(key, result[key], result[f"load_after_{key}"], flush=True)
+    if args.single_after:  # the single render again, at the load the frames ran at
+        _, after = _single(scene, base)
+        result["single_render_after_s"] = round(after, 3)
+        for key in ("sequence", "sequence_full_frames"):
+            if key in result:
+                result[key]["mean_over_single_after"] = round(
+                    result[key]["frame_mean_s"] / after, 3)
     if len(runs) == 2 and None not in runs.values():
         result["incremental_vs_full_max_rel"] = _largest_difference(*runs.values())
     if args.realtime_frames:
@@ -311,6 +330,13 @@ def main() -> None:
     parser.add_argument("--compare-key-frames", action="store_true",
                         help="the incremental sequence with key frames and without, stepped "
                         "together: each one's frame times and their largest differences")
+    parser.add_argument("--no-look-ahead", action="store_true",
+                        help="the frames between key frames extrapolated from the last two (as "
+                        "the live step API makes them), not interpolated between the key frame "
+                        "behind and one rendered ahead (as render_sequence makes them)")
+    parser.add_argument("--single-after", action="store_true",
+                        help="time the single render again after the sequences (the machine's "
+                        "load may have changed while they ran)")
     parser.add_argument("--realtime-frames", type=int, default=100,
                         help="frames of the real-time part of the sequence (0: none)")
     args = parser.parse_args()

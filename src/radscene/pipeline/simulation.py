@@ -17,8 +17,11 @@ they keep the rays of the observer's last frame that nothing moved through and t
 others (:mod:`radscene.render.frame_cache`): the same frames as tracing every ray. With
 ``render.key_frames: true`` (off by default) only key frames, ``render.key_frame_interval`` apart, shade
 every ray sample; the frames between shade the pixels something moved through and extrapolate
-the others in time from the last two key frames (:mod:`radscene.render.key_frames`); with
-``key_frames: false`` every sample is shaded with the frame's own sun and temperatures.
+the others in time from the last two key frames (:mod:`radscene.render.key_frames`); a
+sequence, whose frame times are known (:meth:`Simulation.schedule`, :func:`render_sequence`),
+renders each next key frame ahead and interpolates between the key frames behind and ahead
+instead (:mod:`radscene.pipeline.look_ahead`); with ``key_frames: false`` every sample is
+shaded with the frame's own sun and temperatures.
 
 Objects move as the scene file says (:mod:`radscene.platform.motion`, built by the loader as
 ``scene.motions``): along ``trajectory`` waypoints, a route at a speed or a 6-DOF track file
@@ -260,6 +263,7 @@ class Simulation:
                                                    if settings.key_frames else None)
                             for setup in self.scene.observers}
         self._thermal_solves = 0  # how many times the heat balance was solved: a key frame each
+        self._ahead = None  # the frame times known in advance (schedule): key frames ahead
         if realtime:
             from radscene.render.realtime import RealtimeRenderer
 
@@ -299,10 +303,21 @@ class Simulation:
         Frame
         """
         seconds = parse_duration(dt, key="dt")
-        self._elapsed += seconds
-        if self._start is not None:
-            self.scene.time = self._start + _dt.timedelta(seconds=self._elapsed)
+        self._set_clock(self._elapsed + seconds)
         return self.render(progress=progress)
+
+    def schedule(self, elapsed) -> None:
+        """Tell the simulation the instants of the frames to come [s since its start], known
+        in advance (a sequence, as :func:`render_sequence` renders it): with
+        ``render.key_frames`` each key frame is followed by the render of the next one ahead,
+        and the frames between interpolate between the two instead of extrapolating
+        (:mod:`radscene.pipeline.look_ahead`). Frames are still made by :meth:`step` and
+        :meth:`render`, at these instants. Nothing changes without key frames, or with a
+        moving sea; :meth:`set_pose` of an object starts the key frames afresh."""
+        from radscene.pipeline.look_ahead import LookAhead
+
+        keyed = any(cache.keys is not None for cache in self._caches.values())
+        self._ahead = LookAhead(self, elapsed) if keyed and self._sea is None else None
 
     def render(self, *, progress=None) -> Frame:
         """Render every observer at the clock's instant, as it is (no step); ``progress`` as for
@@ -330,15 +345,20 @@ class Simulation:
                     return self._scan(setup, tables, report)
                 return render_observer(scene, setup.name, progress=report, tables=tables,
                                        cache=self._caches.get(setup.name))
-            with progress_callback(progress, f"frame {self._index} {setup.name}",
-                                   when_interactive=False) as report:
-                images = self._expose(setup, partial(one, report=report), tables)
+            images = None if self._ahead is None else self._ahead.take(setup.name, self._elapsed)
+            if images is None:
+                with progress_callback(progress, f"frame {self._index} {setup.name}",
+                                       when_interactive=False) as report:
+                    images = self._expose(setup, partial(one, report=report), tables)
             images.attrs.update({"frame": self._index, "elapsed_s": self._elapsed})
             stamp(images, scene, setup.name)
             frame.radiance[setup.name] = images
             if setup.sensor is not None and setup.spectral is None:
                 seed = int(np.random.SeedSequence([scene.settings.seed, self._index]).generate_state(1)[0])
                 frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
+        if self._ahead is not None:  # the next key frames, rendered ahead
+            self._ahead.render_ahead(lambda name, tables: render_observer(
+                scene, name, tables=tables, cache=self._caches[name]))
         return frame
 
     def _render_realtime(self) -> Frame:
@@ -368,18 +388,35 @@ class Simulation:
                 frame.signal[setup.name] = record_signal(scene, setup, images, seed=seed)
         return frame
 
-    def _key_instant(self, sun) -> None:
-        """Tell the observers' key frames (:mod:`radscene.render.key_frames`) this frame's
-        instant, its sun [deg] and the heat balance's time step it lies in."""
-        segment = None
-        solution = self.scene.render_cache.get("thermal") if self._thermal else None
-        if solution is not None:
-            now = np.datetime64(self.scene.time.astimezone(_dt.UTC).replace(tzinfo=None), "ns")
-            segment = (self._thermal_solves,
-                       int(np.searchsorted(solution.time.values, now, side="right")))
-        for cache in self._caches.values():
-            if cache.keys is not None:
+    def _key_instant(self, sun, names=None) -> None:
+        """Tell the observers' key frames (:mod:`radscene.render.key_frames`; those of
+        ``names`` only, where given) this frame's instant, its sun [deg] and the heat
+        balance's time step it lies in."""
+        segment = self._thermal_segment(self._elapsed)
+        for name, cache in self._caches.items():
+            if cache.keys is not None and (names is None or name in names):
                 cache.keys.at(self._elapsed, sun.zenith, sun.azimuth, segment)
+
+    def _thermal_segment(self, elapsed: float):
+        """What tells apart the heat balance's time steps at ``elapsed`` [s]: (its solutions so
+        far, the index of its step), "outside" past its solution; None without one."""
+        solution = self.scene.render_cache.get("thermal") if self._thermal else None
+        if solution is None or self._start is None:
+            return None
+        when = np.datetime64(self._instant(elapsed).astimezone(_dt.UTC).replace(tzinfo=None), "ns")
+        if when > solution.time.values[-1]:
+            return "outside"
+        return (self._thermal_solves, int(np.searchsorted(solution.time.values, when, side="right")))
+
+    def _instant(self, elapsed: float) -> _dt.datetime | None:
+        """The scene's instant ``elapsed`` [s] after the start (None without a time)."""
+        return None if self._start is None else self._start + _dt.timedelta(seconds=elapsed)
+
+    def _set_clock(self, elapsed: float) -> None:
+        """Put the clock at ``elapsed`` [s] since the start (nothing moved or rendered)."""
+        self._elapsed = elapsed
+        if self._start is not None:
+            self.scene.time = self._instant(elapsed)
 
     def _carried(self, name) -> bool:
         """Whether an object moves with time: by its own motion or a moving ancestor's."""
@@ -622,6 +659,8 @@ class Simulation:
         if attitude is not None:
             attitude = _vector(attitude, "angle", "set_pose.attitude")
         if kind == "object":
+            if self._ahead is not None:  # the key frames rendered ahead did not see it
+                self._ahead.drop()
             self._move_object(name, position, attitude)
         else:
             self._move_observer(target, position, attitude)
@@ -656,6 +695,8 @@ class Simulation:
                                                        (pose[1], "angle", "attitude")))
             (objects if kind == "object" else observers).append((name, target, position, attitude))
         placements = []
+        if objects and self._ahead is not None:  # the key frames rendered ahead did not see them
+            self._ahead.drop()
         for name, _, position, attitude in objects:
             old_position, old_attitude, old_rotation = self._poses[name]
             if attitude is None:
@@ -823,8 +864,10 @@ def check_sequence(scene, *, start=None, end=None, step=None, observers=None, ou
         renders = estimate(scene.spec, scene.base_dir)["observers"]
         chosen = {f"observers[{i}]" for i, o in enumerate(scene.spec.observers) if o.name in names}
         render = max((need for need, key, _ in renders if key.split(".")[0] in chosen), default=0.0)
+    # key frames rendered ahead (pipeline.look_ahead): one frame more held
+    ahead = cached and scene.settings.key_frames and not (scene.sea is not None and scene.sea.moves)
     check_sequence_memory(count, sizes, scene.memory_limit or memory_limit(scene.spec),
-                          streamed=output is not None, render=render)
+                          streamed=output is not None, render=render, ahead=bool(ahead))
     if output is not None:
         check_sequence_disk(count, sizes, output)
     return count
@@ -910,6 +953,7 @@ def render_sequence(scene, *, start=None, end=None, step=None, observers=None,
             "start": start.isoformat(), "end": end.isoformat(),
             "step": parse_duration(step, key="time.step")}}
     sim = Simulation(scene, incremental=incremental)
+    sim.schedule([(t - times[0]).total_seconds() for t in times])
     if output is not None:
         return _stream(sim, times, names, Path(output), progress)
     frames = {name: [] for name in names}

@@ -45,6 +45,16 @@ the heat balance has passed one of its time steps (or was solved again) since th
 frame starts the key frames afresh —, where the atmosphere's path nodes differ from the key
 frames', and wherever the frame cache cannot keep the rays (a full frame).
 
+With look-ahead (``look_ahead``, set by :mod:`radscene.pipeline.look_ahead` for a sequence
+whose frame times are known) the second key frame lies ahead of the frames between: it is
+rendered (``rendering_ahead``) right after the key frame behind, and a frame between, at
+``t_a < t < t_b``, takes the same line between the two, interpolated (weight in (0, 1)); the
+pixels it shades are those something moved through since the key frame behind, which the
+render ahead marks for the moved objects' places at ``t_b``. Reaching the key frame ahead
+(:meth:`KeyFrames.advance`) makes it the one behind. A frame shaded in full between two key
+frames that cannot be interpolated is not kept; any other frame shaded in full starts the key
+frames afresh.
+
 Memory: per observer two key frames of per-pixel sums (the five terms and the transmittance
 per band, six truth sums, the labels) and one sun flag per ray sample (float64), and their
 band tables: for the demo's two observers at supersample 2 and eight bands about 0.14 GB.
@@ -60,7 +70,7 @@ import numpy as np
 
 from radscene.render.kept_fans import fans_meet_spheres
 
-__all__ = ["KeyFrames", "MAX_SUN_STEP"]
+__all__ = ["KeyFrames", "MAX_SUN_STEP", "sun_vector"]
 
 #: The most the sun may turn between the older key frame and a frame extrapolated from it
 #: [deg]: 12 s of the sun's motion. Extrapolating a sun term over an angle θ is off by
@@ -75,9 +85,12 @@ MAX_SUN_STEP = 0.05
 #: kilometres). A relative azimuth node that the pixels share follows the sun's azimuth,
 #: smoothly: it may move as far as the sun may turn.
 NODE_TOLERANCE = (0.01, 0.01, 1e-4, MAX_SUN_STEP)
+#: Two instants closer than this are the same frame's [s] (frame times summed step by step).
+INSTANT_TOLERANCE = 1e-6
 
 
-def _sun_vector(zenith, azimuth) -> np.ndarray:
+def sun_vector(zenith, azimuth) -> np.ndarray:
+    """The unit vector towards the sun (east, north, up) at ``zenith``, ``azimuth`` [deg]."""
     z, a = np.radians(zenith), np.radians(azimuth)
     return np.array([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)])
 
@@ -103,6 +116,11 @@ class KeyFrames:
         self.instant = None
         self.between = 0
         self.shaded = 0
+        #: frames interpolated between the key frame behind and one rendered ahead
+        #: (:mod:`radscene.pipeline.look_ahead`), not extrapolated
+        self.look_ahead = False
+        #: True while the key frame ahead is rendered
+        self.rendering_ahead = False
 
     def reset(self) -> None:
         """Keep no key frame: the next frame is one."""
@@ -112,7 +130,7 @@ class KeyFrames:
         """The instant of the next frame: ``elapsed`` [s] since the start, the sun [deg], and
         ``segment`` — anything equal for two instants between the same time steps of the
         heat balance's solution (None without one)."""
-        self.instant = SimpleNamespace(elapsed=float(elapsed), sun=_sun_vector(sun_zenith, sun_azimuth),
+        self.instant = SimpleNamespace(elapsed=float(elapsed), sun=sun_vector(sun_zenith, sun_azimuth),
                                        segment=segment)
 
     def _weight(self):
@@ -121,6 +139,8 @@ class KeyFrames:
         now = self.instant
         if now is None or len(self.keys) < 2:
             return None
+        if self.look_ahead:
+            return interpolation_weight(self.keys, now, self.rendering_ahead)
         a, b = self.keys
         if not (b.elapsed < now.elapsed < b.elapsed + self.interval * (1 - 1e-9)):
             return None  # at an interval from the newer key frame: the next one
@@ -262,7 +282,10 @@ class KeyFrames:
         if now is None:  # no instant known: nothing to extrapolate over
             self.keys = []
             return
-        if not self._due(plan.nodes):
+        if self.look_ahead:
+            if not self._kept_ahead():
+                return
+        elif not self._due(plan.nodes):
             return
         sums = {name: target.copy() for name, target in (*_layers(image), *_labels(image))}
         self.keys.append(SimpleNamespace(
@@ -270,6 +293,45 @@ class KeyFrames:
             sums=sums, lit=self._lit(plan), nodes=plan.nodes, bset=plan.bset,
             touched=np.zeros(plan.n_pix, dtype=bool)))
         self.keys = self.keys[-2:]
+
+    def _kept_ahead(self) -> bool:
+        """With look-ahead: whether a frame shaded in full is kept — the key frame ahead
+        beside the one behind; a frame at its instant where no key frame lies ahead (the
+        key frames start afresh: any kept one let go). A frame shaded in full between two key
+        frames that cannot be interpolated (their sun, heat balance or path nodes differ)
+        is not kept."""
+        if self.rendering_ahead:
+            self.keys = self.keys[:1]
+            return True
+        now = self.instant.elapsed
+        if len(self.keys) == 2 and self.keys[0].elapsed < now < self.keys[1].elapsed:
+            return False
+        self.keys = []
+        return True
+
+    def holds(self, elapsed: float) -> bool:
+        """Whether a key frame at ``elapsed`` [s] is kept."""
+        return any(abs(key.elapsed - elapsed) <= INSTANT_TOLERANCE for key in self.keys)
+
+    def advance(self) -> None:
+        """The key frame ahead, reached: it becomes the one behind (the older let go), and
+        the pixels something moves through are counted from it afresh."""
+        self.keys = self.keys[-1:]
+        self.keys[0].touched[:] = False
+        self.shaded = 0
+
+
+def interpolation_weight(keys, now, ahead: bool):
+    """With look-ahead: the weight (t - t_a) / (t_b - t_a) of the frame at ``now`` between
+    the key frame behind (``keys[0]``) and the one ahead, or None where it is not between
+    them (or is the one ahead, ``ahead``) or they cannot be interpolated: the sun turned
+    more than :data:`MAX_SUN_STEP` between them, or the heat balance's time step differs."""
+    a, b = keys
+    if ahead or not a.elapsed < now.elapsed < b.elapsed:
+        return None
+    if KeyFrames._turned(a, b) > MAX_SUN_STEP or not (a.segment == b.segment == now.segment):
+        return None
+    return (now.elapsed - a.elapsed) / (b.elapsed - a.elapsed)
 
 
 def whole_fan(cache, st) -> None:

@@ -487,7 +487,7 @@ def _frame_bytes(observers, pixel: float, pixel_band: float) -> float:
 
 def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
                           key: str = "time.step", streamed: bool = False,
-                          render: float = BASE_BYTES) -> float:
+                          render: float = BASE_BYTES, ahead: bool = False) -> float:
     """Refuse a sequence of ``frames`` frames of ``observers`` whose memory exceeds ``limit``
     ((bytes, source), :func:`memory_limit`); returns the bytes estimated.
 
@@ -510,17 +510,20 @@ def check_sequence_memory(frames: int, observers, limit: tuple[float, str],
     render : float
         With ``streamed``: the largest render's estimate, the base included (:func:`estimate`)
         [bytes].
+    ahead : bool
+        Key frames are rendered ahead (:mod:`radscene.pipeline.look_ahead`): one frame more
+        is held, the next key frame's.
     """
     per_frame = _frame_bytes(observers, FRAME_PIXEL_BYTES, FRAME_PIXEL_BAND_BYTES)
     if not streamed:
-        need = BASE_BYTES + float(frames) * per_frame
+        need = BASE_BYTES + (float(frames) + ahead) * per_frame
         _refuse(need, limit, key, f"the sequence of {frames:,} frames ({per_frame / 1e6:.3g} MB "
                 "each, all held until the last)", "a longer step, a shorter span, fewer pixels "
                 "or fewer observers")
         return need
     cache = FRAME_CACHE_SAMPLE_BYTES * sum(
         float(o[2]) if len(o) > 2 else float(o[0][0]) * float(o[0][1]) for o in observers)
-    need = max(render, BASE_BYTES) + STREAMED_FRAMES * per_frame + cache
+    need = max(render, BASE_BYTES) + (STREAMED_FRAMES + ahead) * per_frame + cache
     _refuse(need, limit, key, f"the sequence of {frames:,} frames written as they come "
             f"({per_frame / 1e6:.3g} MB a frame, {cache / 1e6:.3g} MB of frame caches, beside "
             "its largest render)", "fewer pixels, a lower supersample or fewer observers")

@@ -915,14 +915,15 @@ class RenderSettings(_Model):
         "it is refused before work; default the machine's memory")
     key_frames: bool = Field(
         False, description="frame sequences and radscene.Simulation: frames between key frames "
-        "shade only the pixels something moved through since the older of the last two key "
-        "frames and extrapolate the others' radiance in time from those two, about 4 times "
-        "faster and within about 2e-4 of the frame's own radiance (docs/simulation.md, 'Key "
-        "frames'); default false: every frame shades every pixel at its own instant, exactly")
+        "shade only the pixels something moved through and take the others' radiance in time "
+        "from two key frames — interpolated between the key frame behind and one rendered "
+        "ahead in a sequence, extrapolated from the last two in radscene.Simulation.step — about "
+        "4 times faster and within about 2e-4 of the frame's own radiance (docs/simulation.md, "
+        "'Key frames'); default false: every frame shades every pixel at its own instant, exactly")
     key_frame_interval: Duration = Field(
-        1.0, description="the longest time from a key frame to a frame extrapolated from it, "
-        "e.g. '1 s'; the sun turning by 0.05 deg, a time step of the heat balance or a change of "
-        "what the atmosphere's nodes cover makes a key frame sooner")
+        1.0, description="the time between key frames, e.g. '1 s'; the sun turning by 0.05 deg, "
+        "a time step of the heat balance or a change of what the atmosphere's nodes cover makes "
+        "a key frame sooner")
     motion_blur: MotionBlurSpec | None = Field(
         None, description="motion blur in frame sequences and radscene.Simulation: {samples, "
         "exposure}; objects on trajectories, spinning parts and scanners are placed at each "
