@@ -56,11 +56,15 @@ def did_you_mean(name, known, *, cutoff: float = 0.6) -> str:
 
     >>> did_you_mean("asfalt", ["asphalt", "concrete"])
     "; did you mean 'asphalt'?"
+    >>> did_you_mean("cma", ["map", "cam"])
+    "; did you mean 'cam'?"
     """
     import difflib
 
     known = [str(k) for k in known]
-    close = difflib.get_close_matches(str(name), known, n=1, cutoff=cutoff)
+    # the same letters in another order (two swapped keys: 'cma' for 'cam') first
+    close = [k for k in known if sorted(k.lower()) == sorted(str(name).lower()) and k != name][:1] \
+        or difflib.get_close_matches(str(name), known, n=1, cutoff=cutoff)
     if not close:  # a name typed in another case than the known ones
         lowered = {k.lower(): k for k in known}
         close = [lowered[c] for c in difflib.get_close_matches(str(name).lower(), list(lowered), n=1,

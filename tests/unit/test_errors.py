@@ -23,3 +23,17 @@ def test_a_reason_quotes_nothing_and_keeps_one_line(err, expected):
 def test_a_long_reason_is_cut():
     text = unreadable(ValueError("x" * 500))
     assert len(text) == 120 and text.endswith("…")
+
+
+@pytest.mark.parametrize("given, known, suggested", [
+    ("asfalt", ["asphalt", "concrete"], "asphalt"),
+    ("cma", ["map", "cam"], "cam"),  # two keys swapped: the same letters win a tie
+    ("ASPHALT", ["asphalt"], "asphalt"),
+    ("midlatitude_sumer", ["midlatitude_summer", "midlatitude_winter"], "midlatitude_summer"),
+    ("qqq", ["asphalt"], None),
+])
+def test_did_you_mean(given, known, suggested):
+    from radscene.errors import did_you_mean
+
+    text = did_you_mean(given, known)
+    assert text == (f"; did you mean {suggested!r}?" if suggested else "")
