@@ -7,8 +7,6 @@ Engines are chosen by a type-tagged dict, the same from Python, YAML and the CLI
 
 from __future__ import annotations
 
-import inspect
-
 from radscene.atmosphere.base import (
     SKY_CROSSOVER_WAVELENGTH,
     Atmosphere,
@@ -91,17 +89,16 @@ def make_atmosphere(spec: dict | None, key: str = "environment.atmosphere") -> A
             f"unknown atmosphere engine {name!r}; known: {', '.join(ENGINES)}"
             f"{did_you_mean(name, ENGINES)}", key=f"{key}.type"
         )
-    from radscene.atmosphere.keys import constructor_keys
+    from radscene.atmosphere.keys import constructor_keys, unknown_keys
 
     known = constructor_keys(ENGINES[name])
-    takes_any = any(p.kind == p.VAR_KEYWORD
-                    for p in inspect.signature(ENGINES[name].__init__).parameters.values())
-    for given in params:
-        if given not in known and not takes_any:
-            raise ConfigError(
-                f"the {name!r} engine takes no key {given!r}; it takes: "
-                f"{', '.join(known) or 'nothing but type'}{did_you_mean(given, known)}",
-                key=f"{key}.{given}")
+    unknown = unknown_keys(ENGINES[name], params)
+    if unknown:
+        given = unknown[0]
+        raise ConfigError(
+            f"the {name!r} engine takes no key {given!r}; it takes: "
+            f"{', '.join(known) or 'nothing but type'}{did_you_mean(given, known)}",
+            key=f"{key}.{given}")
     try:
         return ENGINES[name](**params)
     except TypeError as err:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import inspect
 import math
 
-__all__ = ["engine_keys", "known_names", "constructor_keys"]
+__all__ = ["engine_keys", "known_names", "constructor_keys", "unknown_keys"]
 
 
 def known_names(engine: str) -> dict[str, list[str]]:
@@ -71,6 +71,16 @@ def constructor_keys(cls) -> dict[str, inspect.Parameter]:
     """The keyword parameters of an engine class's constructor, by name."""
     return {p.name: p for p in list(inspect.signature(cls.__init__).parameters.values())[1:]
             if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)}
+
+
+def unknown_keys(cls, given) -> list[str]:
+    """The keys of ``given`` an engine class's constructor does not take (none when it takes
+    any keyword)."""
+    params = inspect.signature(cls.__init__).parameters.values()
+    if any(p.kind == p.VAR_KEYWORD for p in params):
+        return []
+    known = constructor_keys(cls)
+    return [k for k in given if k not in known]
 
 
 def _json_value(value):
