@@ -176,6 +176,71 @@ def test_a_sequence_interpolates_between_key_frames_rendered_ahead():
                                           err_msg=f"{name}.{var}")
 
 
+def _wall_scene():
+    """A truck driving along a white wall; the sky fan (4 directions) smaller than the
+    background's paths (32 a pixel), so that most of a pixel's first rays are drawn beyond
+    it and only the key frames' records (radscene.render.background_record) see what moved
+    through them."""
+    return {
+        "name": "wall",
+        "environment": {"time": "2026-06-21T09:00:00Z",
+                        "location": {"latitude": 45.0, "longitude": 5.0},
+                        "atmosphere": {"type": "uniform"}},
+        "materials": {"grey": {"reflectance": 0.3}, "white": {"reflectance": 0.8}},
+        "terrain": {"type": "flat", "size": [200, 200], "material": "grey",
+                    "temperature": "290 K"},
+        "objects": [
+            {"name": "wall", "shape": {"type": "box", "size": [2, 60, 15]},
+             "position": [100, 100, 0], "material": "white", "temperature": "295 K"},
+            {"name": "truck", "shape": {"type": "box", "size": [3, 6, 4]},
+             "position": [104, 95, 0], "material": "grey", "temperature": "305 K",
+             "trajectory": {"waypoints": [[0, 104, 95, 0], [10, 104, 145, 0]],
+                            "attitude": "path"}}],
+        "bands": [{"name": "vis", "min": 0.5, "max": 0.6}],
+        "observers": [{"name": "map", "type": "orthographic", "center": [100, 100],
+                       "gsd": 0.75, "shape": [64, 64], "altitude": 1000}],
+        "render": {"sky_samples": 4, "specular_samples": 4, "seed": 3,
+                   "background_bounces": 1, "background_samples": 32, "key_frames": True,
+                   "key_frame_interval": 0.2},
+    }
+
+
+def test_the_background_is_interpolated_where_nothing_moved_through_its_paths():
+    """The pixels not shaded take their reflected background interpolated too; those whose
+    paths something moved through are shaded (without the records, 0.2 of the radiance
+    off)."""
+    scene = _wall_scene()
+    off = copy.deepcopy(scene)
+    off["render"]["key_frames"] = False
+    want, got = _sequence(off, 8), _sequence(scene, 8)
+    for k in range(8):
+        frames = [SimpleNamespace(radiance={n: _rendered(ds.isel(time=k))
+                                            for n, ds in seq.radiance.items()})
+                  for seq in (want, got)]
+        _compare(*frames, rtol=INTERPOLATED)
+    keyed = radscene.Simulation(radscene.load_scene(scene))
+    keyed.schedule([k * STEP for k in range(8)])
+    keyed.render()
+    keyed.step(STEP)
+    keys = keyed._caches["map"].keys
+    assert keys.current.between and keys.current.background
+    assert all(len(key.paths.sample) for key in keys.keys)
+    assert 0 < keys.shaded < 64 * 64 / 2
+
+
+def test_the_record_checksum_tells_which_vertices_the_sun_lit():
+    from radscene.render.background_record import PathRecord
+
+    sums = []
+    for lit in ([True, False, True], [True, False, True], [False, True, True]):
+        record = PathRecord(6)
+        bound = record.bind(np.array([5, 1]))  # the call's points 0 and 1: samples 5 and 1
+        bound.lit(np.array([0, 0, 1]), np.array([0, 1, 0]), np.array(lit))
+        sums.append(record.finish().checksum)
+    np.testing.assert_array_equal(sums[0], sums[1])
+    assert sums[0][5] != sums[2][5] and sums[0][1] == sums[2][1]
+
+
 def test_key_frames_ahead_are_the_frames_at_their_instants():
     """A scheduled simulation: the key frame ahead is rendered once (with its key frame
     behind) and is the frame at its instant; the frames between are interpolated."""

@@ -368,3 +368,37 @@ def test_self_emitted_part_equals_reference(bounces, air):
     no_sun = background.reflected_parts(tracer, tables, origin, normal, wo, material,
                                         -SUN, u, epsilon=1e-3)
     assert np.all(no_sun[1][:, 1] > 0.0)
+
+
+@pytest.mark.parametrize("centre", [(3.0, -2.0, 3.0), (-2.5, 2.0, 1.5), (1.0, 1.5, 4.0),
+                                    (-3.0, 3.0, 5.0), (3.0, 6.0, 3.0),
+                                    (4.0, 1.0, 1.0)])
+def test_what_the_record_and_the_fan_miss_cannot_change_a_points_background(centre):
+    """A key frame's record (radscene.render.background_record): a box put where no recorded
+    ray of a point and no direction of its sky fan passes leaves that point's background as
+    it was; the points it changes are all caught."""
+    from radscene.render.background_record import PathRecord, meeting_samples
+    from radscene.render.kept_fans import bounding_sphere, fans_meet_spheres
+
+    tracer, tables, origin, normal, wo, material, u = _setup(1, specular=0.3, n=40)
+    fan = _fan(tracer, origin, normal, 4)
+    record = PathRecord(len(origin))
+    args = (tables, origin, normal, wo, material, SUN, u)
+    before = background.reflected_parts(tracer, *args, epsilon=1e-3, fan=fan,
+                                        record=record.bind(np.arange(len(origin))))[0]
+    paths = record.finish()
+    assert np.any(np.all(np.isclose(paths.direction, SUN), axis=1))  # vertices' shadow rays
+    blocker = box((0.6, 0.6, 0.6)).transformed(translation=centre)
+    moved = RayTracer([plate(40.0, 40.0), box((2.0, 2.0, 2.0)), blocker])
+    tables.face_offset = np.append(tables.face_offset, len(tables.face_material))
+    tables.face_material = np.append(tables.face_material, np.ones(len(blocker.faces), int))
+    tables.face_temperature = np.append(tables.face_temperature,
+                                        np.full(len(blocker.faces), 320.0))
+    after = background.reflected(moved, *args, epsilon=1e-3, fan=_fan(moved, origin, normal, 4))
+    sphere = bounding_sphere(blocker.vertices)[None, :]
+    caught = np.zeros(len(origin), dtype=bool)
+    caught[meeting_samples(paths, sphere)] = True
+    caught |= fans_meet_spheres(origin, normal, 4, fan.shift, sphere)
+    changed = np.any(np.abs(after - before) > 1e-9 * np.abs(before).max(), axis=1)
+    assert np.any(changed)
+    assert not np.any(changed & ~caught), np.flatnonzero(changed & ~caught)

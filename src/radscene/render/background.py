@@ -192,20 +192,27 @@ def _vertices(tables, hits, directions, epsilon, texture) -> _Vertices:
                      tables.face_temperature[face])
 
 
-def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None):
+def _own(tracer, tables, v, sun, shadows, f=None, media=None, occluded=None, record=None):
     """Emission and reflected sun of vertices towards the previous vertex, and the emission
     alone: (N, n_b) each; the sun through the ``media``'s volumes where given; ``f`` and
-    ``occluded`` default to :func:`brdf` and :func:`_occluded`."""
+    ``occluded`` default to :func:`brdf` and :func:`_occluded`. ``record``, where given, is
+    called once as ``record(rows, origins, directions, lit)``: the vertices facing the sun
+    (rows), their shadow rays and every vertex's sun flag."""
     emitted = emission(tables, v.material, v.temperature) * v.emissivity[:, None]
     out = emitted.copy()
     if not np.any(tables.sun_irradiance > 0.0) or len(out) == 0:
+        if record is not None:
+            record(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, 3)),
+                   np.zeros(len(out), dtype=bool))
         return out, emitted
     sun = np.broadcast_to(sun, v.normal.shape)
     cos_s = np.einsum("nc,nc->n", v.normal, sun)
     lit = cos_s > 0.0
-    if shadows and np.any(lit):
-        idx = np.flatnonzero(lit)
-        lit[idx] = ~(occluded or partial(_occluded, tracer))(v.origin[idx], sun[idx])
+    facing = np.flatnonzero(lit)
+    if shadows and len(facing):
+        lit[facing] = ~(occluded or partial(_occluded, tracer))(v.origin[facing], sun[facing])
+    if record is not None:
+        record(facing, v.origin[facing], sun[facing], lit)
     if np.any(lit):
         values = (f or brdf)(tables, v.material[lit], sun[lit], v.to_previous[lit],
                              v.normal[lit])
@@ -287,7 +294,8 @@ def reflected(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon, 
 
 def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, epsilon,
                     shadows=True, texture: Callable | None = None, media=None,
-                    fan: Fan | None = None, kept=None) -> tuple[np.ndarray, np.ndarray]:
+                    fan: Fan | None = None, kept=None, record=None, active=None
+                    ) -> tuple[np.ndarray, np.ndarray]:
     """Background radiance reflected by surface points, at the surface, and its
     self-emitted part: (N, n_b) each.
 
@@ -318,6 +326,12 @@ def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, eps
     kept : optional — a sequence's last frame (:meth:`radscene.render.frame_cache.FrameCache.
         background`): whether each drawn first direction met the scene, taken where nothing
         moved through it; the fan's blocked directions come kept or traced with the fan
+    record : optional — a key frame's record of the paths' rays beyond the fan and of their
+        vertices' sun flags (:meth:`radscene.render.background_record.PathRecord.bind`);
+        one-bounce paths
+    active : (N,) bool, optional — the points whose paths are followed; the others' first
+        directions are drawn (and, with ``kept``, answered) but not followed, and their rows
+        stay zero. The random numbers are those of every point's paths
 
     Returns
     -------
@@ -337,7 +351,8 @@ def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, eps
         # the first directions that meet the scene, with their weights
         paths, point, d, hits, beta = first.first_vertices(
             tracer, tables, origin, normal, wo, material, u, fan, start, min(start + step, n),
-            kept)
+            kept, None if record is None else (
+                lambda p, directions: record.rays(p, origin[p], directions)), active)
         alive = np.arange(len(paths))  # rows of paths
         beta = _segment(media, origin[point], d, hits.distance, beta, (out, heat), point,
                         tables=tables)
@@ -346,7 +361,10 @@ def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, eps
                 break
             v = _vertices(tables, hits, d, epsilon, texture)
             p_sun = sun if len(sun) == 1 else sun[point[alive]]
-            own, emitted = _own(tracer, tables, v, p_sun, shadows, media=media)
+            seen = None if record is None else partial(
+                _record_vertices, record, point[alive],
+                paths[alive] % samples + samples * (paths[alive] >= n * samples))
+            own, emitted = _own(tracer, tables, v, p_sun, shadows, media=media, record=seen)
             _add(out, point[alive], beta * own)
             _add(heat, point[alive], beta * emitted)
             wi_v, w_v = brdf_weight(tables, v.material, v.to_previous, v.normal,
@@ -359,6 +377,8 @@ def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, eps
             if bounce == bounces:  # the last vertex's sky: an occlusion ray
                 if sky_on:
                     sky = np.flatnonzero(d[:, 2] > 0.0)
+                    if record is not None:
+                        record.rays(point[alive[sky]], o[sky], d[sky])
                     sky = sky[~_occluded(tracer, o[sky], d[sky])]
                     _segment(media, o[sky], d[sky], None, beta[sky], (out, heat),
                              point[alive[sky]], _sky_pair(tables, d[sky]))
@@ -375,6 +395,13 @@ def reflected_parts(tracer, tables, origin, normal, wo, material, sun, u, *, eps
     out /= samples
     heat /= samples
     return out, heat
+
+
+def _record_vertices(record, point, key, rows, origins, directions, lit):
+    """Record the vertices' shadow rays and sun flags (the ``record`` of :func:`_own`): the
+    vertices of ``point``, ``key`` their path within the point (sample, and which part)."""
+    record.rays(point[rows], origins, directions)
+    record.lit(point, key, lit)
 
 
 def _add(out, rows, values):
@@ -502,15 +529,17 @@ class Pass:
         self.media = media if media is not None and media.volumes else None
 
     def __call__(self, origin, normal, wo, material, sun, first_sample, fan=None,
-                 kept=None) -> tuple[np.ndarray, np.ndarray]:
+                 kept=None, record=None, active=None) -> tuple[np.ndarray, np.ndarray]:
         """(N, n_b) background radiance at the surface of a tile's hits and its self-emitted
         part (:func:`reflected_parts`); ``first_sample`` is the index of the tile's first ray
         sample, ``fan`` the hits' sky fans (:class:`Fan`) or None, ``kept`` as for
-        :func:`reflected`."""
+        :func:`reflected`, ``record`` and ``active`` as :func:`reflected_parts` takes
+        them."""
         u = draws(self.seed, first_sample, len(material), self.samples, self.bounces)
         return reflected_parts(self.tracer, self.tables, origin, normal, wo, material, sun, u,
-                         epsilon=self.epsilon, shadows=self.shadows, texture=self.texture,
-                         media=self.media, fan=fan, kept=kept)
+                               epsilon=self.epsilon, shadows=self.shadows,
+                               texture=self.texture, media=self.media, fan=fan, kept=kept,
+                               record=record, active=active)
 
 
 def for_render(scene, tables, bset, bands, per_pixel, thermal, texture=None,

@@ -129,13 +129,18 @@ def _parts(tables):
             np.any(tables.specular > 0.0, axis=1) & ~modelled)
 
 
-def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi, kept=None):
+def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi, kept=None,
+                   record=None, active=None):
     """The first vertices of the paths of points ``lo`` to ``hi`` that meet the scene.
 
     ``kept`` (:meth:`radscene.render.frame_cache.FrameCache.background`), where given: the
     last frame's answers of the drawn directions (diffuse and lobe), taken where nothing moved
     through them, and this frame's written into ``kept.out``. The fan's directions come with
-    the fan's ``blocked`` flags (kept or traced by the sky pass).
+    the fan's ``blocked`` flags (kept or traced by the sky pass). ``record``, where given, is
+    called as ``record(points, directions)`` with every direction drawn beyond the fan, met
+    or not (:mod:`radscene.render.background_record`). ``active`` (N,) bool, where given: only
+    those points' paths are returned (every point's directions are still drawn, and answered
+    with ``kept``).
 
     Returns (path indices (P,), their points (P,), directions (P, 3), Hits, weights
     (P, n_b)): the fan's diffuse directions, the drawn diffuse ones, the lobes' and those of
@@ -159,7 +164,7 @@ def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi,
     for lobes, parts, first, at in ((False, diffuse, count, 0), (True, lobe, 0, offset)):
         if first < samples and np.any(parts[material[lo:hi]]):
             path, d = _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first,
-                             at, lobes, parts, q, kept)
+                             at, lobes, parts, q, kept, record)
             groups.append((path, (path - at) // samples, d))
         if not lobes:
             n_diffuse = sum(len(g[0]) for g in groups)
@@ -169,6 +174,10 @@ def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi,
         paths, point, d = (np.concatenate(part) for part in zip(*groups, strict=True))
     else:
         paths, point, d = np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 3))
+    if active is not None:
+        chosen = active[point]
+        n_diffuse = int(np.count_nonzero(chosen[:n_diffuse]))
+        paths, point, d = paths[chosen], point[chosen], d[chosen]
     hits = tracer.intersect(origin[point], d)
     keep = hits.hit
     beta = np.empty((len(paths), tables.bands))
@@ -183,10 +192,14 @@ def first_vertices(tracer, tables, origin, normal, wo, material, u, fan, lo, hi,
         return paths, point, d, hits, beta
     # the materials with a BRDF model: one direction per path through the registry
     others = lo + np.flatnonzero(modelled[material[lo:hi]])
+    if active is not None:
+        others = others[active[others]]
     more = (others[:, None] * samples + np.arange(samples)).ravel()
     m_point = more // samples
     wi, valid = directions(tables, material, wo, normal, m_point, u.at(more, 0))
     alive = np.flatnonzero(valid)
+    if record is not None:
+        record(m_point[alive], wi[alive])
     m_hits = tracer.intersect(origin[m_point[alive]], wi[alive])
     alive = alive[m_hits.hit]
     m_point = m_point[alive]
@@ -204,7 +217,7 @@ def _pattern(n_samples):
 
 
 def _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first, offset, lobe,
-           traced, q, kept=None):
+           traced, q, kept=None, record=None):
     """The drawn first directions of samples ``first`` … of points ``lo`` to ``hi`` that may
     meet the scene: (path indices, directions). With Embree's packets only the blocked ones
     (:func:`~radscene.render.background_kernels.first_blocked`, with ``kept`` as
@@ -217,9 +230,13 @@ def _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first, offse
         wi, valid = np.empty((len(path), 3)), np.empty(len(path), dtype=bool)
         kernels.first_directions(wo, normal, point, u.at(path + offset, 0), material, traced,
                                  q, tables.exponent, lobe, wi, valid)
+        if record is not None:
+            record(point[valid], wi[valid])
         return path[valid] + offset, wi[valid]
     n = (hi - lo) * samples
-    direction, blocked = np.empty((n, 3)), np.empty(n, dtype=bool)
+    # rows not drawn stay zero
+    direction = np.zeros((n, 3)) if record is not None else np.empty((n, 3))
+    blocked = np.empty(n, dtype=bool)
     kernels.first_blocked(packets.occluded8, packets.handle, np.uint64(u.key), u.bounces + 1,
                           lo, hi, samples, first, offset, lobe, wo, normal, origin, material,
                           traced, q, tables.exponent, tracer.center, tracer.half_size,
@@ -227,6 +244,9 @@ def _drawn(tracer, tables, origin, normal, wo, material, u, lo, hi, first, offse
                                                 (kept.retrace, kept.known, kept.spheres)))
     if kept is not None:  # path indices: the diffuse paths', then the lobes' (offset)
         kept.out.blocked[offset + lo * samples:offset + hi * samples] = blocked
+    if record is not None:
+        drawn = np.flatnonzero(np.any(direction != 0.0, axis=1))
+        record(lo + drawn // samples, direction[drawn])
     rows = np.flatnonzero(blocked)
     return offset + lo * samples + rows, direction[rows]
 

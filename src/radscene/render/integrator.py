@@ -201,7 +201,9 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
         bset = BandSetup(scene, bands, geo.path_nodes, geo.suns, track.reference)
     else:  # a key frame, or one between key frames (radscene.render.key_frames)
         plan = keys.plan(cache, rays, hits, shadow_pass, geo.path_nodes, lambda: BandSetup(
-            scene, bands, geo.path_nodes, geo.suns, track.reference))
+            scene, bands, geo.path_nodes, geo.suns, track.reference),
+            background=settings.background_bounces == 1 and not scene.volumes
+            and not tables.sheet_object.any())
         bset = plan.bset
     coef = bset.coefficients
     # the sub-sample nearest each pixel centre labels ids and normals

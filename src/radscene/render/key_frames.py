@@ -17,7 +17,11 @@ transmittance at the atmosphere's path nodes) extrapolated the same way from tho
 key frames; their geometry, shadows, fans, temperatures and emission are the frame's own.
 The reflected background is every pixel's own in every frame (its paths' vertices may see
 what moved anywhere: the pass follows them all, as an incremental frame does), with the band
-tables of the newer key frame's sun. The surface–atmosphere coupling layers are formed every
+tables of the newer key frame's sun — except with look-ahead (below) where the pass has one
+bounce and no volumes or sheets: then the key frames record their paths
+(:mod:`radscene.render.background_record`), a pixel whose recorded rays something moved
+through or whose vertices the sun lit otherwise at the two key frames is shaded, and every
+other pixel's background is interpolated with its other sums. The surface–atmosphere coupling layers are formed every
 frame from the image so made. Truth maps of labels and positions (object and material ids,
 normals, geolocation, range) are the frame's own, exactly: an unchanged pixel sees what it
 saw; the truth sums (cos θ_i, shadow, sky view, surface temperature) are extrapolated as the
@@ -66,8 +70,10 @@ import copy
 from dataclasses import fields, replace
 from types import SimpleNamespace
 
+import numba
 import numpy as np
 
+from radscene.render.background_record import PathRecord, meeting_samples
 from radscene.render.kept_fans import fans_meet_spheres
 
 __all__ = ["KeyFrames", "MAX_SUN_STEP", "sun_vector"]
@@ -121,6 +127,8 @@ class KeyFrames:
         self.look_ahead = False
         #: True while the key frame ahead is rendered
         self.rendering_ahead = False
+        #: the plan of the frame being rendered (:meth:`plan`)
+        self.current = None
 
     def reset(self) -> None:
         """Keep no key frame: the next frame is one."""
@@ -165,12 +173,18 @@ class KeyFrames:
                 self.keys = []
         return not self.keys or now.elapsed >= self.keys[-1].elapsed + self.interval * (1 - 1e-9)
 
-    def plan(self, cache, rays, hits, shadow_pass, path_nodes, build_tables):
+    def plan(self, cache, rays, hits, shadow_pass, path_nodes, build_tables,
+             background=False):
         """What this frame is: a namespace with ``bset`` (the band tables: built by
         ``build_tables()`` for a key frame, extrapolated for a frame between), ``between``
-        (bool) and what :meth:`launch` and :meth:`finish` need. ``shadow_pass`` is the
-        future of every hit's sun flag, ``path_nodes`` the atmosphere's nodes of the
-        frame's hits."""
+        (bool), ``background`` (bool: the reflected background of the pixels not shaded is
+        interpolated too), ``record`` (the key frame's :class:`~radscene.render.
+        background_record.PathRecord`, or None) and what :meth:`launch` and :meth:`finish`
+        need. ``shadow_pass`` is the future of every hit's sun flag, ``path_nodes`` the
+        atmosphere's nodes of the frame's hits; ``background`` tells whether the render's
+        reflected background can be interpolated (one bounce, no volumes or sheets): with
+        look-ahead its key frames record their paths (:mod:`radscene.render.
+        background_record`)."""
         n = len(rays.pixel)
         nodes = _fingerprint(path_nodes)
         w = self._weight()
@@ -191,10 +205,25 @@ class KeyFrames:
                                 zip(a.bset.sun_spectra, b.bset.sun_spectra, strict=True)]
         else:
             bset = build_tables()
-        return SimpleNamespace(between=between, weight=w, bset=bset, nodes=nodes, cache=cache,
-                               rays=rays, hits=hits, shadow_pass=shadow_pass, lit=None,
-                               active=np.zeros(n, bool) if between else None,
-                               n_pix=rays.shape[0] * rays.shape[1])
+        paths = bool(background) and self.look_ahead
+        plan = SimpleNamespace(
+            between=between, weight=w, bset=bset, nodes=nodes, cache=cache, rays=rays,
+            hits=hits, shadow_pass=shadow_pass, lit=None,
+            active=np.zeros(n, bool) if between else None,
+            n_pix=rays.shape[0] * rays.shape[1],
+            background=between and paths and all(k.paths is not None for k in self.keys),
+            record=PathRecord(n) if paths and not between else None)
+        self.current = plan
+        for key in self.keys:  # what moved through the kept key frames' background paths
+            self._touch(plan, meeting_samples(key.paths, cache.spheres))
+        return plan
+
+    def _touch(self, plan, samples) -> None:
+        """Mark the pixels of ray ``samples`` changed in every kept key frame's record."""
+        if len(samples):
+            changed = plan.rays.pixel[samples]
+            for key in self.keys:
+                key.touched[changed] = True
 
     @staticmethod
     def _lit(plan) -> np.ndarray:
@@ -265,11 +294,10 @@ class KeyFrames:
             clean = ~a.touched
             if image.sky_thermal is None and "sky_thermal" in b.sums:  # no split band shaded
                 image.sky_thermal = np.zeros_like(b.sums["sky_thermal"])
-            for name, target in _layers(image):
+            for name, target in _layers(image, plan.background):
                 if name not in a.sums or name not in b.sums:
                     continue
-                extrapolated = _extrapolate(a.sums[name], b.sums[name], plan.weight)
-                np.copyto(target, extrapolated, where=np.broadcast_to(clean, target.shape))
+                _line_where(a.sums[name], b.sums[name], plan.weight, clean, target)
             for name, target in _labels(image):
                 np.copyto(target, b.sums[name], where=np.broadcast_to(clean, target.shape))
             if image.radiance is not None:  # formed per tile: again for every pixel
@@ -287,12 +315,21 @@ class KeyFrames:
                 return
         elif not self._due(plan.nodes):
             return
-        sums = {name: target.copy() for name, target in (*_layers(image), *_labels(image))}
+        paths = None if plan.record is None else plan.record.finish()
+        sums = {name: target.copy() for name, target in
+                (*_layers(image, paths is not None), *_labels(image))}
         self.keys.append(SimpleNamespace(
             n=len(plan.rays.pixel), elapsed=now.elapsed, sun=now.sun, segment=now.segment,
             sums=sums, lit=self._lit(plan), nodes=plan.nodes, bset=plan.bset,
-            touched=np.zeros(plan.n_pix, dtype=bool)))
+            touched=np.zeros(plan.n_pix, dtype=bool), paths=paths))
         self.keys = self.keys[-2:]
+        if self.rendering_ahead and len(self.keys) == 2 and paths is not None:
+            # the paths of the key frame ahead through what moved to it, and the samples
+            # whose vertices the sun lit otherwise at the two key frames
+            self._touch(plan, meeting_samples(paths, plan.cache.spheres))
+            behind = self.keys[0].paths
+            if behind is not None:
+                self._touch(plan, np.flatnonzero(behind.checksum != paths.checksum))
 
     def _kept_ahead(self) -> bool:
         """With look-ahead: whether a frame shaded in full is kept — the key frame ahead
@@ -334,10 +371,12 @@ def interpolation_weight(keys, now, ahead: bool):
     return (now.elapsed - a.elapsed) / (b.elapsed - a.elapsed)
 
 
-def whole_fan(cache, st) -> None:
+def whole_fan(cache, st, shaded_only=False) -> None:
     """Give the tile's hits ``st.full`` (:meth:`KeyFrames.launch`) their sky fans (the first
     directions of the reflected background's paths): the shaded hits' as this frame traced
-    them (``st.fan``), the others' from the frame cache's bits, as a kept fan gives them."""
+    them (``st.fan``), the others' from the frame cache's bits, as a kept fan gives them —
+    or, with ``shaded_only`` (only the shaded hits' paths are followed), as blocking
+    nothing."""
     from radscene.render.background import Fan
 
     whole, rows, shift = st.full
@@ -345,8 +384,12 @@ def whole_fan(cache, st) -> None:
     if fan is None:
         whole.fan = None
         return
-    bits = cache.kept.sky[whole.hidx]
-    blocked = ((bits[:, None] >> np.arange(fan.samples, dtype=np.uint64)) & np.uint64(1)) == 0
+    if shaded_only:
+        blocked = np.zeros((len(whole.hidx), fan.samples), dtype=bool)
+    else:
+        bits = cache.kept.sky[whole.hidx]
+        blocked = ((bits[:, None] >> np.arange(fan.samples, dtype=np.uint64))
+                   & np.uint64(1)) == 0
     blocked[rows] = fan.blocked
     whole.fan = Fan(shift, fan.samples, blocked)
 
@@ -355,11 +398,34 @@ def _extrapolate(a, b, w):
     return a + w * (b - a)
 
 
-def _layers(image):
+def _line_where(a, b, w, clean, target) -> None:
+    """``target = a + w (b - a)`` at the pixels ``clean`` (the last axis), in place."""
+    shape = target.shape
+    flat = [np.ascontiguousarray(x).reshape(-1, shape[-1]) for x in (a, b)]
+    out = target.reshape(-1, shape[-1])
+    if not np.shares_memory(out, target):  # not a view: the slow way
+        np.copyto(target, _extrapolate(a, b, w), where=np.broadcast_to(clean, shape))
+        return
+    _line_kernel(flat[0], flat[1], float(w), np.flatnonzero(clean), out)
+
+
+@numba.njit(parallel=True, cache=True)
+def _line_kernel(a, b, w, pixels, out):
+    for r in numba.prange(out.shape[0]):
+        for k in range(pixels.shape[0]):
+            p = pixels[k]
+            out[r, p] = a[r, p] + w * (b[r, p] - a[r, p])
+
+
+def _layers(image, background=False):
     """The per-pixel sums of a :class:`~radscene.render.tiles.TileSums` extrapolated in
-    time: (name, array) with the pixel as the last axis. Not the reflected background: every
-    pixel's is the frame's own."""
+    time: (name, array) with the pixel as the last axis. The reflected background only with
+    ``background`` (:mod:`radscene.render.background_record`); otherwise every pixel's is the
+    frame's own."""
     out = [("acc", image.acc), ("transmittance", image.transmittance)]
+    if background and image.background is not None:
+        out += [("background", image.background),
+                ("background_thermal", image.background_thermal)]
     out += [(f"truth_{k}", v) for k, v in image.truth.items()]
     # the sky's emission in the bands whose sky also holds sunlight (its part layer), and the
     # volumes' own radiance along the sky rays and the sky view through them, where present

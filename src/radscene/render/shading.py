@@ -59,9 +59,15 @@ class TileShader:
         (:func:`~radscene.render.surface.surface_state`), ``job`` the future of their
         secondary rays (:func:`~radscene.render.surface.secondary_rays`). Between key frames
         (:mod:`radscene.render.key_frames`) ``st`` holds the hits to shade, maybe none, and
-        ``st.full`` every hit of the tile: the reflected background is that of all of them."""
+        ``st.full`` every hit of the tile: the reflected background is that of all of them,
+        or, where it is interpolated too, of the hits shaded (the pass still goes over every
+        hit's first rays, so that its random numbers and its kept answers are those of a
+        frame shaded in full)."""
         image, rays = self.image, self.rays
+        keys = None if self.cache is None else self.cache.keys
+        plan = None if keys is None else keys.current
         whole = st.full[0] if hasattr(st, "full") else st
+        rows = st.full[1] if whole is not st and plan.background else slice(None)
         if len(st.hidx):
             tex = textures(self.scene, st.obj, st.pos)
             p = rays.pixel[st.hidx]
@@ -70,23 +76,31 @@ class TileShader:
             if self.medium is not None:  # the sky rays' change by volumes and sheets
                 self._media(st, tex, out, p, wh, sky_view)
         if self.reflect is not None:  # at the surface, then through τ_a and Δρ
+            active = None
             if whole is not st:  # the fans of the hits not shaded: their kept answers
-                key_frames.whole_fan(self.cache, st)
-                tex_whole = textures(self.scene, whole.obj, whole.pos)
+                key_frames.whole_fan(self.cache, st, not isinstance(rows, slice))
+                if isinstance(rows, slice):
+                    tex_whole = textures(self.scene, whole.obj, whole.pos)
+                else:  # the hits shaded: ``st``'s rows of ``whole``
+                    tex_whole = tex if len(st.hidx) else {"reflectance": np.ones(0)}
+                    active = np.zeros(len(whole.hidx), dtype=bool)
+                    active[rows] = True
             else:
                 tex_whole = tex
             kept = None if self.cache is None else self.cache.background(
                 self.tables.tracer, whole, sl, self.reflect.samples)
+            record = None if plan is None or plan.record is None else plan.record.bind(
+                whole.hidx)
             values, emitted = self.reflect(whole.origin, whole.nrm, whole.wo, whole.mat,
                                            whole.sun, sl.start, getattr(whole, "fan", None),
-                                           kept)
+                                           kept, record, active)
+            values, emitted, hidx = values[rows], emitted[rows], whole.hidx[rows]
             tau_a = node_mixing.gather_band(self.bset.coefficients.transmittance,
-                                            self.nodes.nodes_all.subset(whole.rank))
+                                            self.nodes.nodes_all.subset(whole.rank[rows]))
             for part in (values, emitted):
                 part *= tau_a
                 part *= tex_whole["reflectance"][:, None]
-            image.add_background(rays.pixel[whole.hidx], rays.weight[whole.hidx], values.T,
-                                 emitted.T)
+            image.add_background(rays.pixel[hidx], rays.weight[hidx], values.T, emitted.T)
         if not len(st.hidx):
             return
         truth_rows = (st.cos_i, 1.0 - lit, sky_view, st.temp, self.hits.distance[st.hidx], None)
