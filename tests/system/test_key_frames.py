@@ -110,23 +110,38 @@ def test_a_moved_camera_starts_its_key_frames_again():
     assert keyed._caches["map"].keys.between == 4
 
 
-def test_fans_meet_spheres_matches_the_fans_directions():
-    """The probe of key frames against the fans' own directions tested one by one."""
+@pytest.mark.parametrize("lobe", [False, True])
+@pytest.mark.parametrize("m", [16, 9, 12])
+@pytest.mark.parametrize("far", [False, True])
+def test_fans_meet_spheres_matches_the_fans_directions(lobe, m, far):
+    """The probe of key frames against the fans' own directions tested one by one: cosine
+    and lobe fans, regular grids (16, 9) and another pattern (12), spheres near and far (the
+    polar-angle bound that skips most far points, kept_fans._may_meet)."""
     from radscene.render import kernels
     from radscene.render.illumination import _fan_setup
     from radscene.render.kept_fans import fans_meet_spheres, meets_spheres
 
     rng = np.random.default_rng(1)
-    n, m = 500, 16
+    n = 4000
     origins = rng.uniform(-20.0, 20.0, (n, 3))
     normals = rng.normal(size=(n, 3))
     normals /= np.linalg.norm(normals, axis=1)[:, None]
     shift = rng.random((n, 2))
     spheres = np.array([[5.0, 3.0, 8.0, 4.0], [-10.0, 0.0, -2.0, 2.5]])
-    got = fans_meet_spheres(origins, normals, m, shift, spheres)
+    if far:
+        spheres = np.array([[300.0, -40.0, 25.0, 4.0], [-150.0, 220.0, 3.0, 6.0]])
+    axis = rng.normal(size=(n, 3))
+    axis /= np.linalg.norm(axis, axis=1)[:, None]
+    exponent = rng.uniform(1.0, 80.0, n)
+    got = fans_meet_spheres(origins, normals, m, shift, spheres,
+                            lobe=(axis, exponent) if lobe else None)
     shift, base, side, pos, nrm = _fan_setup(origins, normals, m, None, shift)
     o32, d32 = kernels.empty_fan(n * m)
-    kernels.cosine_fan(pos, nrm, np.zeros(3), 0.0, shift, base, side, o32, d32)
+    if lobe:
+        kernels.lobe_fan(pos, nrm, axis, exponent, np.zeros(3), 0.0, shift, base, side, o32,
+                         d32)
+    else:
+        kernels.cosine_fan(pos, nrm, np.zeros(3), 0.0, shift, base, side, o32, d32)
     want = meets_spheres(np.repeat(origins, m, axis=0), d32.astype(float), spheres)
     np.testing.assert_array_equal(got, want.reshape(n, m).any(axis=1))
     assert 0 < got.sum() < n

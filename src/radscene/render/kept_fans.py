@@ -18,6 +18,8 @@ again, bit for bit.
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -62,6 +64,50 @@ def meets_spheres(origins, directions, spheres) -> np.ndarray:
     return out
 
 
+#: What the polar-angle bound of :func:`_may_meet` gives away [-, in cos]: far more than the
+#: float32 rounding of the fans' directions (about 1e-7).
+_BOUND_MARGIN = 1e-6
+
+
+@numba.njit(cache=True)
+def _may_meet(i, position, normal, axis, exponent, lobe, shift, base, side, spheres):
+    """Whether a direction of point ``i``'s fan (a regular grid of ``side`` polar levels by
+    ``side`` azimuths) may pass within one of ``spheres``: False only where, for every
+    sphere, no level's polar angle comes within the sphere's angular radius of it. A
+    direction at polar angle θ about the fan's axis makes with the unit vector ŵ towards a
+    sphere's centre cos γ ≤ sin θ sin θ_w + cos θ cos θ_w, and it meets the sphere only if
+    cos γ ≥ √(1 − r²/|w|²)."""
+    if lobe:
+        ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
+        power = 1.0 / (exponent[i] + 1.0)
+    else:
+        ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
+        power = 0.0
+    for s in range(spheres.shape[0]):
+        wx = spheres[s, 0] - position[i, 0]
+        wy = spheres[s, 1] - position[i, 1]
+        wz = spheres[s, 2] - position[i, 2]
+        w2 = wx * wx + wy * wy + wz * wz
+        r2 = spheres[s, 3] * spheres[s, 3]
+        if w2 <= r2:
+            return True
+        cos_w = (wx * ax + wy * ay + wz * az) / math.sqrt(w2)
+        sin_w = math.sqrt(max(0.0, 1.0 - cos_w * cos_w))
+        least = math.sqrt(1.0 - r2 / w2) - _BOUND_MARGIN
+        for a in range(side):
+            u1 = base[a * side, 0] + shift[i, 0]
+            u1 = u1 - 1.0 if u1 >= 1.0 else u1
+            if lobe:
+                cos_t = u1**power
+                sin_t = math.sqrt(max(0.0, 1.0 - cos_t * cos_t))
+            else:
+                sin_t = math.sqrt(u1)
+                cos_t = math.sqrt(max(0.0, 1.0 - u1))
+            if sin_t * sin_w + cos_t * cos_w >= least:
+                return True
+    return False
+
+
 @numba.njit(parallel=True, cache=True)
 def _fans_meet(position, normal, axis, exponent, lobe, shift, base, side, spheres, out):
     n = position.shape[0]
@@ -73,6 +119,10 @@ def _fans_meet(position, normal, axis, exponent, lobe, shift, base, side, sphere
         cos_phi, sin_phi = np.empty(levels), np.empty(levels)
         dirs = np.empty((m, 3), np.float32)
         for i in range(c * _FAN_CHUNK, min(n, (c + 1) * _FAN_CHUNK)):
+            if side > 0 and not _may_meet(i, position, normal, axis, exponent, lobe, shift,
+                                          base, side, spheres):
+                out[i] = False
+                continue
             ox, oy, oz = _fan_point(i, position, normal, axis, exponent, lobe, origin, 0.0,
                                     shift, base, side, sin_t, cos_t, cos_phi, sin_phi, dirs, 0)
             met = False
