@@ -30,6 +30,8 @@ from radscene.render.kernels import (
     _flags,
     _meets,
     _packet_fans,
+    fan_axis,
+    fan_level,
 )
 
 __all__ = ["MAX_FAN", "kept_fans", "meets_spheres", "bounding_sphere", "fans_meet_spheres"]
@@ -77,12 +79,7 @@ def _may_meet(i, position, normal, axis, exponent, lobe, shift, base, side, sphe
     direction at polar angle θ about the fan's axis makes with the unit vector ŵ towards a
     sphere's centre cos γ ≤ sin θ sin θ_w + cos θ cos θ_w, and it meets the sphere only if
     cos γ ≥ √(1 − r²/|w|²)."""
-    if lobe:
-        ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
-        power = 1.0 / (exponent[i] + 1.0)
-    else:
-        ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
-        power = 0.0
+    ax, ay, az, power = fan_axis(i, normal, axis, exponent, lobe)
     for s in range(spheres.shape[0]):
         wx = spheres[s, 0] - position[i, 0]
         wy = spheres[s, 1] - position[i, 1]
@@ -97,12 +94,7 @@ def _may_meet(i, position, normal, axis, exponent, lobe, shift, base, side, sphe
         for a in range(side):
             u1 = base[a * side, 0] + shift[i, 0]
             u1 = u1 - 1.0 if u1 >= 1.0 else u1
-            if lobe:
-                cos_t = u1**power
-                sin_t = math.sqrt(max(0.0, 1.0 - cos_t * cos_t))
-            else:
-                sin_t = math.sqrt(u1)
-                cos_t = math.sqrt(max(0.0, 1.0 - u1))
+            sin_t, cos_t = fan_level(u1, lobe, power)
             if sin_t * sin_w + cos_t * cos_w >= least:
                 return True
     return False

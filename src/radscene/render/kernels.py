@@ -47,6 +47,25 @@ def _levels(j, side):
 
 
 @numba.njit(inline="always")
+def fan_axis(i, normal, axis, exponent, lobe):
+    """The axis of point ``i``'s fan (its lobe's axis, or its normal) and the power of its
+    levels (0: cosine-weighted)."""
+    if lobe:
+        return axis[i, 0], axis[i, 1], axis[i, 2], 1.0 / (exponent[i] + 1.0)
+    return normal[i, 0], normal[i, 1], normal[i, 2], 0.0
+
+
+@numba.njit(inline="always")
+def fan_level(u1, lobe, power):
+    """(sin, cos) of the polar angle of a fan's level at ``u1``: cos α = u1^power about a
+    lobe's axis, sin θ = √u1 for a cosine-weighted fan."""
+    if lobe:
+        cos_t = u1**power
+        return math.sqrt(max(0.0, 1.0 - cos_t * cos_t)), cos_t
+    return math.sqrt(u1), math.sqrt(max(0.0, 1.0 - u1))
+
+
+@numba.njit(inline="always")
 def _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon, shift, base, side,
                sin_t, cos_t, cos_phi, sin_phi, directions, row0):
     """Point ``i``'s fan: its directions into ``directions[row0:row0 + M]`` (float32 rows)
@@ -54,12 +73,7 @@ def _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon, shift
     arrays of the pattern's level count."""
     m = base.shape[0]
     levels = side if side > 0 else m
-    if lobe:
-        ax, ay, az = axis[i, 0], axis[i, 1], axis[i, 2]
-        power = 1.0 / (exponent[i] + 1.0)
-    else:
-        ax, ay, az = normal[i, 0], normal[i, 1], normal[i, 2]
-        power = 0.0
+    ax, ay, az, power = fan_axis(i, normal, axis, exponent, lobe)
     tx, ty, tz, bx, by, bz = _basis(ax, ay, az)
     # the regular grid's columns (b + 1/2) / side are spaced evenly in azimuth: with side a
     # multiple of four, column b + side/4 is column b turned by a quarter turn
@@ -67,12 +81,7 @@ def _fan_point(i, position, normal, axis, exponent, lobe, center, epsilon, shift
     for a in range(levels):
         u1 = base[a * side if side > 0 else a, 0] + shift[i, 0]
         u1 = u1 - 1.0 if u1 >= 1.0 else u1
-        if lobe:  # cos α = u1^(1/(n+1))
-            cos_t[a] = u1**power
-            sin_t[a] = math.sqrt(max(0.0, 1.0 - cos_t[a] * cos_t[a]))
-        else:  # cosine-weighted: sin θ = √u1
-            sin_t[a] = math.sqrt(u1)
-            cos_t[a] = math.sqrt(max(0.0, 1.0 - u1))
+        sin_t[a], cos_t[a] = fan_level(u1, lobe, power)
         if quarter > 0 and a >= quarter:  # cos(φ + π/2) = −sin φ, sin(φ + π/2) = cos φ
             cos_phi[a] = -sin_phi[a - quarter]
             sin_phi[a] = cos_phi[a - quarter]
