@@ -20,7 +20,8 @@ shaded at the frame's instant. Lit alike at both ends means lit alike between th
 the sun turns one way and by at most :data:`~radscene.render.key_frames.MAX_SUN_STEP`.
 
 Memory: per recorded ray 56 bytes (origin and direction in float64, the ray sample), per ray
-sample 8 bytes; on the demo's map observer about 0.2 M rays.
+sample 8 bytes; on the demo (measured 2026-11-26) 0.21 M rays a key frame of its map (17 MB)
+and 0.45 M of its oblique camera (31 MB): 96 MB for the two key frames of both.
 """
 
 from __future__ import annotations
