@@ -238,7 +238,7 @@ def test_the_background_is_interpolated_where_nothing_moved_through_its_paths():
     keyed.render()
     keyed.step(STEP)
     keys = keyed._caches["map"].keys
-    assert keys.current.between and keys.current.background
+    assert keys.between == keys.between_background == 1
     assert all(len(key.paths.sample) for key in keys.keys)
     assert 0 < keys.shaded < 64 * 64 / 2
 
@@ -254,6 +254,27 @@ def test_the_record_checksum_tells_which_vertices_the_sun_lit():
         sums.append(record.finish().checksum)
     np.testing.assert_array_equal(sums[0], sums[1])
     assert sums[0][5] != sums[2][5] and sums[0][1] == sums[2][1]
+    # sets of lit paths whose keys sum alike ({0, 3} and {1, 2}) are told apart
+    pair = []
+    for paths in ([0, 3], [1, 2]):
+        record = PathRecord(1)
+        record.bind(np.array([0])).lit(np.zeros(2, int), np.array(paths), np.ones(2, bool))
+        pair.append(int(record.finish().checksum[0]))
+    assert pair[0] != pair[1]
+
+
+def test_the_records_spheres_widen_with_the_suns_turn():
+    """A shadow ray recorded along the key frame's sun misses a small sphere just beside it;
+    widened by the angle the sun turns, the sphere is met."""
+    from types import SimpleNamespace as NS
+
+    from radscene.render.background_record import meeting_samples
+
+    record = NS(origin=np.zeros((1, 3)), direction=np.array([[0.0, 0.0, 1.0]]),
+                sample=np.array([7]))
+    sphere = np.array([[0.5, 0.0, 1000.0, 0.3]])  # 0.5 m off the ray, 1 km up
+    assert len(meeting_samples(record, sphere)) == 0
+    assert list(meeting_samples(record, sphere, np.radians(0.05))) == [7]
 
 
 def test_key_frames_ahead_are_the_frames_at_their_instants():

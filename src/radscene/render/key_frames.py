@@ -112,7 +112,8 @@ class KeyFrames:
 
     The simulation tells it each frame's instant (:meth:`at`); the render asks it whether the
     frame is a key frame (:meth:`plan`), which samples to shade (:meth:`tile`), and keeps or
-    fills the sums (:meth:`finish`). ``between`` counts the frames made between key frames,
+    fills the sums (:meth:`finish`). ``between`` counts the frames made between key frames
+    (``between_background`` those whose reflected background was interpolated too),
     ``shaded`` the pixels the last frame shaded.
     """
 
@@ -122,6 +123,8 @@ class KeyFrames:
         self.instant = None
         self.between = 0
         self.shaded = 0
+        #: frames between key frames whose reflected background was interpolated too
+        self.between_background = 0
         #: frames interpolated between the key frame behind and one rendered ahead
         #: (:mod:`radscene.pipeline.look_ahead`), not extrapolated
         self.look_ahead = False
@@ -214,9 +217,19 @@ class KeyFrames:
             background=between and paths and all(k.paths is not None for k in self.keys),
             record=PathRecord(n) if paths and not between else None)
         self.current = plan
+        turn = self._turn()
         for key in self.keys:  # what moved through the kept key frames' background paths
-            self._touch(plan, meeting_samples(key.paths, cache.spheres))
+            self._touch(plan, meeting_samples(key.paths, cache.spheres, turn))
         return plan
+
+    def _turn(self) -> float:
+        """The largest angle between the suns of the kept key frames and this frame [rad]:
+        how far a vertex's shadow ray may turn from the one its key frame recorded."""
+        suns = [key.sun for key in self.keys]
+        if self.instant is not None:
+            suns.append(self.instant.sun)
+        return max((float(np.arccos(np.clip(a @ b, -1.0, 1.0))) for i, a in enumerate(suns)
+                    for b in suns[i + 1:]), default=0.0)
 
     def _touch(self, plan, samples) -> None:
         """Mark the pixels of ray ``samples`` changed in every kept key frame's record."""
@@ -289,6 +302,7 @@ class KeyFrames:
         """After the tiles: in a frame between, the pixels not shaded take the key frames'
         sums extrapolated (and the totals are formed again); in a key frame its sums are kept
         and the older key frame let go where two are kept."""
+        self.current = None  # the tiles are shaded: the plan is not held past its frame
         if plan.between:
             a, b = self.keys
             clean = ~a.touched
@@ -303,6 +317,7 @@ class KeyFrames:
             if image.radiance is not None:  # formed per tile: again for every pixel
                 image.totals(np.arange(plan.n_pix))
             self.between += 1
+            self.between_background += bool(plan.background)
             self.shaded = int(np.count_nonzero(~clean))
             return
         self.shaded = plan.n_pix
@@ -326,7 +341,7 @@ class KeyFrames:
         if self.rendering_ahead and len(self.keys) == 2 and paths is not None:
             # the paths of the key frame ahead through what moved to it, and the samples
             # whose vertices the sun lit otherwise at the two key frames
-            self._touch(plan, meeting_samples(paths, plan.cache.spheres))
+            self._touch(plan, meeting_samples(paths, plan.cache.spheres, self._turn()))
             behind = self.keys[0].paths
             if behind is not None:
                 self._touch(plan, np.flatnonzero(behind.checksum != paths.checksum))
@@ -423,7 +438,7 @@ def _layers(image, background=False):
     ``background`` (:mod:`radscene.render.background_record`); otherwise every pixel's is the
     frame's own."""
     out = [("acc", image.acc), ("transmittance", image.transmittance)]
-    if background and image.background is not None:
+    if background and image.background is not None and image.background_thermal is not None:
         out += [("background", image.background),
                 ("background_thermal", image.background_thermal)]
     out += [(f"truth_{k}", v) for k, v in image.truth.items()]
