@@ -273,7 +273,7 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
     image = TileSums(bands, n_pix, central, direct, medium is not None, reflect is not None)
     shade = TileShader(scene, tables, bset, bands, rays, hits, image, geo,
                        mix_tables(coef, emission_tables, sky_diffuse), emission_pair,
-                       fused_sky is not None, medium, reflect, per_pixel, cache)
+                       fused_sky is not None, medium, reflect, per_pixel, cache, plan)
     geolocation = pixel_coords = None
     for i, sl in enumerate(tiles):
         if i + TILES_AHEAD < len(tiles):

@@ -130,8 +130,6 @@ class KeyFrames:
         self.look_ahead = False
         #: True while the key frame ahead is rendered
         self.rendering_ahead = False
-        #: the plan of the frame being rendered (:meth:`plan`)
-        self.current = None
 
     def reset(self) -> None:
         """Keep no key frame: the next frame is one."""
@@ -216,7 +214,6 @@ class KeyFrames:
             n_pix=rays.shape[0] * rays.shape[1],
             background=between and paths and all(k.paths is not None for k in self.keys),
             record=PathRecord(n) if paths and not between else None)
-        self.current = plan
         turn = self._turn()
         for key in self.keys:  # what moved through the kept key frames' background paths
             self._touch(plan, meeting_samples(key.paths, cache.spheres, turn))
@@ -302,7 +299,6 @@ class KeyFrames:
         """After the tiles: in a frame between, the pixels not shaded take the key frames'
         sums extrapolated (and the totals are formed again); in a key frame its sums are kept
         and the older key frame let go where two are kept."""
-        self.current = None  # the tiles are shaded: the plan is not held past its frame
         if plan.between:
             a, b = self.keys
             clean = ~a.touched

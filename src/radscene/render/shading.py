@@ -44,13 +44,14 @@ class TileShader:
     """
 
     def __init__(self, scene, tables, bset, bands, rays, hits, image, nodes, mix_tables,
-                 emission_pair, fused_sky, medium, reflect, per_pixel, cache=None):
+                 emission_pair, fused_sky, medium, reflect, per_pixel, cache=None,
+                 plan=None):
         self.scene, self.tables, self.bset, self.bands = scene, tables, bset, bands
         self.rays, self.hits, self.image, self.nodes = rays, hits, image, nodes
         self.mix_tables, self.emission_pair = mix_tables, emission_pair
         self.fused_sky, self.medium, self.reflect = fused_sky, medium, reflect
         self.per_pixel = per_pixel
-        self.cache = cache
+        self.cache, self.plan = cache, plan  # the frame cache; the key frames' plan
         self.unit_weight = bool(np.all(rays.weight == 1.0))  # then weighting changes nothing
         self.media_tables = None  # the band-mean BRDFs that reflect the volumes' own radiance
 
@@ -64,8 +65,7 @@ class TileShader:
         hit's first rays, so that its random numbers and its kept answers are those of a
         frame shaded in full)."""
         image, rays = self.image, self.rays
-        keys = None if self.cache is None else self.cache.keys
-        plan = None if keys is None else keys.current
+        plan = self.plan
         whole = st.full[0] if hasattr(st, "full") else st
         rows = st.full[1] if whole is not st and plan.background else slice(None)
         if len(st.hidx):
