@@ -186,13 +186,17 @@ def test_parts_under_a_volume_stay_their_layers_share(make_plate_scene):
     assert float(ds["sky_reflected_thermal"].sel(band="mwir").mean()) > 0.0
 
 
-def test_a_volume_dims_each_part_of_the_sky_as_its_own(make_plate_scene):
+@pytest.mark.parametrize("material", [
+    {"reflectance": 0.3},
+    {"reflectance": 0.3, "specular_reflectance": 0.2, "specular_exponent": 10},
+], ids=["lambertian", "phong"])
+def test_a_volume_dims_each_part_of_the_sky_as_its_own(make_plate_scene, material):
     """A cold (50 K: its own radiance, which is not split, ~1e-9), absorbing smoke box above
     the plate hides part of each hit's sky: each part of the reflected sky is what a render
     with that part of the sky alone gives (the volume's change of the sky split as the sky
-    is, sky_change_thermal), and none is negative."""
+    is, sky_change_thermal; of a Phong lobe's, lobe_change_thermal), and none is negative."""
     def sky_of(**sky):
-        scene = make_plate_scene({"reflectance": 0.3}, _uniform(**sky), [VIS, MWIR, LWIR],
+        scene = make_plate_scene(material, _uniform(**sky), [VIS, MWIR, LWIR],
                                  sun_zenith=30.0, background_bounces=0)
         scene["volumes"] = [{"name": "smoke", "shape": {"type": "box", "size": [6.0, 6.0, 2.0]},
                              "position": [3, 0, 4], "temperature": 50.0,

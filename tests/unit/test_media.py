@@ -73,3 +73,27 @@ def test_sky_fan_change_does_not_depend_on_the_chunk_size(setup, monkeypatch):
     np.testing.assert_array_equal(parts.point, whole.point)
     assert parts.delta == pytest.approx(whole.delta, rel=1e-14, abs=1e-15)
     assert parts.light == pytest.approx(whole.light, rel=1e-14, abs=1e-15)
+
+
+@pytest.mark.parametrize("exponent", [3.0, 40.0])
+def test_lobe_fan_change_equals_reference(setup, exponent):
+    """The lobe fans' change: the same directions as the lobe's sky fractions (their view),
+    ray by ray. The normals lean 40° one way and the lobes' axes up to 80° the other, so
+    part of each lobe is below the surface though above the horizon: never sky."""
+    tables, medium, origins, _, shift = setup
+    samples = 16
+    lean = np.radians(40.0)
+    normals = np.tile([np.sin(lean), 0.0, np.cos(lean)], (len(origins), 1))
+    tilt = np.radians(np.linspace(10.0, 80.0, len(origins)))
+    axes = np.column_stack([-np.sin(tilt), np.zeros_like(tilt), np.cos(tilt)])
+    exponents = np.full(len(origins), exponent)
+    change = media.lobe_fan(tables, medium, origins, normals, axes, exponents, samples, shift)
+    visible = illumination.lobe_sky_fractions(tables.tracer, origins, normals, axes, exponents,
+                                              samples, (np.array([0.0, 90.0]), np.array([0.0])),
+                                              None, shift=shift).sum(axis=1)
+    reference = media.sky_fan_reference(tables, medium, origins, normals, samples, shift,
+                                        (axes, exponents))
+    fast = visible[:, None] + change.view(len(origins))
+    assert fast == pytest.approx(reference, rel=1e-12, abs=1e-12)
+    assert len(change.point) > 0.1 * samples * len(origins)  # the lobes meet the media
+    assert np.any(visible < 1.0 - 1e-9)  # and some rays go below the surface or are blocked

@@ -12,6 +12,10 @@ of sight does not cross it; the sky is the ``uniform`` engine's, of band radianc
   Chandrasekhar, *Radiative Transfer*, 1960, §2; the exponential integral from scipy). So the
   reflected sky is ρ_d L 2E₃(τ), and the slab's own emission reflected is
   ρ_d (1 − 2E₃(τ)) B̄(T_v), B̄ the band integral of Planck's law.
+* A specular plate's Phong lobe, (n+1)/(2π) cosⁿ α about the mirror direction (the zenith for
+  the camera's nadir view), crosses the slab with the mean transmittance
+  t_n(τ) = (n+1) ∫₀¹ μⁿ e^{−τ/μ} dμ (n = 1 is 2E₃): a plate of ρ_d and ρ_s reflects
+  ρ_d [L 2E₃(τ) + (1 − 2E₃(τ)) B̄] + ρ_s [L t_n(τ) + (1 − t_n(τ)) B̄].
 * A sheet of transmittance t (a net as wide) lets t of every sky ray through: the reflected
   sky scales by t exactly.
 * The reflected background: a black roof at 300 K 10 m up closes the sky, the slab between:
@@ -119,6 +123,35 @@ def test_a_slab_radiates_into_the_reflected_sky(tau):
     sky = SKY * (LWIR["max"] - LWIR["min"])
     expected = RHO * (sky * t_d + (1.0 - t_d) * _band_planck(350.0))
     _check_mean(ds["sky_reflected"].sel(band="lwir").values, expected)
+
+
+def _lobe_transmittance(tau, exponent):
+    """t_n(τ) = (n+1) ∫₀¹ μⁿ e^{−τ/μ} dμ: the Phong lobe's mean of e^{−τ/μ} about the zenith."""
+    value, _ = quad(lambda mu: mu**exponent * np.exp(-tau / mu), 0.0, 1.0, epsabs=0.0,
+                    epsrel=1e-12, limit=200)
+    return (exponent + 1.0) * value
+
+
+@pytest.mark.parametrize("tau, exponent", [(0.3, 5.0), (1.0, 20.0), (1.0, 1000.0)])
+def test_a_specular_plate_sees_the_slab_through_its_lobe(tau, exponent):
+    """Half of the plate's reflectance in a Phong lobe: its lobe rays cross the slab too — the
+    sky they bring is dimmed by t_n(τ) and the slab's emission fills the rest; the diffuse
+    half as before (measured: means within 0.24 % of the closed form, pixels' spread 0.8-3.2 %;
+    with lobe rays that ignore the slab the visible is 23 % off at τ = 0.3 and 110 % at
+    τ = 1)."""
+    rho_d = rho_s = 0.25
+    scene = _scene(tau, slab_temperature=350.0)
+    scene["materials"]["plate"] = {"reflectance": rho_d + rho_s, "specular_reflectance": rho_s,
+                                   "specular_exponent": exponent}
+    scene["render"]["specular_samples"] = SAMPLES
+    ds = render(scene)
+    t_d, t_n = _diffuse_transmittance(tau), _lobe_transmittance(tau, exponent)
+    for band in (VIS, LWIR):
+        sky = SKY * (band["max"] - band["min"])
+        own = _band_planck(350.0) if band is LWIR else 0.0
+        expected = (rho_d * (sky * t_d + (1.0 - t_d) * own)
+                    + rho_s * (sky * t_n + (1.0 - t_n) * own))
+        _check_mean(ds["sky_reflected"].sel(band=band["name"]).values, expected)
 
 
 @pytest.mark.parametrize("transmittance", [0.1, 0.5, 0.9])

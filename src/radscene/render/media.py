@@ -28,9 +28,14 @@ sky and the segments of the reflected-background paths:
 change, with the change: T_b · open − visible (open: no opaque surface; visible: no surface
 at all, as the fan counted it) and L_v.
 
+The Phong lobes of specular materials are sampled by fans of their own
+(:func:`radscene.render.illumination.lobe_sky_fractions`); :func:`lobe_fan` regenerates them
+as :func:`sky_fan` does the sky fans, so a window or a wet road reflects the volumes and sheets
+above it and the sky dimmed by them.
+
 Simplifications: band-mean transmittances (exact for media grey within the band, as for the
 sun); the volumes' radiance along a sky ray is attenuated by every sheet on that ray, also
-by a sheet above the volume; specular-lobe rays do not see the media.
+by a sheet above the volume.
 """
 
 from __future__ import annotations
@@ -40,7 +45,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Media", "SkyChange", "sky_fan", "sky_fan_reference", "CHUNK_RAYS"]
+__all__ = ["Media", "SkyChange", "sky_fan", "sky_fan_reference", "lobe_fan", "CHUNK_RAYS"]
 
 #: Fan rays handled at once; the results do not depend on it.
 CHUNK_RAYS = 1 << 18
@@ -155,8 +160,9 @@ class SkyChange:
                          for b in range(n_b)], axis=1) / self.samples
 
 
-def _fan(tracer, origins, normals, n_samples, shift):
-    """The compiled sky fan's rays: float32 local origins and directions (N·M, 3)."""
+def _fan(tracer, origins, normals, n_samples, shift, lobe=None):
+    """The compiled sky fan's rays (with ``lobe`` = (axes (N, 3), exponents (N,)): the Phong
+    lobe fan's): float32 local origins and directions (N·M, 3)."""
     from radscene.render import kernels
     from radscene.render.illumination import stratified_pattern
 
@@ -164,15 +170,30 @@ def _fan(tracer, origins, normals, n_samples, shift):
     side = int(np.floor(np.sqrt(n_samples)))
     side = side if side * side == n_samples else 0
     o32, d32 = kernels.empty_fan(len(origins) * n_samples)
-    kernels.cosine_fan(np.ascontiguousarray(origins, dtype=np.float64),
-                       np.ascontiguousarray(normals, dtype=np.float64), tracer.center, 0.0,
-                       np.ascontiguousarray(shift, dtype=np.float64), base, side, o32, d32)
+    args = (np.ascontiguousarray(origins, dtype=np.float64),
+            np.ascontiguousarray(normals, dtype=np.float64))
+    if lobe is not None:
+        args += tuple(np.ascontiguousarray(a, dtype=np.float64) for a in lobe)
+    fan = kernels.cosine_fan if lobe is None else kernels.lobe_fan
+    fan(*args, tracer.center, 0.0, np.ascontiguousarray(shift, dtype=np.float64), base, side,
+        o32, d32)
     return o32, d32
 
 
-def _change(tracer, opaque, media, world, d, visible, first_point, n_samples) -> SkyChange:
-    """The rays among ``world``, ``d`` (origins, unit directions) whose weight changes."""
-    up = d[:, 2] > 0.0
+def _sky_directions(d, normals, n_samples, lobe):
+    """Which fan directions ``d`` (N·M, 3) can be sky: above the horizon and, for a lobe's,
+    above the surface of normal ``normals`` (N, 3) (as the lobe's fractions count them)."""
+    ok = d[:, 2] > 0.0
+    if lobe:
+        ok &= np.einsum("nc,nc->n", d, np.repeat(normals, n_samples, axis=0)) > 0.0
+    return ok
+
+
+def _change(tracer, opaque, media, world, d, visible, first_point, n_samples,
+            up=None) -> SkyChange:
+    """The rays among ``world``, ``d`` (origins, unit directions) whose weight changes; ``up``
+    the directions that can be sky (default: above the horizon)."""
+    up = d[:, 2] > 0.0 if up is None else up
     if opaque is tracer:
         open_ = visible.copy()
     else:
@@ -194,7 +215,7 @@ def _change(tracer, opaque, media, world, d, visible, first_point, n_samples) ->
     return SkyChange(first_point + rows // n_samples, d[rows], delta, light, n_samples)
 
 
-def sky_fan(tables, media, origins, normals, n_samples, shift) -> SkyChange:
+def sky_fan(tables, media, origins, normals, n_samples, shift, lobe=None) -> SkyChange:
     """The media's change to the sky fans of points (:class:`SkyChange`).
 
     Parameters
@@ -206,19 +227,23 @@ def sky_fan(tables, media, origins, normals, n_samples, shift) -> SkyChange:
     normals : (N, 3) unit normals
     n_samples : int — rays per point
     shift : (N, 2) — the fans' rotations, those the render's fan used
+    lobe : tuple, optional
+        (axes (N, 3), exponents (N,)): the points' Phong lobe fans instead (:func:`lobe_fan`)
     """
     n = len(origins)
     step = max(1, CHUNK_RAYS // n_samples)
     parts = []
     for start in range(0, n, step):
         sl = slice(start, min(start + step, n))
-        o32, d32 = _fan(tables.tracer, origins[sl], normals[sl], n_samples, shift[sl])
-        visible = ~tables.tracer.occluded_local(o32, d32) & (d32[:, 2] > 0.0)
+        part = None if lobe is None else (lobe[0][sl], lobe[1][sl])
+        o32, d32 = _fan(tables.tracer, origins[sl], normals[sl], n_samples, shift[sl], part)
+        sky = _sky_directions(d32, normals[sl], n_samples, lobe is not None)
+        visible = ~tables.tracer.occluded_local(o32, d32) & sky
         world = o32.astype(float) + tables.tracer.center
         d = d32.astype(float)
         d /= np.linalg.norm(d, axis=1, keepdims=True)
         parts.append(_change(tables.tracer, tables.shadow_tracer, media, world, d, visible,
-                             start, n_samples))
+                             start, n_samples, sky))
     if not parts:
         n_b = len(media.bands)
         return SkyChange(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, n_b)),
@@ -227,19 +252,31 @@ def sky_fan(tables, media, origins, normals, n_samples, shift) -> SkyChange:
                        for f in ("point", "direction", "delta", "light")), n_samples)
 
 
-def sky_fan_reference(tables, media, origins, normals, n_samples, shift) -> np.ndarray:
+def lobe_fan(tables, media, origins, normals, axes, exponents, n_samples, shift) -> SkyChange:
+    """The media's change to the Phong lobe fans of specular points (:class:`SkyChange`):
+    the directions of :func:`radscene.render.illumination.lobe_sky_fractions` for the same
+    ``axes`` (N, 3), ``exponents`` (N,) and rotations ``shift`` (N, 2); a direction below
+    the surface is never sky. Other parameters as :func:`sky_fan`."""
+    return sky_fan(tables, media, origins, normals, n_samples, shift, (axes, exponents))
+
+
+def sky_fan_reference(tables, media, origins, normals, n_samples, shift,
+                      lobe=None) -> np.ndarray:
     """Per point and band, the fan's mean sky weight T_b · open (N, n_b), ray by ray: the
-    tests' oracle for ``visible mean + sky_fan(...).view``."""
+    tests' oracle for ``visible mean + sky_fan(...).view`` (``lobe`` as :func:`sky_fan`)."""
     n = len(origins)
     out = np.zeros((n, len(media.bands)))
     for i in range(n):
+        part = None if lobe is None else (lobe[0][i:i + 1], lobe[1][i:i + 1])
         o32, d32 = _fan(tables.tracer, origins[i:i + 1], normals[i:i + 1], n_samples,
-                        shift[i:i + 1])
+                        shift[i:i + 1], part)
         for j in range(n_samples):
             o = o32[j].astype(float) + tables.tracer.center
             d = d32[j].astype(float)
             d = d / np.linalg.norm(d)
-            if d[2] <= 0.0 or tables.shadow_tracer.occluded(o[None], d[None])[0]:
+            if d[2] <= 0.0 or (lobe is not None and float(d @ normals[i]) <= 0.0):
+                continue
+            if tables.shadow_tracer.occluded(o[None], d[None])[0]:
                 continue
             out[i] += media.along(o[None], d[None])[0][0]
     return out / n_samples

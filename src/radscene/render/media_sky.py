@@ -3,7 +3,9 @@
 :func:`for_render` gathers the volumes and sheets that a render's sky rays cross
 (:class:`radscene.render.media.Media`); :func:`sky_change` turns the changed rays of a
 tile's sky fans (:func:`radscene.render.media.sky_fan`) into the change of each hit's
-reflected sky and the volumes' own radiance it reflects (``docs/physics.md``).
+reflected sky and the volumes' own radiance it reflects, and :func:`lobe_change` those of
+its specular hits' Phong lobe fans (:func:`radscene.render.media.lobe_fan`) likewise
+(``docs/physics.md``).
 """
 
 from __future__ import annotations
@@ -17,7 +19,8 @@ from radscene.render.brdf_tables import brdf_sky as brdf_sky_sum
 from radscene.render.spectral import breakpoints
 from radscene.render.surface import textures
 
-__all__ = ["for_render", "sky_change", "sky_change_thermal", "MEDIA_CHUNK"]
+__all__ = ["for_render", "sky_change", "sky_change_thermal", "lobe_change", "lobe_change_thermal",
+           "MEDIA_CHUNK"]
 
 #: Sky-fan rays whose sky-node weights are formed at once (P × sky nodes floats).
 MEDIA_CHUNK = 1 << 13
@@ -49,7 +52,8 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
     sum of the render's tables with the ray's own sky-node weights as fractions (so the sun's
     spectral factors, ρ and τ_a stay as in the sky term), divided by the fan's rays; and
     π f̄(ω_r, ω_o) L_v,r τ̄_a of the volumes' radiance, f̄ the band-mean BRDF of the
-    reflected background (:mod:`radscene.render.background_tables`).
+    reflected background (:mod:`radscene.render.background_tables`) — of a specular hit
+    (``st.specular``) its diffuse part ρ̄_d / π, its lobe's rays being :func:`lobe_change`'s.
     """
     from radscene.render.background_tables import brdf
 
@@ -68,6 +72,9 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
         lit = np.flatnonzero(np.any(light > 0.0, axis=1))
         if len(lit):
             f = brdf(reflection, mat[lit], d[lit], st.wo[point[lit]], st.nrm[point[lit]])
+            lobe = np.flatnonzero(st.specular[point[lit]])
+            if len(lobe):  # their Phong lobe has fans of its own (lobe_change): ρ_d / π here
+                f[lobe] = reflection.diffuse[mat[lit][lobe]] / np.pi
             own[lit] = np.pi * f * light[lit] * tau_a[point[lit]]
         for b in range(n_b):
             d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
@@ -93,12 +100,60 @@ def sky_change_thermal(change, bset, st, tex, nodes_all):
     return out * (tex["reflectance"][:, None] / change.samples)
 
 
-def _shares(change, c, bset, sky_diffuse, brdf_sky, st, nodes_all):
+def lobe_change(change, bset, sky_specular, st, tex, nodes_all, reflection, transmittance):
+    """The change of a tile's specularly reflected sky by volumes and sheets, per hit
+    (N, n_b), and the volumes' own radiance reflected along the lobe rays (N, n_b)
+    [W m-2 sr-1]; ``change`` holds the rays of the lobe fans of the tile's specular hits
+    (``st.specular``, in order).
+
+    Each lobe ray r, drawn from the lobe's own distribution, brings ρ_s L(ω_r) τ_a: a changed
+    ray adds delta_r,b times the sky sum of the specular tables with its own sky-node weights,
+    and ρ̄_s L_v,r τ̄_a of the volumes' radiance (ρ̄_s the band-mean specular reflectance of the
+    reflected background's tables), each divided by the fan's rays.
+    """
+    n, n_b = len(st.mat), sky_specular.shape[2]
+    d_sky, d_light = np.zeros((n, n_b)), np.zeros((n, n_b))
+    if len(change.point) == 0:
+        return d_sky, d_light
+    hit = np.flatnonzero(st.specular)
+    tau_a = node_mixing.gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
+    for start in range(0, len(change.point), MEDIA_CHUNK):
+        c = slice(start, start + MEDIA_CHUNK)
+        point, _, share = _shares(change, c, bset, sky_specular, None, st, nodes_all,
+                                  hit[change.point[c]])
+        own = reflection.specular[st.mat[point]] * change.light[c] * tau_a[point]
+        for b in range(n_b):
+            d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
+            d_light[:, b] += np.bincount(point, own[:, b], n)
+    scale = tex["reflectance"][:, None] / change.samples
+    return d_sky * scale, d_light * scale
+
+
+def lobe_change_thermal(change, bset, st, tex, nodes_all):
+    """The thermal part of :func:`lobe_change`'s change of the reflected sky in the bands
+    whose sky holds sunlight and emission: (N, n_split) [W m-2 sr-1] (as
+    :func:`sky_change_thermal`, with the thermal sky's specular tables)."""
+    split = bset.sky_split
+    n = len(st.mat)
+    out = np.zeros((n, len(split.split)))
+    hit = np.flatnonzero(st.specular)
+    for start in range(0, len(change.point), MEDIA_CHUNK):
+        c = slice(start, start + MEDIA_CHUNK)
+        point, _, share = _shares(change, c, bset, split.specular, None, st, nodes_all,
+                                  hit[change.point[c]])
+        for s, b in enumerate(split.split):
+            out[:, s] += np.bincount(point, change.delta[c, b] * share[:, s], n)
+    return out * (tex["reflectance"][:, None] / change.samples)
+
+
+def _shares(change, c, bset, sky_diffuse, brdf_sky, st, nodes_all, point=None):
     """The changed rays ``c`` of a tile's sky fans: their hits (P,), directions (P, 3) and
     shares of the reflected sky (P, bands of ``sky_diffuse``), the sky sum of ``sky_diffuse``
     (a material's BRDF model: of its table in ``brdf_sky``) with each ray's sky-node
-    weights as fractions."""
-    point, d = change.point[c], change.direction[c]
+    weights as fractions. ``point``, where given, is the rays' hits (default: the change's
+    points)."""
+    point = change.point[c] if point is None else point
+    d = change.direction[c]
     zenith = np.degrees(np.arccos(np.clip(d[:, 2], -1.0, 1.0)))
     azimuth = np.degrees(np.arctan2(d[:, 0], d[:, 1]))
     hats = sky_node_weights(zenith, azimuth, *bset.sky_nodes)  # (P, K)

@@ -155,11 +155,22 @@ class TileShader:
         d_sky, d_light = media_sky.sky_change(
             change, self.bset, self.mix_tables["sky_diffuse"], st, tex, self.nodes.nodes_all,
             self.media_tables, self.bset.coefficients.transmittance)
+        lobe = None if getattr(st, "media_lobe", None) is None else st.media_lobe.result()
+        if lobe is not None:  # the specular hits' lobe rays through the media
+            d_lobe, d_lobe_light = media_sky.lobe_change(
+                lobe, self.bset, self.mix_tables["sky_specular"], st, tex,
+                self.nodes.nodes_all, self.media_tables, self.bset.coefficients.transmittance)
+            d_sky += d_lobe
+            d_light += d_lobe_light
         if self.image.direct:
             out[3][:, p] += (d_sky * wh[:, None]).T
         else:
             out[3] += d_sky.T
         if len(self.bset.sky_split.split):  # the thermal sky's share of the change
-            self.image.add_sky_thermal(p, wh, media_sky.sky_change_thermal(
-                change, self.bset, st, tex, self.nodes.nodes_all).T)
+            thermal = media_sky.sky_change_thermal(change, self.bset, st, tex,
+                                                   self.nodes.nodes_all)
+            if lobe is not None:
+                thermal += media_sky.lobe_change_thermal(lobe, self.bset, st, tex,
+                                                         self.nodes.nodes_all)
+            self.image.add_sky_thermal(p, wh, thermal.T)
         self.image.add_media(p, wh, d_light.T, sky_view[None, :] + change.view(len(st.hidx)).T)
