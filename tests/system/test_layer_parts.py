@@ -191,7 +191,7 @@ def test_parts_under_a_volume_stay_their_layers_share(make_plate_scene):
     {"reflectance": 0.3, "specular_reflectance": 0.2, "specular_exponent": 10},
 ], ids=["lambertian", "phong"])
 def test_a_volume_dims_each_part_of_the_sky_as_its_own(make_plate_scene, material):
-    """A cold (50 K: its own radiance, which is not split, ~1e-9), absorbing smoke box above
+    """A cold (50 K: its own radiance ~1e-9), absorbing smoke box above
     the plate hides part of each hit's sky: each part of the reflected sky is what a render
     with that part of the sky alone gives (the volume's change of the sky split as the sky
     is, sky_change_thermal; of a Phong lobe's, lobe_change_thermal), and none is negative."""
@@ -213,3 +213,37 @@ def test_a_volume_dims_each_part_of_the_sky_as_its_own(make_plate_scene, materia
         np.testing.assert_allclose(both[part].values, alone["sky_reflected"].values, rtol=SUM,
                                    atol=1e-9, err_msg=part)
         assert float(both[part].min()) >= 0.0
+
+
+def test_a_warm_volume_splits_its_light_by_origin(make_plate_scene):
+    """A warm (350 K), scattering smoke box above the plate, a wall beside it: the volume's
+    own radiance reflected along the sky rays and met on the background's paths goes into each
+    part by its origin — its emission into the thermal parts, the sun it scatters into the
+    solar ones. So the thermal parts equal the render of a night (sun below the horizon, the
+    thermal sky alone), and the solar parts those of the solar sky alone under the same
+    volume at 1 K (whose emission is nil; the wall's is still the background's thermal
+    part)."""
+    def render_with(sun_zenith, temperature, **sky):
+        scene = _with_box(make_plate_scene(
+            {"reflectance": 0.3, "specular_reflectance": 0.1, "specular_exponent": 10},
+            _uniform(**sky), [MWIR, LWIR], sun_zenith=sun_zenith, background_bounces=1,
+            background_samples=8))
+        scene["volumes"] = [{"name": "smoke", "shape": {"type": "box", "size": [12.0, 12.0, 4.0]},
+                             "position": [4, 0, 6], "temperature": temperature,
+                             "single_scattering_albedo": 0.5, "optical_depth": 1.5}]
+        return render(load_scene(scene))
+
+    both = render_with(30.0, 350.0, sky_solar_radiance=SKY_SOLAR,
+                       sky_thermal_radiance=SKY_THERMAL)
+    night = render_with(120.0, 350.0, sky_thermal_radiance=SKY_THERMAL)
+    cold = render_with(30.0, 1.0, sky_solar_radiance=SKY_SOLAR)
+    _check_sums(both)
+    for part, alone, layer in (("sky_reflected_thermal", night, "sky_reflected"),
+                               ("sky_reflected_solar", cold, "sky_reflected"),
+                               ("background_reflected_thermal", night, "background_reflected"),
+                               ("background_reflected_solar", cold, "background_reflected_solar")):
+        np.testing.assert_allclose(both[part].values, alone[layer].values, rtol=SUM, atol=1e-9,
+                                   err_msg=part)
+    # the volume's emission is a good share of the night's reflected sky under it
+    assert float(night["sky_reflected"].sel(band="mwir").max()) > 2.0 * float(
+        night["sky_reflected"].sel(band="mwir").min())

@@ -259,8 +259,8 @@ def _segment(media, origin, direction, distance, beta, out, rows, sky=None, tabl
     """A path segment through the ``media`` and, between surfaces (``distance`` given), the
     ground's air (:func:`air_path`, with ``tables``): adds β L (and β T L_sky where ``sky``
     is the sky at its end, :func:`_sky_pair`) to ``out``, the (total, thermal) sums, at
-    ``rows``; returns β T, the weight beyond it. The volumes' radiance counts in the total
-    alone (:mod:`radscene.render.sky_split`)."""
+    ``rows``; returns β T, the weight beyond it. The volumes' radiance counts in the total,
+    their emission also in the thermal sums (:mod:`radscene.render.sky_split`)."""
     total, heat = out
     if distance is not None and tables is not None:
         trans, light = air_path(tables, direction, distance)
@@ -274,11 +274,13 @@ def _segment(media, origin, direction, distance, beta, out, rows, sky=None, tabl
             if sky[1] is not None:
                 _add(heat, rows, beta * sky[1])
         return beta
-    trans, light = media.along(origin, direction, distance, sheets=False)
+    trans, light, emission = media.along(origin, direction, distance, sheets=False, parts=True)
     beta_t = beta * trans
     _add(total, rows, beta * light if sky is None else beta * light + beta_t * sky[0])
     if sky is not None and sky[1] is not None:
-        _add(heat, rows, beta_t * sky[1])
+        _add(heat, rows, beta * emission + beta_t * sky[1])
+    elif np.any(emission != 0.0):
+        _add(heat, rows, beta * emission)
     return beta_t
 
 
@@ -472,8 +474,8 @@ def _path_reference(tracer, tables, o, d, beta, u, path, sun, epsilon, shadows, 
         air, glow = air_path(tables, d, hits.distance)
         out += beta[0] * np.stack([glow[0], air_emission(tables, d, air)[0]])
         beta = beta * air
-        trans, light = _along_reference(media, o, d, hits.distance)
-        out[0] += beta[0] * light
+        trans, light, emission = _along_reference(media, o, d, hits.distance)
+        out += beta[0] * np.stack([light, emission])
         beta = beta * trans
         v = _vertices(tables, hits, d, epsilon, texture)
         out += beta[0] * np.concatenate(_own(tracer, tables, v, sun[None], shadows,
@@ -492,17 +494,18 @@ def _path_reference(tracer, tables, o, d, beta, u, path, sun, epsilon, shadows, 
 def _sky_reference(tables, media, o, d, beta):
     """The sky that one path sees along ``d`` (1, 3) from ``o`` through the media, times
     ``beta`` (n_b,), and its emission: (2, n_b)."""
-    trans, light = _along_reference(media, o, d, None)
+    trans, light, emission = _along_reference(media, o, d, None)
     return beta * np.stack([trans * sky_radiance(tables, d)[0] + light,
-                            trans * sky_radiance(tables, d, thermal=True)[0]])
+                            trans * sky_radiance(tables, d, thermal=True)[0] + emission])
 
 
 def _along_reference(media, origin, direction, distance):
-    """T (n_b,) and L_v (n_b,) of one segment (T = 1, L = 0 without media)."""
+    """T (n_b,), L_v (n_b,) and the emission in L_v (n_b,) of one segment (T = 1, L = 0
+    without media)."""
     if media is None:
-        return 1.0, 0.0
-    trans, light = media.along(origin, direction, distance, sheets=False)
-    return trans[0], light[0]
+        return 1.0, 0.0, 0.0
+    trans, light, emission = media.along(origin, direction, distance, sheets=False, parts=True)
+    return trans[0], light[0], emission[0]
 
 
 class Pass:

@@ -440,7 +440,7 @@ def _layers(image, background=False):
     out += [(f"truth_{k}", v) for k, v in image.truth.items()]
     # the sky's emission in the bands whose sky also holds sunlight (its part layer), and the
     # volumes' own radiance along the sky rays and the sky view through them, where present
-    out += [(name, v) for name in ("sky_thermal", "media_light", "sky_open")
+    out += [(name, v) for name in ("sky_thermal", "media_light", "media_heat", "sky_open")
             if (v := getattr(image, name)) is not None]
     return out
 

@@ -82,25 +82,26 @@ class Media:
     def has_sheets(self) -> bool:
         return self.tables is not None
 
-    def along(self, origins, directions, t_max=None, sheets=True):
+    def along(self, origins, directions, t_max=None, sheets=True, parts=False):
         """Band transmittance T (N, n_b) [-] and radiance L_v (N, n_b) [W m-2 sr-1] that the
         media put on rays from ``origins`` (N, 3) [m] along unit ``directions`` (N, 3) up to
         ``t_max`` (N,) [m] (default: unbounded, a sky ray); with ``sheets`` the sheets'
-        transmittance too (rays that leave the scene)."""
+        transmittance too (rays that leave the scene). With ``parts`` also the volumes'
+        emission alone (N, n_b), the thermal part of L_v (the rest is their scattered sun)."""
         from radscene.render import volumes as vol
 
         origins = np.asarray(origins, dtype=float)
         directions = np.asarray(directions, dtype=float)
         n, n_b = len(origins), len(self.bands)
-        trans, light = np.ones((n, n_b)), np.zeros((n, n_b))
+        trans, light, heat = np.ones((n, n_b)), np.zeros((n, n_b)), np.zeros((n, n_b))
         if n == 0:
-            return trans, light
+            return (trans, light, heat) if parts else (trans, light)
         if self.volumes:
             far = np.full(n, np.inf) if t_max is None else np.asarray(t_max, dtype=float)
             _, trans, own = vol.line_of_sight(self.volumes, self.bands, origins, directions,
                                               far, None, self.altitude, self.sun,
                                               self.breakpoints)
-            light = own[0] + own[1]
+            light, heat = own[0] + own[1], own[0]
         if sheets and self.has_sheets:
             from radscene.render import sheets as sh
 
@@ -108,7 +109,8 @@ class Media:
                                            directions, directions, self.texture)
             trans = trans * t_sheet
             light = light * t_sheet
-        return trans, light
+            heat = heat * t_sheet
+        return (trans, light, heat) if parts else (trans, light)
 
     def sun_transmittance(self, points, sun) -> np.ndarray:
         """The volumes' band transmittance (N, n_b) [-] along the sun rays from ``points``
@@ -145,6 +147,8 @@ class SkyChange:
     delta : (P, n_b) — T_b · open − visible [-]: the change of the ray's sky weight
     light : (P, n_b) — L_v · open [W m-2 sr-1]: the media's own radiance along it
     samples : int — rays per point (each ray weighs 1/samples)
+    heat : (P, n_b) — the volumes' emission in ``light`` [W m-2 sr-1] (the rest is the sun
+        they scatter)
     """
 
     point: np.ndarray
@@ -152,6 +156,7 @@ class SkyChange:
     delta: np.ndarray
     light: np.ndarray
     samples: int
+    heat: np.ndarray = None
 
     def view(self, n_points) -> np.ndarray:
         """The change of each point's sky view, Σ delta / samples (n_points, n_b) [-]."""
@@ -207,12 +212,11 @@ def _change(tracer, opaque, media, world, d, visible, first_point, n_samples,
     n_b = len(media.bands)
     delta = np.zeros((len(rows), n_b))
     light = np.zeros((len(rows), n_b))
+    heat = np.zeros((len(rows), n_b))
     go = open_[rows]
-    trans, own = media.along(world[rows[go]], d[rows[go]])
-    delta[go] = trans
-    light[go] = own
+    delta[go], light[go], heat[go] = media.along(world[rows[go]], d[rows[go]], parts=True)
     delta -= visible[rows][:, None]
-    return SkyChange(first_point + rows // n_samples, d[rows], delta, light, n_samples)
+    return SkyChange(first_point + rows // n_samples, d[rows], delta, light, n_samples, heat)
 
 
 def sky_fan(tables, media, origins, normals, n_samples, shift, lobe=None) -> SkyChange:
@@ -247,9 +251,11 @@ def sky_fan(tables, media, origins, normals, n_samples, shift, lobe=None) -> Sky
     if not parts:
         n_b = len(media.bands)
         return SkyChange(np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, n_b)),
-                         np.zeros((0, n_b)), n_samples)
-    return SkyChange(*(np.concatenate([getattr(p, f) for p in parts])
-                       for f in ("point", "direction", "delta", "light")), n_samples)
+                         np.zeros((0, n_b)), n_samples, np.zeros((0, n_b)))
+    point, direction, delta, light, heat = (np.concatenate([getattr(p, f) for p in parts])
+                                            for f in ("point", "direction", "delta", "light",
+                                                      "heat"))
+    return SkyChange(point, direction, delta, light, n_samples, heat)
 
 
 def lobe_fan(tables, media, origins, normals, axes, exponents, n_samples, shift) -> SkyChange:

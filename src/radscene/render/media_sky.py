@@ -45,8 +45,9 @@ def for_render(scene, tables, bands, sun_dir, sun_up, reference):
 
 
 def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transmittance):
-    """The change of a tile's reflected sky by volumes and sheets, per hit (N, n_b), and the
-    volumes' own radiance reflected along the sky rays (N, n_b) [W m-2 sr-1].
+    """The change of a tile's reflected sky by volumes and sheets, per hit (N, n_b), the
+    volumes' own radiance reflected along the sky rays (N, n_b) and the part of it that is
+    their emission (N, n_b) [W m-2 sr-1].
 
     Each changed ray r of hit i adds delta_r,b times its share of the reflected sky, the sky
     sum of the render's tables with the ray's own sky-node weights as fractions (so the sun's
@@ -58,9 +59,9 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
     from radscene.render.background_tables import brdf
 
     n, n_b = len(st.mat), sky_diffuse.shape[2]
-    d_sky, d_light = np.zeros((n, n_b)), np.zeros((n, n_b))
+    d_sky, d_light, d_heat = np.zeros((n, n_b)), np.zeros((n, n_b)), np.zeros((n, n_b))
     if len(change.point) == 0:
-        return d_sky, d_light
+        return d_sky, d_light, d_heat
     tau_a = node_mixing.gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
     brdf_sky = None if bset.brdf is None else bset.brdf.sky
     for start in range(0, len(change.point), MEDIA_CHUNK):
@@ -68,19 +69,29 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
         point, d, share = _shares(change, c, bset, sky_diffuse, brdf_sky, st, nodes_all)
         mat = st.mat[point]
         light = change.light[c]
-        own = np.zeros_like(light)
+        factor = np.zeros_like(light)  # π f τ_a of each ray that brings light
         lit = np.flatnonzero(np.any(light > 0.0, axis=1))
         if len(lit):
             f = brdf(reflection, mat[lit], d[lit], st.wo[point[lit]], st.nrm[point[lit]])
             lobe = np.flatnonzero(st.specular[point[lit]])
             if len(lobe):  # their Phong lobe has fans of its own (lobe_change): ρ_d / π here
                 f[lobe] = reflection.diffuse[mat[lit][lobe]] / np.pi
-            own[lit] = np.pi * f * light[lit] * tau_a[point[lit]]
-        for b in range(n_b):
-            d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
-            d_light[:, b] += np.bincount(point, own[:, b], n)
+            factor[lit] = np.pi * f * tau_a[point[lit]]
+        _accumulate(point, change, c, share, factor, (d_sky, d_light, d_heat))
     scale = tex["reflectance"][:, None] / change.samples
-    return d_sky * scale, d_light * scale
+    return d_sky * scale, d_light * scale, d_heat * scale
+
+
+def _accumulate(point, change, c, share, factor, out):
+    """Add each changed ray's sky change delta · share, its media's light · factor and the
+    emission's part of it (``change.heat``) to the per-hit sums ``out`` at its ``point``."""
+    d_sky, d_light, d_heat = out
+    n = len(d_sky)
+    light, heat = change.light[c] * factor, change.heat[c] * factor
+    for b in range(d_sky.shape[1]):
+        d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
+        d_light[:, b] += np.bincount(point, light[:, b], n)
+        d_heat[:, b] += np.bincount(point, heat[:, b], n)
 
 
 def sky_change_thermal(change, bset, st, tex, nodes_all):
@@ -102,8 +113,8 @@ def sky_change_thermal(change, bset, st, tex, nodes_all):
 
 def lobe_change(change, bset, sky_specular, st, tex, nodes_all, reflection, transmittance):
     """The change of a tile's specularly reflected sky by volumes and sheets, per hit
-    (N, n_b), and the volumes' own radiance reflected along the lobe rays (N, n_b)
-    [W m-2 sr-1]; ``change`` holds the rays of the lobe fans of the tile's specular hits
+    (N, n_b), the volumes' own radiance reflected along the lobe rays (N, n_b) and the part of
+    it that is their emission (N, n_b) [W m-2 sr-1]; ``change`` holds the rays of the lobe fans of the tile's specular hits
     (``st.specular``, in order).
 
     Each lobe ray r, drawn from the lobe's own distribution, brings ρ_s L(ω_r) τ_a: a changed
@@ -112,21 +123,19 @@ def lobe_change(change, bset, sky_specular, st, tex, nodes_all, reflection, tran
     reflected background's tables), each divided by the fan's rays.
     """
     n, n_b = len(st.mat), sky_specular.shape[2]
-    d_sky, d_light = np.zeros((n, n_b)), np.zeros((n, n_b))
+    d_sky, d_light, d_heat = np.zeros((n, n_b)), np.zeros((n, n_b)), np.zeros((n, n_b))
     if len(change.point) == 0:
-        return d_sky, d_light
+        return d_sky, d_light, d_heat
     hit = np.flatnonzero(st.specular)
     tau_a = node_mixing.gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
     for start in range(0, len(change.point), MEDIA_CHUNK):
         c = slice(start, start + MEDIA_CHUNK)
         point, _, share = _shares(change, c, bset, sky_specular, None, st, nodes_all,
                                   hit[change.point[c]])
-        own = reflection.specular[st.mat[point]] * change.light[c] * tau_a[point]
-        for b in range(n_b):
-            d_sky[:, b] += np.bincount(point, change.delta[c, b] * share[:, b], n)
-            d_light[:, b] += np.bincount(point, own[:, b], n)
+        factor = reflection.specular[st.mat[point]] * tau_a[point]
+        _accumulate(point, change, c, share, factor, (d_sky, d_light, d_heat))
     scale = tex["reflectance"][:, None] / change.samples
-    return d_sky * scale, d_light * scale
+    return d_sky * scale, d_light * scale, d_heat * scale
 
 
 def lobe_change_thermal(change, bset, st, tex, nodes_all):

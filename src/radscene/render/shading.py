@@ -152,16 +152,16 @@ class TileShader:
                                      self.scene, self.tables, self.bset,
                                      [band.response.center >= THERMAL_BAND_START
                                       for band in self.bands]))
-        d_sky, d_light = media_sky.sky_change(
+        d_sky, d_light, d_heat = media_sky.sky_change(
             change, self.bset, self.mix_tables["sky_diffuse"], st, tex, self.nodes.nodes_all,
             self.media_tables, self.bset.coefficients.transmittance)
         lobe = None if getattr(st, "media_lobe", None) is None else st.media_lobe.result()
         if lobe is not None:  # the specular hits' lobe rays through the media
-            d_lobe, d_lobe_light = media_sky.lobe_change(
-                lobe, self.bset, self.mix_tables["sky_specular"], st, tex,
-                self.nodes.nodes_all, self.media_tables, self.bset.coefficients.transmittance)
-            d_sky += d_lobe
-            d_light += d_lobe_light
+            for total, add in zip((d_sky, d_light, d_heat), media_sky.lobe_change(
+                    lobe, self.bset, self.mix_tables["sky_specular"], st, tex,
+                    self.nodes.nodes_all, self.media_tables,
+                    self.bset.coefficients.transmittance), strict=True):
+                total += add
         if self.image.direct:
             out[3][:, p] += (d_sky * wh[:, None]).T
         else:
@@ -173,4 +173,5 @@ class TileShader:
                 thermal += media_sky.lobe_change_thermal(lobe, self.bset, st, tex,
                                                          self.nodes.nodes_all)
             self.image.add_sky_thermal(p, wh, thermal.T)
-        self.image.add_media(p, wh, d_light.T, sky_view[None, :] + change.view(len(st.hidx)).T)
+        self.image.add_media(p, wh, d_light.T, sky_view[None, :] + change.view(len(st.hidx)).T,
+                             d_heat.T)

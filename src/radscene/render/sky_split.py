@@ -20,10 +20,10 @@ pass carries its vertices' emission, their thermal sky and the air's emission ap
 (:mod:`radscene.render.background`); its solar part is the layer less that.
 
 Volumes and sheets on the sky rays dim each part as their own
-(:func:`radscene.render.media_sky.sky_change_thermal`). Limits: the volumes' own radiance
-reflected along the sky rays and met on the background's paths (emission and scattered
-sunlight together) is not split; in a band whose sky holds both parts it counts in the solar
-part.
+(:func:`radscene.render.media_sky.sky_change_thermal`). The volumes' own radiance reflected
+along the sky rays and met on the background's paths goes into each part by its origin, in
+every band: their emission into the thermal part, the sun they scatter into the solar one
+(:meth:`radscene.render.tiles.TileSums.finish`, :func:`radscene.render.background._segment`).
 """
 
 from __future__ import annotations

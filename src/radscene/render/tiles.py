@@ -42,8 +42,9 @@ class TileSums:
     transmittance : (band, pixel) the path transmittance
     truth : dict — :data:`~radscene.render.truth.TRUTH_SUMS`, (pixel,) each
     object_id, material_id, normal_map : the labels of the sub-sample nearest each centre
-    media_light, sky_open : (band, pixel) or None — the volumes' own radiance reflected along
-        the sky rays, and the sky view through volumes and sheets (where the scene has any)
+    media_light, media_heat, sky_open : (band, pixel) or None — the volumes' own radiance
+        reflected along the sky rays, its part that is their emission, and the sky view
+        through volumes and sheets (where the scene has any)
     radiance, brightness : (band, pixel) or None — the total radiance and brightness
         temperature [K], formed per tile where ``direct`` (one sample per pixel, no BRDF)
 
@@ -71,6 +72,7 @@ class TileSums:
         self.normal_map = np.full((3, n_pix), np.nan)
         self.sky_open = np.zeros((n_b, n_pix)) if media else None
         self.media_light = np.zeros((n_b, n_pix)) if media else None
+        self.media_heat = np.zeros((n_b, n_pix)) if media else None
         self.direct = direct
         self.thermal = [b for b, band in enumerate(bands)
                         if band.response.center >= THERMAL_BAND_START]
@@ -169,26 +171,29 @@ class TileSums:
         from the sky, so after the coupling pass), and the parts of the reflected sky and
         background (:func:`~radscene.render.sky_split.part_layers`; ``split`` the render's
         :class:`~radscene.render.sky_split.SkySplit`) into :attr:`sums`."""
-        if self.media_light is not None:
-            self.sums["sky_reflected"] += self.media_light
         sky = self.sums["sky_reflected"]
         thermal = self.sky_thermal if self.sky_thermal is not None else np.zeros(
             (len(split.split),) + sky.shape[1:])
         parts = part_layers(sky, thermal, split.solar, split.thermal, split.split)
+        if self.media_light is not None:  # the volumes' light by its origin, in every band
+            sky += self.media_light
+            parts[0][...] += self.media_light - self.media_heat
+            parts[1][...] += self.media_heat
         if self.background_thermal is None:  # no background pass: nothing to split
             parts += (np.zeros(sky.shape), np.zeros(sky.shape))
         else:
             parts += part_layers(self.background, self.background_thermal, None, None, None)
         self.sums.update(zip(PART_NAMES, parts, strict=True))
 
-    def add_media(self, pixel, weight, light, view):
+    def add_media(self, pixel, weight, light, view, heat):
         """Add the volumes' own radiance reflected along the sky rays of a tile's hits,
-        ``light`` (band, hit), and their sky view through volumes and sheets, ``view``
-        (band, hit)."""
+        ``light`` (band, hit), its part that is their emission, ``heat`` (band, hit), and
+        their sky view through volumes and sheets, ``view`` (band, hit)."""
         n_b = len(light)
-        pixels, totals = pixel_sums(pixel, weight, np.vstack([light, view]))
+        pixels, totals = pixel_sums(pixel, weight, np.vstack([light, heat, view]))
         self.media_light[:, pixels] += totals[:n_b]
-        self.sky_open[:, pixels] += totals[n_b:]
+        self.media_heat[:, pixels] += totals[n_b:2 * n_b]
+        self.sky_open[:, pixels] += totals[2 * n_b:]
 
     def totals(self, pixel):
         """The total radiance (the terms summed in TERMS order, as the Dataset would) and
