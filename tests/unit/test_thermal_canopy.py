@@ -14,6 +14,7 @@ from radscene.materials import get_thermal_properties
 from radscene.materials.thermal import _canopy
 from radscene.thermal import HeatBalance, ThermalForcing
 from radscene.thermal.canopy import (
+    aerodynamic_conductance,
     canopy_conductances,
     diffuse_transmittance,
     radiometric_temperature,
@@ -126,9 +127,32 @@ def test_canopy_needs_humidity_and_a_whole_leaf_layer_entry():
     HeatBalance([_grass()], canopy=False).run(forcing)  # the bare surface model
     base = {"lai": 2.5, "areal_heat_capacity": 1000.0, "source": "x"}
     assert _canopy(base | {"height": 0.15, "leaf_width": 0.01}, "c")["height"] == 0.15
+    assert _canopy(base | {"height": 0.12}, "c")["height"] == 0.12  # lumped, aerodynamic
     with pytest.raises(ConfigError, match="c: a leaf layer needs both 'height' and 'leaf_width'"):
-        _canopy(base | {"height": 0.15}, "c")
+        _canopy(base | {"leaf_width": 0.01}, "c")
+    with pytest.raises(ConfigError, match=r"c.height: must be <= 2 m .*got 3"):
+        _canopy(base | {"height": 3.0}, "c")
     with pytest.raises(ConfigError, match=r"c.height: must be a finite number > 0"):
         _canopy(base | {"height": -1.0, "leaf_width": 0.01}, "c")
     with pytest.raises(ConfigError, match="expected the keys"):
         _canopy(base | {"lia": 3}, "c")
+
+
+def test_a_canopy_without_leaves_meets_the_air_through_its_aerodynamic_conductance():
+    """A canopy entry with a height and no leaf width: the lumped surface's h is ρ c_p / r_a of
+    FAO-56 eq. 4 for that height times the Louis factor at the step's start temperature, in
+    place of the scene's flat-plate correlation (recorded q_k = h (T_air − T))."""
+    soil = get_thermal_properties("bare_soil")
+    spec = {"lai": 2.5, "areal_heat_capacity": 1250.0, "height": 0.12, "source": "test"}
+    grass = dataclasses.replace(soil, material="grass", canopy=spec)
+    forcing = _day(2, wind=np.linspace(0.5, 4.0, 145)[:, None] * np.ones((1, 2)))
+    run = HeatBalance([grass, soil], n_nodes=20).run(forcing, record_terms=True)
+    t = run.surface_temperature
+    air = np.asarray(forcing.air_temperature)[:, 0]
+    wind = np.asarray(forcing.wind_speed)[:, 0]
+    for k in (30, 72, 120):  # night, noon, evening
+        want = aerodynamic_conductance(0.12, wind[k], air[k], 95000.0, t[k - 1, 0])
+        got = run.terms["q_k"][k, 0] / (air[k] - t[k, 0])
+        assert got == pytest.approx(float(want), rel=1e-9)
+        bare = run.terms["q_k"][k, 1] / (air[k] - t[k, 1])  # the scene's McAdams
+        assert bare == pytest.approx(5.7 + 3.8 * wind[k], rel=1e-9)

@@ -351,16 +351,23 @@ def get_thermal_properties(name: str) -> ThermalProperties:
     )
 
 
+#: The tallest canopy whose exchange is referred to the air at 2 m: its displacement height
+#: and roughness length (2/3 h + 0.123 h) must stay below it [m].
+MAX_CANOPY_HEIGHT = 2.0
+
+
 def _canopy(value, key):
     """A ``canopy`` entry checked: ``lai`` [-], ``areal_heat_capacity`` [J m-2 K-1] and
-    ``source`` always; ``height`` [m] and ``leaf_width`` [m] together switch on the leaf layer of
-    the heat balance (``thermal.canopy``), with ``leaf_resistance`` r_l [s m-1] (default 100)."""
+    ``source`` always; ``height`` [m] alone makes the canopy meet the air through its
+    aerodynamic conductance (FAO-56 eq. 4) instead of the scene's flat-plate correlation;
+    ``height`` and ``leaf_width`` [m] together switch on the leaf layer of the heat balance
+    (``thermal.canopy``), with ``leaf_resistance`` r_l [s m-1] (default 100)."""
     required, layer = {"lai", "areal_heat_capacity", "source"}, {"height", "leaf_width"}
     accepted = required | layer | {"leaf_resistance"}
     if not isinstance(value, dict) or not required <= set(value) or set(value) - accepted:
         raise ConfigError(f"expected the keys {sorted(required)} and optionally {sorted(accepted - required)}; "
                           f"got {sorted(value) if isinstance(value, dict) else value!r}", key=key)
-    if (set(value) & layer) and not layer <= set(value):
+    if "leaf_width" in value and "height" not in value:
         raise ConfigError("a leaf layer needs both 'height' and 'leaf_width' [m]", key=key)
     if "leaf_resistance" in value and not layer <= set(value):
         raise ConfigError("'leaf_resistance' applies to a leaf layer: give 'height' and 'leaf_width' too", key=key)
@@ -368,6 +375,9 @@ def _canopy(value, key):
     for name in sorted(accepted - {"source"}):
         if name in out:
             out[name] = _positive(out[name], f"{key}.{name}")
+    if "height" in out and out["height"] > MAX_CANOPY_HEIGHT:
+        raise ConfigError(f"must be <= {MAX_CANOPY_HEIGHT:g} m (the canopy's exchange is referred to "
+                          f"the air at 2 m); got {out['height']:g}", key=f"{key}.height")
     return out
 
 

@@ -69,6 +69,7 @@ from radscene.thermal import _compiled
 from radscene.thermal.aerodynamic import flat_plate_coefficient, recovery_temperature
 from radscene.thermal.canopy import (
     CanopyLayer,
+    aerodynamic_conductance,
     beam_transmittance,
     canopy_conductances,
     leaf_equation,
@@ -131,6 +132,15 @@ def solve_surface_temperature(constant, slope, emissivity, start, tolerance=_TOL
         if np.max(np.abs(dt), initial=0.0) < tolerance:
             return t
     raise RadsceneError(f"surface temperature: Newton did not converge in {max_iterations} iterations")
+
+
+def _lumped_canopy_height(stack, leaf_layer):
+    """The height [m] of a stack's canopy where it is solved without a leaf layer and has one
+    (its exchange with the air is then the canopy's aerodynamic conductance); NaN otherwise."""
+    spec = getattr(stack, "canopy", None) or {}
+    if "height" not in spec or (leaf_layer and "leaf_width" in spec):
+        return np.nan
+    return float(spec["height"])
 
 
 class _Coefficients:
@@ -252,6 +262,11 @@ class HeatBalance:
         self.area = None if area is None else self._per_element(area, "area", n)
         self.compiled = bool(compiled)
         self.canopy = CanopyLayer.from_stacks(stacks, index) if canopy else None
+        # canopies without a leaf layer whose height is given meet the air through their
+        # aerodynamic conductance, not the scene's flat-plate correlation (module canopy)
+        heights = np.array([_lumped_canopy_height(s, canopy) for s in stacks])[index]
+        rough = np.flatnonzero(np.isfinite(heights))
+        self._rough = (rough, heights[rough]) if rough.size else None
         self._es = np.ascontiguousarray(self.emissivity * SIGMA)
         self._leaf = None  # leaf temperatures [K] of the canopy elements, set by run
         if self.canopy is not None:
@@ -327,6 +342,12 @@ class HeatBalance:
         q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
         q_sky = absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], view)
         h = convection_coefficient(f["wind_speed"][k], self.convection)
+        if self._rough is not None:
+            r, height = self._rough
+            h = np.array(np.broadcast_to(h, shape), dtype=float)
+            h[r] = aerodynamic_conductance(height, np.broadcast_to(f["wind_speed"][k], shape)[r],
+                                           np.broadcast_to(air, shape)[r], f["pressure"][k][r],
+                                           None if previous is None else previous[r])
         out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None, "canopy": None}
         if self.exchange is not None:
             irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
@@ -373,6 +394,7 @@ class HeatBalance:
         if given): the radiometric temperature of canopy elements (``thermal.canopy``)."""
         solver = self._solver(dt)
         needs_previous = (not self.compiled or self.exchange is not None or self._wet.size or self.lateral is not None
+                          or self._rough is not None
                           or self.canopy is not None)
         previous = np.array(self._external(state[0])) if needs_previous else None
         old = np.array(self._external(state)) if record is not None else None

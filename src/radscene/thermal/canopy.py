@@ -99,6 +99,7 @@ from radscene.thermal.evaporation import AIR_SPECIFIC_HEAT, LEWIS_NUMBER
 
 __all__ = [
     "CanopyLayer",
+    "aerodynamic_conductance",
     "beam_transmittance",
     "diffuse_transmittance",
     "leaf_boundary_layer_conductance",
@@ -194,6 +195,36 @@ def stability_factor(richardson, roughness_ratio):
     return np.where(ri >= 0.0, stable, unstable)
 
 
+def aerodynamic_conductance(height, wind_speed, air_temperature, pressure, surface_temperature=None):
+    """ρ c_p / r_a [W m-2 K-1] of a closed canopy of height h to the air at 2 m, r_a of
+    FAO-56 eq. 4 (d_0 = 2/3 h, z_om = 0.123 h, z_oh = 0.1 z_om), times the Louis (1979)
+    stability factor of the bulk Richardson number where the ``surface_temperature`` [K] is
+    given.
+
+    Examples
+    --------
+    The reference grass (h = 0.12 m) at u = 2 m/s: r_a = 208/u ≈ 104 s/m (FAO-56 eq. 4, which
+    rounds the logarithms' product over κ² to 208).
+
+    >>> rc = _air_heat_capacity(293.15, 101325.0)  # ρ c_p [J m-3 K-1]
+    >>> round(float(rc / aerodynamic_conductance(0.12, 2.0, 293.15, 101325.0)), 1)
+    103.8
+    """
+    h = np.asarray(height, float)
+    u = np.asarray(wind_speed, float)
+    d0, z_om = 2.0 / 3.0 * h, 0.123 * h
+    z = REFERENCE_HEIGHT
+    g = _air_heat_capacity(air_temperature, pressure) * KARMAN**2 * u / (
+        np.log((z - d0) / z_om) * np.log((z - d0) / (0.1 * z_om)))
+    if surface_temperature is None:
+        return g
+    ta = np.asarray(air_temperature, float)
+    ts = np.asarray(surface_temperature, float)
+    safe = np.where(u > 0, u, 1.0)
+    ri = np.where(u > 0, 9.80665 * (z - d0) * (ta - ts) / (0.5 * (ta + ts) * safe**2), 0.0)
+    return g * stability_factor(ri, (z - d0) / z_om)
+
+
 def canopy_conductances(lai, height, leaf_width, wind_speed, bare_coefficient, air_temperature, pressure,
                         surface_temperature=None):
     """The conductances of the canopy's star network, the canopy air eliminated.
@@ -223,17 +254,8 @@ def canopy_conductances(lai, height, leaf_width, wind_speed, bare_coefficient, a
     u = np.asarray(wind_speed, float)
     rc = _air_heat_capacity(air_temperature, pressure)
     d0, z_om = 2.0 / 3.0 * h, 0.123 * h
-    z_oh = 0.1 * z_om
-    z = REFERENCE_HEIGHT
-    log_m = np.log((z - d0) / z_om)
-    u_top = u * np.log((h - d0) / z_om) / log_m
-    closed_g = rc * KARMAN**2 * u / (log_m * np.log((z - d0) / z_oh))
-    if surface_temperature is not None:
-        ta = np.asarray(air_temperature, float)
-        ts = np.asarray(surface_temperature, float)
-        safe = np.where(u > 0, u, 1.0)
-        ri = np.where(u > 0, 9.80665 * (z - d0) * (ta - ts) / (0.5 * (ta + ts) * safe**2), 0.0)
-        closed_g = closed_g * stability_factor(ri, (z - d0) / z_om)
+    u_top = u * np.log((h - d0) / z_om) / np.log((REFERENCE_HEIGHT - d0) / z_om)
+    closed_g = aerodynamic_conductance(h, u, air_temperature, pressure, surface_temperature)
     share = np.minimum(lai / CLOSED_LAI, 1.0)
     bare = np.asarray(bare_coefficient, float)
     # 1/g_a = share/closed_g + (1 − share)/bare, written to allow either conductance to be 0
@@ -378,12 +400,13 @@ class CanopyLayer:
 
     @classmethod
     def from_stacks(cls, stacks, stack_index):
-        """The canopy elements of stacks whose ``canopy`` has a ``height`` (None if none)."""
+        """The canopy elements of stacks whose ``canopy`` has a ``height`` and a ``leaf_width``
+        (None if none)."""
         stack_index = np.asarray(stack_index)
         rows = []
         for s, stack in enumerate(stacks):
             spec = getattr(stack, "canopy", None)
-            if not spec or "height" not in spec:
+            if not spec or "leaf_width" not in spec:
                 continue
             rows.append((s, float(spec["lai"]), float(spec["height"]), float(spec["leaf_width"]),
                          float(spec["areal_heat_capacity"]), float(spec.get("leaf_resistance", 100.0))))
