@@ -14,6 +14,7 @@ from radscene.materials import get_thermal_properties
 from radscene.materials.thermal import _canopy
 from radscene.thermal import HeatBalance, ThermalForcing
 from radscene.thermal.canopy import (
+    CANOPY_MIN_WIND,
     aerodynamic_conductance,
     canopy_conductances,
     diffuse_transmittance,
@@ -124,7 +125,7 @@ def test_canopy_needs_humidity_and_a_whole_leaf_layer_entry():
     forcing = ThermalForcing(np.array([0.0, 600.0]), 0.0, 0.0, 0.0, 300.0, 290.0, 1.0)
     with pytest.raises(ConfigError, match="carry leaves.*relative humidity"):
         HeatBalance([_grass()]).run(forcing)
-    HeatBalance([_grass()], canopy=False).run(forcing)  # the bare surface model
+    HeatBalance([_grass()], canopy=False).run(forcing)  # the lumped surface model
     base = {"lai": 2.5, "areal_heat_capacity": 1000.0, "source": "x"}
     assert _canopy(base | {"height": 0.15, "leaf_width": 0.01}, "c")["height"] == 0.15
     assert _canopy(base | {"height": 0.12}, "c")["height"] == 0.12  # lumped, aerodynamic
@@ -151,8 +152,15 @@ def test_a_canopy_without_leaves_meets_the_air_through_its_aerodynamic_conductan
     air = np.asarray(forcing.air_temperature)[:, 0]
     wind = np.asarray(forcing.wind_speed)[:, 0]
     for k in (30, 72, 120):  # night, noon, evening
-        want = aerodynamic_conductance(0.12, wind[k], air[k], 95000.0, t[k - 1, 0])
+        want = aerodynamic_conductance(0.12, wind[k], air[k], 95000.0, t[k - 1, 0], CANOPY_MIN_WIND)
         got = run.terms["q_k"][k, 0] / (air[k] - t[k, 0])
         assert got == pytest.approx(float(want), rel=1e-9)
         bare = run.terms["q_k"][k, 1] / (air[k] - t[k, 1])  # the scene's McAdams
         assert bare == pytest.approx(5.7 + 3.8 * wind[k], rel=1e-9)
+    # calm air: the wind is taken as at least CANOPY_MIN_WIND, not 0 (no exchange at all)
+    calm = [HeatBalance([grass], n_nodes=20).run(_day(1, wind=u)).surface_temperature for u in
+            (0.0, CANOPY_MIN_WIND)]
+    np.testing.assert_array_equal(calm[0], calm[1])
+    # no air (convection "none"): no exchange for the canopy either
+    vacuum = HeatBalance([grass], n_nodes=20, convection="none").run(_day(1), record_terms=True)
+    assert np.all(vacuum.terms["q_k"][1:] == 0.0)  # (the first instant has no step)

@@ -154,6 +154,26 @@ def test_a_specular_plate_sees_the_slab_through_its_lobe(tau, exponent):
         _check_mean(ds["sky_reflected"].sel(band=band["name"]).values, expected)
 
 
+def test_a_brdf_model_with_a_specular_part_is_changed_once():
+    """A material with a BRDF model (Lambertian, ρ = 0.5) that also carries a Phong specular
+    part: its sky term is the model's alone, so the slab changes it through the sky fan once and
+    its lobe fan adds nothing (measured within 0.6 %; counting the lobe as well put the visible
+    122 % off)."""
+    tau = 1.0
+    scene = _scene(tau, slab_temperature=350.0)
+    scene["materials"]["plate"] = {"reflectance": RHO, "specular_reflectance": 0.2,
+                                   "specular_exponent": 10,
+                                   "brdf": {"type": "lambertian", "reflectance": RHO}}
+    scene["render"]["specular_samples"] = SAMPLES
+    ds = render(scene)
+    t_d = _diffuse_transmittance(tau)
+    for band in (VIS, LWIR):
+        sky = SKY * (band["max"] - band["min"])
+        own = _band_planck(350.0) if band is LWIR else 0.0
+        _check_mean(ds["sky_reflected"].sel(band=band["name"]).values,
+                    RHO * (sky * t_d + (1.0 - t_d) * own))
+
+
 @pytest.mark.parametrize("transmittance", [0.1, 0.5, 0.9])
 def test_a_sheet_passes_the_sky_with_its_transmittance(transmittance):
     clear = render(_scene())

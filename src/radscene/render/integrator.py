@@ -254,11 +254,15 @@ def _render_rest(scene, setup, tables, bands, sun, track, hit_time, sun_dir, set
             shifts[0])
         state.media_lobe = None
         if medium is not None and shifts[1] is not None:  # and the specular lobes' fans
-            sel = state.specular
-            axis = 2.0 * state.cos_v[sel, None] * state.nrm[sel] - state.wo[sel]
-            state.media_lobe = worker.submit(
-                media.lobe_fan, tables, medium, state.origin[sel], state.nrm[sel], axis,
-                tables.exponent[state.mat[sel]], settings.specular_samples, shifts[1])
+            lobe = state.specular[state.specular]  # the rows of the lobe fans' rotations
+            lobe = lobe & media_sky.lobe_hits(bset, state.mat[state.specular], lobe)
+            sel = np.flatnonzero(state.specular)[lobe]
+            if len(sel):
+                axis = 2.0 * state.cos_v[sel, None] * state.nrm[sel] - state.wo[sel]
+                state.media_lobe = worker.submit(
+                    media.lobe_fan, tables, medium, state.origin[sel], state.nrm[sel], axis,
+                    tables.exponent[state.mat[sel]], settings.specular_samples,
+                    shifts[1][lobe])
         return state, job
 
     pending = {k: launch(tiles[k]) for k in range(min(TILES_AHEAD, len(tiles)))}

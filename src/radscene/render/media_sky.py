@@ -20,7 +20,7 @@ from radscene.render.spectral import breakpoints
 from radscene.render.surface import textures
 
 __all__ = ["for_render", "sky_change", "sky_change_thermal", "lobe_change", "lobe_change_thermal",
-           "MEDIA_CHUNK"]
+           "lobe_hits", "MEDIA_CHUNK"]
 
 #: Sky-fan rays whose sky-node weights are formed at once (P × sky nodes floats).
 MEDIA_CHUNK = 1 << 13
@@ -42,6 +42,16 @@ def for_render(scene, tables, bands, sun_dir, sun_up, reference):
         tuple(scene.volumes), list(bands), float(scene.location.altitude), sun,
         breakpoints(scene), tables if has_sheets else None, sheet_tau,
         (lambda obj, pos: textures(scene, obj, pos)["transmittance"]) if has_sheets else None)
+
+
+def lobe_hits(bset, material, specular) -> np.ndarray:
+    """Which hits' Phong lobes the media change through lobe fans of their own (N,) bool: the
+    ``specular`` hits whose ``material`` (N,) has no BRDF model (a model's sky term, its lobe
+    included, is its own table's: :func:`sky_change` changes it whole)."""
+    mask = np.asarray(specular, dtype=bool)
+    if bset.brdf is not None and bset.brdf.models and mask.any():
+        mask = mask & ~np.isin(material, list(bset.brdf.models))
+    return mask
 
 
 def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transmittance):
@@ -73,7 +83,7 @@ def sky_change(change, bset, sky_diffuse, st, tex, nodes_all, reflection, transm
         lit = np.flatnonzero(np.any(light > 0.0, axis=1))
         if len(lit):
             f = brdf(reflection, mat[lit], d[lit], st.wo[point[lit]], st.nrm[point[lit]])
-            lobe = np.flatnonzero(st.specular[point[lit]])
+            lobe = np.flatnonzero(lobe_hits(bset, mat[lit], st.specular[point[lit]]))
             if len(lobe):  # their Phong lobe has fans of its own (lobe_change): ρ_d / π here
                 f[lobe] = reflection.diffuse[mat[lit][lobe]] / np.pi
             factor[lit] = np.pi * f * tau_a[point[lit]]
@@ -126,7 +136,7 @@ def lobe_change(change, bset, sky_specular, st, tex, nodes_all, reflection, tran
     d_sky, d_light, d_heat = np.zeros((n, n_b)), np.zeros((n, n_b)), np.zeros((n, n_b))
     if len(change.point) == 0:
         return d_sky, d_light, d_heat
-    hit = np.flatnonzero(st.specular)
+    hit = np.flatnonzero(lobe_hits(bset, st.mat, st.specular))
     tau_a = node_mixing.gather_band(transmittance, nodes_all.subset(st.rank))  # (N, n_b)
     for start in range(0, len(change.point), MEDIA_CHUNK):
         c = slice(start, start + MEDIA_CHUNK)
@@ -145,7 +155,7 @@ def lobe_change_thermal(change, bset, st, tex, nodes_all):
     split = bset.sky_split
     n = len(st.mat)
     out = np.zeros((n, len(split.split)))
-    hit = np.flatnonzero(st.specular)
+    hit = np.flatnonzero(lobe_hits(bset, st.mat, st.specular))
     for start in range(0, len(change.point), MEDIA_CHUNK):
         c = slice(start, start + MEDIA_CHUNK)
         point, _, share = _shares(change, c, bset, split.specular, None, st, nodes_all,

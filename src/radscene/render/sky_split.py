@@ -45,15 +45,18 @@ PART_NAMES = tuple(name for parts in PART_LAYERS.values() for name in parts)
 
 #: The ``comment`` attribute of each part layer: its share of its layer.
 PART_COMMENTS = {
-    "sky_reflected_solar": "seed 001 eq. 1 term B: the sky's scattered sunlight reflected; "
+    "sky_reflected_solar": "seed 001 eq. 1 term B: the sky's scattered sunlight reflected (and "
+                           "the sun that volumes scatter into the sky rays); "
                            "sky_reflected = sky_reflected_solar + sky_reflected_thermal",
-    "sky_reflected_thermal": "seed 001 eq. 1 term E: the sky's own emission reflected; "
+    "sky_reflected_thermal": "seed 001 eq. 1 term E: the sky's own emission reflected (and the "
+                             "emission of volumes on the sky rays); "
                              "sky_reflected = sky_reflected_solar + sky_reflected_thermal",
     "background_reflected_solar": "seed 001 eq. 1 term G: the surroundings' sunlight (their sun "
                                   "and sky's scattered sunlight) reflected; background_reflected"
                                   " = background_reflected_solar + background_reflected_thermal",
     "background_reflected_thermal": "seed 001 eq. 1 term H: the surroundings' self-emitted "
-                                    "radiance (their emission, their sky's emission, the air's) "
+                                    "radiance (their emission, their sky's emission, the air's "
+                                    "and volumes' on the paths) "
                                     "reflected; background_reflected = background_reflected_solar"
                                     " + background_reflected_thermal",
 }

@@ -14,15 +14,16 @@ from the bottom up, Q_d = A T_0' − B with A, B known per element and step. The
 * Q_a, Q_sky absorbed short-wave and sky long-wave, Q_t = −εσT⁴ (``radiation``);
 * Q_env long-wave from and short-wave reflected by the neighbouring elements, from caller-given
   view factors, explicit in the neighbours' temperatures (``exchange``);
-* Q_k = h (T_air − T), h from the wind (``convection``) or, for airborne elements, the
-  turbulent flat-plate coefficient of the airspeed (``aerodynamic``);
+* Q_k = h (T_air − T), h from the wind (``convection``), for a canopy with a height and no leaf
+  layer its aerodynamic conductance (``canopy.aerodynamic_conductance``) or, for airborne
+  elements, the turbulent flat-plate coefficient of the airspeed (``aerodynamic``);
 * Q_v = −β ρ_a L_v C_E u (q_sat(T) − q_a), linear in T about the temperature at the start of the
   step (``evaporation``);
 * Q_i internal sources given as a flux, plus the aerodynamic heating h (T_r − T_air) of airborne
   elements (``aerodynamic``);
 * Q_lat lateral conduction from neighbouring elements (``lateral``; optional).
 
-Stacks whose ``canopy`` has a ``height`` carry a leaf layer above their surface node
+Stacks whose ``canopy`` has a ``height`` and a ``leaf_width`` carry a leaf layer above their surface node
 (``canopy``): its linear equation is eliminated into the surface equation, so the form below
 holds for them too; their recorded terms are those of leaves and soil together, Q_d including
 the leaves' storage, and their surface temperature the nadir radiometric one.
@@ -68,6 +69,7 @@ from radscene.errors import ConfigError, RadsceneError
 from radscene.thermal import _compiled
 from radscene.thermal.aerodynamic import flat_plate_coefficient, recovery_temperature
 from radscene.thermal.canopy import (
+    CANOPY_MIN_WIND,
     CanopyLayer,
     aerodynamic_conductance,
     beam_transmittance,
@@ -198,8 +200,9 @@ class HeatBalance:
     compiled : bool, optional
         Run the compiled step (default) or the numpy reference path.
     canopy : bool, optional
-        Solve the leaf layer of stacks whose ``canopy`` has a ``height`` (default;
-        ``thermal.canopy``); False: such stacks are a bare surface.
+        Solve the leaf layer of stacks whose ``canopy`` has a ``height`` and a ``leaf_width``
+        (default; ``thermal.canopy``); False: such stacks are a lumped surface that meets the
+        air through the canopy's aerodynamic conductance, as one with a height alone does.
 
     Examples
     --------
@@ -266,7 +269,8 @@ class HeatBalance:
         # aerodynamic conductance, not the scene's flat-plate correlation (module canopy)
         heights = np.array([_lumped_canopy_height(s, canopy) for s in stacks])[index]
         rough = np.flatnonzero(np.isfinite(heights))
-        self._rough = (rough, heights[rough]) if rough.size else None
+        # (not with convection "none": no air, no exchange)
+        self._rough = (rough, heights[rough]) if rough.size and str(convection).lower() != "none" else None
         self._es = np.ascontiguousarray(self.emissivity * SIGMA)
         self._leaf = None  # leaf temperatures [K] of the canopy elements, set by run
         if self.canopy is not None:
@@ -347,7 +351,8 @@ class HeatBalance:
             h = np.array(np.broadcast_to(h, shape), dtype=float)
             h[r] = aerodynamic_conductance(height, np.broadcast_to(f["wind_speed"][k], shape)[r],
                                            np.broadcast_to(air, shape)[r], f["pressure"][k][r],
-                                           None if previous is None else previous[r])
+                                           None if previous is None else previous[r],
+                                           CANOPY_MIN_WIND)
         out = {"q_a": q_a, "q_sky": q_sky, "q_env": None, "q_i": None, "h": h, "v_c": None, "v_s": None, "canopy": None}
         if self.exchange is not None:
             irradiance = absorbed_shortwave(1.0, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)

@@ -98,6 +98,7 @@ from radscene.thermal.aerodynamic import GAS_CONSTANT_AIR
 from radscene.thermal.evaporation import AIR_SPECIFIC_HEAT, LEWIS_NUMBER
 
 __all__ = [
+    "CANOPY_MIN_WIND",
     "CanopyLayer",
     "aerodynamic_conductance",
     "beam_transmittance",
@@ -113,6 +114,10 @@ __all__ = [
 ]
 
 #: Height of the weather's wind speed and air temperature [m].
+#: The least wind [m s-1] with which a lumped canopy's aerodynamic conductance is taken: calm
+#: air still exchanges heat and vapour by buoyancy, and FAO-56 limits u2 to >= 0.5 m/s in its
+#: reference equation for that reason (Allen et al. 1998, chapter 4).
+CANOPY_MIN_WIND = 0.5
 REFERENCE_HEIGHT = 2.0
 #: von Kármán constant [-].
 KARMAN = 0.41
@@ -195,11 +200,13 @@ def stability_factor(richardson, roughness_ratio):
     return np.where(ri >= 0.0, stable, unstable)
 
 
-def aerodynamic_conductance(height, wind_speed, air_temperature, pressure, surface_temperature=None):
+def aerodynamic_conductance(height, wind_speed, air_temperature, pressure, surface_temperature=None,
+                            min_wind=0.0):
     """ρ c_p / r_a [W m-2 K-1] of a closed canopy of height h to the air at 2 m, r_a of
     FAO-56 eq. 4 (d_0 = 2/3 h, z_om = 0.123 h, z_oh = 0.1 z_om), times the Louis (1979)
     stability factor of the bulk Richardson number where the ``surface_temperature`` [K] is
-    given.
+    given; the wind [m s-1] at 2 m is taken as at least ``min_wind`` (the lumped canopy of
+    the heat balance: :data:`CANOPY_MIN_WIND`).
 
     Examples
     --------
@@ -211,7 +218,7 @@ def aerodynamic_conductance(height, wind_speed, air_temperature, pressure, surfa
     103.8
     """
     h = np.asarray(height, float)
-    u = np.asarray(wind_speed, float)
+    u = np.maximum(np.asarray(wind_speed, float), float(min_wind))
     d0, z_om = 2.0 / 3.0 * h, 0.123 * h
     z = REFERENCE_HEIGHT
     g = _air_heat_capacity(air_temperature, pressure) * KARMAN**2 * u / (
