@@ -118,6 +118,24 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         ``radiance(band, y, x)`` [W m-2 sr-1], one variable per signature term (same dims),
         and the truth maps; see ``docs/outputs.md``.
     """
+    grid = scene.settings.spectral_grid
+    if bands is None and grid is not None:  # the non-linear layers resolved on the grid
+        from radscene.radiometry import channel_grid
+        from radscene.render.resolved import render_resolved
+
+        setup = scene.observers[0] if observer is None else scene.observer(observer)
+        tables = tables or scene_tables(scene)
+        grid = channel_grid(grid.min, grid.max, grid.step, key="render.spectral_grid")
+
+        def band_render(band_list, flags, report):
+            own = band_list is None or len(band_list) == len(setup.bands) and all(
+                b is scene.band(n) for b, n in zip(band_list, setup.bands, strict=True))
+            return _render(scene, observer, report, band_list, flags, tables, rays,
+                           cache if own else None, depth=0)
+
+        return render_resolved(band_render, scene, setup, grid,
+                               [scene.band(name) for name in setup.bands], specular=specular,
+                               progress=progress)
     return _render(scene, observer, progress, bands, specular, tables, rays, cache, depth=0)
 
 

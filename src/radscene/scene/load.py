@@ -931,6 +931,21 @@ class _Resolver:
                                      grid, bool(o.spectral is not None and o.spectral.terms)))
         return out
 
+    def _check_resolving_grid(self, observers, bands):
+        """``render.spectral_grid``, where given: a valid grid that holds every band of the band
+        observers (their non-linear layers are resolved on it)."""
+        spec = self.spec.render.spectral_grid
+        if spec is None:
+            return
+        from radscene.radiometry import channel_grid
+        from radscene.render.resolved import KEY, grid_weights
+
+        grid = channel_grid(spec.min, spec.max, spec.step, key=KEY)
+        by_name = {b.name: b for b in bands}
+        for o in observers:
+            if o.spectral is None:
+                grid_weights(grid, [by_name[n] for n in o.bands])
+
     def _atmosphere_spec(self) -> dict:
         """The atmosphere's settings with its files (a database, an engine executable) named
         relative to the scene file's folder made absolute, as every other file of a scene is
@@ -969,6 +984,7 @@ class _Resolver:
         volumes = self.volumes()
         bands = self.bands()
         observers = self.observers([b.name for b in bands])
+        self._check_resolving_grid(observers, bands)
         if hf is not None:
             _check_above_terrain(spec.observers, hf)
         spans = [b.response.support for b in bands]

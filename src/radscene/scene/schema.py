@@ -772,8 +772,8 @@ class BandSpec(_Model):
         return self
 
 
-class SpectralGridSpec(_Model):
-    """A hyperspectral grid: channel centres from ``min`` to ``max`` every ``step``, each with a
+class ChannelGridSpec(_Model):
+    """A grid of channels: centres from ``min`` to ``max`` every ``step``, each with a
     triangular response (FWHM = step) reaching zero at its neighbours' centres
     (:mod:`radscene.radiometry.channels`)."""
 
@@ -783,14 +783,6 @@ class SpectralGridSpec(_Model):
         "do not land on it")
     step: float = Field(description="spacing of the channel centres, e.g. '10 nm'",
                         json_schema_extra={"x-quantity": "wavelength", "gt": 0.0})
-    terms: bool = Field(
-        False, description="also keep every layer that sums to the radiance (sun_diffuse, "
-        "sky_reflected, thermal_emission, path_radiance, ...) and the parts of the reflected "
-        "sky and background by the light's origin (sky_reflected_solar, ...) as a spectral "
-        "variable of its own, <term>(wavelength, y, x) [W m-2 sr-1 µm-1], in memory and in the "
-        "NetCDF or Zarr cube (the ENVI image stays radiance only); multiplies the cube's size "
-        "by up to 17 "
-        "and shrinks the render's passes")
 
     @field_validator("step", mode="before")
     @classmethod
@@ -801,6 +793,21 @@ class SpectralGridSpec(_Model):
         if not number > 0:
             raise ValueError(f"must be > 0 µm; got {value!r}")
         return number
+
+
+class SpectralGridSpec(ChannelGridSpec):
+    """A hyperspectral grid: channel centres from ``min`` to ``max`` every ``step``, each with a
+    triangular response (FWHM = step) reaching zero at its neighbours' centres
+    (:mod:`radscene.radiometry.channels`)."""
+
+    terms: bool = Field(
+        False, description="also keep every layer that sums to the radiance (sun_diffuse, "
+        "sky_reflected, thermal_emission, path_radiance, ...) and the parts of the reflected "
+        "sky and background by the light's origin (sky_reflected_solar, ...) as a spectral "
+        "variable of its own, <term>(wavelength, y, x) [W m-2 sr-1 µm-1], in memory and in the "
+        "NetCDF or Zarr cube (the ENVI image stays radiance only); multiplies the cube's size "
+        "by up to 17 "
+        "and shrinks the render's passes")
 
 
 class _ObserverCommon(_Model):
@@ -924,6 +931,12 @@ class RenderSettings(_Model):
         1.0, description="the time between key frames, e.g. '1 s'; the sun turning by 0.05 deg, "
         "a time step of the heat balance or a change of what the atmosphere's nodes cover makes "
         "a key frame sooner")
+    spectral_grid: ChannelGridSpec | None = Field(
+        None, description="band renders resolve their non-linear layers (the coupling, the "
+        "reflected background, and with volumes or sheets every layer) on this channel grid "
+        "{min, max, step} and integrate them with each band's response, as a hyperspectral cube "
+        "on the grid integrated with it would (docs/hyperspectral.md, 'Resolved band renders'); "
+        "renders the channels inside the bands besides the bands; default off: band means")
     motion_blur: MotionBlurSpec | None = Field(
         None, description="motion blur in frame sequences and radscene.Simulation: {samples, "
         "exposure}; objects on trajectories, spinning parts and scanners are placed at each "
