@@ -100,8 +100,9 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         (the channels of :mod:`radscene.render.hyperspectral`).
     specular : array_like of bool, optional
         Per material, whether its samples trace specular lobes; default: those with a
-        nonzero specular coefficient in some band. Renders of one observer split over
-        several band sets pass the same flags, so that they draw the same random numbers.
+        nonzero specular coefficient in some band (with ``render.spectral_grid``: somewhere
+        on the grid). Renders of one observer split over several band sets pass the same
+        flags, so that they draw the same random numbers.
     tables : SceneTables, optional
         The scene's tables (:func:`scene_tables`), when several renders of one scene share
         them; built by default.
@@ -119,11 +120,12 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
         and the truth maps; see ``docs/outputs.md``.
     """
     grid = scene.settings.spectral_grid
-    if bands is None and grid is not None:  # the non-linear layers resolved on the grid
+    setup = scene.observers[0] if observer is None else scene.observer(observer)
+    if bands is None and grid is not None and getattr(setup, "spectral", None) is None:
+        # the non-linear layers resolved on the grid (render/resolved.py)
         from radscene.radiometry import channel_grid
         from radscene.render.resolved import render_resolved
 
-        setup = scene.observers[0] if observer is None else scene.observer(observer)
         tables = tables or scene_tables(scene)
         grid = channel_grid(grid.min, grid.max, grid.step, key="render.spectral_grid")
 

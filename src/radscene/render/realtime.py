@@ -87,6 +87,8 @@ def check_realtime(scene) -> None:
             problems.append(f"observers[{i}] ({setup.name}) has supersample {setup.supersample}")
     if scene.settings.motion_blur is not None:
         problems.append("render.motion_blur is set")
+    if getattr(scene.settings, "spectral_grid", None) is not None:
+        problems.append("render.spectral_grid is set")
     if scene.brdfs:
         problems.append(f"materials with a BRDF model: {', '.join(sorted(map(str, scene.brdfs)))}")
     if any(getattr(o, "transmissive", False) for o in scene.objects):

@@ -14,7 +14,9 @@ numbers and the same specular flags — and replaces each of those layers of ban
 
     Σ_c S_b(λ_c) L_c      (L_c the channel's band radiance [W m-2 sr-1]),
 
-what :func:`radscene.render.hyperspectral.band_radiance` makes of a cube on the grid. The
+what :func:`radscene.render.hyperspectral.band_radiance` makes of a cube on the grid (for a
+response that is not linear between the centres, scaled to the band's own integral:
+:func:`grid_weights`). The
 linear layers keep their own exact band integrals; for a response linear between the grid's
 centres and zero outside it, those equal the cube's integral too, so that the band render and
 the integrated cube agree layer by layer (``tests/system/test_hyperspectral.py``). Without
@@ -51,21 +53,33 @@ def resolved_layers(scene) -> tuple[str, ...]:
 
 
 def grid_weights(grid, bands) -> np.ndarray:
-    """S_b(λ_c): each band's response at the grid's centres (n_b, n_c) [-].
+    """Each band's weights of the grid's channels (n_b, n_c) [-]: S_b(λ_c) scaled by
+    ∫ S_b dλ / Σ_c S_b(λ_c) fwhm_c, so that a spectrally flat layer keeps the band's own
+    integral. For a response linear between the grid's centres and zero outside the grid the
+    scale is 1 (to rounding) and the weights are those of
+    :func:`radscene.render.hyperspectral.band_radiance`; for another (a rectangle, a
+    Gaussian) they follow its interpolant on the grid, scaled.
 
     Raises
     ------
     ConfigError
         A band whose response reaches beyond the grid's first or last centre (the cube cannot
-        integrate it).
+        integrate it), or that is zero at every centre (narrower than the grid's step).
     """
     lo, hi = float(grid.wavelength[0]), float(grid.wavelength[-1])
+    out = []
     for band in bands:
         b_lo, b_hi = band.response.support
         if b_lo < lo - 1e-12 or b_hi > hi + 1e-12:
             raise ConfigError(f"band {band.name!r} ({b_lo:g}-{b_hi:g} µm) reaches beyond the grid "
                               f"({lo:g}-{hi:g} µm): widen the grid to hold every band", key=KEY)
-    return np.array([np.asarray(band.response(grid.wavelength), dtype=float) for band in bands])
+        s = np.asarray(band.response(grid.wavelength), dtype=float)
+        interpolant = float(s @ grid.width)
+        if not interpolant > 0.0:
+            raise ConfigError(f"band {band.name!r} ({b_lo:g}-{b_hi:g} µm) is zero at every centre "
+                              f"of the grid (step {grid.step:g} µm): use a finer grid", key=KEY)
+        out.append(s * (band.response.equivalent_width() / interpolant))
+    return np.array(out)
 
 
 def render_resolved(render, scene, setup, grid, bands, *, specular=None, progress=None,
@@ -117,17 +131,16 @@ def render_resolved(render, scene, setup, grid, bands, *, specular=None, progres
 
     ds = render(bands, specular, stage(0))
     names = [name for name in resolved_layers(scene) if name in ds.data_vars]
-    sums = {name: np.zeros(ds[name].shape) for name in names}
+    for name in names:  # accumulated in place: the band means are not kept
+        ds[name].values[...] = 0.0
     every = channels(grid)
     for n, start in enumerate(starts, start=1):
         part = needed[start:start + per_pass]
         cube = render([every[c] for c in part], specular, stage(n))
         w = weights[:, part]
         for name in names:
-            sums[name] += np.einsum("bc,cyx->byx", w, cube[name].values)
+            ds[name].values[...] += np.einsum("bc,cyx->byx", w, cube[name].values)
         del cube
-    for name in names:
-        ds[name].values[...] = sums[name]
     total = sum(ds[name].values for name in TERM_LAYERS if name in ds.data_vars)
     ds["radiance"].values[...] = total
     for b, band in enumerate(bands):

@@ -1000,6 +1000,19 @@ class _Resolver:
                     raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} µm; the renderer's "
                                       f"solar spectrum covers {slo:g}–{shi:g} µm", key=key)
                 spans.append((float(wl[0]), float(wl[-1])))
+        if spec.render.spectral_grid is not None:  # the grid band renders resolve on
+            from radscene.radiometry import channel_grid
+            from radscene.sun.spectrum import SOLAR_WAVELENGTH_RANGE
+
+            g = spec.render.spectral_grid
+            wl = channel_grid(g.min, g.max, g.step, key="render.spectral_grid").wavelength
+            atmosphere.check_wavelength(wl[[0, -1]], key="render.spectral_grid")
+            slo, shi = SOLAR_WAVELENGTH_RANGE
+            if wl[0] < slo or wl[-1] > shi:
+                raise ConfigError(f"the grid spans {wl[0]:g}–{wl[-1]:g} µm; the renderer's "
+                                  f"solar spectrum covers {slo:g}–{shi:g} µm",
+                                  key="render.spectral_grid")
+            spans.append((float(wl[0]), float(wl[-1])))
         lo, hi = min(s[0] for s in spans), max(s[1] for s in spans)
         for m_name, material in zip(self.material_names, self.materials, strict=True):
             mlo, mhi = _material_range(material)
