@@ -116,3 +116,16 @@ def test_the_images_a_scene_names_and_their_place_in_the_estimate(tmp_path):
         base + 100 * 200 * (IMAGE_TEXEL_BYTES + IMAGE_VALUE_COPIES * 8.0))
     assert est["textures"] == 100 * 200 * TEXTURE_TEXEL_BYTES
     assert est["observers"][0][0] == pytest.approx(bare["observers"][0][0] + est["textures"])
+
+
+def test_a_resolving_grid_counts_its_channel_passes_in_the_estimate():
+    """render.spectral_grid: the band observer's estimate holds a pass of the grid's channels
+    besides its bands (its what-line says so)."""
+    from radscene.scene.memory import CHANNEL_BYTES
+
+    bare = estimate(_spec())["observers"][0]
+    spec = _spec().model_dump(mode="json")
+    spec["render"] = {"spectral_grid": {"min": 0.6, "max": 0.7, "step": 0.01}}
+    resolving = estimate(SceneSpec.model_validate(spec))["observers"][0]
+    assert resolving[0] > bare[0] + 11 * CHANNEL_BYTES
+    assert "render.spectral_grid" in resolving[2]

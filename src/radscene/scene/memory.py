@@ -451,6 +451,11 @@ def estimate(spec, base_dir=None) -> dict:
         else:
             image = pixels * n_bands * PIXEL_BAND_BYTES
             what = f"{pixels:.3g} pixels × {obs.supersample}² samples × {n_bands} bands"
+            resolving = getattr(getattr(spec, "render", None), "spectral_grid", None)
+            if resolving is not None:  # the grid's channel passes beside the band render
+                image += min(SPECTRAL_PASS_BYTES, pixels * PIXEL_BAND_BYTES * 1e3)
+                image += _channel_count(resolving) * CHANNEL_BYTES
+                what += ", and the channels of render.spectral_grid in passes"
         observers.append((BASE_BYTES + terrain + samples * SAMPLE_BYTES + image, key, what))
     return {"terrain": (BASE_BYTES + cells * TERRAIN_BYTES_PER_CELL, terrain_key),
             "images": images, "textures": held, "grids": grids, "grids_held": grids_held,
