@@ -332,6 +332,12 @@ def test_what_realtime_frames_do_not_render_is_refused():
     scene["observers"][0]["supersample"] = 2
     with pytest.raises(ConfigError, match="realtime: .*supersample 2"):
         radscene.Simulation(scene, realtime=True)
+    # band means resolved on a channel grid are not what real-time frames render
+    scene = _scene()
+    scene["render"] = dict(scene.get("render") or {},
+                           spectral_grid={"min": 0.5, "max": 12.0, "step": 0.1})
+    with pytest.raises(ConfigError, match="realtime: .*render.spectral_grid is set"):
+        radscene.Simulation(scene, realtime=True)
 
 
 def test_frames_streamed_to_a_file_read_back_as_they_were(tmp_path):
