@@ -247,3 +247,17 @@ def test_a_warm_volume_splits_its_light_by_origin(make_plate_scene):
     # the volume's emission is a good share of the night's reflected sky under it
     assert float(night["sky_reflected"].sel(band="mwir").max()) > 2.0 * float(
         night["sky_reflected"].sel(band="mwir").min())
+
+
+def test_a_material_tabulated_over_the_visible_alone_renders_with_the_background(
+        make_plate_scene):
+    """The background pass's direction sampler weighs each material's lobes by its mean over a
+    fixed grid of wavelengths; a material tabulated over 0.4-0.7 um only is averaged where it is
+    defined, not refused at 0.70 um."""
+    scene = _with_box(make_plate_scene(
+        {"reflectance": {"wavelength": [0.4, 0.55, 0.7], "values": [0.1, 0.3, 0.2]}},
+        _uniform(sky_solar_radiance=SKY_SOLAR), [VIS], background_bounces=1,
+        background_samples=4))
+    ds = render(load_scene(scene))
+    assert np.all(np.isfinite(ds["background_reflected"].values))
+    assert float(ds["background_reflected"].max()) > 0.0

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["BackgroundTables", "band_tables", "brdf", "brdf_reference", "brdf_weight",
+__all__ = ["BackgroundTables", "band_tables", "sampling_wavelengths", "brdf", "brdf_reference",
+           "brdf_weight",
            "brdf_weight_reference", "directions", "emission", "WEIGHTING_TEMPERATURE",
            "MAX_TEMPERATURE_NODES"]
 
@@ -88,6 +89,15 @@ MAX_TEMPERATURE_NODES = 512
 SAMPLING_WAVELENGTHS = np.geomspace(0.4, 14.0, 64)
 
 
+def sampling_wavelengths(material) -> np.ndarray:
+    """The wavelengths of :data:`SAMPLING_WAVELENGTHS` where ``material`` is defined [um]; a
+    material tabulated over a narrower range than any two of them (a visible-only table) is
+    averaged at its range's ends and middle. Neither depends on the bands rendered."""
+    lo, hi = material.wavelength_range
+    inside = SAMPLING_WAVELENGTHS[(SAMPLING_WAVELENGTHS >= lo) & (SAMPLING_WAVELENGTHS <= hi)]
+    return inside if inside.size >= 2 else np.array([lo, 0.5 * (lo + hi), hi])
+
+
 def band_tables(materials, brdfs, quadrature, sun_spectra, sky, sky_nodes, thermal,
                 face_offset, face_material, face_temperature) -> BackgroundTables:
     """The band tables of the pass.
@@ -135,7 +145,7 @@ def band_tables(materials, brdfs, quadrature, sun_spectra, sky, sky_nodes, therm
     # the samplers' lobe weights from each material's mean over a fixed grid, not over the
     # pass's bands: a spectral cube rendered a few channels at a time then draws the same
     # directions in every pass (the weights f cos / pdf carry the bands' own reflectances)
-    fixed = [m.components(SAMPLING_WAVELENGTHS) for m in materials]
+    fixed = [m.components(sampling_wavelengths(m)) for m in materials]
     for m in range(n_m):
         d_mean = float(np.mean(fixed[m]["diffuse_reflectance"]))
         s_mean = float(np.mean(fixed[m]["specular_reflectance"]))
