@@ -128,15 +128,13 @@ def render(scene, observer: str | None = None, *, progress: Callable[[int, int],
 
         tables = tables or scene_tables(scene)
         grid = channel_grid(grid.min, grid.max, grid.step, key="render.spectral_grid")
+        own = [scene.band(name) for name in setup.bands]
 
-        def band_render(band_list, flags, report):
-            own = band_list is None or len(band_list) == len(setup.bands) and all(
-                b is scene.band(n) for b, n in zip(band_list, setup.bands, strict=True))
+        def band_render(band_list, flags, report):  # the frame cache serves the bands alone
             return _render(scene, observer, report, band_list, flags, tables, rays,
-                           cache if own else None, depth=0)
+                           cache if band_list is own else None, depth=0)
 
-        return render_resolved(band_render, scene, setup, grid,
-                               [scene.band(name) for name in setup.bands], specular=specular,
+        return render_resolved(band_render, scene, setup, grid, own, specular=specular,
                                progress=progress)
     return _render(scene, observer, progress, bands, specular, tables, rays, cache, depth=0)
 

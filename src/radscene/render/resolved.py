@@ -70,11 +70,14 @@ def grid_weights(grid, bands) -> np.ndarray:
     out = []
     for band in bands:
         b_lo, b_hi = band.response.support
-        if b_lo < lo - 1e-12 or b_hi > hi + 1e-12:
+        try:
+            trapezoid = grid.band_weights(band.response)  # S_b(λ_c) fwhm_c
+        except ConfigError:
             raise ConfigError(f"band {band.name!r} ({b_lo:g}-{b_hi:g} µm) reaches beyond the grid "
-                              f"({lo:g}-{hi:g} µm): widen the grid to hold every band", key=KEY)
-        s = np.asarray(band.response(grid.wavelength), dtype=float)
-        interpolant = float(s @ grid.width)
+                              f"({lo:g}-{hi:g} µm): widen the grid to hold every band",
+                              key=KEY) from None
+        s = trapezoid / grid.width
+        interpolant = float(trapezoid.sum())
         if not interpolant > 0.0:
             raise ConfigError(f"band {band.name!r} ({b_lo:g}-{b_hi:g} µm) is zero at every centre "
                               f"of the grid (step {grid.step:g} µm): use a finer grid", key=KEY)
