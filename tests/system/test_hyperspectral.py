@@ -489,3 +489,29 @@ def test_a_resolving_grid_must_hold_every_band(tmp_path):
 
     with pytest.raises(ConfigError, match="render it with radscene.render_hyperspectral"):
         render_bands(radscene.load_scene(spec, base_dir=tmp_path), "vnir")
+
+
+def test_a_resolved_scene_file_through_the_command_line(tmp_path):
+    """`radscene render` of a scene file with render.spectral_grid: the written render carries
+    the resolved layers, equal to the API's, and names them in its `spectral_grid` attribute."""
+    import glob
+
+    import xarray as xr
+    import yaml
+    from typer.testing import CliRunner
+
+    from radscene.cli import app
+
+    scene, _ = _resolved(tmp_path, "vis", "vnir")
+    spec = scene.spec.model_dump(mode="json", exclude_none=True)
+    spec["observers"] = [spec["observers"][0]]
+    (tmp_path / "scene.yaml").write_text(yaml.safe_dump(spec), encoding="utf-8")
+    run = CliRunner().invoke(app, ["render", str(tmp_path / "scene.yaml"), "-o",
+                                   str(tmp_path / "out")])
+    assert run.exit_code == 0, run.output
+    with xr.open_dataset(glob.glob(str(tmp_path / "out" / "bands*.nc"))[0],
+                         engine="h5netcdf") as ds:
+        assert "background_reflected" in ds.attrs["spectral_grid"]
+        api = radscene.render(radscene.load_scene(spec, base_dir=tmp_path), "bands")
+        np.testing.assert_allclose(ds["background_reflected"].values,
+                                   api["background_reflected"].values, rtol=1e-6)
