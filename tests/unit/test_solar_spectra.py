@@ -1,5 +1,6 @@
 """The selectable top-of-atmosphere solar spectra: radscene's default (ASTM G173-03, Gueymard
-2004) and the TSIS-1 HSRS v2 (``tsis1``), through radscene.sun and the atmosphere options."""
+2004), the TSIS-1 HSRS v2 (``tsis1``) and LOWTRAN7's own (``lowtran``), through radscene.sun and
+the atmosphere options."""
 
 from __future__ import annotations
 
@@ -164,4 +165,38 @@ def test_renderer_sun_follows_the_atmosphere():
 
     assert solar_spectrum(SimpleNamespace(solar_spectrum="tsis1")) == "tsis1"
     assert solar_spectrum(SimpleNamespace(solar_spectrum="6s")) == "radscene"
+    from radscene.atmosphere.lowtran import LowtranAtmosphere
+
+    assert solar_spectrum(LowtranAtmosphere) == "lowtran"  # the sun that lights its sky
     assert solar_spectrum(SimpleNamespace()) == "radscene"  # engines without a spectrum
+
+
+#: LOWTRAN7's extraterrestrial band irradiances [W m-2] of the two short-wave infrared bands
+#: of tests/validation/lowtran_closure_references.py ('toa_band_irradiance'), where the
+#: spectra part: radscene's is 1.4 % and 11.8 % above LOWTRAN's.
+LOWTRAN_SWIR_BANDS = {(6210.0, 6290.0): 5.029813, (4525.0, 4565.0): 1.42518}
+
+
+def test_lowtran_table_is_lowtrans_own_sun():
+    path = resources.files("radscene") / "data" / "solar" / "lowtran7_5cm1.csv"
+    text = path.read_text(encoding="utf-8")
+    for needle in ("AFGL-TR-88-0177", "SUNRAD", "build_lowtran_solar_spectrum.py", "IDAY 0"):
+        assert needle in text, needle
+    wl, e = toa_solar_spectrum("lowtran")
+    assert wl.size == 7901 and wl[0] == 0.25 and wl[-1] == 20.0
+    assert 1e4 / wl == pytest.approx(np.arange(40000.0, 499.0, -5.0), abs=1e-4)  # its 5 cm-1 grid
+    assert solar_constant("lowtran") == pytest.approx(1370.68, abs=0.01)
+    for (nu_lo, nu_hi), band in (LOWTRAN_BANDS | LOWTRAN_SWIR_BANDS).items():
+        lo, hi = 1e4 / nu_hi, 1e4 / nu_lo
+        # the same samples as LOWTRAN's band sum: equal to its single precision
+        assert _band_mean(lo, hi, "lowtran") * (hi - lo) == pytest.approx(band, rel=2e-4)
+    ratio = _band_mean(2.1906, 2.2099, "radscene") / _band_mean(2.1906, 2.2099, "lowtran")
+    assert ratio == pytest.approx(1.118, abs=0.002)
+
+
+def test_lowtran_spectrum_is_the_lowtran_engines_alone():
+    from radscene.atmosphere.database import DatabaseAtmosphere
+
+    assert ENGINE_SPECTRA["lowtran"] == ("lowtran",)
+    with pytest.raises(ConfigError, match="^atmosphere.solar_spectrum: unknown value 'lowtran'"):
+        DatabaseAtmosphere(solar_spectrum="lowtran")

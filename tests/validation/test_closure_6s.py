@@ -259,7 +259,7 @@ def _disc_scene(radius_km):
 def test_dark_disc_in_bright_surroundings_equals_6s_heterogeneous_ground(
         render_scene, tmp_path, radius_km):
     """6S's heterogeneous Lambertian ground: ρ* at the centre of a dark disc within 3 %; the
-    adjacency layer brightens the disc towards its edge and is zero far from it."""
+    adjacency layer brightens the disc, more towards its edge."""
     ds = render_scene(tmp_path, _disc_scene(radius_km))
     mu_s = np.cos(np.radians(ref.SUN_ZENITH))
     failures = []

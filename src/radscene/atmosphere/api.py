@@ -156,12 +156,12 @@ def make_engine(engine="database", profile="us_standard", aerosol="rural", visib
 
 def _toa(atm, settings, target_altitude, wavelength):
     """The engine's top-of-atmosphere solar irradiance at the settings' distance
-    [W m-2 um-1]: from the engine itself for 6S and the database (their spectrum), radscene's
-    for LOWTRAN's direct beam."""
+    [W m-2 um-1]: from the engine itself for 6S and the database (their spectrum), LOWTRAN's
+    own spectrum for LOWTRAN's direct beam (the one that lights its sky)."""
     if atm.name == "lowtran":
-        from radscene.sun import toa_solar_irradiance
+        from radscene.sun import engine_spectrum, toa_solar_irradiance
 
-        return toa_solar_irradiance(wavelength, settings["distance"])
+        return toa_solar_irradiance(wavelength, settings["distance"], engine_spectrum(atm))
     comp = atm.components(model.TOP_OF_ATMOSPHERE, target_altitude, 0.0, wavelength,
                           sun_zenith=min(float(atm.sun_zenith), 89.0), relative_azimuth=0.0)
     toa = comp["toa_irradiance"]
@@ -468,7 +468,7 @@ def sky_radiance(zenith=None, azimuth=None, *, target_altitude=0.0, engine="data
                      "sun_azimuth_deg": sa, "surface_albedo": float(surface_albedo),
                      **option_attrs(settings, profile, aerosol)})
     if atm.name == "lowtran":
-        ds.attrs["note"] = ("LOWTRAN: sky radiance with LOWTRAN7's solar spectrum; "
-                            "direct_irradiance with radscene's (its transmittance times "
-                            "radscene.sun.toa_solar_irradiance)")
+        ds.attrs["note"] = ("LOWTRAN: sky radiance and direct_irradiance with LOWTRAN7's "
+                            "solar spectrum (the direct beam: its transmittance times "
+                            "radscene.sun.toa_solar_irradiance(spectrum='lowtran'))")
     return ds

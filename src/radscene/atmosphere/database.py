@@ -337,12 +337,12 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                  surface_albedo=0.0, sun_zenith=None, sun_azimuth=0.0, view_azimuth=None,
                  earth_sun_distance=1.0, aot550=None, water=None, ozone=None,
                  solar_spectrum="radscene"):
-        from radscene.sun import SOLAR_SPECTRUM_NAMES
+        from radscene.atmosphere.options import ENGINE_SPECTRA
 
         spectrum = str(solar_spectrum).strip().lower()
-        if spectrum not in SOLAR_SPECTRUM_NAMES:
+        if spectrum not in ENGINE_SPECTRA["database"]:
             raise ConfigError(f"unknown value {solar_spectrum!r}; known: "
-                              f"{', '.join(SOLAR_SPECTRUM_NAMES)}",
+                              f"{', '.join(ENGINE_SPECTRA['database'])}",
                               key="atmosphere.solar_spectrum")
         self.solar_spectrum = spectrum
         self.file = database_path(file)

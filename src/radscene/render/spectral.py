@@ -219,11 +219,11 @@ def _emission_splines(emissivity_tau, nodes, weights, t_grid):
 
 def solar_spectrum(atmosphere) -> str:
     """The solar spectrum of the renderer's sun: the atmosphere's where radscene evaluates it
-    (``radscene``, ``tsis1``), else ``radscene``'s (6S's own spectrum exists only inside 6S)."""
-    from radscene.sun import SOLAR_SPECTRUM_NAMES
+    (``radscene``, ``tsis1``, ``lowtran``), else ``radscene``'s (6S's own spectrum exists only
+    inside 6S): :func:`radscene.sun.engine_spectrum`."""
+    from radscene.sun import engine_spectrum
 
-    name = str(getattr(atmosphere, "solar_spectrum", "radscene") or "radscene").lower()
-    return name if name in SOLAR_SPECTRUM_NAMES else "radscene"
+    return engine_spectrum(atmosphere)
 
 
 def breakpoints(scene) -> np.ndarray:

@@ -1,5 +1,5 @@
 """The Sun: position (NREL SPA via pvlib), Earth-Sun distance, and the top-of-atmosphere
-solar spectrum 0.25-20 µm (ASTM G173-03/Gueymard 2004 or TSIS-1 HSRS)."""
+solar spectrum 0.25-20 µm (ASTM G173-03/Gueymard 2004, TSIS-1 HSRS or LOWTRAN7's)."""
 
 from radscene.sun.position import SunPosition, earth_sun_distance, sun_position
 from radscene.sun.spectrum import (
@@ -9,6 +9,7 @@ from radscene.sun.spectrum import (
     SUN_RADIUS,
     SUN_SOLID_ANGLE,
     SUN_TEMPERATURE,
+    engine_spectrum,
     solar_constant,
     sun_radiance,
     toa_solar_irradiance,
@@ -22,6 +23,7 @@ __all__ = [
     "toa_solar_irradiance",
     "toa_solar_spectrum",
     "solar_constant",
+    "engine_spectrum",
     "sun_radiance",
     "SUN_SOLID_ANGLE",
     "SUN_RADIUS",

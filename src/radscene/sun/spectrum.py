@@ -1,4 +1,4 @@
-"""Top-of-atmosphere solar spectral irradiance, 0.25-20 µm, from one of two spectra.
+"""Top-of-atmosphere solar spectral irradiance, 0.25-20 µm, from one of three spectra.
 
 =============  ==================================================================================
 spectrum       source
@@ -7,6 +7,8 @@ spectrum       source
                5772 K blackbody beyond
 ``tsis1``      TSIS-1 HSRS version 2 (Coddington et al. 2021, 2023), 0.2025-2.7295 µm, the
                ``radscene`` spectrum beyond
+``lowtran``    LOWTRAN7's own extraterrestrial spectrum (Kneizys et al. 1988), 0.25-20 µm at
+               its 5 cm-1 sampling: the sun of the ``lowtran`` engine
 =============  ==================================================================================
 
 Every function takes ``spectrum`` (:data:`SOLAR_SPECTRUM_NAMES`); the atmosphere engines and the
@@ -45,6 +47,16 @@ the HSRS is 1.4 % above it). Integrals: 1325.74 W m-2 over the bins' centres 0.2
 1323.85 W m-2 over 0.25-2.7295 µm, 35.96 W m-2 from the ``radscene`` spectrum over
 2.7295-20 µm: :func:`solar_constant` ``("tsis1")`` is 1359.8 W m-2, 0.07 % below 1360.8 W m-2.
 
+Source of ``lowtran``
+---------------------
+LOWTRAN7's extraterrestrial irradiance (SOLIL, its block data SUNRAD) at every wavenumber of its
+5 cm-1 grid from 500 to 40000 cm-1 (0.25-20 µm), at the mean Earth-Sun distance, as LOWTRAN7
+evaluates it in a run (``radscene/data/solar/lowtran7_5cm1.csv``, written by
+``scripts/build_lowtran_solar_spectrum.py``), linear between the samples. The ``lowtran``
+engine's scattered radiances, sky and coupling are lit by this spectrum, so the renderer lights
+that engine's direct sun with it too: in the 2.19-2.21 µm band it is 11 % below ``radscene``'s,
+within 1 % of it over 0.44-0.88 µm. Integral over 0.25-20 µm: 1370.7 W m-2.
+
 References
 ----------
 ASTM G173-03(2020), Standard Tables for Reference Solar Spectral Irradiances.
@@ -60,6 +72,8 @@ e2020GL091709 (2021), https://doi.org/10.1029/2020GL091709
 O. M. Coddington et al., "Version 2 of the TSIS-1 Hybrid Solar Reference Spectrum and Extension
 to the Full Spectrum", Earth Space Sci. 10, e2022EA002637 (2023),
 https://doi.org/10.1029/2022EA002637
+F. X. Kneizys et al., Users Guide to LOWTRAN 7, AFGL-TR-88-0177, Air Force Geophysics
+Laboratory (1988)
 """
 
 from __future__ import annotations
@@ -83,6 +97,7 @@ __all__ = [
     "toa_solar_irradiance",
     "toa_solar_spectrum",
     "solar_constant",
+    "engine_spectrum",
     "sun_radiance",
 ]
 
@@ -98,8 +113,9 @@ SUN_TEMPERATURE = 5772.0
 SOLAR_WAVELENGTH_RANGE = (0.25, 20.0)
 #: The spectra radscene evaluates itself (``spectrum`` of the functions below); the first is
 #: the default.
-SOLAR_SPECTRUM_NAMES = ("radscene", "tsis1")
+SOLAR_SPECTRUM_NAMES = ("radscene", "tsis1", "lowtran")
 _TSIS1_FILE = "tsis1_hsrs_v2_1nm.csv"
+_LOWTRAN_FILE = "lowtran7_5cm1.csv"
 
 _HEAD_WINDOW = (0.280, 0.285)  # [um] window the short-wave blackbody is scaled to
 _TAIL_WINDOW = (3.5, 4.0)  # [um] window the long-wave blackbody is scaled to
@@ -132,10 +148,10 @@ def _measured():
     return wavelength, irradiance, scale(_HEAD_WINDOW), scale(_TAIL_WINDOW)
 
 
-@lru_cache(maxsize=1)
-def _tsis1():
-    """(wavelength [um], irradiance [W m-2 um-1]) of the TSIS-1 HSRS table, read once."""
-    path = resources.files("radscene") / "data" / "solar" / _TSIS1_FILE
+@lru_cache(maxsize=2)
+def _table(name):
+    """(wavelength [um], irradiance [W m-2 um-1]) of a shipped table, read once."""
+    path = resources.files("radscene") / "data" / "solar" / name
     rows = [line.split(",")[:2] for line in path.read_text(encoding="utf-8").splitlines()
             if line and not line.startswith("#") and not line.startswith("wavelength")]
     data = np.array(rows, dtype=float)
@@ -145,12 +161,38 @@ def _tsis1():
     return wavelength, irradiance
 
 
+def _tsis1():
+    """The TSIS-1 HSRS table (:func:`_table`)."""
+    return _table(_TSIS1_FILE)
+
+
+def _lowtran():
+    """LOWTRAN7's table (:func:`_table`), 0.25-20 µm."""
+    return _table(_LOWTRAN_FILE)
+
+
 def _check_spectrum(spectrum) -> str:
     name = str(spectrum).strip().lower()
     if name not in SOLAR_SPECTRUM_NAMES:
         raise ConfigError(f"unknown solar spectrum {spectrum!r}; known: "
                           f"{', '.join(SOLAR_SPECTRUM_NAMES)}", key="solar_spectrum")
     return name
+
+
+def engine_spectrum(atmosphere) -> str:
+    """The spectrum that lights an atmosphere engine's sun where radscene evaluates it: the
+    engine's ``solar_spectrum`` when it is one of :data:`SOLAR_SPECTRUM_NAMES`, else
+    ``radscene`` (6S's own spectrum exists only inside 6S).
+
+    Examples
+    --------
+    >>> class Engine:
+    ...     solar_spectrum = "lowtran"
+    >>> engine_spectrum(Engine()), engine_spectrum(object())
+    ('lowtran', 'radscene')
+    """
+    name = str(getattr(atmosphere, "solar_spectrum", "radscene") or "radscene").lower()
+    return name if name in SOLAR_SPECTRUM_NAMES else "radscene"
 
 
 def _check_distance(distance):
@@ -171,7 +213,7 @@ def toa_solar_irradiance(wavelength, distance=1.0, spectrum="radscene"):
         Earth-Sun distance [AU], > 0 (see :func:`radscene.sun.earth_sun_distance`).
         Broadcast against `wavelength`.
     spectrum : str
-        ``radscene`` or ``tsis1`` (:data:`SOLAR_SPECTRUM_NAMES`; module docstring).
+        ``radscene``, ``tsis1`` or ``lowtran`` (:data:`SOLAR_SPECTRUM_NAMES`; module docstring).
 
     Returns
     -------
@@ -215,6 +257,9 @@ def toa_solar_irradiance(wavelength, distance=1.0, spectrum="radscene"):
     if name == "tsis1":
         tsis_wl, tsis_e = _tsis1()
         irradiance = np.where(wl <= tsis_wl[-1], np.interp(wl, tsis_wl, tsis_e), irradiance)
+    elif name == "lowtran":
+        lt_wl, lt_e = _lowtran()
+        irradiance = np.interp(wl, lt_wl, lt_e)
     return irradiance / d**2
 
 
@@ -224,7 +269,7 @@ def toa_solar_spectrum(spectrum="radscene"):
     Parameters
     ----------
     spectrum : str
-        ``radscene`` or ``tsis1`` (:data:`SOLAR_SPECTRUM_NAMES`).
+        ``radscene``, ``tsis1`` or ``lowtran`` (:data:`SOLAR_SPECTRUM_NAMES`).
 
     Returns
     -------
@@ -232,6 +277,7 @@ def toa_solar_spectrum(spectrum="radscene"):
         Wavelength [um], 0.25-20, strictly increasing. ``radscene``: 0.5 nm steps below
         0.28 um, the ASTM G173 samples to 4 um, 5 nm steps beyond. ``tsis1``: 0.25 um, the
         TSIS-1 HSRS bin centres (1 nm apart) to 2.7295 um, then the ``radscene`` samples.
+        ``lowtran``: LOWTRAN7's 5 cm-1 grid.
     irradiance : numpy.ndarray
         Spectral irradiance [W m-2 um-1] at 1 AU, equal to :func:`toa_solar_irradiance`.
 
@@ -242,6 +288,9 @@ def toa_solar_spectrum(spectrum="radscene"):
     (0.25, 20.0)
     """
     name = _check_spectrum(spectrum)
+    if name == "lowtran":
+        lt_wl, lt_e = _lowtran()
+        return lt_wl.copy(), lt_e.copy()
     table_wl, _, _, _ = _measured()
     lo, hi = SOLAR_WAVELENGTH_RANGE
     head = lo + _HEAD_STEP * np.arange(round((table_wl[0] - lo) / _HEAD_STEP))
@@ -260,12 +309,12 @@ def solar_constant(spectrum="radscene") -> float:
 
     The tables are integrated exactly (trapezoids of the piecewise-linear tables), the
     blackbody parts with :func:`radscene.radiometry.band_radiance`. Result: 1366.0 W m-2
-    (``radscene``), 1359.8 W m-2 (``tsis1``).
+    (``radscene``), 1359.8 W m-2 (``tsis1``), 1370.7 W m-2 (``lowtran``).
 
     Parameters
     ----------
     spectrum : str
-        ``radscene`` or ``tsis1`` (:data:`SOLAR_SPECTRUM_NAMES`).
+        ``radscene``, ``tsis1`` or ``lowtran`` (:data:`SOLAR_SPECTRUM_NAMES`).
 
     Examples
     --------
@@ -275,6 +324,9 @@ def solar_constant(spectrum="radscene") -> float:
     1359.8
     """
     name = _check_spectrum(spectrum)
+    if name == "lowtran":
+        lt_wl, lt_e = _lowtran()
+        return float(np.trapezoid(lt_e, lt_wl))
     table_wl, table_e, head, tail = _measured()
     lo, hi = SOLAR_WAVELENGTH_RANGE
     tail_part = float(tail * SUN_SOLID_ANGLE * band_radiance(table_wl[-1], hi, SUN_TEMPERATURE))
@@ -302,7 +354,7 @@ def sun_radiance(wavelength, distance=1.0, spectrum="radscene"):
         Earth-Sun distance [AU], > 0. Radiance is conserved along the beam, so the result
         does not depend on it: irradiance and solid angle both scale as 1 / distance².
     spectrum : str
-        ``radscene`` or ``tsis1`` (:data:`SOLAR_SPECTRUM_NAMES`).
+        ``radscene``, ``tsis1`` or ``lowtran`` (:data:`SOLAR_SPECTRUM_NAMES`).
 
     Returns
     -------

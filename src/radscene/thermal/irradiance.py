@@ -138,7 +138,7 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
     -------
     ShortwaveTable
     """
-    from radscene.sun import toa_solar_irradiance
+    from radscene.sun import engine_spectrum, toa_solar_irradiance
 
     full = SHORTWAVE
     lo, hi = atmosphere.wavelength_range
@@ -147,7 +147,7 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
         raise ConfigError(f"the {atmosphere.name!r} atmosphere covers {lo:g}-{hi:g} µm: no short-wave for the heat balance",
                           key="environment.atmosphere")
     wl = full[inside]
-    toa_full = toa_solar_irradiance(full, earth_sun_distance)
+    toa_full = toa_solar_irradiance(full, earth_sun_distance, engine_spectrum(atmosphere))
     toa = toa_full[inside]
     direct, diffuse, spectrum = [], [], []
     for z in ZENITH_NODES:

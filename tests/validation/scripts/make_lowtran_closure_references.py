@@ -10,12 +10,13 @@ the test account for radscene's own solar spectrum, which lights the rendered pl
 sun: LOWTRAN's extraterrestrial band irradiance, the direct band irradiance on the ground
 (an IEMSCT = 3 run) and the band-mean transmittance of the line of sight.
 
-Shared: US Standard atmosphere (MODEL 6), rural aerosol (IHAZE 1) at 23 and 5 km visibility,
-sea-level ground, sun at 30 deg zenith, mean Earth-Sun distance (IDAY 0), Mie phase functions
+Shared: US Standard atmosphere (MODEL 6), rural (IHAZE 1) and maritime (IHAZE 4) aerosols at
+23 and 5 km visibility, sea-level ground at 290 K (card 1 TBOUND, the rendered plate's
+temperature), sun at 30 deg zenith, mean Earth-Sun distance (IDAY 0), Mie phase functions
 (IPH 2); lines of sight from 99 km (LOWTRAN's atmosphere ends at 100 km, below which a
 tilted camera's rays must start) and 3.5 km, nadir and 40 deg from the zenith at the ground,
-90 deg in azimuth from the sun; rho 0, 0.2, 0.5; four bands whose edges lie on LOWTRAN's
-5 cm-1 grid.
+90 deg in azimuth from the sun; rho 0, 0.2, 0.5; six bands from 0.45 to 2.2 um whose edges
+lie on LOWTRAN's 5 cm-1 grid.
 
 It does NOT import radscene: it writes its own card decks and runs the LOWTRAN7 executable
 (``radscene-lowtran7``, built by ``make lowtran``; LOWTRAN7 with a driver that also writes
@@ -40,12 +41,14 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[3]
 OUT = ROOT / "tests" / "validation" / "lowtran_closure_references.py"
 SETTINGS = S = dict(  # written verbatim as constants at the top of the generated module
-    MODEL=6, IHAZE=1, VISIBILITIES_KM=(23.0, 5.0), SUN_ZENITH=30.0, RELATIVE_AZIMUTH=90.0,
+    MODEL=6, AEROSOLS={"rural": 1, "maritime": 4}, TBOUND_K=290.0, VISIBILITIES_KM=(23.0, 5.0),
+    SUN_ZENITH=30.0, RELATIVE_AZIMUTH=90.0,
     OBSERVERS_KM={"toa99km": 99.0, "air3500m": 3.5}, VIEW_ZENITHS=(0.0, 40.0),
     RHOS=(0.0, 0.2, 0.5),
-    # band edges [cm-1] on LOWTRAN's grid: 0.44-0.46, 0.54-0.56, 0.65-0.67, 0.86-0.88 um
+    # band edges [cm-1] on LOWTRAN's grid: 0.44-0.46, 0.54-0.56, 0.65-0.67, 0.86-0.88,
+    # 1.59-1.61, 2.19-2.21 um
     BANDS_CM1=((21740.0, 22725.0), (17860.0, 18515.0), (14925.0, 15385.0),
-               (11365.0, 11625.0)),
+               (11365.0, 11625.0), (6210.0, 6290.0), (4525.0, 4565.0)),
     DV=5.0, EARTH_RADIUS_KM=6371.23)
 
 
@@ -53,8 +56,8 @@ def band_id(band):
     return f"b{1e4 / (0.5 * (band[0] + band[1])):.2f}"
 
 
-def case_id(vis, sensor, vz, band, rho):
-    return f"rural-vis{vis:02.0f}-{sensor}-vz{vz:02.0f}-{band_id(band)}-r{rho:.2f}"
+def case_id(aerosol, vis, sensor, vz, band, rho):
+    return f"{aerosol}-vis{vis:02.0f}-{sensor}-vz{vz:02.0f}-{band_id(band)}-r{rho:.2f}"
 
 
 def card(fmt, *values):
@@ -68,16 +71,16 @@ def card(fmt, *values):
     return "".join(out)
 
 
-def deck(iemsct, h1, angle, band, vis, salb=0.0, parm1=0.0, parm2=0.0):
+def deck(iemsct, h1, angle, band, ihaze, vis, salb=0.0, parm1=0.0, parm2=0.0):
     """TAPE5 of one run (LOWTRAN7 manual, cards 1, 2, 3 [, 3A1, 3A2], 4, 5)."""
     i5, f10 = ("i", 5), ("f", 10, 3)
     itype = 3 if iemsct == 3 else 2
     lines = [
         # MODEL ITYPE IEMSCT IMULT M1-M6 MDEF IM NOPRT TBOUND SALB: (13I5, F8.3, F7.2)
         card([i5] * 13 + [("f", 8, 3), ("f", 7, 2)], S["MODEL"], itype, iemsct,
-             1 if iemsct == 2 else 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0.0, salb),
+             1 if iemsct == 2 else 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, S["TBOUND_K"], salb),
         # IHAZE ISEASN IVULCN ICSTL ICLD IVSA VIS WSS WHH RAINRT GNDALT: (6I5, 5F10.3)
-        card([i5] * 6 + [f10] * 5, S["IHAZE"], 0, 0, 0, 0, 0, vis, 0.0, 0.0, 0.0, 0.0),
+        card([i5] * 6 + [f10] * 5, ihaze, 0, 0, 0, 0, 0, vis, 0.0, 0.0, 0.0, 0.0),
     ]
     if iemsct == 3:  # H1 H2 ANGLE IDAY (5X) RO ISOURC ANGLEM: (3F10.3, I5, 5X, F10.3, I5, F10.3)
         lines.append(card([f10] * 3 + [i5], h1, 0.0, angle, 0) + " " * 5
@@ -136,18 +139,20 @@ def geometry(h_km, view_zenith):
 
 
 def one_case(args):
-    executable, vis, sensor, vz, band, rho = args
+    executable, aerosol, vis, sensor, vz, band, rho = args
+    ihaze = S["AEROSOLS"][aerosol]
     h1 = S["OBSERVERS_KM"][sensor]
     angle, sun_obs = geometry(h1, vz)
-    radiance, path = run(executable, deck(2, round(h1, 7), round(angle, 6), band, vis, rho,
+    radiance, path = run(executable, deck(2, round(h1, 7), round(angle, 6), band, ihaze, vis, rho,
                                           S["RELATIVE_AZIMUTH"], round(sun_obs, 4)),
                           "INTEGRATED RADIANCE =")
-    _, sun = run(executable, deck(3, 0.0, S["SUN_ZENITH"], band, vis), "INTEGRATED IRRADIANCE =")
+    _, sun = run(executable, deck(3, 0.0, S["SUN_ZENITH"], band, ihaze, vis),
+                 "INTEGRATED IRRADIANCE =")
     v = sun[:, 0]
     to_cm1 = 1e4 / v**2  # per um -> per cm-1
     mu_s = math.cos(math.radians(S["SUN_ZENITH"]))
-    return case_id(vis, sensor, vz, band, rho), {
-        "visibility_km": vis, "sensor": sensor, "view_zenith": vz, "band_cm1": band, "rho": rho,
+    return case_id(aerosol, vis, sensor, vz, band, rho), {
+        "aerosol": aerosol, "visibility_km": vis, "sensor": sensor, "view_zenith": vz, "band_cm1": band, "rho": rho,
         # W cm-2 sr-1 -> W m-2 sr-1; W cm-2 -> W m-2
         "band_radiance": radiance * 1e4,
         "toa_band_irradiance": trapezoid(sun[:, 5] * to_cm1, v) * 1e4,
@@ -159,7 +164,8 @@ def one_case(args):
 def main():
     executable = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get(
         "RADSCENE_LOWTRAN", ROOT / "build" / "lowtran" / "radscene-lowtran7"))
-    jobs = [(executable, vis, sensor, vz, band, rho) for vis in S["VISIBILITIES_KM"]
+    jobs = [(executable, aerosol, vis, sensor, vz, band, rho) for aerosol in S["AEROSOLS"]
+            for vis in S["VISIBILITIES_KM"]
             for sensor in S["OBSERVERS_KM"] for vz in S["VIEW_ZENITHS"]
             for band in S["BANDS_CM1"] for rho in S["RHOS"]]
     start = time.time()

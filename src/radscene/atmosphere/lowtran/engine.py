@@ -84,7 +84,9 @@ How the queries map onto LOWTRAN (H1 is always the observer, as LOWTRAN wants it
   renderer adds the surface's own emission and reflection). The zenith angle at the observer
   and the sun's zenith there follow from the target's view zenith on a spherical Earth.
 * ``sun``: IEMSCT 3, ITYPE 3 from the target at the sun's zenith angle: τ_so; the irradiance
-  is τ_so times the renderer's top-of-atmosphere spectrum.
+  is τ_so times the renderer's top-of-atmosphere spectrum, which for this engine is LOWTRAN's
+  own (``solar_spectrum`` ``lowtran``, :mod:`radscene.sun.spectrum`), the one that lights its
+  scattered radiances.
 * ``sky``: ITYPE 3 from the surface towards (zenith, azimuth), IEMSCT 2 (1 at night),
   thermal plus scattered; relative azimuths are folded into [0, 180] deg (the sky is
   symmetric about the sun's vertical).
@@ -193,6 +195,9 @@ class LowtranAtmosphere(Atmosphere):
     name = "lowtran"
     wavelength_range = (0.25, 28.0)
     geometry_dependent = True
+    #: The top-of-atmosphere spectrum that lights LOWTRAN's scattered radiances; the renderer
+    #: lights this engine's direct sun with it (:mod:`radscene.sun.spectrum`).
+    solar_spectrum = "lowtran"
 
     def __init__(
         self,
