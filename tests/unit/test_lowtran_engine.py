@@ -218,6 +218,55 @@ def test_sun_from_place_and_time(make):
     assert moved.runner is atm.runner
 
 
+def test_the_renderers_sun_is_lowtrans_own(make):
+    """LOWTRAN takes the Earth–Sun distance from its day of the year alone (its orbit table,
+    three digits): a sun given by its distance gets the nearest day, and the renderer's direct
+    sun is lit by LOWTRAN's spectrum at LOWTRAN's distance, the sun of its scattered light."""
+    from types import SimpleNamespace
+
+    from radscene.atmosphere.lowtran.engine import day_for_distance, orbit_factor
+    from radscene.render.spectral import sun_toa
+    from radscene.sun import toa_solar_irradiance
+
+    atm = make()
+    assert atm.day_of_year is None and atm.earth_sun_distance == 1.0  # IDAY 0
+    assert atm.with_sun(30.0, 180.0, earth_sun_distance=1.0).day_of_year is None
+    near = atm.with_sun(30.0, 180.0, earth_sun_distance=0.9833)  # early January
+    assert near.day_of_year == 1 and near.earth_sun_distance == pytest.approx(1.034 ** -0.5)
+    far = atm.with_sun(30.0, 180.0, earth_sun_distance=1.0167)  # early July
+    assert orbit_factor(far.day_of_year) * 1.0167**2 == pytest.approx(1.0, abs=5e-4)
+    dated = atm.with_sun(30.0, 180.0, day_of_year=182, earth_sun_distance=1.0167)
+    assert dated.day_of_year == 182 and dated.earth_sun_distance == pytest.approx(0.967 ** -0.5)
+    wl = np.array([0.45, 2.2])
+    sun = SimpleNamespace(distance=0.9833, zenith=30.0, azimuth=180.0)
+    assert sun_toa(near, sun, wl) == pytest.approx(
+        1.034 * toa_solar_irradiance(wl, 1.0, "lowtran"), rel=1e-12)
+    assert orbit_factor(91) == pytest.approx(1.001) and orbit_factor(100) == pytest.approx(
+        1.001 + 9 * (0.985 - 1.001) / 30)
+    with pytest.raises(ConfigError, match=r"^earth_sun_distance: LOWTRAN's sun lies 0.9834-1.0169"):
+        day_for_distance(0.95)
+
+
+def test_the_heat_balance_short_wave_follows_the_engines_sun():
+    """The ground's direct irradiance of the heat balance is the engine's transmittance times
+    the engine's own sun: its spectrum at its Earth–Sun distance."""
+    from radscene.atmosphere.uniform import UniformAtmosphere
+    from radscene.sun import toa_solar_irradiance
+    from radscene.thermal.irradiance import SHORTWAVE, shortwave_table
+
+    class LowtranLike(UniformAtmosphere):
+        solar_spectrum = "lowtran"
+        earth_sun_distance = 1.034 ** -0.5
+
+    table = shortwave_table(LowtranLike(transmittance=0.8, sky_radiance=0.0), 0.0, 1, 0.9833)
+    expected = 0.8 * 1.034 * np.trapezoid(toa_solar_irradiance(SHORTWAVE, 1.0, "lowtran"),
+                                          SHORTWAVE)
+    assert table.direct_normal[0] == pytest.approx(expected, rel=1e-9)
+    default = shortwave_table(UniformAtmosphere(transmittance=0.8, sky_radiance=0.0), 0.0, 1, 0.9833)
+    assert default.direct_normal[0] == pytest.approx(
+        0.8 * np.trapezoid(toa_solar_irradiance(SHORTWAVE, 0.9833), SHORTWAVE), rel=1e-9)
+
+
 # -- bad input, before anything runs ----------------------------------------------------------
 @pytest.mark.parametrize("params, key, match", [
     ({"visibility": 0.0}, "atmosphere.visibility", r"\(0, 10000\] km"),

@@ -159,9 +159,10 @@ def _toa(atm, settings, target_altitude, wavelength):
     [W m-2 um-1]: from the engine itself for 6S and the database (their spectrum), LOWTRAN's
     own spectrum for LOWTRAN's direct beam (the one that lights its sky)."""
     if atm.name == "lowtran":
-        from radscene.sun import engine_spectrum, toa_solar_irradiance
+        from radscene.sun import engine_distance, engine_spectrum, toa_solar_irradiance
 
-        return toa_solar_irradiance(wavelength, settings["distance"], engine_spectrum(atm))
+        return toa_solar_irradiance(wavelength, engine_distance(atm, settings["distance"]),
+                                    engine_spectrum(atm))
     comp = atm.components(model.TOP_OF_ATMOSPHERE, target_altitude, 0.0, wavelength,
                           sun_zenith=min(float(atm.sun_zenith), 89.0), relative_azimuth=0.0)
     toa = comp["toa_irradiance"]

@@ -15,11 +15,12 @@ spectrum           source
 ``6s``             the spectrum built into 6S, as 6S prints it (Vermote et al. 1997); engine
                    ``sixs`` only
 ``lowtran``        LOWTRAN7's built-in extraterrestrial spectrum (Kneizys et al. 1988), with
-                   which LOWTRAN computes its scattered radiances; engine ``lowtran`` only
+                   which LOWTRAN computes its scattered radiances, as a table
+                   (``radscene/data/solar/lowtran7_5cm1.csv``); engine ``lowtran`` only
 =================  =======================================================================
 
 The renderer's direct sun uses the atmosphere's spectrum where radscene evaluates it
-(``radscene``, ``tsis1``), else ``radscene``'s.
+(``radscene``, ``tsis1``, ``lowtran``), else ``radscene``'s (6S's own).
 
 References
 ----------

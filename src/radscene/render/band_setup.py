@@ -29,7 +29,7 @@ from radscene.render.spectral import (
     breakpoints,
     emission_coefficients,
     sky_table,
-    solar_spectrum,
+    sun_toa,
 )
 from radscene.render.sun_track import combine_nodes
 
@@ -52,8 +52,6 @@ class BandSetup:
     """
 
     def __init__(self, scene, bands, path_nodes, suns, reference=0):
-        from radscene.sun import toa_solar_irradiance
-
         atm_ref = suns[reference][1]
         points = breakpoints(scene)
         zen_nodes = np.asarray(atm_ref.sky_zenith_nodes(), dtype=float)
@@ -91,7 +89,7 @@ class BandSetup:
             for s, (sun, atm) in enumerate(suns):
                 block = slice(s * n_j, (s + 1) * n_j)
                 if sun.zenith < 90.0:
-                    toa = toa_solar_irradiance(nodes, sun.distance, solar_spectrum(atm))
+                    toa = sun_toa(atm, sun, nodes)
                     e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance  # (q,)
                 else:
                     e_sun = np.zeros_like(nodes)
@@ -305,11 +303,9 @@ def configured_atmosphere(scene, sun, azimuth):
 def sun_irradiance(atm, sun):
     """``irradiance(wavelength, altitude)``: E_sun τ_so normal to the beam [W m-2 um-1] of the
     scene's sun through ``atm``, zero below the horizon."""
-    from radscene.sun import toa_solar_irradiance
-
     def irradiance(wavelength, altitude):
         if sun.zenith >= 90.0:
             return np.zeros_like(wavelength)
-        toa = toa_solar_irradiance(wavelength, sun.distance, solar_spectrum(atm))
+        toa = sun_toa(atm, sun, wavelength)
         return atm.sun(altitude, sun.zenith, wavelength, toa).irradiance
     return irradiance

@@ -20,7 +20,7 @@ import numpy as np
 
 from radscene.atmosphere import SkyGeometry
 from radscene.render.node_mixing import gather_band, sky_sum
-from radscene.render.spectral import emission_coefficients, solar_spectrum
+from radscene.render.spectral import emission_coefficients, sun_toa
 
 __all__ = ["BrdfTables", "brdf_terms", "brdf_sky", "view_weights", "VIEW_COSINES",
            "BRDF_WAVELENGTHS"]
@@ -46,8 +46,6 @@ class BrdfTables:
 
     def __init__(self, scene, bands, quadrature, path_nodes, suns, target_alt, sky_zenith,
                  sky_azimuth, sky_scale=(), split=()):
-        from radscene.sun import toa_solar_irradiance
-
         mu = VIEW_COSINES
         wi = np.stack([np.sqrt(1.0 - mu**2), np.zeros_like(mu), mu], axis=-1)
         n_b, n_j, n_s = len(bands), path_nodes.size, len(suns)
@@ -72,7 +70,7 @@ class BrdfTables:
                 tau = atm.path(path_nodes.observer_altitude, path_nodes.target_altitude,
                                path_nodes.view_zenith, nodes).transmittance  # (j, q)
                 if sun.zenith < 90.0:
-                    toa = toa_solar_irradiance(nodes, sun.distance, solar_spectrum(atm))
+                    toa = sun_toa(atm, sun, nodes)
                     e_sun = atm.sun(target_alt, sun.zenith, nodes, toa).irradiance
                     self.sun[b, block] = tau @ (weights * e_sun)
                 sky_geom = SkyGeometry(scene.location.altitude, sun.zenith, sun.azimuth)

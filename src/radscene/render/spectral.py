@@ -25,7 +25,7 @@ from scipy.interpolate import CubicSpline
 from radscene.radiometry import spectral_radiance
 
 __all__ = ["band_quadrature", "BandCoefficients", "emission_coefficients", "solar_spectrum",
-           "breakpoints", "sky_table"]
+           "sun_toa", "breakpoints", "sky_table"]
 
 #: Gauss–Legendre order per sub-interval.
 GL_ORDER = 4
@@ -226,6 +226,17 @@ def solar_spectrum(atmosphere) -> str:
     return engine_spectrum(atmosphere)
 
 
+def sun_toa(atmosphere, sun, wavelength):
+    """The scene's sun at the top of the atmosphere [W m-2 um-1]: the atmosphere's spectrum
+    (:func:`solar_spectrum`) at the Earth–Sun distance its sun shines from
+    (:func:`radscene.sun.engine_distance`), so the direct sun and the engine's scattered light
+    share one sun."""
+    from radscene.sun import engine_distance, toa_solar_irradiance
+
+    return toa_solar_irradiance(wavelength, engine_distance(atmosphere, sun.distance),
+                                solar_spectrum(atmosphere))
+
+
 def breakpoints(scene) -> np.ndarray:
     """Every table wavelength that enters a band integral: materials, atmosphere, sun [um]."""
     from radscene.sun import spectrum as sun_spectrum
@@ -233,6 +244,7 @@ def breakpoints(scene) -> np.ndarray:
     name = solar_spectrum(scene.atmosphere)
     solar_wl, _ = sun_spectrum.toa_solar_spectrum(name)
     # the measured parts have kinks at their samples; the blackbody head and tail are smooth
+    # (LOWTRAN's table has kinks beyond 4 um too, where they move band integrals < 1e-6)
     start = 0.28 if name == "radscene" else 0.25
     points = [solar_wl[(solar_wl >= start) & (solar_wl <= 4.0)]]
     for m in scene.materials:

@@ -98,6 +98,7 @@ __all__ = [
     "toa_solar_spectrum",
     "solar_constant",
     "engine_spectrum",
+    "engine_distance",
     "sun_radiance",
 ]
 
@@ -193,6 +194,22 @@ def engine_spectrum(atmosphere) -> str:
     """
     name = str(getattr(atmosphere, "solar_spectrum", "radscene") or "radscene").lower()
     return name if name in SOLAR_SPECTRUM_NAMES else "radscene"
+
+
+def engine_distance(atmosphere, distance) -> float:
+    """The Earth–Sun distance [AU] at which an atmosphere engine's sun shines: the engine's
+    own ``earth_sun_distance`` where it keeps one (set up for the scene's sun; the ``lowtran``
+    engine's comes from LOWTRAN's table of its day of the year), else ``distance``.
+
+    Examples
+    --------
+    >>> class Engine:
+    ...     earth_sun_distance = 0.99
+    >>> engine_distance(Engine(), 1.01), engine_distance(object(), 1.01)
+    (0.99, 1.01)
+    """
+    own = getattr(atmosphere, "earth_sun_distance", None)
+    return float(distance if own is None else own)
 
 
 def _check_distance(distance):

@@ -138,7 +138,7 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
     -------
     ShortwaveTable
     """
-    from radscene.sun import engine_spectrum, toa_solar_irradiance
+    from radscene.sun import engine_distance, engine_spectrum, toa_solar_irradiance
 
     full = SHORTWAVE
     lo, hi = atmosphere.wavelength_range
@@ -147,12 +147,14 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
         raise ConfigError(f"the {atmosphere.name!r} atmosphere covers {lo:g}-{hi:g} µm: no short-wave for the heat balance",
                           key="environment.atmosphere")
     wl = full[inside]
-    toa_full = toa_solar_irradiance(full, earth_sun_distance, engine_spectrum(atmosphere))
-    toa = toa_full[inside]
     direct, diffuse, spectrum = [], [], []
     for z in ZENITH_NODES:
         atm = atmosphere.with_sun(float(z), float(sun_azimuth), day_of_year=day_of_year,
                                   earth_sun_distance=earth_sun_distance)
+        # the engine's own sun: its spectrum, at the distance its scattered light comes from
+        toa_full = toa_solar_irradiance(full, engine_distance(atm, earth_sun_distance),
+                                        engine_spectrum(atm))
+        toa = toa_full[inside]
         beam = _extend(full, inside, toa_full,
                        np.asarray(atm.sun(altitude, float(z), wl, toa).irradiance, float).reshape(-1, wl.size)[0])
         dif = _extend(full, inside, toa_full, _diffuse_spectrum(atm, altitude, wl, float(z), float(sun_azimuth)))

@@ -152,7 +152,8 @@ from radscene.atmosphere.lowtran.profiles import profile_levels
 from radscene.atmosphere.lowtran.runner import LowtranResult, LowtranRunner
 from radscene.errors import ConfigError, EngineError
 
-__all__ = ["LowtranAtmosphere", "lowtran_line_of_sight", "lowtran_sky_radiance"]
+__all__ = ["LowtranAtmosphere", "day_for_distance", "lowtran_line_of_sight",
+           "lowtran_sky_radiance", "orbit_factor"]
 
 #: Earth radius LOWTRAN uses per model [km] (card 3 RO blank).
 _EARTH_RADIUS_KM = {1: 6378.39, 4: 6356.91, 5: 6356.91}
@@ -166,6 +167,50 @@ _WINDOW_EDGES = np.array([350.0, 1650.0, 3850.0, 10000.0, 25000.0, 42500.0])
 _SOLAR_MIN_WAVENUMBER = 1650.0
 #: Targets closer than this to the bottom of the atmosphere are lifted to it [km].
 _BOTTOM_OFFSET_KM = 0.001
+#: LOWTRAN7's factor of the Sun's elliptic orbit on its solar spectrum, linear between these
+#: days of the year (its subroutine SOURCE; Kneizys et al. 1988); 1 at IDAY 0.
+_ORBIT_DAYS = np.array([1, 32, 60, 91, 121, 152, 182, 213, 244, 274, 305, 335, 366], float)
+_ORBIT_FACTORS = np.array([1.034, 1.030, 1.019, 1.001, 0.985, 0.972, 0.967, 0.971, 0.982, 0.998,
+                           1.015, 1.029, 1.034])
+#: Largest relative difference accepted between an asked Earth–Sun factor 1/d² and the
+#: nearest day's of LOWTRAN's table.
+_ORBIT_TOLERANCE = 0.005
+
+
+def orbit_factor(day_of_year) -> float:
+    """LOWTRAN7's factor on its solar spectrum for a day of the year (1 for None or 0).
+
+    Examples
+    --------
+    >>> orbit_factor(None), orbit_factor(1), orbit_factor(182)
+    (1.0, 1.034, 0.967)
+    """
+    if not day_of_year:
+        return 1.0
+    return float(np.interp(float(day_of_year), _ORBIT_DAYS, _ORBIT_FACTORS))
+
+
+def day_for_distance(distance, key="earth_sun_distance") -> int | None:
+    """The day of the year whose LOWTRAN7 orbit factor is nearest 1/d² (None at 1 AU, IDAY 0).
+
+    Examples
+    --------
+    >>> day_for_distance(1.0) is None, day_for_distance(1.0167), day_for_distance(0.9833)
+    (True, 185, 1)
+    """
+    d = float(distance)
+    if not d > 0:
+        raise ConfigError(f"must be > 0 AU; got {distance!r}", key=key)
+    if abs(d - 1.0) < 1e-12:
+        return None
+    days = np.arange(1, 366)
+    factors = np.interp(days.astype(float), _ORBIT_DAYS, _ORBIT_FACTORS)
+    i = int(np.argmin(np.abs(factors - d**-2)))
+    if abs(factors[i] * d**2 - 1.0) > _ORBIT_TOLERANCE:
+        raise ConfigError(f"LOWTRAN's sun lies {_ORBIT_FACTORS.max() ** -0.5:.4f}-"
+                          f"{_ORBIT_FACTORS.min() ** -0.5:.4f} AU from the Earth (its orbit "
+                          f"table); got {d:g} AU", key=key)
+    return int(days[i])
 
 
 def _wrap180(angle):
@@ -377,11 +422,15 @@ class LowtranAtmosphere(Atmosphere):
         view_azimuth : float, optional
             Azimuth from target towards observer [deg]; None keeps this engine's.
         earth_sun_distance : float, optional
-            Not used: LOWTRAN takes the Earth–Sun distance from ``day_of_year``.
+            [AU]; without ``day_of_year``, the day whose LOWTRAN orbit factor is nearest
+            1/d² (:func:`day_for_distance`; LOWTRAN takes the distance from the day alone).
         """
         params = dict(self._params)
         params.update(sun_zenith=sun_zenith, sun_azimuth=sun_azimuth, time=None,
                       latitude=None, longitude=None)
+        if day_of_year is None and earth_sun_distance is not None:
+            day_of_year = day_for_distance(earth_sun_distance)
+            params["day_of_year"] = day_of_year
         if day_of_year is not None:
             params["day_of_year"] = day_of_year
         if view_azimuth is not None:
@@ -389,6 +438,12 @@ class LowtranAtmosphere(Atmosphere):
         new = type(self)(**params)
         new.runner = self.runner  # share the in-memory cache
         return new
+
+    @property
+    def earth_sun_distance(self) -> float:
+        """The Earth–Sun distance of LOWTRAN's sun [AU], 1/√(orbit factor of its day): the one
+        that lights its scattered radiances, and so the renderer's direct sun."""
+        return orbit_factor(self.day_of_year) ** -0.5
 
     @property
     def parameters(self) -> dict:
