@@ -294,6 +294,7 @@ BAD = [
     (["los", "--water", "2", "--engine", "sixs"], "--water: give both water"),
     (["los", "--engine", "lowtran", "--aot550", "0.2"], "--aot550: the lowtran engine does not "
                                                         "take aot550"),
+    (["los", "--engine", "lowtran", "--water", "0"], r"--water: must lie in \(0, 10\] g cm-2"),
     (["los", "--engine", "lowtran", "--solar-spectrum", "radscene"],
      "--solar-spectrum: the lowtran engine uses lowtran, not radscene"),
     (["los", "--solar-spectrum", "6s"], "--solar-spectrum: the database engine uses radscene or "
@@ -308,6 +309,21 @@ BAD = [
       "--wavelength-max", "0.6"], "--sensor landsat8_oli --band B4: band 'landsat8_oli B4' "
                                   "spans .* beyond the wavelengths 0.4-0.6 µm"),
 ]
+
+
+def test_lowtran_scales_the_water_vapour_column(tmp_path):
+    """``--water`` with the lowtran engine: its model's H2O profile scaled to the column
+    (radscene.atmosphere.lowtran.profiles); the 0.94 um band darkens, the record says so."""
+    from radscene.atmosphere.lowtran import NOT_BUILT, lowtran_available
+
+    if not lowtran_available():
+        pytest.skip(NOT_BUILT)
+    args = ("--engine", "lowtran", "--band", "0.9,0.98", "--wavelength-min", "0.9",
+            "--wavelength-max", "0.98", "--step", "0.01")
+    own, wet = _los(tmp_path, *args, name="own.nc"), _los(tmp_path, *args, "--water", "2.83",
+                                                          name="wet.nc")
+    assert wet.attrs["water_g_cm-2"] == 2.83 and "water_g_cm-2" not in own.attrs
+    assert float(wet["transmittance"].mean()) < float(own["transmittance"].mean()) - 0.03
 
 
 def _assert_refused(res, match, out):

@@ -109,7 +109,7 @@ def test_every_engine_spectrum_is_documented():
     ("sixs", {"earth_sun_distance": -1.0}, "earth_sun_distance: must be > 0 AU"),
     ("sixs", {"water": float("nan")}, r"water: must lie in \[0, 10\]"),
     ("sixs", {"ozone": 350}, r"ozone: must lie in \[0, 1\] cm-atm"),
-    ("lowtran", {"water": 1.0}, "water: the lowtran engine does not take water"),
+    ("lowtran", {"aot550": 0.2}, "aot550: the lowtran engine does not take aot550"),
     ("lowtran", {"earth_sun_distance": 0.99}, "earth_sun_distance: LOWTRAN takes"),
     ("database", {"solar_spectrum": "6S"}, "solar_spectrum: the database engine uses radscene"),
     ("sixs", {"solar_spectrum": "kurucz"}, "solar_spectrum: unknown solar spectrum 'kurucz'"),

@@ -218,6 +218,65 @@ def test_sun_from_place_and_time(make):
     assert moved.runner is atm.runner
 
 
+def test_scaled_columns_run_the_model_as_a_user_atmosphere(make, decks):
+    """water/ozone: MODEL 7 at the model's 33 levels, pressure, temperature and the other gases
+    flagged as the model's (JCHAR 1-6), H2O/O3 in ppmv times column / model column; the model's
+    season and Earth radius given, since a user atmosphere has neither."""
+    from radscene.atmosphere.lowtran.profiles import model_columns
+
+    water, ozone = model_columns("midlatitude_winter")
+    atm = make(model="midlatitude_winter", water=2.0 * water)
+    atm.path(3000.0, 0.0, 0.0, WL)
+    deck = decks()[-1]
+    c1 = card(deck, 0, [5] * 13)
+    assert (int(c1[0]), int(c1[11])) == (7, 1)  # MODEL 7, IM 1
+    assert int(card(deck, 1, [5] * 2)[1]) == 2  # the winter model's season (ISEASN 2)
+    assert int(card(deck, 2, [5])[0]) == 33  # ML: the model's levels
+    first = deck[3]
+    z, p, t, h2o, co2, o3 = (float(x) for x in card([first], 0, [10] * 6))
+    assert (z, p, t, co2, o3) == (0.0, 1018.0, 272.2, 0.0, 0.0)
+    assert h2o == pytest.approx(2.0 * 4316.0, rel=1e-3)  # the model's 4316 ppmv at the ground, doubled
+    assert first[60:74] == "33A3" + "3" * 10  # P, T flagged; H2O in ppmv; the rest the model's
+    top = deck[3 + 32]
+    assert float(card([top], 0, [10])[0]) == 100.0
+    radius = float(card(deck, 3 + 33, [10] * 6)[5])
+    assert radius == pytest.approx(6371.23)
+    tropical = make(model="tropical", ozone=0.3)
+    tropical.path(3000.0, 0.0, 0.0, WL)
+    deck = decks()[-1]
+    assert deck[3][60:74] == "1111A" + "1" * 9 and int(card(deck, 1, [5] * 2)[1]) == 1
+    assert float(card(deck, 3 + 33, [10] * 6)[5]) == pytest.approx(6378.39)  # its own radius
+    assert float(card([deck[3]], 0, [10] * 6)[5]) == pytest.approx(
+        0.02869 * 0.3 / model_columns("tropical")[1], rel=1e-3)
+
+
+@pytest.mark.parametrize("params, key, match", [
+    ({"water": 0.0}, "atmosphere.water", r"must lie in \(0, 10\] g cm-2"),
+    ({"water": 12.0}, "atmosphere.water", r"must lie in \(0, 10\] g cm-2"),
+    ({"ozone": 300.0}, "atmosphere.ozone", r"must lie in \(0, 1\] cm-atm"),
+    ({"model": "user", "profile": {"altitude": [0, 1000], "pressure": [1000, 900],
+                                   "temperature": [290, 285]}, "water": 2.0},
+     "atmosphere.water", "a user profile gives its own water vapour"),
+])
+def test_scaled_columns_refused(make, params, key, match):
+    with pytest.raises(ConfigError, match=f"^{key}: {match}"):
+        make(**params)
+
+
+def test_model_columns_are_the_afgl_models_of_6s():
+    """The models' water-vapour columns, integrated from LOWTRAN's own profiles, against the
+    columns 6SV1.1 prints for the same McClatchey/AFGL models (sixs_runner.PROFILE_COLUMNS):
+    within 1 %."""
+    from radscene.atmosphere.lowtran.profiles import model_columns
+    from radscene.atmosphere.sixs_runner import PROFILE_COLUMNS
+
+    for model in ("tropical", "midlatitude_summer", "midlatitude_winter", "subarctic_summer",
+                  "subarctic_winter", "us_standard"):
+        water, ozone = model_columns(model)
+        assert water == pytest.approx(PROFILE_COLUMNS[model][0], rel=0.01), model
+        assert 0.27 < ozone < 0.38, model  # 277-377 DU
+
+
 def test_the_renderers_sun_is_lowtrans_own(make):
     """LOWTRAN takes the Earth–Sun distance from its day of the year alone (its orbit table,
     three digits): a sun given by its distance gets the nearest day, and the renderer's direct

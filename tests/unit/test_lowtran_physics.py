@@ -146,3 +146,43 @@ def test_a_skipped_lowtran_case_is_an_engine_error():
     case = LowtranCase(model=6, itype=2, h1=10.0, h2=5.0, angle=0.0, v1=10000.0, v2=10100.0)
     with pytest.raises(EngineError, match="'up to a lower target' failed.*ERROR IN INPUT DATA"):
         LowtranRunner(cache=False).run([case], ["up to a lower target"])
+
+
+@pytest.mark.parametrize("model", ["tropical", "midlatitude_winter", "us_standard"])
+def test_a_model_at_its_own_columns_is_the_model(cache, model):
+    """The scaled-column user atmosphere at the model's own columns is LOWTRAN's model to the
+    last digit (season, Earth radius and every flagged gas the model's): path, sun and sky,
+    water bands and the thermal infrared."""
+    from radscene.atmosphere.lowtran.profiles import model_columns
+
+    water, ozone = model_columns(model)
+    kw = dict(model=model, aerosol="rural", visibility=23.0, sun_zenith=30.0, sun_azimuth=0.0,
+              cache_dir=cache)
+    own, same = LowtranAtmosphere(**kw), LowtranAtmosphere(water=water, ozone=ozone, **kw)
+    wl = np.concatenate([np.linspace(0.9, 0.98, 9), np.linspace(8.0, 12.5, 10)])
+    a, b = own.path(3000.0, 0.0, 40.0, wl), same.path(3000.0, 0.0, 40.0, wl)
+    for name in ("transmittance", "thermal_radiance", "scattered_radiance"):
+        assert getattr(b, name) == pytest.approx(getattr(a, name), rel=1e-6, abs=1e-12), name
+    assert same.sun(0.0, 30.0, wl, np.ones(wl.size)).transmittance == pytest.approx(
+        own.sun(0.0, 30.0, wl, np.ones(wl.size)).transmittance, rel=1e-6)
+    geometry = SkyGeometry(0.0, 30.0, 0.0)
+    assert same.sky([20.0], [90.0], wl, geometry) == pytest.approx(
+        own.sky([20.0], [90.0], wl, geometry), rel=1e-6, abs=1e-12)
+
+
+def test_more_water_and_ozone_absorb_and_emit_more(cache):
+    from radscene.atmosphere.lowtran.profiles import model_columns
+
+    water, ozone = model_columns("us_standard")
+    kw = dict(model="us_standard", aerosol="none", cache_dir=cache)
+    wl = np.linspace(8.0, 12.5, 46)
+    path = {s: LowtranAtmosphere(water=s * water, **kw).path(5000.0, 0.0, 0.0, wl)
+            for s in (0.5, 1.0, 2.0)}
+    window = (wl > 10.5) & (wl < 12.0)  # the water-vapour continuum
+    tau = [path[s].transmittance[window].mean() for s in (0.5, 1.0, 2.0)]
+    emitted = [path[s].thermal_radiance[window].mean() for s in (0.5, 1.0, 2.0)]
+    assert tau[0] > tau[1] > tau[2] and emitted[0] < emitted[1] < emitted[2]
+    band = (wl > 9.4) & (wl < 9.9)  # the ozone band, seen from space
+    o3 = {s: LowtranAtmosphere(ozone=s * ozone, **kw).path(100000.0, 0.0, 0.0, wl)
+          for s in (1.0, 1.5)}
+    assert o3[1.5].transmittance[band].mean() < o3[1.0].transmittance[band].mean() - 0.01

@@ -117,7 +117,8 @@ def _make(engine, profile, aerosol, visibility, multiple_scattering, sun_zenith,
                                  albedo=albedo, ground_temperature=surface_temperature,
                                  sun_zenith=sz if sz < 90 else None,
                                  sun_azimuth=sa if sz < 90 else None, view_azimuth=view_azimuth,
-                                 day_of_year=settings["day_of_year"]), settings
+                                 day_of_year=settings["day_of_year"], water=settings["water"],
+                                 ozone=settings["ozone"]), settings
     if not multiple_scattering:
         raise ConfigError(f"the {name} engine always includes multiple scattering; "
                           "use engine lowtran to switch it off", key="multiple_scattering")

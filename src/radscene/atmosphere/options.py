@@ -198,11 +198,9 @@ def check_options(name, visibility, aot550, water, ozone, date, earth_sun_distan
         raise ConfigError(f"the {name} engine uses {' or '.join(spectra)}, not {spectrum}",
                           key="solar_spectrum")
     if name == "lowtran":
-        for key, value in (("aot550", aot), ("water", w), ("ozone", o3)):
-            if value is not None:
-                raise ConfigError(f"the lowtran engine does not take {key}: its aerosol is "
-                                  "set by visibility and its gases by the profile; use "
-                                  "engine sixs", key=key)
+        if aot is not None:
+            raise ConfigError("the lowtran engine does not take aot550: its aerosol is set by "
+                              "visibility; use engine sixs or database", key="aot550")
         if earth_sun_distance is not None:
             raise ConfigError("LOWTRAN takes the Earth-Sun distance from its day of year: "
                               "give date", key="earth_sun_distance")

@@ -16,6 +16,9 @@ name                        unit        default              meaning
                                                              subarctic_summer, subarctic_winter, us_standard,
                                                              or ``user`` (then ``profile``)
 ``profile``                 -           (none)               user atmosphere: see :func:`profile_levels`
+``water``                   g cm-2      (none)               the model's water-vapour column scaled to it,
+                                                             (0, 10] (:func:`scaled_model_levels`)
+``ozone``                   cm-atm      (none)               the model's ozone column scaled to it, (0, 1]
 ``aerosol``                 -           rural                none, rural, urban, maritime, navy_maritime,
                                                              tropospheric, desert, advective_fog,
                                                              radiative_fog
@@ -47,7 +50,9 @@ name                        unit        default              meaning
                                                              None: 90 deg from the sun (the azimuthal mean
                                                              of the scattering angle's cosine)
 ``day_of_year``             -           (none)               Earth-Sun distance of LOWTRAN's sun (IDAY);
-                                                             None: mean distance
+                                                             None: mean distance; ``with_sun`` with a
+                                                             distance: the nearest day of LOWTRAN's
+                                                             orbit table (:func:`day_for_distance`)
 ``time``, ``latitude``,     -, deg,     (none)               instead of ``sun_*``: the sun from the place
 ``longitude``               deg                              and time (NREL SPA), ``day_of_year`` too
 ``phase_function``          -           mie                  mie (LOWTRAN's tables) or henyey_greenstein
@@ -148,7 +153,7 @@ from radscene.atmosphere.lowtran.geometry import (
     observer_geometry,
     path_node_grid,
 )
-from radscene.atmosphere.lowtran.profiles import profile_levels
+from radscene.atmosphere.lowtran.profiles import profile_levels, scaled_model_levels
 from radscene.atmosphere.lowtran.runner import LowtranResult, LowtranRunner
 from radscene.errors import ConfigError, EngineError
 
@@ -261,6 +266,8 @@ class LowtranAtmosphere(Atmosphere):
         wind_speed_24h: float | None = None,
         air_mass_character: int | None = None,
         profile: dict | None = None,
+        water: float | None = None,
+        ozone: float | None = None,
         sun_zenith: float | None = None,
         sun_azimuth: float | None = None,
         view_azimuth: float | None = None,
@@ -297,6 +304,14 @@ class LowtranAtmosphere(Atmosphere):
                 raise ConfigError("a profile needs model: user", key=f"{k}.model")
             self._model_code = lookup(MODELS, model, f"{k}.model", "model atmosphere")
             self.levels = ()
+        #: Whether the levels are the model's own with its water-vapour or ozone column scaled.
+        self._scaled = water is not None or ozone is not None
+        if self._scaled:
+            if self._model_code == 7:
+                raise ConfigError("a user profile gives its own water vapour and ozone; water "
+                                  "and ozone scale a model atmosphere",
+                                  key=f"{k}.{'water' if water is not None else 'ozone'}")
+            self.levels = scaled_model_levels(model, water, ozone, key=k)
         self._ihaze = lookup(AEROSOLS, aerosol, f"{k}.aerosol", "aerosol model")
         if visibility is None:
             self._vis = 0.0
@@ -467,7 +482,13 @@ class LowtranAtmosphere(Atmosphere):
             iph=self._iph, g=self._g if self._iph == 0 else 0.0,
             v1=v1, v2=v2, dv=self.wavenumber_step,
         )
-        if self.levels:
+        if self._scaled:
+            # the model as a user atmosphere: LOWTRAN's defaults for a user atmosphere are those
+            # of no model, so its season and Earth radius are given as the model's
+            fields.update(model=7, im=1, levels=self.levels, title="radscene scaled columns",
+                          ro=self._earth_radius_km(),
+                          iseasn=self._iseasn or (2 if self._model_code in (3, 5) else 1))
+        elif self.levels:
             fields.update(im=1, levels=self.levels, title="radscene user profile")
         return fields
 

@@ -1,13 +1,36 @@
-"""User atmospheres for LOWTRAN (MODEL 7): profiles given as lists, into card 2C1 levels."""
+"""User atmospheres for LOWTRAN (MODEL 7): profiles given as lists, into card 2C1 levels, and
+LOWTRAN's own model atmospheres with their water-vapour and ozone columns scaled.
+
+LOWTRAN7 takes no column amounts: its gases are its model's profiles. A model with another
+water-vapour or ozone column is given to it as a user atmosphere at the model's 33 levels whose
+pressure, temperature and other gases are the model's own (card 2C1 JCHAR flags 1-6, which make
+LOWTRAN use its built-in values) and whose H2O or O3 mixing ratios are the model's times
+column / model column (:func:`scaled_model_levels`). The models' mixing ratios, pressures and
+temperatures are LOWTRAN's own (``radscene/data/atmosphere/lowtran7_profiles.csv``, from its
+block data MLATMB: McClatchey et al. 1972, AFCRL-72-0497, with the constituent profiles of
+Anderson et al. 1986, AFGL-TR-86-0110); their columns (:func:`model_columns`), integrated
+with the density exponential between levels, are the AFGL totals: water 4.12, 2.92, 0.85,
+2.08, 0.42, 1.42 g cm-2 and ozone 277, 332, 377, 345, 376, 343 DU for the tropical,
+midlatitude summer and winter, subarctic summer and winter and US standard models.
+"""
 
 from __future__ import annotations
+
+from functools import lru_cache
+from importlib import resources
 
 import numpy as np
 
 from radscene.atmosphere.lowtran.cards import MAX_LEVELS, MODELS, TOP_ALTITUDE, ProfileLevel, lookup
 from radscene.errors import ConfigError, did_you_mean
 
-__all__ = ["profile_levels"]
+__all__ = ["profile_levels", "model_columns", "scaled_model_levels"]
+
+_MODEL_FILE = "lowtran7_profiles.csv"
+_BOLTZMANN = 1.380649e-23  # [J K-1]
+_AVOGADRO = 6.02214076e23  # [mol-1]
+_LOSCHMIDT = 2.6867811e25  # [m-3] at 273.15 K and 1013.25 hPa
+_H2O_MOLAR_MASS = 18.015  # [g mol-1]
 
 #: Unit names of the H2O amounts → LOWTRAN JCHAR flags.
 H2O_UNITS = {"ppmv": "A", "cm-3": "B", "g/kg": "C", "g/m3": "D", "hpa": "E", "mb": "E",
@@ -79,4 +102,89 @@ def profile_levels(profile: dict, key: str = "atmosphere.profile") -> tuple[Prof
         ProfileLevel(z=float(z[i]), p=float(p[i]), t=float(t[i]),
                      wmol=(float(h2o[i]), 0.0, float(o3[i])) + (0.0,) * 9, jchar=jchar)
         for i in range(n)
+    )
+
+
+@lru_cache(maxsize=1)
+def _models() -> dict[str, np.ndarray]:
+    """LOWTRAN's model atmospheres: ``{name: (33, 5)}`` of altitude [km], pressure [mb],
+    temperature [K], H2O and O3 [ppmv]."""
+    text = (resources.files("radscene") / "data" / "atmosphere" / _MODEL_FILE).read_text(
+        encoding="utf-8")
+    rows: dict[str, list] = {}
+    for line in text.splitlines():
+        if line and not line.startswith(("#", "model,")):
+            name, *values = line.split(",")
+            rows.setdefault(name, []).append([float(v) for v in values])
+    return {name: np.array(values) for name, values in rows.items()}
+
+
+def _column(z_km, density):
+    """∫ density dz over the levels [density × m], the density exponential between levels
+    (linear where a level holds none)."""
+    dz = np.diff(z_km) * 1e3
+    lo, hi = density[:-1], density[1:]
+    both = (lo > 0) & (hi > 0) & (np.abs(lo - hi) > 1e-12 * np.maximum(lo, hi))
+    ratio = np.log(np.where(both, lo, 1.0) / np.where(both, hi, 1.0))
+    safe = np.where(both, ratio, 1.0)
+    return float(np.sum(np.where(both, (lo - hi) / safe, 0.5 * (lo + hi)) * dz))
+
+
+def model_columns(model) -> tuple[float, float]:
+    """The water-vapour [g cm-2] and ozone [cm-atm] columns of a LOWTRAN model atmosphere,
+    sea level to 100 km.
+
+    Examples
+    --------
+    >>> [round(v, 3) for v in model_columns("us_standard")]
+    [1.416, 0.343]
+    """
+    code = lookup(MODELS, model, "atmosphere.model", "model atmosphere")
+    if code not in range(1, 7):
+        raise ConfigError("the columns of a user profile are its own", key="atmosphere.model")
+    name = next(k for k, v in MODELS.items() if v == code and k in _models())
+    z, p, t, h2o, o3 = _models()[name].T
+    air = p * 100.0 / (_BOLTZMANN * t)  # [m-3]
+    water = _column(z, h2o * 1e-6 * air * _H2O_MOLAR_MASS / _AVOGADRO) / 1e4  # g m-2 -> g cm-2
+    ozone = _column(z, o3 * 1e-6 * air) / _LOSCHMIDT * 100.0  # atm-m -> atm-cm
+    return water, ozone
+
+
+def scaled_model_levels(model, water=None, ozone=None,
+                        key: str = "atmosphere") -> tuple[ProfileLevel, ...]:
+    """A LOWTRAN model atmosphere as a user atmosphere with its water-vapour and/or ozone column
+    scaled to ``water`` [g cm-2] and ``ozone`` [cm-atm] (None: the model's own).
+
+    Pressure, temperature and every gas not scaled are flagged as the model's (JCHAR 1-6), so
+    LOWTRAN takes its own values; a scaled gas is given in ppmv, the model's times the ratio of
+    the columns (:func:`model_columns`).
+    """
+    code = lookup(MODELS, model, f"{key}.model", "model atmosphere")
+    if code not in range(1, 7):
+        raise ConfigError("a user profile gives its own water vapour and ozone; water and "
+                          "ozone scale a model atmosphere", key=f"{key}.model")
+    name = next(k for k, v in MODELS.items() if v == code and k in _models())
+    z, p, t, h2o, o3 = _models()[name].T
+    own_water, own_ozone = model_columns(name)
+    flag = str(code)
+    factors = []
+    for gas, value, own, limit, unit in (("water", water, own_water, 10.0, "g cm-2"),
+                                         ("ozone", ozone, own_ozone, 1.0, "cm-atm")):
+        if value is None:
+            factors.append(None)
+            continue
+        v = float(value)
+        if not (np.isfinite(v) and 0.0 < v <= limit):
+            raise ConfigError(f"must lie in (0, {limit:g}] {unit}; got {value!r}",
+                              key=f"{key}.{gas}")
+        factors.append(v / own)
+    f_w, f_o = factors
+    jchar = flag * 2 + ("A" if f_w is not None else flag) + flag + (
+        "A" if f_o is not None else flag) + flag * 9
+    return tuple(
+        ProfileLevel(z=float(z[i]), p=float(p[i]), t=float(t[i]),
+                     wmol=(0.0 if f_w is None else float(h2o[i] * f_w), 0.0,
+                           0.0 if f_o is None else float(o3[i] * f_o)) + (0.0,) * 9,
+                     jchar=jchar)
+        for i in range(z.size)
     )
