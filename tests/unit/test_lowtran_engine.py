@@ -296,6 +296,10 @@ def test_the_renderers_sun_is_lowtrans_own(make):
     assert orbit_factor(far.day_of_year) * 1.0167**2 == pytest.approx(1.0, abs=5e-4)
     dated = atm.with_sun(30.0, 180.0, day_of_year=182, earth_sun_distance=1.0167)
     assert dated.day_of_year == 182 and dated.earth_sun_distance == pytest.approx(0.967 ** -0.5)
+    # an engine's own day (given, or from its time) outlives a copy set up by distance alone
+    assert make(day_of_year=91).with_sun(30.0, 180.0, earth_sun_distance=1.0).day_of_year == 91
+    timed = make(time=dt.datetime(2021, 1, 3, 10, 0, tzinfo=dt.UTC), latitude=48.0, longitude=11.0)
+    assert timed.with_sun(60.0, 90.0, earth_sun_distance=1.0).day_of_year == 3
     wl = np.array([0.45, 2.2])
     sun = SimpleNamespace(distance=0.9833, zenith=30.0, azimuth=180.0)
     assert sun_toa(near, sun, wl) == pytest.approx(

@@ -437,17 +437,18 @@ class LowtranAtmosphere(Atmosphere):
         view_azimuth : float, optional
             Azimuth from target towards observer [deg]; None keeps this engine's.
         earth_sun_distance : float, optional
-            [AU]; without ``day_of_year``, the day whose LOWTRAN orbit factor is nearest
-            1/d² (:func:`day_for_distance`; LOWTRAN takes the distance from the day alone).
+            [AU]; without ``day_of_year`` and without a day of this engine's own (given, or
+            from its time), the day whose LOWTRAN orbit factor is nearest 1/d²
+            (:func:`day_for_distance`; LOWTRAN takes the distance from the day alone).
         """
         params = dict(self._params)
         params.update(sun_zenith=sun_zenith, sun_azimuth=sun_azimuth, time=None,
                       latitude=None, longitude=None)
+        if day_of_year is None:
+            day_of_year = self.day_of_year
         if day_of_year is None and earth_sun_distance is not None:
             day_of_year = day_for_distance(earth_sun_distance)
-            params["day_of_year"] = day_of_year
-        if day_of_year is not None:
-            params["day_of_year"] = day_of_year
+        params["day_of_year"] = day_of_year
         if view_azimuth is not None:
             params["view_azimuth"] = view_azimuth
         new = type(self)(**params)
