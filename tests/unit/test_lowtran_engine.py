@@ -254,6 +254,7 @@ def test_scaled_columns_run_the_model_as_a_user_atmosphere(make, decks):
     ({"water": 0.0}, "atmosphere.water", r"must lie in \(0, 10\] g cm-2"),
     ({"water": 12.0}, "atmosphere.water", r"must lie in \(0, 10\] g cm-2"),
     ({"ozone": 300.0}, "atmosphere.ozone", r"must lie in \(0, 1\] cm-atm"),
+    ({"water": "lots"}, "atmosphere.water", "a number in g cm-2; got 'lots'"),
     ({"model": "user", "profile": {"altitude": [0, 1000], "pressure": [1000, 900],
                                    "temperature": [290, 285]}, "water": 2.0},
      "atmosphere.water", "a user profile gives its own water vapour"),

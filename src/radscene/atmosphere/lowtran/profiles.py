@@ -8,10 +8,11 @@ LOWTRAN use its built-in values) and whose H2O or O3 mixing ratios are the model
 column / model column (:func:`scaled_model_levels`). The models' mixing ratios, pressures and
 temperatures are LOWTRAN's own (``radscene/data/atmosphere/lowtran7_profiles.csv``, from its
 block data MLATMB: McClatchey et al. 1972, AFCRL-72-0497, with the constituent profiles of
-Anderson et al. 1986, AFGL-TR-86-0110); their columns (:func:`model_columns`), integrated
-with the density exponential between levels, are the AFGL totals: water 4.12, 2.92, 0.85,
-2.08, 0.42, 1.42 g cm-2 and ozone 277, 332, 377, 345, 376, 343 DU for the tropical,
-midlatitude summer and winter, subarctic summer and winter and US standard models.
+Anderson et al. 1986, AFGL-TR-86-0110). Their columns (:func:`model_columns`), integrated
+with the density exponential between levels: water 4.115, 2.922, 0.852, 2.081, 0.416,
+1.416 g cm-2 and ozone 0.277, 0.332, 0.377, 0.345, 0.376, 0.343 cm-atm for the tropical,
+midlatitude summer and winter, subarctic summer and winter and US standard models (6SV1.1
+prints water 4.12, 2.93, 0.853, 2.10, 0.419, 1.42 g cm-2 for its versions of them).
 """
 
 from __future__ import annotations
@@ -173,7 +174,10 @@ def scaled_model_levels(model, water=None, ozone=None,
         if value is None:
             factors.append(None)
             continue
-        v = float(value)
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            raise ConfigError(f"a number in {unit}; got {value!r}", key=f"{key}.{gas}") from None
         if not (np.isfinite(v) and 0.0 < v <= limit):
             raise ConfigError(f"must lie in (0, {limit:g}] {unit}; got {value!r}",
                               key=f"{key}.{gas}")
