@@ -18,7 +18,8 @@ name                        unit        default              meaning
 ``profile``                 -           (none)               user atmosphere: see :func:`profile_levels`
 ``water``                   g cm-2      (none)               the model's water-vapour column scaled to it,
                                                              (0, 10] (:func:`scaled_model_levels`)
-``ozone``                   cm-atm      (none)               the model's ozone column scaled to it, (0, 1]
+``ozone``                   cm-atm      (none)               the model's ozone column scaled to it, (0, 1];
+                                                             with either: no ground_altitude, cloud, rain
 ``aerosol``                 -           rural                none, rural, urban, maritime, navy_maritime,
                                                              tropospheric, desert, advective_fog,
                                                              radiative_fog
@@ -346,6 +347,16 @@ class LowtranAtmosphere(Atmosphere):
         self.albedo = _number(albedo, f"{k}.albedo", 0.0, 1.0)
         self.ground_altitude = _number(ground_altitude, f"{k}.ground_altitude", 0.0, 6000.0,
                                        high_open=True, unit="m")
+        if self._scaled:
+            # LOWTRAN places a model's levels on a raised ground (GNDALT) and its clouds and rain
+            # on their own levels, but not a user atmosphere's: there the scaled model would not
+            # be the model
+            for name, given in (("ground_altitude", self.ground_altitude > 0.0),
+                                ("cloud", self._icld != 0), ("rain_rate", self._rainrt > 0.0)):
+                if given:
+                    raise ConfigError(f"water and ozone scale a model at sea level without "
+                                      f"clouds or rain; remove {name} or the columns",
+                                      key=f"{k}.{name}")
         bottom = self.levels[0].z * 1e3 if self.levels else 0.0
         #: Lowest altitude a path may reach [m].
         self.bottom_altitude = max(self.ground_altitude, bottom)
