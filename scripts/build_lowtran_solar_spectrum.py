@@ -16,28 +16,22 @@ Run from the repository root (needs ``make lowtran``):
 from __future__ import annotations
 
 import os
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from radscene.atmosphere.lowtran.cards import LowtranCase
+from radscene.atmosphere.lowtran.runner import run_case
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "src" / "radscene" / "data" / "solar" / "lowtran7_5cm1.csv"
 V1, V2, DV = 500.0, 40000.0, 5.0
 
-# card 1: MODEL 6 ITYPE 3 IEMSCT 3 IMULT 0, M1-M6 0, MDEF 0, IM 0, NOPRT 1, TBOUND 0, SALB 0
-# card 2: IHAZE 0 (no aerosol: only SOLIL is read), VIS 0
-# card 3 (IEMSCT 3): H1 0, H2 0, ANGLE 0 (sun at the zenith), IDAY 0, RO 0, ISOURC 0, ANGLEM 0
-# card 4: V1 V2 DV; card 5: IRPT 0
-DECK = (
-    f"{6:5d}{3:5d}{3:5d}{0:5d}" + f"{0:5d}" * 8 + f"{1:5d}" + f"{0.0:8.3f}{0.0:7.2f}\n"
-    + f"{0:5d}" * 6 + f"{0.0:10.3f}" * 5 + "\n"
-    + f"{0.0:10.3f}{0.0:10.3f}{0.0:10.3f}{0:5d}" + " " * 5 + f"{0.0:10.3f}{0:5d}{0.0:10.3f}\n"
-    + f"{V1:10.1f}{V2:10.1f}{DV:10.1f}\n"
-    + f"{0:5d}\n"
-)
+#: US standard model, from the ground with the sun at the zenith, no aerosol (only SOLIL is
+#: read), IDAY 0 (the mean Earth-Sun distance).
+CASE = LowtranCase(model=6, itype=3, iemsct=3, noprt=1, ihaze=0, h1=0.0, h2=0.0, angle=0.0,
+                   iday=0, v1=V1, v2=V2, dv=DV)
 
 HEADER = """\
 # LOWTRAN7 extraterrestrial solar spectrum (SOLIL), 0.25-20 um, LOWTRAN's 5 cm-1 sampling
@@ -54,21 +48,9 @@ wavelength_um,irradiance_w_m2_um
 
 
 def main() -> int:
-    executable = Path(sys.argv[1] if len(sys.argv) > 1 else os.environ.get(
-        "RADSCENE_LOWTRAN", ROOT / "build" / "lowtran" / "radscene-lowtran7"))
-    with tempfile.TemporaryDirectory(prefix="lowtran-sun-") as tmp:
-        work = Path(tmp)
-        (work / "out").mkdir()
-        for tape in ("TAPE6", "TAPE7", "TAPE8"):
-            (work / "out" / tape).touch()
-        (work / "TAPE5").write_text(DECK)
-        subprocess.run([str(executable)], cwd=work, capture_output=True, timeout=600,
-                       stdin=subprocess.DEVNULL, check=False)
-        rows = (work / "radscene.out").read_text().splitlines()
-    if not rows or rows[-1].strip() != "# end":
-        raise SystemExit("LOWTRAN stopped before the end of its run")
-    data = np.array([[float(x) for x in r.split()] for r in rows[1:-1]])
-    wavenumber, toa = data[:, 0], data[:, 5] * 1e4
+    executable = sys.argv[1] if len(sys.argv) > 1 else os.environ.get("RADSCENE_LOWTRAN")
+    result = run_case(CASE, "lowtran7-solar-spectrum", executable=executable, cache=False)
+    wavenumber, toa = result.wavenumber, result.toa_irradiance
     expected = np.arange(V1, V2 + DV / 2, DV)
     if wavenumber.shape != expected.shape or np.max(np.abs(wavenumber - expected)) > 1e-6:
         raise SystemExit(f"unexpected wavenumber grid: {wavenumber[:3]} ... ({wavenumber.size})")
