@@ -68,10 +68,19 @@ def test_default_configuration_is_valid_and_complete():
     ({"wavelength": {"dry_reference": "yes"}}, "wavelength.dry_reference: true or false"),
     ({"strategy": "quick"}, "reduced or full"),
     ({"thermal": {"engine": "modtran"}}, "none, lowtran or auto"),
+    ({"thermal": {"water_scales": [0.5, 0.2]}}, r"thermal.water_scales: an increasing list"),
+    ({"thermal": {"ozone_scales": [0.0, 2.0]}}, r"thermal.ozone_scales: an increasing list"),
+    ({"thermal": {"water_scales": "wet"}}, r"thermal.water_scales"),
 ])
 def test_bad_configurations_name_the_key(config, match):
     with pytest.raises(ConfigError, match=match):
         load_config(config)
+
+
+def test_thermal_column_nodes_leave_the_main_tables_to_themselves():
+    cfg = load_config({"thermal": {"water_scales": [0.5, 1.0, 2.0], "ozone_scales": [0.5]}})
+    assert cfg["thermal"]["water_scales"] == [0.5, 2.0]  # 1: the main tables
+    assert cfg["thermal"]["ozone_scales"] == [0.5, 1.0]  # the ozone tables' own reference
 
 
 def test_configuration_from_yaml(tmp_path):

@@ -251,9 +251,9 @@ def test_scaled_columns_run_the_model_as_a_user_atmosphere(make, decks):
 
 
 @pytest.mark.parametrize("params, key, match", [
-    ({"water": 0.0}, "atmosphere.water", r"must lie in \(0, 10\] g cm-2"),
-    ({"water": 12.0}, "atmosphere.water", r"must lie in \(0, 10\] g cm-2"),
-    ({"ozone": 300.0}, "atmosphere.ozone", r"must lie in \(0, 1\] cm-atm"),
+    ({"water": 0.0}, "atmosphere.water", r"must lie in \(0, 15\] g cm-2"),
+    ({"water": 16.0}, "atmosphere.water", r"must lie in \(0, 15\] g cm-2"),
+    ({"ozone": 300.0}, "atmosphere.ozone", r"must lie in \(0, 1.5\] cm-atm"),
     ({"water": "lots"}, "atmosphere.water", "a number in g cm-2; got 'lots'"),
     ({"water": 2.0, "ground_altitude": 1500.0}, "atmosphere.ground_altitude",
      "water and ozone scale a model at sea level without clouds or rain"),

@@ -212,7 +212,11 @@ def test_out_of_range_inputs_say_the_range(params, match):
         DatabaseAtmosphere(**params)
 
 
-def test_scaled_columns_are_refused_in_the_thermal_range():
-    atm = DatabaseAtmosphere(profile="us_standard", water=2.0, sun_zenith=30.0)
-    with pytest.raises(ConfigError, match="scales the water-vapour and ozone columns up to"):
+def test_columns_beyond_the_thermal_tables_are_refused_there_only():
+    """The thermal tables scale LOWTRAN's columns within their nodes (0.01-3 times); a drier
+    column renders in the reflective range and is refused beyond it, naming the range."""
+    atm = DatabaseAtmosphere(profile="us_standard", water=0.0, sun_zenith=30.0)
+    assert np.all(np.isfinite(atm.path(1e5, 0.0, 0.0, [0.55, 2.2]).radiance))
+    with pytest.raises(ConfigError, match=r"atmosphere.water: 0 g cm-2 is outside the thermal "
+                                          r"tables' 0.0142-4.25 g cm-2"):
         atm.path(1e5, 0.0, 0.0, [10.0])

@@ -28,8 +28,11 @@
 4. optionally the **thermal** tables with any emitting engine that implements
    :class:`~radscene.atmosphere.base.Atmosphere` (``thermal.engine: lowtran``): transmittance
    and path thermal radiance over (surface altitude, observer height, view zenith) and the
-   thermal sky over (surface altitude, sky zenith) — through ``path`` and ``sky`` only, so any
-   engine will do.
+   thermal sky and the sky's transmittance to space over (surface altitude, sky zenith) —
+   through ``path`` and ``sky`` only, so any engine will do; the same for every condition at
+   ``thermal.water_scales`` times LOWTRAN's water-vapour column of the profile, and aerosol-free
+   at ``thermal.ozone_scales`` times its ozone column (the water-vapour tables stored in 12-bit
+   steps of their range, a condition to a chunk).
 
 The file records its provenance: the configuration, engine versions, run counts, build time.
 
@@ -54,7 +57,9 @@ Configuration (YAML or dict; every key optional)::
                  dry_reference: true,
                  backbone: [[0.4, 1.0, 0.02], [1.0, 2.5, 0.05], [2.5, 4.0, 0.1]]}  # [a, b, step]
     strategy: reduced
-    thermal: {engine: auto, wavelength: {min: 3, max: 20, step: 20}}  # um, um, cm-1
+    thermal: {engine: auto, wavelength: {min: 3, max: 20, step: 20},  # um, um, cm-1
+              water_scales: [0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 1.5, 2, 3],  # 1: main tables
+              ozone_scales: [0.01, 0.1, 0.25, 0.5, 1, 1.5, 2, 3]}
                                                  # auto: lowtran where it is built; none
     workers: null                                # parallel 6S runs (default: CPUs)
     cache: false                                 # 6S result cache folder (false: memory only)
@@ -64,6 +69,7 @@ from __future__ import annotations
 
 import datetime as _dt
 import json
+import os
 import time
 from pathlib import Path
 
@@ -86,6 +92,10 @@ __all__ = ["DEFAULT_CONFIG", "build_database", "load_config", "adaptive_grid"]
 
 _MONTH, _DAY = 4, 5
 _TOP = model.TOP_OF_ATMOSPHERE
+#: Scale factors of LOWTRAN's water-vapour and ozone columns at which the thermal tables are
+#: also built (1, the profile's own, is the main tables; the ozone tables hold it too).
+THERMAL_WATER_SCALES = (0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 1.5, 2.0, 3.0)
+THERMAL_OZONE_SCALES = (0.01, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0)
 
 #: The configuration of the database shipped with radscene.
 DEFAULT_CONFIG: dict = {
@@ -138,7 +148,9 @@ DEFAULT_CONFIG: dict = {
                    "dry_reference": True,
                    "backbone": [[0.3, 1.0, 0.02], [1.0, 2.5, 0.05], [2.5, 4.0, 0.1]]},
     "strategy": "reduced",
-    "thermal": {"engine": "auto", "wavelength": {"min": 3.0, "max": 20.0, "step": 20.0}},
+    "thermal": {"engine": "auto", "wavelength": {"min": 3.0, "max": 20.0, "step": 20.0},
+                "water_scales": list(THERMAL_WATER_SCALES),
+                "ozone_scales": list(THERMAL_OZONE_SCALES)},
     "workers": None,
     "cache": False,
 }
@@ -178,7 +190,7 @@ def load_config(config) -> dict:
         if isinstance(value, dict) and isinstance(cfg.get(key), dict):
             bad = set(value) - set(cfg[key]) - ({"step"} if key in ("thermal",) else set())
             if key == "thermal":
-                bad -= {"engine", "wavelength", "parameters"}
+                bad -= {"engine", "wavelength", "parameters", "water_scales", "ozone_scales"}
             if bad:
                 raise ConfigError(f"unknown keys {sorted(bad)}", key=key)
             cfg[key].update(value)
@@ -253,6 +265,8 @@ def load_config(config) -> dict:
     if str(t.get("engine", "none")).lower() not in ("none", "lowtran", "auto"):
         raise ConfigError("none, lowtran or auto (lowtran where it is built)",
                           key="thermal.engine")
+    t["water_scales"] = _scale_nodes(t.get("water_scales", []), "thermal.water_scales", False)
+    t["ozone_scales"] = _scale_nodes(t.get("ozone_scales", [1.0]), "thermal.ozone_scales", True)
     return cfg
 
 
@@ -869,17 +883,58 @@ def _shape(f, axis, ndim):
     return np.asarray(f).reshape(shape)
 
 
-def _thermal(cfg, progress):
-    """Thermal tables from an emitting engine, through the Atmosphere interface only."""
+def _scale_nodes(value, key, with_one):
+    """An increasing list of column scale factors within (0, 10]; 1 added or removed."""
+    try:
+        a = np.atleast_1d(np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        a = np.array([np.nan])
+    if a.ndim != 1 or not np.all(np.isfinite(a)) or np.any(a <= 0) or np.any(a > 10) or np.any(
+            np.diff(a) <= 0):
+        raise ConfigError(f"an increasing list of scale factors within (0, 10]; got {value!r}",
+                          key=key)
+    nodes = set(a.tolist()) | {1.0} if with_one else set(a.tolist()) - {1.0}
+    return sorted(nodes)
+
+
+def _thermal_job(prof, aerosol, visibility, water, ozone, grid, params):
+    """One LOWTRAN condition through the Atmosphere interface: (τ, L) over (λ, surface
+    altitude, observer height, view zenith) and the sky's (L, τ) over (λ, surface altitude, sky
+    zenith)."""
     from radscene.atmosphere.base import SkyGeometry
+    from radscene.atmosphere.lowtran import LowtranAtmosphere
+
+    wl, hs, obs, zv, sky_z = grid
+    engine = LowtranAtmosphere(model=prof, aerosol=aerosol, visibility=visibility,
+                               water=water, ozone=ozone, **params)
+    n_x = len(obs) + 2
+    tau, rad = np.ones((wl.size, len(hs), n_x, len(zv))), np.zeros((wl.size, len(hs), n_x, len(zv)))
+    sky, sky_tau = np.zeros((wl.size, len(hs), sky_z.size)), np.ones((wl.size, len(hs), sky_z.size))
+    for ih, h in enumerate(hs):
+        for ix, dh in enumerate(list(obs) + [_TOP], start=1):
+            top = _TOP if dh >= _TOP else h + dh
+            p = engine.path(np.full(len(zv), top), h, np.asarray(zv), wl)
+            tau[:, ih, ix, :] = p.transmittance.T
+            rad[:, ih, ix, :] = p.thermal_radiance.T
+        sky[:, ih, :] = engine.sky(sky_z, np.zeros_like(sky_z), wl, SkyGeometry(h, 180.0, 0.0)).T
+        sky_tau[:, ih, :] = engine.path(np.full(sky_z.size, _TOP), h, sky_z, wl).transmittance.T
+    return tau, rad, sky, sky_tau
+
+
+def _thermal(cfg, progress):
+    """Thermal tables from an emitting engine, through the Atmosphere interface only: each
+    condition at the profile's own columns, at :data:`THERMAL_WATER_SCALES` of its water-vapour
+    column, and (aerosol-free) at :data:`THERMAL_OZONE_SCALES` of its ozone column."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from radscene.atmosphere.lowtran import LowtranAtmosphere
+    from radscene.atmosphere.lowtran.profiles import model_columns
 
     t = cfg["thermal"]
     engine_name = str(t.get("engine", "none")).lower()
     if engine_name == "none":
         return None
     try:
-        from radscene.atmosphere.lowtran import LowtranAtmosphere
-
         LowtranAtmosphere(cache=False).path(1000.0, 0.0, 0.0, np.array([10.0]))
     except Exception as err:  # not built, or no such engine
         if engine_name == "auto":
@@ -895,35 +950,89 @@ def _thermal(cfg, progress):
     g = cfg["grid"]
     hs, obs, zv = g["surface_altitude"], g["observer_height"], g["view_zenith"]
     sky_z = np.array([0.0, 30.0, 50.0, 65.0, 75.0, 85.0, 89.0])
-    n_x = len(obs) + 2
-    shape = (len(cfg["profiles"]), len(cfg["_conditions"]), wl.size, len(hs), n_x, len(zv))
-    tau, rad = np.ones(shape), np.zeros(shape)
-    sky = np.zeros((len(cfg["profiles"]), len(cfg["_conditions"]), wl.size, len(hs), sky_z.size))
+    grid = (wl, hs, obs, zv, sky_z)
+    water_nodes, ozone_nodes = t["water_scales"], t["ozone_scales"]
+    profiles, conds = cfg["profiles"], cfg["_conditions"]
+    n_p, n_a = len(profiles), len(conds)
+    path_shape, sky_shape = (wl.size, len(hs), len(obs) + 2, len(zv)), (wl.size, len(hs), sky_z.size)
+
+    def arrays(*lead):
+        return (np.ones(lead + path_shape), np.zeros(lead + path_shape),
+                np.zeros(lead + sky_shape), np.ones(lead + sky_shape))
+
+    main, water, ozone = arrays(n_p, n_a), arrays(n_p, n_a, len(water_nodes)), arrays(
+        n_p, len(ozone_nodes))
+    columns = np.zeros((n_p, 2))  # profile none: no gas
     params = dict(t.get("parameters") or {})
-    total = len(cfg["profiles"]) * len(cfg["_conditions"])
-    done = 0
-    for ip, prof in enumerate(cfg["profiles"]):
-        for ia, cond in enumerate(cfg["_conditions"]):
-            if prof == "none":  # no gas: nothing absorbs or emits but the aerosol, dropped
-                done += 1
-                progress("thermal", done, total)
-                continue
-            engine = LowtranAtmosphere(model=prof, aerosol=cond["aerosol"],
-                                       visibility=cond.get("thermal_visibility") or None,
-                                       **params)
-            for ih, h in enumerate(hs):
-                for ix, dh in enumerate([None] + list(obs) + [_TOP]):
-                    if dh is None:
-                        continue
-                    top = _TOP if dh >= _TOP else h + dh
-                    p = engine.path(np.full(len(zv), top), h, np.asarray(zv), wl)
-                    tau[ip, ia, :, ih, ix, :] = p.transmittance.T
-                    rad[ip, ia, :, ih, ix, :] = p.thermal_radiance.T
-                s = engine.sky(sky_z, np.zeros_like(sky_z), wl, SkyGeometry(h, 180.0, 0.0))
-                sky[ip, ia, :, ih, :] = s.T
-            done += 1
+    jobs = []  # (target, index, profile, aerosol, visibility, water, ozone)
+    for ip, prof in enumerate(profiles):
+        if prof == "none":  # no gas: nothing absorbs or emits but the aerosol, dropped
+            continue
+        columns[ip] = model_columns(prof)
+        for ia, cond in enumerate(conds):
+            vis = cond.get("thermal_visibility") or None
+            jobs.append((main, (ip, ia), prof, cond["aerosol"], vis, None, None))
+            jobs += [(water, (ip, ia, k), prof, cond["aerosol"], vis, f * columns[ip, 0], None)
+                     for k, f in enumerate(water_nodes)]
+        jobs += [(ozone, (ip, k), prof, "none", None, None,
+                  None if f == 1.0 else f * columns[ip, 1]) for k, f in enumerate(ozone_nodes)]
+    total = len(jobs)
+    progress("thermal", 0, total)
+    with ThreadPoolExecutor(max_workers=int(cfg.get("workers") or os.cpu_count() or 1)) as pool:
+        futures = [(job, pool.submit(_thermal_job, *job[2:], grid, params)) for job in jobs]
+        for done, (job, fut) in enumerate(futures, start=1):
+            for target, value in zip(job[0], fut.result(), strict=True):
+                target[job[1]] = value
             progress("thermal", done, total)
-    return wl, sky_z, tau, rad, sky, {"engine": "lowtran", "parameters": json.dumps(params)}
+    return {"wavelength": wl, "sky_zenith": sky_z, "main": main, "water": water,
+            "ozone": ozone, "water_scale": np.asarray(water_nodes),
+            "ozone_scale": np.asarray(ozone_nodes), "columns": columns,
+            "provenance": {"engine": "lowtran", "parameters": json.dumps(params)}}
+
+
+def _thermal_tables(thermal, data, coords):
+    """The thermal tables' variables and coordinates (:func:`_thermal`'s result)."""
+    coords["thermal_wavelength"] = ("thermal_wavelength", thermal["wavelength"], {"units": "um"})
+    coords["sky_zenith"] = ("sky_zenith", thermal["sky_zenith"], {"units": "deg"})
+    coords["water_scale"] = ("water_scale", thermal["water_scale"],
+                             {"units": "1", "long_name": "LOWTRAN water-vapour column over the "
+                              "profile's (thermal_water_ tables; 1: the main tables)"})
+    coords["ozone_scale"] = ("ozone_scale", thermal["ozone_scale"],
+                             {"units": "1", "long_name": "LOWTRAN ozone column over the "
+                              "profile's (thermal_ozone_ tables, aerosol-free)"})
+    coords["absorber"] = ("absorber", np.array(["water", "ozone"], dtype=object))
+    path = ("thermal_wavelength", "surface_altitude", "observer_height", "view_zenith")
+    sky = ("thermal_wavelength", "surface_altitude", "sky_zenith")
+    what = (("transmittance", path, "path transmittance", "1"),
+            ("path_radiance", path, "path thermal radiance", "W m-2 sr-1 um-1"),
+            ("sky_radiance", sky, "sky thermal radiance", "W m-2 sr-1 um-1"),
+            ("sky_transmittance", sky, "transmittance from the surface to space along the sky "
+             "zenith", "1"))
+    for prefix, lead, tables, note in (
+            ("thermal_", ("profile", "aerosol"), thermal["main"], " (thermal tables)"),
+            ("thermal_water_", ("profile", "aerosol", "water_scale"), thermal["water"],
+             " at the water_scale nodes"),
+            ("thermal_ozone_", ("profile", "ozone_scale"), thermal["ozone"],
+             " at the ozone_scale nodes, aerosol-free")):
+        for (name, dims, long_name, units), values in zip(what, tables, strict=True):
+            data[prefix + name] = (lead + dims, values, long_name + note, units)
+    data["thermal_profile_column"] = (("profile", "absorber"), thermal["columns"],
+                                      "LOWTRAN's water-vapour [g cm-2] and ozone [cm-atm] "
+                                      "columns of the profile, sea level to 100 km", "")
+
+
+def _pack(ds, names):
+    """Store ``names`` as integers in steps of 1/4094 of their largest value (CF packing, 12
+    bits in 16): 2.4e-4 in a transmittance, 0.03 % of a 300 K blackbody's radiance, far below
+    the tables' interpolation error, at 0.4 times the size of 32-bit floats; a condition's
+    tables in one chunk, as :func:`radscene.atmosphere.database.water_tables` reads them."""
+    for name in names:
+        step = max(float(ds[name].max()), 1e-30) / 4094.0
+        ds[name] = ds[name].copy(data=np.round(ds[name].values / step) * step)
+        ds[name].encoding.update({"dtype": "uint16", "scale_factor": step, "add_offset": 0.0,
+                                  "_FillValue": np.uint16(65535)})
+        if ds[name].dims[:2] == ("profile", "aerosol"):  # read a condition at a time
+            ds[name].encoding["chunksizes"] = (1, 1) + ds[name].shape[2:]
 
 
 def build_database(config=None, progress=None) -> xr.Dataset:
@@ -1037,16 +1146,7 @@ def build_database(config=None, progress=None) -> xr.Dataset:
     }
     thermal = _thermal(cfg, b.progress)
     if thermal is not None:
-        twl, sky_z, tau, rad, sky, prov = thermal
-        coords["thermal_wavelength"] = ("thermal_wavelength", twl, {"units": "um"})
-        coords["sky_zenith"] = ("sky_zenith", sky_z, {"units": "deg"})
-        dt = ("profile", "aerosol", "thermal_wavelength", "surface_altitude", "observer_height",
-              "view_zenith")
-        data["thermal_transmittance"] = (dt, tau, "path transmittance (thermal tables)", "1")
-        data["thermal_path_radiance"] = (dt, rad, "thermal path radiance", "W m-2 sr-1 um-1")
-        data["thermal_sky_radiance"] = (("profile", "aerosol", "thermal_wavelength",
-                                         "surface_altitude", "sky_zenith"), sky,
-                                        "thermal sky radiance", "W m-2 sr-1 um-1")
+        _thermal_tables(thermal, data, coords)
     ds = xr.Dataset(
         {k: (d, v, {"long_name": ln, "units": u} if u else {"long_name": ln})
          for k, (d, v, ln, u) in data.items()},
@@ -1078,7 +1178,8 @@ def build_database(config=None, progress=None) -> xr.Dataset:
         "references": "Vermote et al. 1997, doi:10.1109/36.581987",
     })
     if thermal is not None:
-        ds.attrs["thermal_provenance"] = json.dumps(thermal[-1])
+        ds.attrs["thermal_provenance"] = json.dumps(thermal["provenance"])
+        _pack(ds, [k for k in ds.data_vars if k.startswith("thermal_water_")])
     bad = [name for name, v in ds.data_vars.items()
            if v.dtype.kind == "f" and not np.all(np.isfinite(v.values))]
     bad += [name for name in ("rho_mixture", "rho_rayleigh", "total_down", "total_up",

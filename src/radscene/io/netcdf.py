@@ -19,7 +19,11 @@ def _encoding(ds: xr.Dataset, compress: bool) -> dict:
     enc = {}
     for name, var in ds.data_vars.items():
         e = {k: var.encoding[k] for k in ("grid_mapping",) if k in var.encoding}
-        if var.dtype.kind == "f" and var.ndim >= 2:
+        if "scale_factor" in var.encoding:  # packed (CF): kept as the variable asks
+            e.update({k: var.encoding[k] for k in ("dtype", "scale_factor", "add_offset",
+                                                    "_FillValue", "chunksizes")
+                      if k in var.encoding})
+        elif var.dtype.kind == "f" and var.ndim >= 2:
             e["dtype"] = "float32"
         if compress and var.ndim >= 2:
             e.update({"compression": "gzip", "compression_opts": 1, "shuffle": True})

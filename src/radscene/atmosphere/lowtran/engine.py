@@ -17,8 +17,8 @@ name                        unit        default              meaning
                                                              or ``user`` (then ``profile``)
 ``profile``                 -           (none)               user atmosphere: see :func:`profile_levels`
 ``water``                   g cm-2      (none)               the model's water-vapour column scaled to it,
-                                                             (0, 10] (:func:`scaled_model_levels`)
-``ozone``                   cm-atm      (none)               the model's ozone column scaled to it, (0, 1];
+                                                             (0, 15] (:func:`scaled_model_levels`)
+``ozone``                   cm-atm      (none)               the model's ozone column scaled to it, (0, 1.5];
                                                              with either: no ground_altitude, cloud, rain
 ``aerosol``                 -           rural                none, rural, urban, maritime, navy_maritime,
                                                              tropospheric, desert, advective_fog,

@@ -169,8 +169,8 @@ def scaled_model_levels(model, water=None, ozone=None,
     own_water, own_ozone = model_columns(name)
     flag = str(code)
     factors = []
-    for gas, value, own, limit, unit in (("water", water, own_water, 10.0, "g cm-2"),
-                                         ("ozone", ozone, own_ozone, 1.0, "cm-atm")):
+    for gas, value, own, limit, unit in (("water", water, own_water, 15.0, "g cm-2"),
+                                         ("ozone", ozone, own_ozone, 1.5, "cm-atm")):
         if value is None:
             factors.append(None)
             continue
