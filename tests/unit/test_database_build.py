@@ -71,6 +71,10 @@ def test_default_configuration_is_valid_and_complete():
     ({"thermal": {"water_scales": [0.5, 0.2]}}, r"thermal.water_scales: an increasing list"),
     ({"thermal": {"ozone_scales": [0.0, 2.0]}}, r"thermal.ozone_scales: an increasing list"),
     ({"thermal": {"water_scales": "wet"}}, r"thermal.water_scales"),
+    ({"thermal": {"water_scales": [5.0]}}, r"thermal.water_scales: 5 times the tropical "
+                                           r"profile's 4.11 g cm-2 is beyond the lowtran "
+                                           r"engine's 15 g cm-2"),
+    ({"thermal": {"ozone_scales": [4.5]}}, r"thermal.ozone_scales: 4.5 times"),
 ])
 def test_bad_configurations_name_the_key(config, match):
     with pytest.raises(ConfigError, match=match):

@@ -213,10 +213,20 @@ def test_out_of_range_inputs_say_the_range(params, match):
 
 
 def test_columns_beyond_the_thermal_tables_are_refused_there_only():
-    """The thermal tables scale LOWTRAN's columns within their nodes (0.01-3 times); a drier
-    column renders in the reflective range and is refused beyond it, naming the range."""
+    """The thermal tables scale LOWTRAN's columns within their nodes (0.01-3 times, the ends
+    included); a drier column renders in the reflective range and is refused from the thermal
+    tables' first wavelength on, naming the range."""
+    from radscene.atmosphere.lowtran.profiles import model_columns
+
     atm = DatabaseAtmosphere(profile="us_standard", water=0.0, sun_zenith=30.0)
     assert np.all(np.isfinite(atm.path(1e5, 0.0, 0.0, [0.55, 2.2]).radiance))
     with pytest.raises(ConfigError, match=r"atmosphere.water: 0 g cm-2 is outside the thermal "
                                           r"tables' 0.0142-4.25 g cm-2"):
         atm.path(1e5, 0.0, 0.0, [10.0])
+    with pytest.raises(ConfigError, match="atmosphere.water"):
+        atm.path(1e5, 0.0, 0.0, [float(atm.axes["thermal_wavelength"][0])])
+    water, ozone = model_columns("us_standard")
+    edge = DatabaseAtmosphere(profile="us_standard", water=3 * water, ozone=0.01 * ozone,
+                              sun_zenith=30.0)
+    p = edge.path(1e5, 0.0, 0.0, [4.0, 10.0])
+    assert np.all(np.isfinite(p.thermal_radiance)) and np.all(p.thermal_radiance > 0)

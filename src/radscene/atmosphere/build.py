@@ -267,7 +267,27 @@ def load_config(config) -> dict:
                           key="thermal.engine")
     t["water_scales"] = _scale_nodes(t.get("water_scales", []), "thermal.water_scales", False)
     t["ozone_scales"] = _scale_nodes(t.get("ozone_scales", [1.0]), "thermal.ozone_scales", True)
+    if str(t.get("engine", "none")).lower() != "none":
+        _check_column_limits(cfg)
     return cfg
+
+
+def _check_column_limits(cfg):
+    """The thermal column nodes within what the lowtran engine takes (before any 6S run)."""
+    from radscene.atmosphere.lowtran.profiles import COLUMN_LIMITS, model_columns
+
+    t = cfg["thermal"]
+    for prof in cfg["profiles"]:
+        if prof == "none":
+            continue
+        own = model_columns(prof)
+        for k, name in enumerate(("water", "ozone")):
+            nodes = t[f"{name}_scales"]
+            limit, unit = COLUMN_LIMITS[name]
+            if nodes and max(nodes) * own[k] > limit:
+                raise ConfigError(
+                    f"{max(nodes):g} times the {prof} profile's {own[k]:.3g} {unit} is beyond "
+                    f"the lowtran engine's {limit:g} {unit}", key=f"thermal.{name}_scales")
 
 
 # -- spectral grid ------------------------------------------------------------------------------
@@ -952,6 +972,9 @@ def _thermal(cfg, progress):
     sky_z = np.array([0.0, 30.0, 50.0, 65.0, 75.0, 85.0, 89.0])
     grid = (wl, hs, obs, zv, sky_z)
     water_nodes, ozone_nodes = t["water_scales"], t["ozone_scales"]
+    # the ozone tables in the driest air of the water nodes: the ozone's emission is then
+    # seen through a clear lower atmosphere (DatabaseAtmosphere._scale_thermal)
+    ozone_water = min(water_nodes + [1.0])
     profiles, conds = cfg["profiles"], cfg["_conditions"]
     n_p, n_a = len(profiles), len(conds)
     path_shape, sky_shape = (wl.size, len(hs), len(obs) + 2, len(zv)), (wl.size, len(hs), sky_z.size)
@@ -974,19 +997,26 @@ def _thermal(cfg, progress):
             jobs.append((main, (ip, ia), prof, cond["aerosol"], vis, None, None))
             jobs += [(water, (ip, ia, k), prof, cond["aerosol"], vis, f * columns[ip, 0], None)
                      for k, f in enumerate(water_nodes)]
-        jobs += [(ozone, (ip, k), prof, "none", None, None,
+        dry = ozone_water * columns[ip, 0] if ozone_water != 1.0 else None
+        jobs += [(ozone, (ip, k), prof, "none", None, dry,
                   None if f == 1.0 else f * columns[ip, 1]) for k, f in enumerate(ozone_nodes)]
     total = len(jobs)
     progress("thermal", 0, total)
-    with ThreadPoolExecutor(max_workers=int(cfg.get("workers") or os.cpu_count() or 1)) as pool:
-        futures = [(job, pool.submit(_thermal_job, *job[2:], grid, params)) for job in jobs]
-        for done, (job, fut) in enumerate(futures, start=1):
-            for target, value in zip(job[0], fut.result(), strict=True):
+    params.setdefault("workers", 1)  # the jobs run side by side instead
+    pool = ThreadPoolExecutor(max_workers=int(cfg.get("workers") or os.cpu_count() or 1))
+    try:
+        futures = [pool.submit(_thermal_job, *job[2:], grid, params) for job in jobs]
+        for done, job in enumerate(jobs, start=1):
+            for target, value in zip(job[0], futures[done - 1].result(), strict=True):
                 target[job[1]] = value
+            futures[done - 1] = None
             progress("thermal", done, total)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
     return {"wavelength": wl, "sky_zenith": sky_z, "main": main, "water": water,
             "ozone": ozone, "water_scale": np.asarray(water_nodes),
-            "ozone_scale": np.asarray(ozone_nodes), "columns": columns,
+            "ozone_scale": np.asarray(ozone_nodes), "ozone_water_scale": ozone_water,
+            "columns": columns,
             "provenance": {"engine": "lowtran", "parameters": json.dumps(params)}}
 
 
@@ -999,7 +1029,9 @@ def _thermal_tables(thermal, data, coords):
                               "profile's (thermal_water_ tables; 1: the main tables)"})
     coords["ozone_scale"] = ("ozone_scale", thermal["ozone_scale"],
                              {"units": "1", "long_name": "LOWTRAN ozone column over the "
-                              "profile's (thermal_ozone_ tables, aerosol-free)"})
+                              "profile's (thermal_ozone_ tables, aerosol-free, at "
+                              f"{thermal['ozone_water_scale']:g} times its water vapour)",
+                              "water_scale": thermal["ozone_water_scale"]})
     coords["absorber"] = ("absorber", np.array(["water", "ozone"], dtype=object))
     path = ("thermal_wavelength", "surface_altitude", "observer_height", "view_zenith")
     sky = ("thermal_wavelength", "surface_altitude", "sky_zenith")
@@ -1013,7 +1045,8 @@ def _thermal_tables(thermal, data, coords):
             ("thermal_water_", ("profile", "aerosol", "water_scale"), thermal["water"],
              " at the water_scale nodes"),
             ("thermal_ozone_", ("profile", "ozone_scale"), thermal["ozone"],
-             " at the ozone_scale nodes, aerosol-free")):
+             " at the ozone_scale nodes, aerosol-free, in the driest air of the water_scale "
+             "nodes")):
         for (name, dims, long_name, units), values in zip(what, tables, strict=True):
             data[prefix + name] = (lead + dims, values, long_name + note, units)
     data["thermal_profile_column"] = (("profile", "absorber"), thermal["columns"],
@@ -1027,10 +1060,12 @@ def _pack(ds, names):
     the tables' interpolation error, at 0.4 times the size of 32-bit floats; a condition's
     tables in one chunk, as :func:`radscene.atmosphere.database.water_tables` reads them."""
     for name in names:
+        if ds[name].size == 0:
+            continue
         step = max(float(ds[name].max()), 1e-30) / 4094.0
         ds[name] = ds[name].copy(data=np.round(ds[name].values / step) * step)
         ds[name].encoding.update({"dtype": "uint16", "scale_factor": step, "add_offset": 0.0,
-                                  "_FillValue": np.uint16(65535)})
+                                  "_FillValue": np.uint16(65535), "radscene_packed": True})
         if ds[name].dims[:2] == ("profile", "aerosol"):  # read a condition at a time
             ds[name].encoding["chunksizes"] = (1, 1) + ds[name].shape[2:]
 

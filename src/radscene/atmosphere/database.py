@@ -93,9 +93,9 @@ name                    unit   default           meaning
 ``visibility``          m      23 km             instead of ``aot550``: 6S's AOT550 of it
 ``water``               g cm-2 (profile's)       water-vapour column, 0-3 times the profile's
 ``ozone``               cm-atm (profile's)       ozone column, 0-3 times the profile's
-                                                 (columns: ``PROFILE_COLUMNS``; beyond the
-                                                 reflective range within the thermal tables'
-                                                 nodes, 0.01-3 times LOWTRAN's shipped)
+                                                 (columns: ``PROFILE_COLUMNS``; in the
+                                                 thermal tables, from 3 um, within their
+                                                 nodes: 0.01-3 times LOWTRAN's, shipped)
 ``surface_albedo``      -      0                 albedo of the surroundings (sky irradiance)
 ``sun_zenith``,         deg    (none), 0         sun for path radiance (renderer: :meth:`set_sun`)
 ``sun_azimuth``
@@ -312,11 +312,16 @@ def open_database(file=None):
 _DEFERRED = ("thermal_water_",)
 
 
-def water_tables(file, profile: int, aerosol: int) -> dict | None:
+def water_tables(file, profile: int, aerosol: int, mtime: float | None = None) -> dict | None:
     """One condition's thermal tables at the file's ``water_scale`` nodes, by table name
-    without its ``thermal_water_`` prefix (None: the file has none)."""
+    without its ``thermal_water_`` prefix (None: the file has none). ``mtime``: the file's
+    modification time when its other tables were read; a file changed since is refused."""
     path = database_path(file)
-    return _water_tables(str(path), path.stat().st_mtime, int(profile), int(aerosol))
+    now = path.stat().st_mtime
+    if mtime is not None and now != mtime:
+        raise ConfigError(f"{path} changed on disk since it was opened; open it again",
+                          key="atmosphere.file")
+    return _water_tables(str(path), now, int(profile), int(aerosol))
 
 
 @lru_cache(maxsize=32)
@@ -389,6 +394,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                               key="atmosphere.solar_spectrum")
         self.solar_spectrum = spectrum
         self.file = database_path(file)
+        self._mtime = self.file.stat().st_mtime
         ds = open_database(self.file)
         self.source = ds
         profiles = [str(p) for p in ds["profile"].values]
@@ -555,12 +561,12 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             f = float(value) / own[k]
             nodes = np.append(np.asarray(ds[f"{name}_scale"].values, dtype=float), 1.0)
             lo, hi = nodes.min(), nodes.max()
-            if not lo - 1e-9 <= f <= hi + 1e-9:
+            if not lo * (1 - 1e-6) <= f <= hi * (1 + 1e-6):  # the columns are stored as float32
                 return (1.0, 1.0), (
                     f"{float(value):g} {unit} is outside the thermal tables' "
                     f"{lo * own[k]:.3g}-{hi * own[k]:.3g} {unit} ({lo:g}-{hi:g} times LOWTRAN's "
-                    f"{own[k]:.3g} {unit} of the {self.profile} profile) beyond "
-                    f"{float(ds.attrs.get('reflective_max_wavelength', 4.0)):g} µm",
+                    f"{own[k]:.3g} {unit} of the {self.profile} profile), which hold "
+                    f"{float(ds['thermal_wavelength'].values[0]):.3g} µm and beyond",
                     f"atmosphere.{name}")
             out.append(float(np.clip(f, lo, hi)))
         return tuple(out), None
@@ -571,7 +577,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         Water vapour: the tables at the ``water_scale`` nodes of the same condition (LOWTRAN's
         aerosol swells with the humidity, so each condition has its own), a monotone cubic
         (PCHIP) in the square root of the scale factor — of ln τ for the transmittances.
-        Ozone: the aerosol-free tables at the ``ozone_scale`` nodes give the ozone's
+        Ozone: the aerosol-free tables at the ``ozone_scale`` nodes, in the driest air of the
+        water nodes (its emission seen through a clear lower atmosphere), give the ozone's
         transmittance ratio r = τ(f)/τ(1) and its radiance; the ozone layer lies in front of
         a downward path (L ← r L + L_O3(f) - r L_O3(1)) and behind the lower atmosphere for
         the sky (L ← L + [L_O3(f) - L_O3(1)] τ_sky / τ_sky,O3(1)); τ ← r τ.
@@ -587,7 +594,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         if fw != 1.0:
             nodes = np.append(np.asarray(ds["water_scale"].values, dtype=float), 1.0)
             order = np.argsort(nodes)
-            at_nodes = water_tables(self.file, ip, ia)
+            at_nodes = water_tables(self.file, ip, ia, self._mtime)
             for name in names:
                 stack = np.concatenate([at_nodes[name], out["thermal_" + name][None]])
                 out["thermal_" + name] = _pchip_scale(nodes[order], stack[order], fw,
@@ -789,10 +796,10 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
     # -- settings ----------------------------------------------------------------------------
     def check_wavelength(self, wavelength, key: str = "wavelength") -> np.ndarray:
         wl = super().check_wavelength(wavelength, key)
-        if self._thermal_refusal is not None and wl.size and np.nanmax(wl) > min(
-                self.reflective_range[1], float(self.axes["thermal_wavelength"][0])):
-            if "thermal_ozone_transmittance" in self.source or np.nanmax(
-                    wl) > self.reflective_range[1]:
+        if self._thermal_refusal is not None and wl.size:
+            has_nodes = "thermal_ozone_transmittance" in self.source
+            if ((has_nodes and np.nanmax(wl) >= self.axes["thermal_wavelength"][0])
+                    or np.nanmax(wl) > self.reflective_range[1]):
                 message, column = self._thermal_refusal
                 raise ConfigError(f"{message}; asked for up to {np.nanmax(wl):g} µm "
                                   f"({key}): choose the profile whose columns are nearest "

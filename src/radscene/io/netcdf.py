@@ -19,7 +19,7 @@ def _encoding(ds: xr.Dataset, compress: bool) -> dict:
     enc = {}
     for name, var in ds.data_vars.items():
         e = {k: var.encoding[k] for k in ("grid_mapping",) if k in var.encoding}
-        if "scale_factor" in var.encoding:  # packed (CF): kept as the variable asks
+        if var.encoding.get("radscene_packed"):  # packed (CF) by its writer, as it asks
             e.update({k: var.encoding[k] for k in ("dtype", "scale_factor", "add_offset",
                                                     "_FillValue", "chunksizes")
                       if k in var.encoding})

@@ -25,7 +25,7 @@ import numpy as np
 from radscene.atmosphere.lowtran.cards import MAX_LEVELS, MODELS, TOP_ALTITUDE, ProfileLevel, lookup
 from radscene.errors import ConfigError, did_you_mean
 
-__all__ = ["profile_levels", "model_columns", "scaled_model_levels"]
+__all__ = ["profile_levels", "model_columns", "scaled_model_levels", "COLUMN_LIMITS"]
 
 _MODEL_FILE = "lowtran7_profiles.csv"
 _BOLTZMANN = 1.380649e-23  # [J K-1]
@@ -151,6 +151,11 @@ def model_columns(model) -> tuple[float, float]:
     return water, ozone
 
 
+#: The largest columns the engine scales a model to: (limit, unit). Beyond any measured
+#: column (about 7 g cm-2 and 0.6 cm-atm), with room for three times the models' own.
+COLUMN_LIMITS = {"water": (15.0, "g cm-2"), "ozone": (1.5, "cm-atm")}
+
+
 def scaled_model_levels(model, water=None, ozone=None,
                         key: str = "atmosphere") -> tuple[ProfileLevel, ...]:
     """A LOWTRAN model atmosphere as a user atmosphere with its water-vapour and/or ozone column
@@ -169,8 +174,8 @@ def scaled_model_levels(model, water=None, ozone=None,
     own_water, own_ozone = model_columns(name)
     flag = str(code)
     factors = []
-    for gas, value, own, limit, unit in (("water", water, own_water, 15.0, "g cm-2"),
-                                         ("ozone", ozone, own_ozone, 1.5, "cm-atm")):
+    for gas, value, own in (("water", water, own_water), ("ozone", ozone, own_ozone)):
+        limit, unit = COLUMN_LIMITS[gas]
         if value is None:
             factors.append(None)
             continue
