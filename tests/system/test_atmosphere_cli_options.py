@@ -294,7 +294,7 @@ BAD = [
     (["los", "--water", "2", "--engine", "sixs"], "--water: give both water"),
     (["los", "--engine", "lowtran", "--aot550", "0.2"], "--aot550: the lowtran engine does not "
                                                         "take aot550"),
-    (["los", "--engine", "lowtran", "--water", "0"], r"--water: must lie in \(0, 10\] g cm-2"),
+    (["los", "--engine", "lowtran", "--water", "0"], r"--water: must lie in \(0, 15\] g cm-2"),
     (["los", "--engine", "lowtran", "--solar-spectrum", "radscene"],
      "--solar-spectrum: the lowtran engine uses lowtran, not radscene"),
     (["los", "--solar-spectrum", "6s"], "--solar-spectrum: the database engine uses radscene or "
