@@ -243,3 +243,33 @@ def test_kept_tables_follow_the_wavelength_grid_and_the_sun():
         sun = engine.sun_zenith
         assert np.array_equal(engine.path(*geometry, grids[1]).scattered_radiance,
                               fresh(sun).path(*geometry, grids[1]).scattered_radiance)
+
+
+def test_the_water_vapour_tables_are_read_a_condition_at_a_time():
+    from radscene.atmosphere.database import water_tables
+
+    path = shipped_databases()["default"]
+    ds = open_database()
+    tables = water_tables(path, 1, 2)
+    assert set(tables) == {"transmittance", "path_radiance", "sky_radiance", "sky_transmittance"}
+    n = ds.sizes["water_scale"]
+    assert tables["transmittance"].shape == (n,) + ds["thermal_transmittance"].shape[2:]
+    assert np.all((tables["transmittance"] >= 0) & (tables["transmittance"] <= 1))
+    with pytest.raises(ConfigError, match="atmosphere.file: .* changed on disk"):
+        water_tables(path, 1, 2, mtime=path.stat().st_mtime - 1.0)
+
+
+def test_a_packed_variable_read_back_is_written_as_floats(tmp_path):
+    """Only variables the writer packed itself are stored as scaled integers."""
+    import h5py
+    import xarray as xr
+
+    from radscene.io import write_netcdf
+
+    ds = xr.Dataset({"x": (("a", "b"), np.linspace(0.0, 1.0, 6).reshape(2, 3))})
+    ds["x"].encoding.update({"dtype": "uint16", "scale_factor": 1e-3, "_FillValue": 65535})
+    write_netcdf(ds, tmp_path / "read_back.nc")
+    ds["x"].encoding["radscene_packed"] = True
+    write_netcdf(ds, tmp_path / "packed.nc")
+    with h5py.File(tmp_path / "read_back.nc") as f, h5py.File(tmp_path / "packed.nc") as g:
+        assert f["x"].dtype == np.float32 and g["x"].dtype == np.uint16
