@@ -81,6 +81,9 @@ BAD = {
     "database water column beyond its range": (
         GOOD.replace("type: none", "type: database, profile: tropical, water: 20"),
         "atmosphere.water: 20 g cm-2 is outside 0-12.4 g cm-2"),
+    "database water column beyond its thermal tables": (
+        GOOD.replace("type: none", "type: database, profile: tropical, water: 0.02"),
+        "atmosphere.water: 0.02 g cm-2 is outside the thermal tables' 0.0411-12.3 g cm-2"),
     "volume with a negative density": (
         GOOD.replace("bands:", VOLUME.replace("density: 1", "density: -0.5") + "bands:", 1),
         "volumes[0].density"),

@@ -801,9 +801,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             if ((has_nodes and np.nanmax(wl) >= self.axes["thermal_wavelength"][0])
                     or np.nanmax(wl) > self.reflective_range[1]):
                 message, column = self._thermal_refusal
+                advice = ("give a column within that range or choose the profile whose "
+                          "columns are nearest" if has_nodes else
+                          "choose the profile whose columns are nearest instead")
                 raise ConfigError(f"{message}; asked for up to {np.nanmax(wl):g} µm "
-                                  f"({key}): choose the profile whose columns are nearest "
-                                  "instead", key=column)
+                                  f"({key}): {advice}", key=column)
         if self.thermal and wl.size:
             gap = (wl > self.reflective_range[1]) & (wl < self.axes["thermal_wavelength"][0])
             if np.any(gap):

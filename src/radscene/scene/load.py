@@ -988,6 +988,9 @@ class _Resolver:
         if hf is not None:
             _check_above_terrain(spec.observers, hf)
         spans = [b.response.support for b in bands]
+        for b in bands:  # the render checks each band's nodes; refused here, before it starts
+            atmosphere.check_wavelength(np.asarray(b.response.support, dtype=float),
+                                        key=f"bands[{b.name}]")
         for i, obs in enumerate(observers):
             if obs.spectral is not None:
                 wl = obs.spectral.wavelength
