@@ -118,3 +118,36 @@ def test_a_small_build_round_trips(tmp_path):
     assert np.all((p.transmittance > 0.5) & (p.transmittance < 1.0))
     with pytest.raises(ConfigError, match="covers 0.5–0.9 µm"):
         db.path(1e5, 0.0, 40.0, [1.6])
+
+
+def test_the_thermal_column_tables_are_lowtrans_at_those_columns():
+    """Each node of the thermal build is the lowtran engine's own run at that column."""
+    from radscene.atmosphere import build
+    from radscene.atmosphere.lowtran import LowtranAtmosphere, lowtran_available
+    from radscene.atmosphere.lowtran.profiles import model_columns
+
+    if not lowtran_available():
+        pytest.skip("LOWTRAN is not built (make lowtran)")
+    cfg = load_config({
+        "profiles": ["midlatitude_summer", "none"],
+        "aerosols": [{"model": "rural", "aot550": [0.3]}],
+        "grid": {"surface_altitude": [0, 1500], "observer_height": [1000],
+                 "view_zenith": [0, 60]},
+        "thermal": {"engine": "lowtran", "wavelength": {"min": 8, "max": 12, "step": 100},
+                    "water_scales": [0.5, 2], "ozone_scales": [0.5]}})
+    cfg["_conditions"][0]["thermal_visibility"] = 16.09
+    th = build._thermal(cfg, lambda *a: None)
+    w0, o0 = model_columns("midlatitude_summer")
+    assert th["water_scale"].tolist() == [0.5, 2.0] and th["ozone_scale"].tolist() == [0.5, 1.0]
+    assert np.allclose(th["columns"][0], (w0, o0)) and np.all(th["columns"][1] == 0)
+    wet = LowtranAtmosphere(model="midlatitude_summer", aerosol="rural", visibility=16.09,
+                            water=2.0 * w0).path(np.full(2, 1e5), 1500.0, np.array([0.0, 60.0]),
+                                                 th["wavelength"])
+    tau, rad, _sky, _sky_tau = th["water"]
+    assert np.allclose(tau[0, 0, 1, :, 1, -1, :], wet.transmittance.T)  # surface 1.5 km, top
+    assert np.allclose(rad[0, 0, 1, :, 1, -1, :], wet.thermal_radiance.T)
+    dry_ozone = LowtranAtmosphere(model="midlatitude_summer", aerosol="none", visibility=None,
+                                  water=0.5 * w0, ozone=0.5 * o0).path(
+        np.full(2, 1000.0), 0.0, np.array([0.0, 60.0]), th["wavelength"])
+    assert np.allclose(th["ozone"][1][0, 0, :, 0, 1, :], dry_ozone.thermal_radiance.T)
+    assert np.all(th["main"][0][1] == 1.0) and np.all(th["main"][1][1] == 0.0)  # no gas
