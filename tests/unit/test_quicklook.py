@@ -79,6 +79,15 @@ def test_categorical_maps_use_a_discrete_colour_map():
     assert image.cmap.N == 2 and image.norm.boundaries.tolist() == [-0.5, 0.5, 1.5]
 
 
+def test_a_scene_without_objects_draws_an_object_map_of_none():
+    """A scene of terrain alone: every pixel's object is -1 (no category)."""
+    ds = _dataset()
+    ds["object_id"] = ds["object_id"].copy(data=np.full((NY, NX), -1))
+    fig = truth_plot(ds)
+    ax = next(a for a in fig.axes if a.get_title() == "object id")
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["(none)"]
+
+
 def test_truth_colour_bars_sit_beside_their_own_maps():
     """Each map's colour bar right of it, closer to it than to the next panel, also in a row
     below the categorical maps, whose legends widen their columns."""

@@ -388,7 +388,7 @@ def _categorical(fig, ax, variable: xr.DataArray, title: str, extent=None,
     rank = np.full(ids.shape, np.nan)
     for k, value in enumerate(present):
         rank[ids == value] = k
-    norm = BoundaryNorm(np.arange(len(present) + 1) - 0.5, max(len(present), 1))
+    norm = BoundaryNorm(np.arange(max(len(present), 1) + 1) - 0.5, max(len(present), 1))
     ax.imshow(rank, cmap=cmap, norm=norm, interpolation="nearest", extent=extent)
     handles = [Patch(facecolor=colour_of[v], edgecolor="0.3", linewidth=0.3,
                      label=names.get(v, str(v))) for v in present]
