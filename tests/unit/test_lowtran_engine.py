@@ -335,10 +335,16 @@ def test_the_heat_balance_short_wave_follows_the_engines_sun():
         0.8 * np.trapezoid(toa_solar_irradiance(SHORTWAVE, 0.9833), SHORTWAVE), rel=1e-9)
 
 
+def test_visibility_with_its_unit(make):
+    assert make(visibility="23 km")._vis == make(visibility="23000 m")._vis == make(
+        visibility=23.0)._vis == 23.0
+
+
 # -- bad input, before anything runs ----------------------------------------------------------
 @pytest.mark.parametrize("params, key, match", [
     ({"visibility": 0.0}, "atmosphere.visibility", r"\(0, 10000\] km"),
     ({"visibility": -5.0}, "atmosphere.visibility", r"\(0, 10000\] km"),
+    ({"visibility": "23 furlongs"}, "atmosphere.visibility", "unknown length unit 'furlongs'"),
     ({"model": "martian"}, "atmosphere.model", "unknown model atmosphere 'martian'; known: "
                                                "tropical"),
     ({"aerosol": "volcanic"}, "atmosphere.aerosol", "unknown aerosol model .* known: none"),

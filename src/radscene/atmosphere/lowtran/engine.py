@@ -24,7 +24,8 @@ name                        unit        default              meaning
                                                              tropospheric, desert, advective_fog,
                                                              radiative_fog
 ``visibility``              km          23                   meteorological range at sea level (> 0);
-                                                             None: the aerosol model's own
+                                                             None: the aerosol model's own; a
+                                                             string may carry its unit ("23 km")
 ``multiple_scattering``     -           true                 LOWTRAN's multiple scattering (IMULT)
 ``ground_temperature``      K           (none)               boundary temperature (TBOUND): only for the
                                                              ``boundary_radiance`` of :meth:`line_of_sight`
@@ -239,6 +240,19 @@ def _number(value, key, low=-math.inf, high=math.inf, low_open=False, high_open=
     return x
 
 
+def _km(value, key):
+    """A length given with its unit ("23 km", "5000 m") in km; anything else as given (a bare
+    number is in km)."""
+    if isinstance(value, str):
+        try:
+            float(value)
+        except ValueError:
+            from radscene.radiometry.units import parse_quantity
+
+            return parse_quantity(value, "length", key=key) / 1e3
+    return value
+
+
 # -- the engine -------------------------------------------------------------------------------
 class LowtranAtmosphere(Atmosphere):
     """LOWTRAN7 engine; parameters in the module table. Checks everything before any run."""
@@ -317,8 +331,8 @@ class LowtranAtmosphere(Atmosphere):
         if visibility is None:
             self._vis = 0.0
         else:
-            self._vis = _number(visibility, f"{k}.visibility", 0.0, 1.0e4, low_open=True,
-                                unit="km")
+            self._vis = _number(_km(visibility, f"{k}.visibility"), f"{k}.visibility", 0.0,
+                                1.0e4, low_open=True, unit="km")
         if self._ihaze == 0:
             self._vis = 0.0
         self._iseasn = lookup(SEASONS, season, f"{k}.season", "season")
