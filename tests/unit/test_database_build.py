@@ -134,7 +134,8 @@ def test_the_thermal_column_tables_are_lowtrans_at_those_columns():
         "grid": {"surface_altitude": [0, 1500], "observer_height": [1000],
                  "view_zenith": [0, 60]},
         "thermal": {"engine": "lowtran", "wavelength": {"min": 8, "max": 12, "step": 100},
-                    "water_scales": [0.5, 2], "ozone_scales": [0.5]}})
+                    "water_scales": [0.5, 2], "ozone_scales": [0.5],
+                    "observer_height": [1000], "path_length": [100, 3000]}})
     cfg["_conditions"][0]["thermal_visibility"] = 16.09
     th = build._thermal(cfg, lambda *a: None)
     w0, o0 = model_columns("midlatitude_summer")
@@ -143,9 +144,16 @@ def test_the_thermal_column_tables_are_lowtrans_at_those_columns():
     wet = LowtranAtmosphere(model="midlatitude_summer", aerosol="rural", visibility=16.09,
                             water=2.0 * w0).path(np.full(2, 1e5), 1500.0, np.array([0.0, 60.0]),
                                                  th["wavelength"])
-    tau, rad, _sky, _sky_tau = th["water"]
+    tau, rad, _sky, _sky_tau, level_tau, level_rad = th["water"]
     assert np.allclose(tau[0, 0, 1, :, 1, -1, :], wet.transmittance.T)  # surface 1.5 km, top
     assert np.allclose(rad[0, 0, 1, :, 1, -1, :], wet.thermal_radiance.T)
+    assert th["observer_height"].tolist() == [0.0, 1000.0, 1e5]
+    level = LowtranAtmosphere(model="midlatitude_summer", aerosol="rural", visibility=16.09,
+                              water=2.0 * w0).level_path(1500.0, np.array([100.0, 3000.0]),
+                                                         th["wavelength"])
+    assert np.allclose(level_tau[0, 0, 1, :, 1, :], level.transmittance.T)
+    assert np.allclose(level_rad[0, 0, 1, :, 1, :], level.thermal_radiance.T)
+    assert level_tau[0, 0, 1, :, 1, 1].mean() < level_tau[0, 0, 1, :, 1, 0].mean() < 1.0
     dry_ozone = LowtranAtmosphere(model="midlatitude_summer", aerosol="none", visibility=None,
                                   water=0.5 * w0, ozone=0.5 * o0).path(
         np.full(2, 1000.0), 0.0, np.array([0.0, 60.0]), th["wavelength"])

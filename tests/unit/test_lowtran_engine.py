@@ -18,6 +18,7 @@ import pytest
 
 from radscene.atmosphere import SkyGeometry
 from radscene.atmosphere.lowtran import LowtranAtmosphere
+from radscene.atmosphere.lowtran.geometry import path_kind
 from radscene.errors import ConfigError
 
 # stand-in values in LOWTRAN's units (W cm-2 ...), and in radscene's (W m-2 ...)
@@ -132,6 +133,44 @@ def test_zero_length_paths_need_no_run(make, decks):
     out = make().path(250.0, 250.0, 45.0, WL)
     assert np.all(out.transmittance == 1.0) and np.all(out.radiance == 0.0)
     assert decks() == []
+
+
+def test_a_line_of_sight_near_the_horizon_is_the_flat_scenes(make, decks):
+    """A camera 2 m above the ground at 89.9 deg sees 1146 m of air at 1 m (a level path,
+    ITYPE 1, at the mean of its ends lifted 1 m off the ground); an aircraft 1 km up at 88 deg
+    its 28.65 km straight line between the two altitudes (ITYPE 2 with the range), not the
+    shorter one on the sphere."""
+    atm = make()
+    atm.path(2.0, 0.0, 89.9, WL)
+    atm.path(1000.0, 0.0, 88.0, WL)
+    level, chord = decks()
+    assert int(card(level, 0, [5] * 2)[1]) == 1
+    h1, h2, angle, length = (float(x) for x in card(level, 2, [10] * 4))
+    assert (h1, angle) == (0.002, 0.0) and length == pytest.approx(2e-3 / np.cos(np.radians(
+        89.9)), abs=1e-6)
+    assert int(card(chord, 0, [5] * 2)[1]) == 2
+    h1, h2, angle, length = (float(x) for x in card(chord, 2, [10] * 4))
+    assert (h1, h2, angle) == (1.001, 0.001, 0.0)  # lifted whole, as the level path
+    assert length == pytest.approx(1.0 / np.cos(np.radians(88.0)), abs=1e-5)
+
+
+def test_a_path_of_a_metre_above_the_ground_keeps_its_metre(make, decks):
+    """The target lifted 1 m off the ground takes the observer 1 m above it along."""
+    make().path(1.0, 0.0, 0.0, WL)
+    h1, h2, angle = (float(x) for x in card(decks()[0], 2, [10] * 3))
+    assert (h1, h2, angle) == (0.002, 0.001, 180.0)
+
+
+@pytest.mark.parametrize("geometry, kind", [
+    ((700.0, 0.0, 40.0), "slant"), ((100000.0, 0.0, 89.0), "slant"),
+    ((2.0, 0.0, 80.0), "slant"), ((2.0, 0.0, 89.9), "horizontal"),
+    ((0.0, 2.0, 90.1), "horizontal"), ((1000.0, 0.0, 88.0), "chord"),
+    ((300.0, 0.0, 89.9), "horizontal"), ((3.0, 3.0, 45.0), "none"),
+    ((0.2, 0.0, 90.0), "none"), ((5.0, 0.0, 90.0), "contradiction"),
+    ((5.0, 0.0, 95.0), "contradiction"),
+])
+def test_path_kind(geometry, kind):
+    assert path_kind(*geometry)[0] == kind
 
 
 def test_sun_transmittance_and_irradiance(make, decks):

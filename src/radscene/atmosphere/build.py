@@ -96,6 +96,17 @@ _TOP = model.TOP_OF_ATMOSPHERE
 #: also built (1, the profile's own, is the main tables; the ozone tables hold it too).
 THERMAL_WATER_SCALES = (0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 1.5, 2.0, 3.0)
 THERMAL_OZONE_SCALES = (0.01, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0)
+#: Observer heights above the surface [m] of the thermal tables (the surface and the top of
+#: the atmosphere added): a path's thermal radiance grows fastest near the ground and its
+#: emission comes from heights apart from the scattering's. With the scattering tables'
+#: (1 and 4 km) LOWTRAN's path radiance, read between them, came out 3-16 % low at 1.5-8 km
+#: in 4.4-4.9 um and 30-60 % low below 250 m; with these nodes -3.5 to +2.4 % over
+#: 0.25-30 km (docs/physics.md)
+THERMAL_OBSERVER_HEIGHTS = (100.0, 300.0, 1000.0, 2000.0, 4000.0, 7000.0, 12000.0, 20000.0)
+#: Lengths [m] of the level (horizontal) lines of sight of the thermal tables, at each
+#: surface altitude: the lines of sight of ground cameras and towers, which the tables over
+#: view zenith, ending at 85 deg, cannot hold
+THERMAL_PATH_LENGTHS = (10.0, 30.0, 100.0, 300.0, 1000.0, 3000.0, 10000.0, 30000.0, 100000.0)
 
 #: The configuration of the database shipped with radscene.
 DEFAULT_CONFIG: dict = {
@@ -150,7 +161,9 @@ DEFAULT_CONFIG: dict = {
     "strategy": "reduced",
     "thermal": {"engine": "auto", "wavelength": {"min": 3.0, "max": 20.0, "step": 20.0},
                 "water_scales": list(THERMAL_WATER_SCALES),
-                "ozone_scales": list(THERMAL_OZONE_SCALES)},
+                "ozone_scales": list(THERMAL_OZONE_SCALES),
+                "observer_height": list(THERMAL_OBSERVER_HEIGHTS),
+                "path_length": list(THERMAL_PATH_LENGTHS)},
     "workers": None,
     "cache": False,
 }
@@ -190,7 +203,8 @@ def load_config(config) -> dict:
         if isinstance(value, dict) and isinstance(cfg.get(key), dict):
             bad = set(value) - set(cfg[key]) - ({"step"} if key in ("thermal",) else set())
             if key == "thermal":
-                bad -= {"engine", "wavelength", "parameters", "water_scales", "ozone_scales"}
+                bad -= {"engine", "wavelength", "parameters", "water_scales", "ozone_scales",
+                        "observer_height", "path_length"}
             if bad:
                 raise ConfigError(f"unknown keys {sorted(bad)}", key=key)
             cfg[key].update(value)
@@ -267,6 +281,16 @@ def load_config(config) -> dict:
                           key="thermal.engine")
     t["water_scales"] = _scale_nodes(t.get("water_scales", []), "thermal.water_scales", False)
     t["ozone_scales"] = _scale_nodes(t.get("ozone_scales", [1.0]), "thermal.ozone_scales", True)
+    for name, lo, hi in (("observer_height", 1.0, 99000.0), ("path_length", 1.0, 300000.0)):
+        try:
+            a = np.atleast_1d(np.asarray(t.get(name, []), dtype=float))
+        except (TypeError, ValueError):
+            a = np.array([np.nan])
+        if (a.ndim != 1 or a.size < 1 or not np.all(np.isfinite(a)) or np.any(np.diff(a) <= 0)
+                or a[0] < lo or a[-1] > hi):
+            raise ConfigError(f"an increasing list within [{lo:g}, {hi:g}] m; got "
+                              f"{t.get(name)!r}", key=f"thermal.{name}")
+        t[name] = a.tolist()
     if str(t.get("engine", "none")).lower() != "none":
         _check_column_limits(cfg)
     return cfg
@@ -918,18 +942,20 @@ def _scale_nodes(value, key, with_one):
 
 
 def _thermal_job(prof, aerosol, visibility, water, ozone, grid, params):
-    """One LOWTRAN condition through the Atmosphere interface: (τ, L) over (λ, surface
-    altitude, observer height, view zenith) and the sky's (L, τ) over (λ, surface altitude, sky
-    zenith)."""
+    """One LOWTRAN condition through the engine: (τ, L) over (λ, surface altitude, observer
+    height, view zenith), the sky's (L, τ) over (λ, surface altitude, sky zenith) and the
+    level lines of sight's (τ, L) over (λ, surface altitude, path length)."""
     from radscene.atmosphere.base import SkyGeometry
     from radscene.atmosphere.lowtran import LowtranAtmosphere
 
-    wl, hs, obs, zv, sky_z = grid
+    wl, hs, obs, zv, sky_z, lengths = grid
     engine = LowtranAtmosphere(model=prof, aerosol=aerosol, visibility=visibility,
                                water=water, ozone=ozone, **params)
     n_x = len(obs) + 2
     tau, rad = np.ones((wl.size, len(hs), n_x, len(zv))), np.zeros((wl.size, len(hs), n_x, len(zv)))
     sky, sky_tau = np.zeros((wl.size, len(hs), sky_z.size)), np.ones((wl.size, len(hs), sky_z.size))
+    level_tau, level_rad = (np.ones((wl.size, len(hs), lengths.size)),
+                            np.zeros((wl.size, len(hs), lengths.size)))
     for ih, h in enumerate(hs):
         for ix, dh in enumerate(list(obs) + [_TOP], start=1):
             top = _TOP if dh >= _TOP else h + dh
@@ -938,7 +964,10 @@ def _thermal_job(prof, aerosol, visibility, water, ozone, grid, params):
             rad[:, ih, ix, :] = p.thermal_radiance.T
         sky[:, ih, :] = engine.sky(sky_z, np.zeros_like(sky_z), wl, SkyGeometry(h, 180.0, 0.0)).T
         sky_tau[:, ih, :] = engine.path(np.full(sky_z.size, _TOP), h, sky_z, wl).transmittance.T
-    return tau, rad, sky, sky_tau
+        p = engine.level_path(h, lengths, wl)
+        level_tau[:, ih, :] = p.transmittance.T
+        level_rad[:, ih, :] = p.thermal_radiance.T
+    return tau, rad, sky, sky_tau, level_tau, level_rad
 
 
 def _thermal(cfg, progress):
@@ -968,9 +997,10 @@ def _thermal(cfg, progress):
     wn = np.arange(np.ceil(v1 / step) * step, v2 + 1e-9, step)
     wl = np.sort(1e4 / wn)
     g = cfg["grid"]
-    hs, obs, zv = g["surface_altitude"], g["observer_height"], g["view_zenith"]
+    hs, obs, zv = g["surface_altitude"], t["observer_height"], g["view_zenith"]
     sky_z = np.array([0.0, 30.0, 50.0, 65.0, 75.0, 85.0, 89.0])
-    grid = (wl, hs, obs, zv, sky_z)
+    lengths = np.asarray(t["path_length"], dtype=float)
+    grid = (wl, hs, obs, zv, sky_z, lengths)
     water_nodes, ozone_nodes = t["water_scales"], t["ozone_scales"]
     # the ozone tables in the driest air of the water nodes: the ozone's emission is then
     # seen through a clear lower atmosphere (DatabaseAtmosphere._scale_thermal)
@@ -978,10 +1008,12 @@ def _thermal(cfg, progress):
     profiles, conds = cfg["profiles"], cfg["_conditions"]
     n_p, n_a = len(profiles), len(conds)
     path_shape, sky_shape = (wl.size, len(hs), len(obs) + 2, len(zv)), (wl.size, len(hs), sky_z.size)
+    level_shape = (wl.size, len(hs), lengths.size)
 
     def arrays(*lead):
         return (np.ones(lead + path_shape), np.zeros(lead + path_shape),
-                np.zeros(lead + sky_shape), np.ones(lead + sky_shape))
+                np.zeros(lead + sky_shape), np.ones(lead + sky_shape),
+                np.ones(lead + level_shape), np.zeros(lead + level_shape))
 
     main, water, ozone = arrays(n_p, n_a), arrays(n_p, n_a, len(water_nodes)), arrays(
         n_p, len(ozone_nodes))
@@ -1014,6 +1046,7 @@ def _thermal(cfg, progress):
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
     return {"wavelength": wl, "sky_zenith": sky_z, "main": main, "water": water,
+            "observer_height": np.concatenate([[0.0], obs, [_TOP]]), "path_length": lengths,
             "ozone": ozone, "water_scale": np.asarray(water_nodes),
             "ozone_scale": np.asarray(ozone_nodes), "ozone_water_scale": ozone_water,
             "columns": columns,
@@ -1024,6 +1057,12 @@ def _thermal_tables(thermal, data, coords):
     """The thermal tables' variables and coordinates (:func:`_thermal`'s result)."""
     coords["thermal_wavelength"] = ("thermal_wavelength", thermal["wavelength"], {"units": "um"})
     coords["sky_zenith"] = ("sky_zenith", thermal["sky_zenith"], {"units": "deg"})
+    coords["thermal_observer_height"] = (
+        "thermal_observer_height", thermal["observer_height"],
+        {"units": "m", "long_name": "observer height above the surface of the thermal tables "
+         f"(the last node: the top of the atmosphere, {_TOP:g} m and above)"})
+    coords["path_length"] = ("path_length", thermal["path_length"],
+                             {"units": "m", "long_name": "length of a level line of sight"})
     coords["water_scale"] = ("water_scale", thermal["water_scale"],
                              {"units": "1", "long_name": "LOWTRAN water-vapour column over the "
                               "profile's (thermal_water_ tables; 1: the main tables)"})
@@ -1033,13 +1072,18 @@ def _thermal_tables(thermal, data, coords):
                               f"{thermal['ozone_water_scale']:g} times its water vapour)",
                               "water_scale": thermal["ozone_water_scale"]})
     coords["absorber"] = ("absorber", np.array(["water", "ozone"], dtype=object))
-    path = ("thermal_wavelength", "surface_altitude", "observer_height", "view_zenith")
+    path = ("thermal_wavelength", "surface_altitude", "thermal_observer_height", "view_zenith")
     sky = ("thermal_wavelength", "surface_altitude", "sky_zenith")
+    level = ("thermal_wavelength", "surface_altitude", "path_length")
     what = (("transmittance", path, "path transmittance", "1"),
             ("path_radiance", path, "path thermal radiance", "W m-2 sr-1 um-1"),
             ("sky_radiance", sky, "sky thermal radiance", "W m-2 sr-1 um-1"),
             ("sky_transmittance", sky, "transmittance from the surface to space along the sky "
-             "zenith", "1"))
+             "zenith", "1"),
+            ("level_transmittance", level, "transmittance of a level line of sight at the "
+             "surface altitude", "1"),
+            ("level_path_radiance", level, "thermal radiance of a level line of sight at the "
+             "surface altitude", "W m-2 sr-1 um-1"))
     for prefix, lead, tables, note in (
             ("thermal_", ("profile", "aerosol"), thermal["main"], " (thermal tables)"),
             ("thermal_water_", ("profile", "aerosol", "water_scale"), thermal["water"],

@@ -153,6 +153,7 @@ from radscene.atmosphere.lowtran.datasets import SAME_ALTITUDE_M
 from radscene.atmosphere.lowtran.geometry import (
     DEFAULT_EARTH_RADIUS,
     observer_geometry,
+    path_kind,
     path_node_grid,
 )
 from radscene.atmosphere.lowtran.profiles import profile_levels, scaled_model_levels
@@ -518,17 +519,36 @@ class LowtranAtmosphere(Atmosphere):
             fields.update(im=1, levels=self.levels, title="radscene user profile")
         return fields
 
-    def _path_case(self, h_obs, h_tgt, view_zenith, window,
-                   view_azimuth=None) -> tuple[LowtranCase, str]:
-        angle, central, _ = observer_geometry(h_obs, h_tgt, view_zenith,
-                                              self._earth_radius_km() * 1e3)
-        angle, central = float(angle), float(central)
-        h2 = h_tgt / 1e3
+    def _path_case(self, h_obs, h_tgt, view_zenith, window, view_azimuth=None,
+                   kind="slant", length=None) -> tuple[LowtranCase, str]:
+        """The run of one line of sight of :func:`~.geometry.path_kind` ``kind``: ITYPE 2
+        from the observer's altitude, zenith and the target's ("slant"), or from both
+        altitudes and the flat scene's ``length`` [m] ("chord"); ITYPE 1 at the mean altitude
+        over ``length`` ("horizontal")."""
+        r_earth = self._earth_radius_km() * 1e3
         bottom = self.bottom_altitude / 1e3 if self.levels else 0.0
-        if h2 < bottom + _BOTTOM_OFFSET_KM:
-            h2 = bottom + _BOTTOM_OFFSET_KM
+        # a target at the bottom is lifted off it; an observer that would then be no higher
+        # than halfway up the path's span above it keeps the span above the lifted target;
+        # a level path (horizontal, chord) is lifted whole
+        span = (h_obs - h_tgt) / 1e3
+        h1, h2 = h_obs / 1e3, max(h_tgt / 1e3, bottom + _BOTTOM_OFFSET_KM)
+        if kind != "slant":
+            h1 = max(h1, h1 - h_tgt / 1e3 + h2)
+        elif span > 0 and h1 - h2 < 0.5 * span:
+            h1 = h2 + span
         fields = self._base(*window)
-        fields.update(itype=2, h1=round(h_obs / 1e3, 7), h2=round(h2, 7), angle=round(angle, 6))
+        if kind == "slant":
+            angle, central, _ = observer_geometry(h_obs, h_tgt, view_zenith, r_earth)
+            angle, central = float(angle), float(central)
+            fields.update(itype=2, h1=round(h1, 7), h2=round(h2, 7), angle=round(angle, 6))
+        elif kind == "chord":
+            central = math.degrees(length / r_earth)
+            fields.update(itype=2, h1=round(h1, 7), h2=round(h2, 7), angle=0.0,
+                          range=round(length / 1e3, 7))
+        else:
+            central = math.degrees(length / r_earth)
+            fields.update(itype=1, h1=round(0.5 * (h1 + h2), 7), h2=0.0, angle=0.0,
+                          range=round(length / 1e3, 7))
         iemsct, sun_obs, rel = 1, None, None
         if self.sun_zenith is not None:
             va = self.view_azimuth if view_azimuth is None else view_azimuth
@@ -543,7 +563,8 @@ class LowtranAtmosphere(Atmosphere):
         if iemsct == 2:
             fields.update(iparm=2, parm1=round(rel, 4), parm2=round(sun_obs, 4))
         name = (f"path observer {h_obs:g} m, target {h_tgt:g} m, view zenith "
-                f"{view_zenith:g} deg" + (f", sun zenith {sun_obs:.2f} deg" if sun_obs is not None else ""))
+                f"{view_zenith:g} deg" + ("" if kind == "slant" else f", {kind} of {length:g} m")
+                + (f", sun zenith {sun_obs:.2f} deg" if sun_obs is not None else ""))
         return LowtranCase(**fields), name
 
     def _sun_case(self, h_tgt, sun_zenith, window) -> tuple[LowtranCase, str]:
@@ -638,16 +659,18 @@ class LowtranAtmosphere(Atmosphere):
         cases, names, rows = [], [], []
         r_earth = self._earth_radius_km() * 1e3
         for (h_o, h_t, z), idx in geoms.items():
-            if abs(h_o - h_t) < SAME_ALTITUDE_M:
+            kind, length = path_kind(h_o, h_t, z, r_earth, SAME_ALTITUDE_M)
+            if kind == "none":
                 continue  # zero-length path: tau 1, no radiance
-            _, _, s = observer_geometry(h_o, h_t, z, r_earth)
-            if not np.isfinite(s):
+            if kind == "slant":
+                _, _, s = observer_geometry(h_o, h_t, z, r_earth)
+            if kind == "contradiction" or (kind == "slant" and not np.isfinite(s)):
                 side = "above" if h_o > h_t else "below"
                 raise ConfigError(
                     f"no line of sight joins a target at {h_t:g} m to an observer {side} it at "
                     f"{h_o:g} m with view zenith {z:g} deg (observer above: zenith < 90; "
                     "below: > 90)", key="view_zenith")
-            case, name = self._path_case(h_o, h_t, z, window, view_azimuth)
+            case, name = self._path_case(h_o, h_t, z, window, view_azimuth, kind, length)
             cases.append(case)
             names.append(name)
             rows.append(idx)
@@ -662,6 +685,31 @@ class LowtranAtmosphere(Atmosphere):
         return PathSpectra(transmittance=tau.reshape(full),
                            thermal_radiance=thermal.reshape(full),
                            scattered_radiance=scattered.reshape(full))
+
+    def level_path(self, altitude, length, wavelength, view_azimuth=None) -> PathSpectra:
+        """Spectra of level lines of sight: ``length`` [m] of air at ``altitude`` [m] (LOWTRAN's
+        horizontal path, ITYPE 1; broadcast), as :meth:`path` gives them."""
+        wl, window = self._window(wavelength)
+        alt = self._check_altitude(altitude, "altitude")
+        length = np.asarray(length, dtype=float)
+        if length.size and (np.any(~np.isfinite(length)) or length.min() <= 0):
+            raise ConfigError("path lengths must be finite and > 0 [m]", key="length")
+        alt, length = np.broadcast_arrays(alt, length)
+        out = [np.ones(alt.shape + wl.shape), np.zeros(alt.shape + wl.shape),
+               np.zeros(alt.shape + wl.shape)]
+        flat = list(zip(alt.ravel(), length.ravel(), strict=True))
+        cases = [self._path_case(float(h), float(h), 90.0, window, view_azimuth, "horizontal",
+                                 float(r)) for h, r in flat]
+        results = self.runner.run([c for c, _ in cases], [n for _, n in cases])
+        v_req = 1e4 / wl
+        for k, result in enumerate(results):
+            idx = np.unravel_index(k, alt.shape)
+            out[0][idx] = self._interp(result, result.transmittance, v_req)
+            out[1][idx] = self._interp(result, result.thermal_radiance, v_req)
+            if result.scattered_radiance is not None:
+                out[2][idx] = self._interp(result, result.scattered_radiance, v_req)
+        return PathSpectra(transmittance=out[0], thermal_radiance=out[1],
+                           scattered_radiance=out[2])
 
     def sun(self, target_altitude, sun_zenith, wavelength, toa_irradiance) -> SunSpectra:
         wl, window = self._window(wavelength)

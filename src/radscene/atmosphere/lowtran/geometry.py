@@ -11,7 +11,11 @@ import numpy as np
 
 from radscene.atmosphere.base import PathNodes
 
-__all__ = ["DEFAULT_EARTH_RADIUS", "observer_geometry", "path_node_grid"]
+__all__ = ["DEFAULT_EARTH_RADIUS", "HORIZONTAL_LAYER", "NEAR_HORIZONTAL_SHARE",
+           "observer_geometry", "path_kind", "path_node_grid"]
+
+#: Top of LOWTRAN's atmosphere [m].
+_TOP = 100_000.0
 
 #: Earth radius LOWTRAN uses when card 3 leaves RO blank, except models 1, 4, 5 [m].
 DEFAULT_EARTH_RADIUS = 6371.23e3
@@ -70,6 +74,62 @@ def observer_geometry(observer_altitude, target_altitude, view_zenith,
     observer_zenith = 180.0 - np.degrees(np.arccos(cos_dir))
     central = np.degrees(np.arctan2(s * sin_t, r_t + s * cos_t))
     return observer_zenith, central, s
+
+
+#: A line of sight within the atmosphere is the flat scene's straight line of length
+#: r = Δh / |cos θ| between its ends' altitudes where a ray leaving the target at its zenith
+#: on the spherical Earth would rise to the observer's altitude over a length shorter by
+#: more than this share of Δh (r² / 2R > share × Δh): towards the horizon, where the flat
+#: scene and the sphere part.
+NEAR_HORIZONTAL_SHARE = 0.01
+#: Such lines of sight spanning at most this altitude [m] run as a horizontal path at their
+#: mean altitude; so do those whose chord on the sphere would dip below their lower end.
+HORIZONTAL_LAYER = 100.0
+
+
+def path_kind(observer_altitude, target_altitude, view_zenith, earth_radius=DEFAULT_EARTH_RADIUS,
+              zero_length=0.5) -> tuple[str, float]:
+    """How one line of sight is run, and its length in the flat scene [m].
+
+    Returns
+    -------
+    kind : str
+        ``"none"``: shorter than ``zero_length`` [m] (no path), or level with no length
+        (zenith 90 deg); ``"contradiction"``: an observer above its target seen at a zenith
+        beyond 90 deg, or below it at one short of 90; ``"slant"``: the straight line from
+        the target at its zenith on the sphere (an observer at or above
+        the top of LOWTRAN's atmosphere, 100 km, or far enough from the horizon, :data:`NEAR_HORIZONTAL_SHARE`);
+        ``"chord"``: the straight line between the two altitudes with the flat scene's
+        length; ``"horizontal"``: a level path of that length at the mean altitude
+        (:data:`HORIZONTAL_LAYER`).
+    length : float
+        Δh / |cos θ| [m] (inf where level with a height difference).
+
+    Examples
+    --------
+    >>> kind, length = path_kind(2.0, 0.0, 89.9)
+    >>> kind, round(length, 1)
+    ('horizontal', 1145.9)
+    >>> path_kind(700.0, 0.0, 40.0)[0]
+    'slant'
+    """
+    dh = abs(float(observer_altitude) - float(target_altitude))
+    cos_z = math.cos(math.radians(float(view_zenith)))
+    level = abs(cos_z) < 1e-12
+    if (level and dh < zero_length) or (not level and dh / abs(cos_z) < zero_length):
+        return "none", 0.0
+    up = float(observer_altitude) > float(target_altitude)
+    if level or (cos_z < 0 if up else cos_z > 0):
+        return "contradiction", math.inf
+    length = dh / abs(cos_z)
+    if max(observer_altitude, target_altitude) >= _TOP - 1.0:
+        return "slant", length
+    drop = length**2 / (2.0 * earth_radius)
+    if drop <= NEAR_HORIZONTAL_SHARE * dh:
+        return "slant", length
+    if dh <= HORIZONTAL_LAYER or drop > dh:
+        return "horizontal", length
+    return "chord", length
 
 
 #: Air mass of the steepest node of a grid (zenith 89 deg).
