@@ -154,16 +154,19 @@ def test_a_line_of_sight_near_the_horizon_is_the_flat_scenes(make, decks):
     assert length == pytest.approx(1.0 / np.cos(np.radians(88.0)), abs=1e-5)
 
 
-def test_a_path_of_a_metre_above_the_ground_keeps_its_metre(make, decks):
-    """The target lifted 1 m off the ground takes the observer 1 m above it along."""
+def test_a_path_near_the_ground_keeps_its_length(make, decks):
+    """A path of 1 m up from the ground runs level, lifted 1 m off the ground whole: its
+    metre of air at 1.5 m (a slant path would lose the lift from its length)."""
     make().path(1.0, 0.0, 0.0, WL)
-    h1, h2, angle = (float(x) for x in card(decks()[0], 2, [10] * 3))
-    assert (h1, h2, angle) == (0.002, 0.001, 180.0)
+    h1, h2, angle, length = (float(x) for x in card(decks()[0], 2, [10] * 4))
+    assert (h1, angle, length) == (0.0015, 0.0, 0.001)
+    assert path_kind(1.5, 0.5, 0.0)[0] == "horizontal"
 
 
 @pytest.mark.parametrize("geometry, kind", [
     ((700.0, 0.0, 40.0), "slant"), ((100000.0, 0.0, 89.0), "slant"),
-    ((2.0, 0.0, 80.0), "slant"), ((2.0, 0.0, 89.9), "horizontal"),
+    ((2.0, 0.0, 80.0), "horizontal"), ((150.0, 0.0, 60.0), "slant"),
+    ((2.0, 0.0, 89.9), "horizontal"),
     ((0.0, 2.0, 90.1), "horizontal"), ((1000.0, 0.0, 88.0), "chord"),
     ((300.0, 0.0, 89.9), "horizontal"), ((3.0, 3.0, 45.0), "none"),
     ((0.2, 0.0, 90.0), "none"), ((5.0, 0.0, 90.0), "contradiction"),

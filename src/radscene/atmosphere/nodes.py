@@ -44,8 +44,20 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-__all__ = ["AZIMUTH_STEPS", "VERTICAL_ZENITH", "air_mass", "zenith_from_air_mass",
-           "fold_relative_azimuth", "relative_azimuth_axis", "azimuth_step"]
+__all__ = ["AZIMUTH_STEPS", "VERTICAL_ZENITH", "LEVEL_ZENITH", "LEVEL_LENGTH_RATIO", "air_mass",
+           "zenith_from_air_mass", "fold_relative_azimuth", "relative_azimuth_axis",
+           "azimuth_step", "level_lines", "level_nodes", "merge_nodes", "with_level_nodes"]
+
+#: Lines of sight within the atmosphere further than this from the vertical [deg] are near the
+#: horizon: their path nodes are over path length, not air mass (:func:`with_level_nodes`).
+LEVEL_ZENITH = 85.0
+#: Ratio of consecutive path lengths of those nodes: linear between them, a level path's
+#: transmittance exp(-k r) is at most 0.6 % high where k r = 1.
+LEVEL_LENGTH_RATIO = 1.25
+#: Top of the atmosphere [m]: an observer there is in space.
+_TOP = 100_000.0
+#: Least altitude span [m] of a level path node (its view zenith then carries its length).
+_LEAST_SPAN = 0.01
 
 #: Spacing of the relative-azimuth nodes [deg] by the largest angle of the lines of sight
 #: from the vertical [deg]: (up to that angle, spacing), in increasing order.
@@ -63,6 +75,97 @@ def air_mass(view_zenith) -> np.ndarray:
     [1.0, 2.0]
     """
     return 1.0 / np.cos(np.radians(np.asarray(view_zenith, dtype=float)))
+
+
+def level_lines(observer_altitude, target_altitude, view_zenith) -> np.ndarray:
+    """Which lines of sight lie near the horizon (:data:`LEVEL_ZENITH`) with both ends within
+    the atmosphere."""
+    o, t, z = (np.asarray(x, dtype=float) for x in (observer_altitude, target_altitude,
+                                                   view_zenith))
+    return (np.minimum(z, 180.0 - z) > LEVEL_ZENITH) & (np.maximum(o, t) < _TOP)
+
+
+def level_nodes(observer_altitude, target_altitude, view_zenith):
+    """Path nodes of lines of sight near the horizon, and each one's weights on them.
+
+    A level line of sight is its air's altitude and its length: in the flat scene a camera
+    2 m up sees 1.1 km of air at 89.9 deg and 11 km at 89.99 deg, so air mass steps of any
+    fixed size cannot follow it. The nodes are over the path length r = Δh/|cos θ|
+    (geometric, :data:`LEVEL_LENGTH_RATIO` apart, over the lines' range), the target altitude
+    and the altitude span Δh (each at its extremes where they spread over more than 1 m),
+    looking down and looking up apart, with multilinear weights; a node's view zenith is
+    arccos(Δh/r), its span at least 1 cm so that it carries the length.
+
+    Returns
+    -------
+    PathNodes
+    """
+    from radscene.atmosphere.base import PathNodes
+    from radscene.atmosphere.sixs_model import multilinear_nodes
+
+    obs, tgt, vz = (np.ravel(np.asarray(x, dtype=float)) for x in np.broadcast_arrays(
+        observer_altitude, target_altitude, view_zenith))
+    parts = []
+    for up in (False, True):
+        sel = np.flatnonzero((obs < tgt) if up else (obs >= tgt))
+        if not sel.size:
+            continue
+        t, span = tgt[sel], np.abs(obs[sel] - tgt[sel])
+        cos_z = np.abs(np.cos(np.radians(vz[sel])))
+        length = np.maximum(span / np.maximum(cos_z, 1e-12), 1.0)
+        lo, hi = float(length.min()), float(length.max())
+        steps = int(np.ceil(np.log(hi / lo) / np.log(LEVEL_LENGTH_RATIO) - 1e-9))
+        lengths = np.geomspace(lo, hi, steps + 1) if steps > 0 else np.array([lo])
+
+        def extremes(v):
+            return np.unique([v.min(), v.max()]) if np.ptp(v) > 1.0 else np.array([v.mean()])
+
+        coords, index, weight = multilinear_nodes(
+            [t, span, length], [extremes(t), extremes(span), lengths])
+        node_t, node_span, node_r = coords
+        node_span = np.maximum(node_span, _LEAST_SPAN)
+        zen = np.degrees(np.arccos(np.minimum(node_span / node_r, 1.0)))
+        parts.append((sel, PathNodes(
+            observer_altitude=node_t - node_span if up else node_t + node_span,
+            target_altitude=node_t, view_zenith=180.0 - zen if up else zen,
+            index=index, weight=weight)))
+    return merge_nodes(obs.size, parts)
+
+
+def merge_nodes(n, parts):
+    """One :class:`~radscene.atmosphere.base.PathNodes` of ``n`` lines of sight from
+    ``parts``, each (the rows it holds, the nodes of those rows) without an azimuth axis."""
+    from radscene.atmosphere.base import PathNodes
+
+    width = max(p.index.shape[1] for _, p in parts)
+    index = np.zeros((n, width), dtype=np.int64)
+    weight = np.zeros((n, width))
+    offset = 0
+    for rows, p in parts:
+        k = p.index.shape[1]
+        index[rows, :k] = p.index + offset
+        weight[rows, :k] = p.weight
+        offset += p.size
+    return PathNodes(
+        observer_altitude=np.concatenate([p.observer_altitude for _, p in parts]),
+        target_altitude=np.concatenate([p.target_altitude for _, p in parts]),
+        view_zenith=np.concatenate([p.view_zenith for _, p in parts]),
+        index=index, weight=weight)
+
+
+def with_level_nodes(observer_altitude, target_altitude, view_zenith, steep):
+    """Path nodes of lines of sight: ``steep(observer, target, zenith)`` (an engine's own
+    grid) for those away from the horizon, :func:`level_nodes` for those near it."""
+    obs, tgt, vz = (np.ravel(np.asarray(x, dtype=float)) for x in np.broadcast_arrays(
+        observer_altitude, target_altitude, view_zenith))
+    level = level_lines(obs, tgt, vz)
+    if not np.any(level):
+        return steep(obs, tgt, vz)
+    parts = [(np.flatnonzero(level), level_nodes(obs[level], tgt[level], vz[level]))]
+    if not np.all(level):
+        rest = ~level
+        parts.insert(0, (np.flatnonzero(rest), steep(obs[rest], tgt[rest], vz[rest])))
+    return merge_nodes(obs.size, parts)
 
 
 def zenith_from_air_mass(mass) -> np.ndarray:

@@ -89,7 +89,12 @@ How the queries map onto LOWTRAN (H1 is always the observer, as LOWTRAN wants it
   is not or not given), TBOUND 0 so that no boundary emission enters; a target at the bottom
   of the atmosphere is placed 1 m above it so LOWTRAN adds no ground term either (the
   renderer adds the surface's own emission and reflection). The zenith angle at the observer
-  and the sun's zenith there follow from the target's view zenith on a spherical Earth.
+  and the sun's zenith there follow from the target's view zenith on a spherical Earth. A
+  line of sight within the atmosphere is the flat scene's, of length Δh/|cos θ|
+  (:func:`~.geometry.path_kind`): spanning up to 100 m of altitude, or near the horizon
+  with a chord on the sphere that would dip below its lower end, it runs level (ITYPE 1)
+  at its mean altitude; near the horizon otherwise, as ITYPE 2 from both altitudes and its
+  length (``level_path``: level lines of sight of given lengths).
 * ``sun``: IEMSCT 3, ITYPE 3 from the target at the sun's zenith angle: τ_so; the irradiance
   is τ_so times the renderer's top-of-atmosphere spectrum, which for this engine is LOWTRAN's
   own (``solar_spectrum`` ``lowtran``, :mod:`radscene.sun.spectrum`), the one that lights its
@@ -527,15 +532,11 @@ class LowtranAtmosphere(Atmosphere):
         over ``length`` ("horizontal")."""
         r_earth = self._earth_radius_km() * 1e3
         bottom = self.bottom_altitude / 1e3 if self.levels else 0.0
-        # a target at the bottom is lifted off it; an observer that would then be no higher
-        # than halfway up the path's span above it keeps the span above the lifted target;
-        # a level path (horizontal, chord) is lifted whole
-        span = (h_obs - h_tgt) / 1e3
+        # a target at the bottom is lifted off it (a slant path spans more than 100 m, see
+        # path_kind, and loses under 1 % of it); a level or chord path is lifted whole
         h1, h2 = h_obs / 1e3, max(h_tgt / 1e3, bottom + _BOTTOM_OFFSET_KM)
         if kind != "slant":
             h1 = max(h1, h1 - h_tgt / 1e3 + h2)
-        elif span > 0 and h1 - h2 < 0.5 * span:
-            h1 = h2 + span
         fields = self._base(*window)
         if kind == "slant":
             angle, central, _ = observer_geometry(h_obs, h_tgt, view_zenith, r_earth)
