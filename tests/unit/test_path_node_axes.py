@@ -133,3 +133,65 @@ def test_path_radiance_at_an_azimuth_node_is_the_engines():
     mirror = db.path(3000.0, 0.0, 50.0, wl, view_azimuth=135.0 - 90.0).scattered_radiance
     assert side == pytest.approx(mirror, rel=EXACT)  # even in the relative azimuth
     assert fore[0] > 1.2 * side[0] and back[0] != pytest.approx(side[0], rel=0.01)
+
+
+# -- lines of sight near the horizon: nodes over their length -------------------------------
+def _ground_camera(n=200):
+    """A camera 2 m up over ground 0-10 m below it (relief) at 80-89.99 deg, and a few lines
+    of sight up a hillside (looking up, 90.5-95 deg)."""
+    rng = np.random.default_rng(4)
+    down = np.column_stack([np.full(n, 2.0), rng.uniform(-10.0, 0.0, n),
+                            rng.uniform(80.0, 89.99, n)])
+    up = np.column_stack([np.full(20, 2.0), rng.uniform(5.0, 30.0, 20),
+                          rng.uniform(90.5, 95.0, 20)])
+    return np.vstack([down, up]).T
+
+
+def test_level_nodes_follow_the_length_of_each_line_of_sight():
+    """Mixed with its weights, the nodes' lengths Δh/|cos θ| give back each line of sight's
+    (linear in length along the length axis), their spans and targets its own; looking up
+    and down keep to their side."""
+    from radscene.atmosphere.nodes import LEVEL_LENGTH_RATIO, level_lines, level_nodes
+
+    obs, tgt, vz = _ground_camera()
+    sel = level_lines(obs, tgt, vz)
+    assert sel.sum() == np.sum(np.minimum(vz, 180 - vz) > 85.0)
+    o, t, z = obs[sel], tgt[sel], vz[sel]
+    nodes = level_nodes(o, t, z)
+    np.testing.assert_allclose(nodes.weight.sum(axis=1), 1.0, atol=EXACT)
+    span = np.abs(nodes.observer_altitude - nodes.target_altitude)
+    length = span / np.abs(np.cos(np.radians(nodes.view_zenith)))
+    want = np.abs(o - t) / np.abs(np.cos(np.radians(z)))
+    np.testing.assert_allclose((nodes.weight * length[nodes.index]).sum(axis=1), want, rtol=1e-9)
+    np.testing.assert_allclose((nodes.weight * nodes.target_altitude[nodes.index]).sum(axis=1),
+                               t, atol=1e-9)
+    used = nodes.weight > 0
+    node_up = (nodes.view_zenith > 90.0)[nodes.index]
+    assert np.all(node_up[used] == np.repeat(z > 90.0, nodes.index.shape[1]).reshape(
+        used.shape)[used])
+    lengths = np.unique(np.round(length[nodes.view_zenith < 90.0], 6))
+    assert np.all(lengths[1:] / lengths[:-1] <= LEVEL_LENGTH_RATIO + 1e-9)
+
+
+def test_an_engines_nodes_split_at_the_horizon():
+    """``with_level_nodes``: the engine's own grid away from the horizon, the length grid near
+    it, one set of nodes and rows that still sum to 1."""
+    from radscene.atmosphere.nodes import level_lines, with_level_nodes
+
+    obs, tgt, vz = _ground_camera()
+    vz[:50] = np.linspace(10.0, 80.0, 50)
+    calls = []
+
+    def steep(o, t, z):
+        calls.append(z.copy())
+        return PathNodes(observer_altitude=np.array([2.0]), target_altitude=np.array([0.0]),
+                         view_zenith=np.array([45.0]), index=np.zeros((z.size, 1), np.int64),
+                         weight=np.ones((z.size, 1)))
+
+    nodes = with_level_nodes(obs, tgt, vz, steep)
+    level = level_lines(obs, tgt, vz)
+    assert len(calls) == 1 and calls[0].size == np.sum(~level) and calls[0].max() <= 85.0
+    np.testing.assert_allclose(nodes.weight.sum(axis=1), 1.0, atol=EXACT)
+    assert np.all(nodes.index[~level, 0] == 0) and np.all(nodes.index[level] >= 1)
+    # every level node carries its length: a span of at least 1 cm
+    assert np.all(np.abs(nodes.observer_altitude - nodes.target_altitude)[1:] >= 0.01 - 1e-12)
