@@ -143,7 +143,7 @@ def test_a_line_of_sight_near_the_horizon_is_the_flat_scenes(make, decks):
     atm = make()
     atm.path(2.0, 0.0, 89.9, WL)
     atm.path(1000.0, 0.0, 88.0, WL)
-    level, chord = decks()
+    chord, level = sorted(decks(), key=lambda d: int(card(d, 0, [5] * 2)[1]), reverse=True)
     assert int(card(level, 0, [5] * 2)[1]) == 1
     h1, h2, angle, length = (float(x) for x in card(level, 2, [10] * 4))
     assert (h1, angle) == (0.002, 0.0) and length == pytest.approx(2e-3 / np.cos(np.radians(
@@ -152,6 +152,20 @@ def test_a_line_of_sight_near_the_horizon_is_the_flat_scenes(make, decks):
     h1, h2, angle, length = (float(x) for x in card(chord, 2, [10] * 4))
     assert (h1, h2, angle) == (1.001, 0.001, 0.0)  # lifted whole, as the level path
     assert length == pytest.approx(1.0 / np.cos(np.radians(88.0)), abs=1e-5)
+
+
+def test_a_level_path_in_sunlight_takes_its_sunlight_from_the_horizons_sky(make, decks):
+    """A level path's scattered sunlight is the sky's 89 deg from the zenith along the line
+    of sight (a second run, ITYPE 3 from the path's altitude) times 1 - τ."""
+    atm = make(sun_zenith=40.0, sun_azimuth=180.0, view_azimuth=90.0)
+    out = atm.path(2.0, 0.0, 89.9, WL)
+    level, sky = sorted(decks(), key=lambda d: int(card(d, 0, [5] * 2)[1]))  # runs in any order
+    assert int(card(level, 0, [5] * 2)[1]) == 1 and int(card(sky, 0, [5] * 2)[1]) == 3
+    h1, _h2, angle = (float(x) for x in card(sky, 2, [10] * 3))
+    assert (h1, angle) == (0.002, 89.0)
+    assert card(sky, 4, [10] * 2) == card(level, 4, [10] * 2)  # the same sun and azimuth
+    assert out.scattered_radiance == pytest.approx(np.full(4, SCATTER * 1e4 * (1 - TAU)),
+                                                   rel=REL)
 
 
 def test_a_path_near_the_ground_keeps_its_length(make, decks):

@@ -385,6 +385,23 @@ def _pchip_scale(nodes, stack, f, logarithm):
     return np.exp(value) if logarithm else value
 
 
+def _level_weight(upper, lower, zen):
+    """Each line of sight's weight on the level air at its mean altitude (1 below an altitude
+    span of :data:`_LEVEL_SPAN` [0] or beyond :data:`_LEVEL_ZENITH` [1] from the vertical, 0
+    above a span of [1] and within [0]; logarithmically in the span and linearly in zenith
+    between), that mean altitude and its length in the flat scene [m] (0 from space)."""
+    dh = np.maximum(upper - lower, 0.0)
+    near = (upper < model.TOP_OF_ATMOSPHERE) & (dh > 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        span = np.where(near, np.log(_LEVEL_SPAN[1] / dh), 0.0)
+    weight = np.clip(span / np.log(_LEVEL_SPAN[1] / _LEVEL_SPAN[0]), 0.0, 1.0)
+    ramp = np.clip((zen - _LEVEL_ZENITH[0]) / (_LEVEL_ZENITH[1] - _LEVEL_ZENITH[0]), 0.0, 1.0)
+    weight = np.where(near, np.maximum(weight, ramp), 0.0)
+    cos_z = np.cos(np.radians(np.minimum(zen, 90.0)))
+    length = np.where(near, dh / np.maximum(cos_z, 1e-12), 0.0)
+    return weight, lower + 0.5 * dh, length
+
+
 def _source_form(t0, l0, t1, l1, f):
     """Transmittance and path radiance between two nodes at fraction ``f``: τ log-linearly,
     L as the mean source B = L/(1 - τ), linear, times 1 - τ (a node with 1 - τ < 1e-3 takes
@@ -1428,14 +1445,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         z_max = float(a["view_zenith"][-1])
         t_s, l_s = self._slant_thermal(dh, lower, np.minimum(zen, z_max), space)  # (N, λt)
         if self.level:
-            near = ~space & (dh > 0.0)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                span = np.where(near, np.log(_LEVEL_SPAN[1] / dh), 0.0)
-                weight = np.where(near, np.clip(span / np.log(_LEVEL_SPAN[1] / _LEVEL_SPAN[0]),
-                                                0.0, 1.0), 0.0)
-            mid = lower + 0.5 * dh
-            cos_z = np.cos(np.radians(np.minimum(zen, 90.0)))
-            length = np.where(near, dh / np.maximum(cos_z, 1e-12), 0.0)
+            weight, mid, length = _level_weight(upper, lower, zen)
+            near = length > 0
             far = near & (zen > z_max)
             if np.any(far):  # the level air of the extra length beyond the last zenith
                 t_far, _ = self._level_thermal(mid[far], length[far])
@@ -1446,9 +1457,6 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                     l_new = np.where(1.0 - t_old > 1e-3, l_old / (1.0 - t_old) * (1.0 - t_new),
                                      l_old)
                 t_s[far], l_s[far] = t_new, l_new
-            ramp = np.clip((zen - _LEVEL_ZENITH[0]) / (_LEVEL_ZENITH[1] - _LEVEL_ZENITH[0]),
-                           0.0, 1.0)
-            weight = np.where(near, np.maximum(weight, ramp), 0.0)
             blend = weight > 0
             if np.any(blend):
                 t_l, l_l = self._level_thermal(mid[blend], length[blend])
@@ -1466,6 +1474,58 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         tau[zero] = 1.0
         rad[zero] = 0.0
         return tau, rad, inside, weight
+
+    def _level_reflective(self, tau, scattered, refl, wl, upper, lower, zen, view_azimuth,
+                          sun_up):
+        """Lines of sight near the ground and the horizon in the reflective tables' range
+        (below the thermal tables'), blended into ``tau`` and ``scattered`` in place by
+        :func:`_level_weight`: the level air at the line's mean altitude over its length.
+
+        Extinction: the molecules' and aerosol's per metre, from the tables' optical depth of
+        the 10 m above that altitude. Gases: the first observer level's partial column
+        (1 km) at the air mass that holds the line's amount, r / (H x₁) with H the aerosol
+        scale height (water vapour's, near the ground) and x₁ its fraction below that level.
+        Scattered sunlight (Koschmieder 1924, a level path in uniform air): the sky's
+        scattered radiance at 89 deg from the zenith, looking along the line, times
+        1 - τ — the sky near the horizon is the light such air scatters over an endless path.
+        """
+        weight, mid, length = _level_weight(upper, lower, zen)
+        band = refl.copy()
+        if self.thermal:
+            band &= wl < self.axes["thermal_wavelength"][0]
+        sel = np.flatnonzero(weight > 0)
+        if not sel.size or not np.any(band):
+            return
+        w_ = wl[band]
+        h, r = mid[sel], length[sel]
+        thin = 10.0
+        c = self.components(h + thin, h, 0.0, w_, sun_zenith=self.sun_zenith if sun_up else 0.0,
+                            relative_azimuth=0.0)
+        depth = c["optical_depth_view"] / thin * r[:, None]
+        x1 = float(self._x_nodes[1])
+        heights = self.axes["observer_height"]
+        mass = r / (AEROSOL_SCALE_HEIGHT * x1)
+        if heights[1] < model.TOP_OF_ATMOSPHERE:
+            gas = self._gas("gas_partial", w_, h, mass, extra_index=1)
+        else:
+            gas = self._gas("gas_column", w_, h, mass)
+        t_level = np.exp(-depth) * gas
+        wt = weight[sel][:, None]
+        tau[np.ix_(sel, np.flatnonzero(band))] = ((1.0 - wt) * tau[np.ix_(sel, np.flatnonzero(band))]
+                                                   + wt * t_level)
+        if not sun_up:
+            return
+        look = view_azimuth if view_azimuth is not None else self.view_azimuth
+        azimuths = (np.array([float(look) + 180.0]) if look is not None
+                    else self.sun_azimuth + np.arange(0.0, 360.0, 30.0))
+        air = np.zeros((sel.size, w_.size))
+        for alt in np.unique(np.round(h, -1)):
+            rows = np.round(h, -1) == alt
+            sky = self.sky_parts(np.full(azimuths.size, 89.0), azimuths % 360.0, w_,
+                                 SkyGeometry(float(alt), self.sun_zenith, self.sun_azimuth))
+            air[rows] = sky.solar.mean(axis=0) * (1.0 - t_level[rows])
+        cols = np.flatnonzero(band)
+        scattered[np.ix_(sel, cols)] = ((1.0 - wt) * scattered[np.ix_(sel, cols)] + wt * air)
 
     def _slant_thermal(self, dh, lower, zen, space):
         """(τ, L) on the thermal wavelengths, (N, λt), from the tables over (surface altitude,
@@ -1619,6 +1679,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             tau[:, refl] = c["transmittance"]
             if sun_up:
                 scattered[:, refl] = c["path_radiance"]
+            self._level_reflective(tau, scattered, refl, wl, upper.ravel(), lower.ravel(),
+                                   zen.ravel(), view_azimuth, sun_up)
         thermal = np.zeros((n, wl.size))
         if self.thermal:
             t_tau, t_rad, inside, level = self._thermal_path(upper.ravel(), lower.ravel(),

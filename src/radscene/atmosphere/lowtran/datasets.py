@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from radscene.atmosphere.base import SkyGeometry
-from radscene.atmosphere.lowtran.geometry import observer_geometry
+from radscene.atmosphere.lowtran.geometry import observer_geometry, path_kind
 from radscene.errors import ConfigError
 
 __all__ = ["line_of_sight", "sky_radiance", "native_window"]
@@ -92,13 +92,16 @@ def line_of_sight(atm, observer_altitude, target_altitude, view_zenith, waveleng
         raise ConfigError("must lie in [0, 180] deg", key="view_zenith")
     v_req, window = native_window(atm, wavelength, wavelength_range)
     cases, names = [], []
-    zero_path = abs(h_o - h_t) < SAME_ALTITUDE_M
+    r_earth = atm._earth_radius_km() * 1e3
+    kind, length = path_kind(h_o, h_t, vz, r_earth, SAME_ALTITUDE_M)
+    zero_path = kind == "none"
     if not zero_path:
-        _, _, s = observer_geometry(h_o, h_t, vz, atm._earth_radius_km() * 1e3)
-        if not np.isfinite(s):
+        if kind == "slant":
+            _, _, s = observer_geometry(h_o, h_t, vz, r_earth)
+        if kind == "contradiction" or (kind == "slant" and not np.isfinite(s)):
             raise ConfigError("no line of sight joins observer and target at this zenith "
                               "(observer above: zenith < 90; below: > 90)", key="view_zenith")
-        case, name = atm._path_case(h_o, h_t, vz, window)
+        case, name = atm._path_case(h_o, h_t, vz, window, None, kind, length)
         cases.append(case)
         names.append(name)
     sun_up = atm.sun_zenith is not None and atm.sun_zenith < 90.0
@@ -106,7 +109,12 @@ def line_of_sight(atm, observer_altitude, target_altitude, view_zenith, waveleng
         case, name = atm._sun_case(h_t, atm.sun_zenith, window)
         cases.append(case)
         names.append(name)
-    results = atm.runner.run(cases, names) if cases else []
+    airlight = None
+    if cases and not zero_path:  # a level path's sunlight from the horizon's sky
+        (first, airlight), *_ = atm._run_with_airlight(cases[:1], names[:1], window)
+        results = [first] + (atm.runner.run(cases[1:], names[1:]) if len(cases) > 1 else [])
+    else:
+        results = atm.runner.run(cases, names) if cases else []
 
     def at(result, values):
         return atm._interp(result, values, v_req)
@@ -118,8 +126,9 @@ def line_of_sight(atm, observer_altitude, target_altitude, view_zenith, waveleng
         r = results[0]
         tau = at(r, r.transmittance)
         thermal = at(r, r.thermal_radiance)
-        scattered = (at(r, r.scattered_radiance) if r.scattered_radiance is not None
-                     else np.zeros(n))
+        scattered = (at(airlight, airlight.scattered_radiance) * (1.0 - tau)
+                     if airlight is not None else at(r, r.scattered_radiance)
+                     if r.scattered_radiance is not None else np.zeros(n))
     if sun_up:
         r = results[-1]
         tau_sun = at(r, r.transmittance)
