@@ -76,10 +76,12 @@ def test_default_configuration_is_valid_and_complete():
                                            r"engine's 15 g cm-2"),
     ({"thermal": {"ozone_scales": [4.5]}}, r"thermal.ozone_scales: 4.5 times"),
     ({"thermal": {"observer_height": [1000, 300]}},
-     r"thermal.observer_height: an increasing list within \[1, 99000\] m"),
+     r"thermal.observer_height: an increasing list of at least 1 within \[1, 99000\] m"),
     ({"thermal": {"observer_height": "high"}}, r"thermal.observer_height"),
     ({"thermal": {"path_length": [0, 10]}}, r"thermal.path_length: an increasing list"),
     ({"thermal": {"path_length": [1e6]}}, r"within \[1, 300000\] m"),
+    ({"thermal": {"path_length": [100]}}, r"thermal.path_length: an increasing list of at "
+                                          r"least 2"),
 ])
 def test_bad_configurations_name_the_key(config, match):
     with pytest.raises(ConfigError, match=match):

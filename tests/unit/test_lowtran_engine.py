@@ -184,6 +184,7 @@ def test_a_path_near_the_ground_keeps_its_length(make, decks):
     ((0.0, 2.0, 90.1), "horizontal"), ((1000.0, 0.0, 88.0), "chord"),
     ((300.0, 0.0, 89.9), "horizontal"), ((3.0, 3.0, 45.0), "none"),
     ((0.2, 0.0, 90.0), "none"), ((5.0, 0.0, 90.0), "contradiction"),
+    ((0.0, 0.4, 80.0), "none"),  # within the ground-hit noise, either side
     ((5.0, 0.0, 95.0), "contradiction"),
 ])
 def test_path_kind(geometry, kind):

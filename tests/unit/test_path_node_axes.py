@@ -163,8 +163,10 @@ def test_level_nodes_follow_the_length_of_each_line_of_sight():
     length = span / np.abs(np.cos(np.radians(nodes.view_zenith)))
     want = np.abs(o - t) / np.abs(np.cos(np.radians(z)))
     np.testing.assert_allclose((nodes.weight * length[nodes.index]).sum(axis=1), want, rtol=1e-9)
-    np.testing.assert_allclose((nodes.weight * nodes.target_altitude[nodes.index]).sum(axis=1),
-                               t, atol=1e-9)
+    low = np.minimum(nodes.observer_altitude, nodes.target_altitude)
+    np.testing.assert_allclose((nodes.weight * low[nodes.index]).sum(axis=1), np.minimum(o, t),
+                               atol=1e-9)
+    assert low.min() >= np.minimum(o, t).min() - 1e-9  # no node below the lines' lowest end
     used = nodes.weight > 0
     node_up = (nodes.view_zenith > 90.0)[nodes.index]
     assert np.all(node_up[used] == np.repeat(z > 90.0, nodes.index.shape[1]).reshape(
@@ -193,5 +195,23 @@ def test_an_engines_nodes_split_at_the_horizon():
     assert len(calls) == 1 and calls[0].size == np.sum(~level) and calls[0].max() <= 85.0
     np.testing.assert_allclose(nodes.weight.sum(axis=1), 1.0, atol=EXACT)
     assert np.all(nodes.index[~level, 0] == 0) and np.all(nodes.index[level] >= 1)
-    # every level node carries its length: a span of at least 1 cm
-    assert np.all(np.abs(nodes.observer_altitude - nodes.target_altitude)[1:] >= 0.01 - 1e-12)
+    # every level node carries its length: a span of at least 1 m (the engines hold spans up
+    # to 0.5 m at 89 deg)
+    assert np.all(np.abs(nodes.observer_altitude - nodes.target_altitude)[1:] >= 1.0 - 1e-12)
+
+
+def test_level_nodes_looking_up_keep_their_observer_on_the_ground():
+    """A 2 m camera looking up a hillside 12-52 m high: every node's observer is a real
+    observer altitude (the lower end's axis), none below the ground."""
+    from radscene.atmosphere.lowtran.geometry import path_node_grid
+
+    nodes = path_node_grid(2.0, np.linspace(12.0, 52.0, 20), np.linspace(91.0, 93.0, 20))
+    assert nodes.observer_altitude.min() == 2.0 and np.all(nodes.view_zenith > 90.0)
+
+
+def test_a_few_lines_near_the_horizon_keep_their_zenith():
+    """Below the distinct-geometry count a line at 89.996 deg is not rounded to 90."""
+    from radscene.atmosphere.lowtran.geometry import path_node_grid
+
+    nodes = path_node_grid([2.0], [0.0], [89.996])
+    assert 89.99 < nodes.view_zenith[0] < 90.0

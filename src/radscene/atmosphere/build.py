@@ -285,15 +285,16 @@ def load_config(config) -> dict:
                           key="thermal.engine")
     t["water_scales"] = _scale_nodes(t.get("water_scales", []), "thermal.water_scales", False)
     t["ozone_scales"] = _scale_nodes(t.get("ozone_scales", [1.0]), "thermal.ozone_scales", True)
-    for name, lo, hi in (("observer_height", 1.0, 99000.0), ("path_length", 1.0, 300000.0)):
+    for name, lo, hi, least in (("observer_height", 1.0, 99000.0, 1),
+                                ("path_length", 1.0, 300000.0, 2)):
         try:
             a = np.atleast_1d(np.asarray(t.get(name, []), dtype=float))
         except (TypeError, ValueError):
             a = np.array([np.nan])
-        if (a.ndim != 1 or a.size < 1 or not np.all(np.isfinite(a)) or np.any(np.diff(a) <= 0)
-                or a[0] < lo or a[-1] > hi):
-            raise ConfigError(f"an increasing list within [{lo:g}, {hi:g}] m; got "
-                              f"{t.get(name)!r}", key=f"thermal.{name}")
+        if (a.ndim != 1 or a.size < least or not np.all(np.isfinite(a))
+                or np.any(np.diff(a) <= 0) or a[0] < lo or a[-1] > hi):
+            raise ConfigError(f"an increasing list of at least {least} within [{lo:g}, {hi:g}] "
+                              f"m; got {t.get(name)!r}", key=f"thermal.{name}")
         t[name] = a.tolist()
     if str(t.get("engine", "none")).lower() != "none":
         _check_column_limits(cfg)

@@ -149,6 +149,9 @@ _LEVEL_SPAN = (100.0, 300.0)
 #: range from the thermal tables' start (3 µm) up (whose gas transmittance ends at air mass
 #: 40, 88.6 deg).
 _LEVEL_ZENITH = (85.0, 87.0)
+#: Lines of sight spanning more altitude than this [m] are never read as level air (at their
+#: mean altitude: over 2.5 km near the horizon that was within 1.7 % of LOWTRAN over 8-12 um).
+_LEVEL_MAX_SPAN = 3000.0
 #: How far below the lowest surface-altitude node a target may lie [m].
 _BELOW_TABLE = 500.0
 #: Aerosol optical depths between which the interpolated factor of the path reflectance goes
@@ -389,9 +392,10 @@ def _level_weight(upper, lower, zen):
     """Each line of sight's weight on the level air at its mean altitude (1 below an altitude
     span of :data:`_LEVEL_SPAN` [0] or beyond :data:`_LEVEL_ZENITH` [1] from the vertical, 0
     above a span of [1] and within [0]; logarithmically in the span and linearly in zenith
-    between), that mean altitude and its length in the flat scene [m] (0 from space)."""
+    between; 0 for spans beyond :data:`_LEVEL_MAX_SPAN`), that mean altitude and its length
+    in the flat scene [m] (0 where the weight is 0 by the span, or from space)."""
     dh = np.maximum(upper - lower, 0.0)
-    near = (upper < model.TOP_OF_ATMOSPHERE) & (dh > 0.0)
+    near = (upper < model.TOP_OF_ATMOSPHERE) & (dh > 0.0) & (dh <= _LEVEL_MAX_SPAN)
     with np.errstate(divide="ignore", invalid="ignore"):
         span = np.where(near, np.log(_LEVEL_SPAN[1] / dh), 0.0)
     weight = np.clip(span / np.log(_LEVEL_SPAN[1] / _LEVEL_SPAN[0]), 0.0, 1.0)
@@ -1490,14 +1494,13 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         1 - τ — the sky near the horizon is the light such air scatters over an endless path.
         """
         weight, mid, length = _level_weight(upper, lower, zen)
-        band = refl.copy()
-        if self.thermal:
-            band &= wl < self.axes["thermal_wavelength"][0]
+        band = refl.copy()  # scattered sunlight: the whole reflective range
         sel = np.flatnonzero(weight > 0)
         if not sel.size or not np.any(band):
             return
         w_ = wl[band]
-        h, r = mid[sel], length[sel]
+        # the air at the top surface-altitude node stands for the air above it
+        h, r = np.minimum(mid[sel], self.axes["surface_altitude"][-1]), length[sel]
         thin = 10.0
         c = self.components(h + thin, h, 0.0, w_, sun_zenith=self.sun_zenith if sun_up else 0.0,
                             relative_azimuth=0.0)
@@ -1511,8 +1514,10 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             gas = self._gas("gas_column", w_, h, mass)
         t_level = np.exp(-depth) * gas
         wt = weight[sel][:, None]
-        tau[np.ix_(sel, np.flatnonzero(band))] = ((1.0 - wt) * tau[np.ix_(sel, np.flatnonzero(band))]
-                                                   + wt * t_level)
+        # transmittance below the thermal tables' range (there the thermal tables give it)
+        own = band[band] if not self.thermal else w_ < self.axes["thermal_wavelength"][0]
+        cols = np.flatnonzero(band)[own]
+        tau[np.ix_(sel, cols)] = (1.0 - wt) * tau[np.ix_(sel, cols)] + wt * t_level[:, own]
         if not sun_up:
             return
         look = view_azimuth if view_azimuth is not None else self.view_azimuth
@@ -1595,8 +1600,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             source = ((1.0 - f) * l0 / np.maximum(1.0 - t0, 1e-12)
                       + f * l1 / np.maximum(1.0 - t1, 1e-12))
         short = length < lengths[0]
-        if np.any(short):  # below the first node: the first step's power of the length
-            t_1, _ = at(np.ones(int(short.sum()), dtype=np.int64))
+        if np.any(short) and lengths.size > 1:  # below the first node: the first step's power
+            t_1 = at(np.ones(r.size, dtype=np.int64))[0][short]
             power = np.clip(np.log(depth(t_1) / d0[short]) / np.log(lengths[1] / lengths[0]),
                             0.5, 1.0)
             d[short] = d0[short] * (r[short] / lengths[0])[:, None] ** power

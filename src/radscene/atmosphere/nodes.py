@@ -56,8 +56,11 @@ LEVEL_ZENITH = 85.0
 LEVEL_LENGTH_RATIO = 1.25
 #: Top of the atmosphere [m]: an observer there is in space.
 _TOP = 100_000.0
-#: Least altitude span [m] of a level path node (its view zenith then carries its length).
-_LEAST_SPAN = 0.01
+#: Least altitude span [m] of a level path node: its view zenith then carries its length (the
+#: engines hold spans up to 0.5 m, ground-hit noise, at 89 deg).
+_LEAST_SPAN = 1.0
+#: Longest path length of a level node [m] (a line of sight at exactly 90 deg has none).
+_LONGEST = 300_000.0
 
 #: Spacing of the relative-azimuth nodes [deg] by the largest angle of the lines of sight
 #: from the vertical [deg]: (up to that angle, spacing), in increasing order.
@@ -91,10 +94,11 @@ def level_nodes(observer_altitude, target_altitude, view_zenith):
     A level line of sight is its air's altitude and its length: in the flat scene a camera
     2 m up sees 1.1 km of air at 89.9 deg and 11 km at 89.99 deg, so air mass steps of any
     fixed size cannot follow it. The nodes are over the path length r = Δh/|cos θ|
-    (geometric, :data:`LEVEL_LENGTH_RATIO` apart, over the lines' range), the target altitude
-    and the altitude span Δh (each at its extremes where they spread over more than 1 m),
-    looking down and looking up apart, with multilinear weights; a node's view zenith is
-    arccos(Δh/r), its span at least 1 cm so that it carries the length.
+    (geometric, :data:`LEVEL_LENGTH_RATIO` apart, over the lines' range, at most
+    :data:`_LONGEST`), the altitude of the line's lower end and its altitude span Δh (each at
+    its extremes where they spread over more than 1 m), looking down and looking up apart,
+    with multilinear weights; a node's view zenith is arccos(Δh/r), its span at least
+    :data:`_LEAST_SPAN` so that it carries the length.
 
     Returns
     -------
@@ -110,9 +114,9 @@ def level_nodes(observer_altitude, target_altitude, view_zenith):
         sel = np.flatnonzero((obs < tgt) if up else (obs >= tgt))
         if not sel.size:
             continue
-        t, span = tgt[sel], np.abs(obs[sel] - tgt[sel])
+        low, span = np.minimum(obs[sel], tgt[sel]), np.abs(obs[sel] - tgt[sel])
         cos_z = np.abs(np.cos(np.radians(vz[sel])))
-        length = np.maximum(span / np.maximum(cos_z, 1e-12), 1.0)
+        length = np.clip(span / np.maximum(cos_z, 1e-12), 1.0, _LONGEST)
         lo, hi = float(length.min()), float(length.max())
         steps = int(np.ceil(np.log(hi / lo) / np.log(LEVEL_LENGTH_RATIO) - 1e-9))
         lengths = np.geomspace(lo, hi, steps + 1) if steps > 0 else np.array([lo])
@@ -121,14 +125,15 @@ def level_nodes(observer_altitude, target_altitude, view_zenith):
             return np.unique([v.min(), v.max()]) if np.ptp(v) > 1.0 else np.array([v.mean()])
 
         coords, index, weight = multilinear_nodes(
-            [t, span, length], [extremes(t), extremes(span), lengths])
-        node_t, node_span, node_r = coords
+            [low, span, length], [extremes(low), extremes(span), lengths])
+        node_low, node_span, node_r = coords
         node_span = np.maximum(node_span, _LEAST_SPAN)
         zen = np.degrees(np.arccos(np.minimum(node_span / node_r, 1.0)))
+        # the lower end is the target looking down, the observer looking up
         parts.append((sel, PathNodes(
-            observer_altitude=node_t - node_span if up else node_t + node_span,
-            target_altitude=node_t, view_zenith=180.0 - zen if up else zen,
-            index=index, weight=weight)))
+            observer_altitude=node_low if up else node_low + node_span,
+            target_altitude=node_low + node_span if up else node_low,
+            view_zenith=180.0 - zen if up else zen, index=index, weight=weight)))
     return merge_nodes(obs.size, parts)
 
 

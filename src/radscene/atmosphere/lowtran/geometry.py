@@ -124,7 +124,8 @@ def path_kind(observer_altitude, target_altitude, view_zenith, earth_radius=DEFA
         return "none", 0.0
     up = float(observer_altitude) > float(target_altitude)
     if level or (cos_z < 0 if up else cos_z > 0):
-        return "contradiction", math.inf
+        # within the ground-hit noise an observer may lie on either side of its target
+        return ("none", 0.0) if dh < zero_length else ("contradiction", math.inf)
     length = dh / abs(cos_z)
     if max(observer_altitude, target_altitude) >= _TOP - 1.0:
         return "slant", length
@@ -223,12 +224,12 @@ def path_node_grid(observer_altitude, target_altitude, view_zenith, zenith_nodes
                          np.zeros((0, 1), dtype=np.int64), np.ones((0, 1)))
     keys = np.stack([np.round(obs), np.round(tgt), np.round(vz, 2)], axis=1)
     unique, inverse = np.unique(keys, axis=0, return_inverse=True)
-    if len(unique) <= max_distinct:
+    from radscene.atmosphere.nodes import level_lines, with_level_nodes
+
+    if len(unique) <= max_distinct and not np.any(level_lines(obs, tgt, vz)):
         return PathNodes(observer_altitude=unique[:, 0].copy(), target_altitude=unique[:, 1].copy(),
                          view_zenith=unique[:, 2].copy(),
                          index=inverse.reshape(n, 1).astype(np.int64), weight=np.ones((n, 1)))
-    from radscene.atmosphere.nodes import with_level_nodes
-
     return with_level_nodes(obs, tgt, vz, lambda o, t, z: _grid(o, t, z, zenith_nodes))
 
 
