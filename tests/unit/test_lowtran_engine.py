@@ -434,6 +434,8 @@ def test_bad_parameters(make, params, key, match):
     (lambda a: a.path(3000.0, 0.0, 0.0, [10.0, 30.0]), "wavelength", "0.25–28 µm"),
     (lambda a: a.path(3000.0, 0.0, 120.0, WL), "view_zenith", "no line of sight"),
     (lambda a: a.path(3000.0, 0.0, 190.0, WL), "view_zenith", r"\[0, 180\]"),
+    (lambda a: a.level_path(0.0, [100.0, 0.0], WL), "length", "finite and > 0"),
+    (lambda a: a.level_path(-50.0, 100.0, WL), "altitude", "below the ground"),
     (lambda a: a.sun(-10.0, 30.0, WL, np.ones(4)), "target_altitude", "below the ground"),
     (lambda a: a.sky(95.0, 0.0, WL, SkyGeometry()), "zenith", r"\[0, 90\]"),
     (lambda a: a.line_of_sight(3000.0, 0.0, 0.0, wavelength_range=(12.0, 8.0)),

@@ -1494,11 +1494,10 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         1 - τ — the sky near the horizon is the light such air scatters over an endless path.
         """
         weight, mid, length = _level_weight(upper, lower, zen)
-        band = refl.copy()  # scattered sunlight: the whole reflective range
         sel = np.flatnonzero(weight > 0)
-        if not sel.size or not np.any(band):
+        if not sel.size or not np.any(refl):
             return
-        w_ = wl[band]
+        w_ = wl[refl]  # scattered sunlight: the whole reflective range
         # the air at the top surface-altitude node stands for the air above it
         h, r = np.minimum(mid[sel], self.axes["surface_altitude"][-1]), length[sel]
         thin = 10.0
@@ -1515,8 +1514,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         t_level = np.exp(-depth) * gas
         wt = weight[sel][:, None]
         # transmittance below the thermal tables' range (there the thermal tables give it)
-        own = band[band] if not self.thermal else w_ < self.axes["thermal_wavelength"][0]
-        cols = np.flatnonzero(band)[own]
+        own = w_ < (self.axes["thermal_wavelength"][0] if self.thermal else np.inf)
+        cols = np.flatnonzero(refl)[own]
         tau[np.ix_(sel, cols)] = (1.0 - wt) * tau[np.ix_(sel, cols)] + wt * t_level[:, own]
         if not sun_up:
             return
@@ -1529,7 +1528,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             sky = self.sky_parts(np.full(azimuths.size, 89.0), azimuths % 360.0, w_,
                                  SkyGeometry(float(alt), self.sun_zenith, self.sun_azimuth))
             air[rows] = sky.solar.mean(axis=0) * (1.0 - t_level[rows])
-        cols = np.flatnonzero(band)
+        cols = np.flatnonzero(refl)
         scattered[np.ix_(sel, cols)] = ((1.0 - wt) * scattered[np.ix_(sel, cols)] + wt * air)
 
     def _slant_thermal(self, dh, lower, zen, space):
