@@ -184,6 +184,37 @@ def test_thermal_tables_when_present(db):
     assert night[1, 1] > night[0, 1]  # the horizon is warmer at 10 um
 
 
+
+def test_from_3_um_every_transmittance_is_the_thermal_tables(db):
+    """Where both tables hold (3-4 um) the line of sight, the sun's path and the coupling's
+    gases are the thermal tables': the path's transmittance is theirs, the sun's is their path
+    from the top, and the coupling's scattered light crosses the same gases as the direct
+    (t_d / τ = the scattering tables' diffuse over direct share); below 3 um, 6S's."""
+    if not db.thermal:
+        pytest.skip("this database holds no thermal tables (LOWTRAN was not built)")
+    wl = np.array([2.2, 3.2, 3.77, 3.95])
+    upper, lower, zen = (np.array([v]) for v in (2500.0, 0.0, 60.0))
+    t_thermal, _, inside, _ = db._thermal_path(upper, lower, zen, wl)
+    assert list(inside) == [False, True, True, True]
+    p = db.path(2500.0, 0.0, 60.0, wl)
+    assert p.transmittance[inside] == pytest.approx(t_thermal[0, inside], rel=REL)
+    c = db.components(2500.0, 0.0, 60.0, wl[:1])
+    assert p.transmittance[0] == pytest.approx(c["transmittance"][0, 0], rel=REL)
+    top, _, _, _ = db._thermal_path(np.array([1e5]), lower, np.array([40.0]), wl)
+    assert db.sun(0.0, 40.0, wl, np.ones(4)).transmittance[inside] == pytest.approx(
+        top[0, inside], rel=REL)
+    c = db.components(2500.0, 0.0, 60.0, wl)
+    assert c["transmittance"][0, inside] == pytest.approx(t_thermal[0, inside], rel=REL)
+    share = c["diffuse_transmittance_up"][0] / c["direct_transmittance_up"][0]
+    t_d = db.coupling(2500.0, 0.0, 60.0, wl).diffuse_transmittance
+    assert t_d[inside] / p.transmittance[inside] == pytest.approx(share[inside], rel=1e-9)
+    # and the sun's scattered light, down to the ground and along the line of sight
+    c40 = db.components(2500.0, 0.0, 60.0, wl, sun_zenith=40.0)
+    assert (c40["gas_transmittance_down"][0, inside] * c40["direct_transmittance_down"][0, inside]
+            == pytest.approx(top[0, inside], rel=REL))
+    assert c40["gas_transmittance_total"][0, inside] == pytest.approx(
+        c40["gas_transmittance_down"][0, inside] * c40["gas_transmittance_up"][0, inside], rel=REL)
+
 def test_with_sun_copies_and_checks_the_sun(db):
     moved = db.with_sun(60.0, 370.0, day_of_year=80, view_azimuth=45.0)
     assert (moved.sun_zenith, moved.sun_azimuth, moved.view_azimuth) == (60.0, 10.0, 45.0)

@@ -25,7 +25,9 @@ Tables, stored where the physics needs resolution (the file's ``layout`` attribu
   height × view zenith), sky thermal radiance and the sky's transmittance to space (surface
   altitude × sky zenith); the same at the ``water_scale`` nodes of LOWTRAN's water-vapour
   column for every condition, and aerosol-free at the ``ozone_scale`` nodes of its ozone
-  column (:meth:`DatabaseAtmosphere._scale_thermal`).
+  column (:meth:`DatabaseAtmosphere._scale_thermal`). Where they overlap the scattering and
+  gas tables (3-4 um) the gases are the thermal tables' (:meth:`DatabaseAtmosphere.
+  _thermal_gases`).
 
 Any profile of the file goes with any aerosol condition. The conditions of one aerosol model
 at several AOT550 values (``aot550`` per condition; the condition ``none`` is every model's
@@ -1386,12 +1388,15 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         g_up, g_tot, g_nw = along_x(nodes_up), along_x(nodes_tot), along_x(nodes_nw)
         zero = (dh <= 0.5) & ~space
         e0 = np.broadcast_to(self._e0(wl), (n, wl.size))
-        rho_path = model.path_reflectance(rho["rho_mixture"], rho["rho_rayleigh"], g_tot, g_nw)
-        rho_path[zero] = 0.0
         t_dir_up = np.exp(-tau_view / mu_v[:, None])
         t_dir_up[zero] = 1.0
         g_up[zero] = 1.0
         t_dir_down = np.exp(-(spec["tau_r"] + spec["tau_a"]) / mu_s)
+        if self.thermal:
+            self._thermal_gases(u, h_t, vz, sz_eff, wl, t_dir_up, t_dir_down, g_up, g_down,
+                                g_tot, g_nw)
+        rho_path = model.path_reflectance(rho["rho_mixture"], rho["rho_rayleigh"], g_tot, g_nw)
+        rho_path[zero] = 0.0
         up_sun = sz < 90.0
         out = {
             "path_reflectance": rho_path,
@@ -1610,6 +1615,29 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         tau = np.exp(-d)
         return tau, source * (1.0 - tau)
 
+    def _thermal_gases(self, upper, lower, zen, sun_zenith, wl, t_dir_up, t_dir_down, g_up,
+                       g_down, g_tot, g_nw):
+        """From the thermal tables' start (3 µm) on, the gases' transmittances of
+        :meth:`components`, in place: the thermal tables' transmittance of the line of sight
+        and of the sun's path from the top over the scattering tables' direct ones, so that
+        the direct, the scattered and the coupling's light cross the gases that go with the
+        thermal tables' path radiance (6S's gas model has neither water vapour's continuum
+        nor its HDO band); the gases without water keep their share of the total."""
+        over = wl >= self.axes["thermal_wavelength"][0]
+        if not np.any(over):
+            return
+        w = wl[over]
+        t_view, _, _, _ = self._thermal_path(upper, lower, zen, w)
+        t_sun, _, _, _ = self._thermal_path(np.full(lower.size, model.TOP_OF_ATMOSPHERE),
+                                            lower, np.full(lower.size, sun_zenith), w)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            up = np.clip(t_view / t_dir_up[:, over], 0.0, 1.0)
+            down = np.clip(t_sun / t_dir_down[:, over], 0.0, 1.0)
+            dry = np.where(g_tot[:, over] > 0, g_nw[:, over] / g_tot[:, over], 1.0)
+        g_up[:, over], g_down[:, over] = up, down
+        g_tot[:, over] = up * down
+        g_nw[:, over] = np.clip(up * down * dry, 0.0, 1.0)
+
     def _forward_fraction(self, wavelength) -> np.ndarray:
         """Share of the aerosol's scattered light that goes into the forward hemisphere."""
         theta = np.radians(self.axes["scattering_angle"])
@@ -1689,12 +1717,9 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         if self.thermal:
             t_tau, t_rad, inside, level = self._thermal_path(upper.ravel(), lower.ravel(),
                                                              zen.ravel(), wl)
-            beyond = inside & ~refl
-            tau[:, beyond] = t_tau[:, beyond]
-            overlap = inside & refl
-            if np.any(overlap) and np.any(level > 0):  # near the ground and the horizon
-                w = level[:, None]
-                tau[:, overlap] = (1.0 - w) * tau[:, overlap] + w * t_tau[:, overlap]
+            # from the thermal tables' start on, their transmittance: the one their path
+            # radiance goes with (6S's gases leave out water's continuum and HDO at 3-4 µm)
+            tau[:, inside] = t_tau[:, inside]
             thermal[:, inside] = t_rad[:, inside]
         full = shape + wl.shape
         return PathSpectra(transmittance=tau.reshape(full), thermal_radiance=thermal.reshape(full),
@@ -1714,11 +1739,10 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                 c = self.components(model.TOP_OF_ATMOSPHERE, t[idx], 0.0, wl[refl],
                                     sun_zenith=float(z[idx]), relative_azimuth=0.0)
                 row[refl] = c["sun_transmittance"][0]
-            if self.thermal and np.any(~refl):
+            if self.thermal:
                 tau_t, _, inside, _ = self._thermal_path(np.array([model.TOP_OF_ATMOSPHERE]),
                                                       np.array([t[idx]]), np.array([z[idx]]), wl)
-                sel = ~refl & inside
-                row[sel] = tau_t[0, sel]
+                row[inside] = tau_t[0, inside]
             out[idx] = row
         return SunSpectra(transmittance=out, irradiance=out * np.asarray(toa_irradiance, float))
 
