@@ -5,6 +5,7 @@ which a line is not read as level air."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from radscene.atmosphere.database import DatabaseAtmosphere
 
@@ -29,7 +30,18 @@ def test_level_lines_above_the_highest_surface_altitude():
 
 def test_a_long_span_near_the_horizon_is_not_level_air():
     """Spanning 18 km at 88 deg the line climbs through the atmosphere: not the level air of its
-    mean altitude (that would be opaque at 10 um), the tables' 85 deg instead."""
+    mean altitude (that would be opaque at 10 um) but the tables extrapolated in air mass m
+    beyond 85 deg: the optical depth grows as m^p, 0.5 <= p <= 1, the power between the last two
+    view-zenith nodes (80 and 85 deg)."""
     db = DatabaseAtmosphere(profile="us_standard", sun_zenith=40.0, visibility=23000.0)
-    steep = db.path(20000.0, 2000.0, 85.0, [10.0]).transmittance
-    assert db.path(20000.0, 2000.0, 88.0, [10.0]).transmittance == steep
+    nodes = db.axes["thermal_wavelength"]
+    j = int(np.argmin(np.abs(nodes - 10.0)))
+    wl = [float(nodes[j])]  # a node: no spectral interpolation
+    z1, z2 = (float(z) for z in db.axes["view_zenith"][-2:])
+    d1, d85, d88 = (-np.log(db.path(20000.0, 2000.0, z, wl).transmittance[0])
+                    for z in (z1, z2, 88.0))
+    m1, m85, m88 = (1.0 / np.cos(np.radians(z)) for z in (z1, z2, 88.0))
+    power = np.clip(np.log(d85 / d1) / np.log(m85 / m1), 0.5, 1.0)
+    assert d88 == pytest.approx(d85 * (m88 / m85) ** power, rel=1e-6)
+    level = db._level_thermal(np.array([11000.0]), np.array([18000.0 / np.cos(np.radians(88.0))]))
+    assert np.exp(-d88) > 10.0 * level[0][0, j]

@@ -168,6 +168,17 @@ def test_a_level_path_in_sunlight_takes_its_sunlight_from_the_horizons_sky(make,
                                                    rel=REL)
 
 
+def test_line_of_sight_records_every_deck_it_ran(make, decks):
+    """``radscene atmosphere los`` of a sunlit level path: its ``tape5`` attribute holds the
+    level path's deck, the sun's and the horizon sky's that gives the path its sunlight."""
+    atm = make(sun_zenith=40.0, sun_azimuth=180.0, view_azimuth=90.0)
+    ds = atm.line_of_sight(2.0, 0.0, 89.9, wavelength=WL)
+    recorded = [d.strip("\n").splitlines() for d in ds.attrs["tape5"].split("\n    0\n")]
+    itypes = sorted(int(card(d, 0, [5] * 2)[1]) for d in decks())
+    assert itypes == [1, 3, 3]  # the level path, the sun's path and the horizon's sky
+    assert sorted(int(card(d, 0, [5] * 2)[1]) for d in recorded if d) == itypes
+
+
 def test_a_path_near_the_ground_keeps_its_length(make, decks):
     """A path of 1 m up from the ground runs level, lifted 1 m off the ground whole: its
     metre of air at 1.5 m (a slant path would lose the lift from its length)."""

@@ -146,14 +146,18 @@ AEROSOL_SCALE_HEIGHT = 2000.0
 #: (at its mean altitude, over its length) take over from those over observer height and view
 #: zenith: wholly below the first, not above the second, in the logarithm of the span between.
 _LEVEL_SPAN = (100.0, 300.0)
-#: View zeniths [deg] over which the level lines of sight take over from the thermal tables
-#: over view zenith (which end at 85 deg), and the transmittance of the reflective tables'
-#: range from the thermal tables' start (3 µm) up (whose gas transmittance ends at air mass
-#: 40, 88.6 deg).
+#: View zeniths [deg] over which, in the reflective tables' range (below 3 µm), the level
+#: lines of sight take over from the tables over view zenith whatever their span (up to
+#: :data:`_LEVEL_MAX_SPAN`): the reflective tables' gas transmittance ends at air mass 40
+#: (88.6 deg). The thermal range reads lines beyond its last view zenith by
+#: :meth:`DatabaseAtmosphere._beyond_thermal` instead: the level air at the mean altitude
+#: was up to 10 % off LOWTRAN there for spans of 150 m to 3 km (a 290 K ground's apparent
+#: radiance, 3.5-4.9 um), the extrapolation within 3.9 %.
 _LEVEL_ZENITH = (85.0, 87.0)
-#: Lines of sight spanning more altitude than this [m] are never read as level air (at their
-#: mean altitude: over 2.5 km near the horizon that was within 1.7 % of LOWTRAN over 8-12 um).
+#: Lines of sight spanning more altitude than this [m] are never read as level air below 3 µm.
 _LEVEL_MAX_SPAN = 3000.0
+#: The zenith [deg] at which the air mass of :meth:`DatabaseAtmosphere._beyond_thermal` stops.
+_BEYOND_ZENITH = 89.9
 #: How far below the lowest surface-altitude node a target may lie [m].
 _BELOW_TABLE = 500.0
 #: Aerosol optical depths between which the interpolated factor of the path reflectance goes
@@ -390,19 +394,23 @@ def _pchip_scale(nodes, stack, f, logarithm):
     return np.exp(value) if logarithm else value
 
 
-def _level_weight(upper, lower, zen):
+def _level_weight(upper, lower, zen, horizon: bool = True):
     """Each line of sight's weight on the level air at its mean altitude (1 below an altitude
-    span of :data:`_LEVEL_SPAN` [0] or beyond :data:`_LEVEL_ZENITH` [1] from the vertical, 0
-    above a span of [1] and within [0]; logarithmically in the span and linearly in zenith
-    between; 0 for spans beyond :data:`_LEVEL_MAX_SPAN`), that mean altitude and its length
-    in the flat scene [m] (0 where the weight is 0 by the span, or from space)."""
+    span of :data:`_LEVEL_SPAN` [0], 0 above [1], logarithmically in the span between; with
+    ``horizon``, also 1 beyond :data:`_LEVEL_ZENITH` [1] from the vertical, linearly in zenith
+    from [0], for spans up to :data:`_LEVEL_MAX_SPAN`), that mean altitude and its length in
+    the flat scene [m] (0 where the weight is 0 by the span, or from space)."""
     dh = np.maximum(upper - lower, 0.0)
-    near = (upper < model.TOP_OF_ATMOSPHERE) & (dh > 0.0) & (dh <= _LEVEL_MAX_SPAN)
+    max_span = _LEVEL_MAX_SPAN if horizon else _LEVEL_SPAN[1]
+    near = (upper < model.TOP_OF_ATMOSPHERE) & (dh > 0.0) & (dh <= max_span)
     with np.errstate(divide="ignore", invalid="ignore"):
         span = np.where(near, np.log(_LEVEL_SPAN[1] / dh), 0.0)
     weight = np.clip(span / np.log(_LEVEL_SPAN[1] / _LEVEL_SPAN[0]), 0.0, 1.0)
-    ramp = np.clip((zen - _LEVEL_ZENITH[0]) / (_LEVEL_ZENITH[1] - _LEVEL_ZENITH[0]), 0.0, 1.0)
-    weight = np.where(near, np.maximum(weight, ramp), 0.0)
+    if horizon:
+        ramp = np.clip((zen - _LEVEL_ZENITH[0]) / (_LEVEL_ZENITH[1] - _LEVEL_ZENITH[0]), 0.0,
+                       1.0)
+        weight = np.maximum(weight, ramp)
+    weight = np.where(near, weight, 0.0)
     cos_z = np.cos(np.radians(np.minimum(zen, 90.0)))
     length = np.where(near, dh / np.maximum(cos_z, 1e-12), 0.0)
     return weight, lower + 0.5 * dh, length
@@ -1427,19 +1435,18 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
     # -- thermal tables -------------------------------------------------------------------------
     def _thermal_path(self, upper, lower, zen, wl):
         """(τ, L_thermal) from the thermal tables, (N, n), ones and zeros outside their range;
-        the wavelengths inside it; and each path's weight on the level lines of sight (the
-        share of the reflective tables' transmittance they take over from 3 µm).
+        the wavelengths inside it; and each path's weight on the level lines of sight.
 
         Over observer height the tables are read in the aerosol fraction below the observer
         x: the transmittance log-linearly, the path radiance as the mean source B = L/(1 - τ)
         (linear; at the surface node the next node's) times 1 - τ, which follows the path
-        radiance's fast rise near the ground (linearly where 1 - τ < 1e-3). Near the ground
-        (an altitude span below :data:`_LEVEL_SPAN`) and near the horizon (beyond
-        :data:`_LEVEL_ZENITH`) the level lines of sight at the path's mean altitude and
-        length take over (:meth:`_level_thermal`); between the tables' last view zenith and
-        the level's own, a line of sight adds the level air of its extra length. Level air at
-        the mean altitude was within 1.7 % of LOWTRAN's path radiance over 8-12 um for spans
-        of 150 m to 2.5 km at 85-88.5 deg."""
+        radiance's fast rise near the ground (linearly where 1 - τ < 1e-3). Beyond the tables'
+        last view zenith a line of sight is extrapolated in air mass
+        (:meth:`_beyond_thermal`). Near the ground (an altitude span below
+        :data:`_LEVEL_SPAN`) the level lines of sight at the path's mean altitude and length
+        take over (:meth:`_level_thermal`); those spanning up to its upper end beyond the
+        last view zenith take the tables' value there and the level air of their extra
+        length, the part the span leaves to the tables."""
         a = self.axes
         n = upper.size
         tw = a["thermal_wavelength"]
@@ -1453,10 +1460,17 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         space = upper >= model.TOP_OF_ATMOSPHERE
         z_max = float(a["view_zenith"][-1])
         t_s, l_s = self._slant_thermal(dh, lower, np.minimum(zen, z_max), space)  # (N, λt)
+        beyond = zen > z_max
         if self.level:
-            weight, mid, length = _level_weight(upper, lower, zen)
-            near = length > 0
-            far = near & (zen > z_max)
+            weight, mid, length = _level_weight(upper, lower, zen, horizon=False)
+            far = (length > 0) & beyond
+        else:
+            far = np.zeros(n, bool)
+        rest = beyond & ~far
+        if np.any(rest):  # beyond the last zenith: extrapolated in air mass
+            t_s[rest], l_s[rest] = self._beyond_thermal(dh[rest], lower[rest], zen[rest],
+                                                        space[rest])
+        if self.level:
             if np.any(far):  # the level air of the extra length beyond the last zenith
                 t_far, _ = self._level_thermal(mid[far], length[far])
                 t_edge, _ = self._level_thermal(mid[far], dh[far] / np.cos(np.radians(z_max)))
@@ -1483,6 +1497,39 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         tau[zero] = 1.0
         rad[zero] = 0.0
         return tau, rad, inside, weight
+
+    def _beyond_thermal(self, dh, lower, zen, space):
+        """(τ, L) on the thermal wavelengths, (N, λt), of lines of sight beyond the tables'
+        last view zenith, from their last two (θ₁ < θ₂): the optical depth -ln τ as a power
+        of the air mass m = 1/cos θ (the power between the two, within 0.5-1: a band model's
+        curve of growth), the path's mean source B = L/(1 - τ) linear in cos θ (an opaque
+        path's radiance comes from the air within an optical depth of its end, whose
+        altitude span shrinks as cos θ; a thin one's is the air's mean, the same at every
+        zenith), L = B (1 - τ)."""
+        nodes = self.axes["view_zenith"]
+        z1, z2 = float(nodes[-2]), float(nodes[-1])
+        t1, l1 = self._slant_thermal(dh, lower, np.full(dh.size, z1), space)
+        t2, l2 = self._slant_thermal(dh, lower, np.full(dh.size, z2), space)
+
+        def depth(t):
+            return np.maximum(-np.log(np.clip(t, 1e-30, 1.0)), 1e-12)
+
+        d1, d2 = depth(t1), depth(t2)
+        m1, m2 = air_mass(z1), air_mass(z2)
+        m = air_mass(np.minimum(zen, _BEYOND_ZENITH))[:, None]
+        power = np.clip(np.log(d2 / d1) / np.log(m2 / m1), 0.5, 1.0)
+        d = d2 * (m / m2) ** power
+        tau = np.exp(-d)
+        c1, c2 = np.cos(np.radians([z1, z2]))
+        c = np.cos(np.radians(np.minimum(zen, _BEYOND_ZENITH)))[:, None]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ok1, ok2 = 1.0 - t1 > 1e-3, 1.0 - t2 > 1e-3
+            b2 = np.where(ok2, l2 / (1.0 - t2), 0.0)
+            b1 = np.where(ok1, l1 / (1.0 - t1), b2)
+            b2 = np.where(ok2, b2, b1)
+            source = np.maximum(b2 + (b2 - b1) * (c - c2) / (c2 - c1), 0.0)
+            rad = np.where(ok1 | ok2, source * (1.0 - tau), l2 * d / d2)
+        return tau, rad
 
     def _level_reflective(self, tau, scattered, refl, wl, upper, lower, zen, view_azimuth,
                           sun_up):

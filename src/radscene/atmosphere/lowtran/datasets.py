@@ -166,7 +166,9 @@ def line_of_sight(atm, observer_altitude, target_altitude, view_zenith, waveleng
         "observer_altitude_m": h_o, "target_altitude_m": h_t, "view_zenith_deg": vz,
         "sun_zenith_deg": "none" if atm.sun_zenith is None else atm.sun_zenith,
         "parameters": json.dumps(atm.parameters, default=str),
-        "tape5": "\n".join(r.deck for r in results),
+        # every deck run, the sunlit level path's sky near the horizon included
+        "tape5": "\n".join(r.deck for r in results + ([airlight] if airlight is not None
+                                                       else [])),
     }
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
