@@ -45,3 +45,31 @@ def test_a_long_span_near_the_horizon_is_not_level_air():
     assert d88 == pytest.approx(d85 * (m88 / m85) ** power, rel=1e-6)
     level = db._level_thermal(np.array([11000.0]), np.array([18000.0 / np.cos(np.radians(88.0))]))
     assert np.exp(-d88) > 10.0 * level[0][0, j]
+
+
+@pytest.mark.parametrize("zenith", [86.0, 88.0, 89.5])
+def test_beyond_85_deg_a_line_is_continuous_in_its_span(zenith):
+    """Beyond the tables' last view zenith the level air (spans up to 300 m), the 85 deg value
+    with the level air of the extra length (to 1-3 km) and the extrapolation in air mass
+    (beyond) meet without a step: a millimetre more span changes τ by under 0.1 %."""
+    db = DatabaseAtmosphere(profile="us_standard", sun_zenith=40.0, visibility=23000.0)
+    wl = [3.8, 4.6, 10.0]
+    for span in (100.0, 300.0, 1000.0, 3000.0):
+        below = db.path(span - 1e-3, 0.0, zenith, wl).transmittance
+        above = db.path(span + 1e-3, 0.0, zenith, wl).transmittance
+        assert above == pytest.approx(below, rel=1e-3), span
+
+
+def test_the_sun_beyond_89_deg_is_the_same_in_sun_and_components():
+    """From 3 µm the sun's transmittance is the thermal tables' at the sun's own zenith, in
+    the spherical air mass, whichever query asks; and it falls towards the horizon."""
+    db = DatabaseAtmosphere(profile="midlatitude_summer", sun_zenith=40.0, visibility=23000.0)
+    wl = np.array([3.5, 3.8, 10.0])
+    previous = None
+    for sun_zenith in (88.0, 89.0, 89.5, 89.9):
+        sun = db.sun(0.0, sun_zenith, wl, np.ones(3)).transmittance
+        c = db.components(1e5, 0.0, 0.0, wl, sun_zenith=sun_zenith)["sun_transmittance"][0]
+        assert c == pytest.approx(sun, rel=1e-9)
+        if previous is not None:
+            assert np.all(sun <= previous)
+        previous = sun

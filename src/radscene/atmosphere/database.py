@@ -158,6 +158,19 @@ _LEVEL_ZENITH = (85.0, 87.0)
 _LEVEL_MAX_SPAN = 3000.0
 #: The zenith [deg] at which the air mass of :meth:`DatabaseAtmosphere._beyond_thermal` stops.
 _BEYOND_ZENITH = 89.9
+#: Altitude spans [m] over which a thermal line of sight beyond the tables' last view zenith
+#: goes from their 85 deg value and the level air of its extra length (wholly up to the
+#: first) to the extrapolation in air mass (wholly from the second), in the logarithm of the
+#: span. Against LOWTRAN at 86-89.5 deg the first was within 0.011 in τ up to spans of 1 km
+#: (the extrapolation up to 0.055 off at 150 m) and up to 0.048 off at 3 km (the
+#: extrapolation within 0.021).
+_BEYOND_SPAN = (1000.0, 3000.0)
+#: Scale height [m] of the spherical shell whose air mass reads lines of sight from space
+#: beyond the last view zenith (:meth:`DatabaseAtmosphere._beyond_thermal`): the air's.
+#: Against LOWTRAN's sun at 89 deg (3.5-4.1 um, midlatitude summer) it gave τ 0.0145 for
+#: 0.0133, water vapour's 2 km 0.0059; at 86-89.5 deg over 3.5-12 um and three conditions it
+#: came closest of 2, 4, 6 and 8 km.
+_ABSORBER_SCALE_HEIGHT = 8000.0
 #: How far below the lowest surface-altitude node a target may lie [m].
 _BELOW_TABLE = 500.0
 #: Aerosol optical depths between which the interpolated factor of the path reflectance goes
@@ -414,6 +427,22 @@ def _level_weight(upper, lower, zen, horizon: bool = True):
     cos_z = np.cos(np.radians(np.minimum(zen, 90.0)))
     length = np.where(near, dh / np.maximum(cos_z, 1e-12), 0.0)
     return weight, lower + 0.5 * dh, length
+
+
+def _shell_air_mass(zenith, scale_height=None, radius=6.371e6):
+    """Air mass of a homogeneous spherical shell as thick as ``scale_height`` [m] (default
+    :data:`_ABSORBER_SCALE_HEIGHT`) over a sphere of ``radius`` [m], seen from its bottom at
+    ``zenith`` [deg]: the chord through it over its thickness, sqrt((r cos θ)² + 2r + 1) -
+    r cos θ with r = R/H: 39 at 89.9 deg, where a flat Earth's 1/cos θ is 573.
+
+    Examples
+    --------
+    >>> round(float(_shell_air_mass(0.0)), 12), round(float(_shell_air_mass(88.0)), 2)
+    (1.0, 20.85)
+    """
+    r = radius / (_ABSORBER_SCALE_HEIGHT if scale_height is None else scale_height)
+    c = np.cos(np.radians(np.asarray(zenith, dtype=float)))
+    return np.sqrt((r * c) ** 2 + 2.0 * r + 1.0) - r * c
 
 
 def _source_form(t0, l0, t1, l1, f):
@@ -1400,9 +1429,9 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         t_dir_up[zero] = 1.0
         g_up[zero] = 1.0
         t_dir_down = np.exp(-(spec["tau_r"] + spec["tau_a"]) / mu_s)
-        if self.thermal:
-            self._thermal_gases(u, h_t, vz, sz_eff, wl, t_dir_up, t_dir_down, g_up, g_down,
-                                g_tot, g_nw)
+        if self.thermal:  # the sun's path at its own zenith (the scattering's stops at 89)
+            self._thermal_gases(u, h_t, vz, min(sz, _BEYOND_ZENITH), wl, t_dir_up, t_dir_down,
+                                g_up, g_down, g_tot, g_nw)
         rho_path = model.path_reflectance(rho["rho_mixture"], rho["rho_rayleigh"], g_tot, g_nw)
         rho_path[zero] = 0.0
         up_sun = sz < 90.0
@@ -1461,25 +1490,30 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         z_max = float(a["view_zenith"][-1])
         t_s, l_s = self._slant_thermal(dh, lower, np.minimum(zen, z_max), space)  # (N, λt)
         beyond = zen > z_max
+        if np.any(beyond):  # beyond the last zenith: extrapolated in air mass
+            t_s[beyond], l_s[beyond] = self._beyond_thermal(dh[beyond], lower[beyond],
+                                                            zen[beyond], space[beyond])
         if self.level:
             weight, mid, length = _level_weight(upper, lower, zen, horizon=False)
-            far = (length > 0) & beyond
-        else:
-            far = np.zeros(n, bool)
-        rest = beyond & ~far
-        if np.any(rest):  # beyond the last zenith: extrapolated in air mass
-            t_s[rest], l_s[rest] = self._beyond_thermal(dh[rest], lower[rest], zen[rest],
-                                                        space[rest])
-        if self.level:
-            if np.any(far):  # the level air of the extra length beyond the last zenith
-                t_far, _ = self._level_thermal(mid[far], length[far])
-                t_edge, _ = self._level_thermal(mid[far], dh[far] / np.cos(np.radians(z_max)))
-                t_old, l_old = t_s[far], l_s[far]
+            # near the ground, the 85 deg value and the level air of the extra length
+            with np.errstate(divide="ignore"):
+                share = np.clip(np.log(_BEYOND_SPAN[1] / np.maximum(dh, 1e-9))
+                                / np.log(_BEYOND_SPAN[1] / _BEYOND_SPAN[0]), 0.0, 1.0)
+            far = beyond & ~space & (share > 0)
+            if np.any(far):
+                t_85, l_85 = self._slant_thermal(dh[far], lower[far], np.full(far.sum(), z_max),
+                                                 space[far])
+                mid_f = lower[far] + 0.5 * dh[far]
+                length_f = dh[far] / np.cos(np.radians(np.minimum(zen[far], _BEYOND_ZENITH)))
+                t_far, _ = self._level_thermal(mid_f, length_f)
+                t_edge, _ = self._level_thermal(mid_f, dh[far] / np.cos(np.radians(z_max)))
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    t_new = t_old * np.where(t_edge > 1e-30, t_far / t_edge, 0.0)
-                    l_new = np.where(1.0 - t_old > 1e-3, l_old / (1.0 - t_old) * (1.0 - t_new),
-                                     l_old)
-                t_s[far], l_s[far] = t_new, l_new
+                    t_new = t_85 * np.where(t_edge > 1e-30, t_far / t_edge, 0.0)
+                    l_new = np.where(1.0 - t_85 > 1e-3, l_85 / (1.0 - t_85) * (1.0 - t_new),
+                                     l_85)
+                f = share[far][:, None]
+                t_s[far] = f * t_new + (1.0 - f) * t_s[far]
+                l_s[far] = f * l_new + (1.0 - f) * l_s[far]
             blend = weight > 0
             if np.any(blend):
                 t_l, l_l = self._level_thermal(mid[blend], length[blend])
@@ -1501,11 +1535,14 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
     def _beyond_thermal(self, dh, lower, zen, space):
         """(τ, L) on the thermal wavelengths, (N, λt), of lines of sight beyond the tables'
         last view zenith, from their last two (θ₁ < θ₂): the optical depth -ln τ as a power
-        of the air mass m = 1/cos θ (the power between the two, within 0.5-1: a band model's
-        curve of growth), the path's mean source B = L/(1 - τ) linear in cos θ (an opaque
-        path's radiance comes from the air within an optical depth of its end, whose
-        altitude span shrinks as cos θ; a thin one's is the air's mean, the same at every
-        zenith), L = B (1 - τ)."""
+        of the air mass m (the power between the two, within 0.5-1: a band model's curve of
+        growth), the path's mean source B = L/(1 - τ) linear in 1/m (an opaque path's
+        radiance comes from the air within an optical depth of its end, whose altitude span
+        shrinks as 1/m; a thin one's is the air's mean, the same at every zenith),
+        L = B (1 - τ). The air mass is the flat scene's 1/cos θ within the atmosphere, and
+        for lines from space that of a spherical shell of the absorbers' scale height
+        (:func:`_shell_air_mass`): the sun and views from space near the horizon cross the
+        curved atmosphere."""
         nodes = self.axes["view_zenith"]
         z1, z2 = float(nodes[-2]), float(nodes[-1])
         t1, l1 = self._slant_thermal(dh, lower, np.full(dh.size, z1), space)
@@ -1514,20 +1551,22 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         def depth(t):
             return np.maximum(-np.log(np.clip(t, 1e-30, 1.0)), 1e-12)
 
+        def mass(z):
+            z = np.broadcast_to(np.minimum(z, _BEYOND_ZENITH), dh.shape)
+            return np.where(space, _shell_air_mass(z), air_mass(z))[:, None]
+
         d1, d2 = depth(t1), depth(t2)
-        m1, m2 = air_mass(z1), air_mass(z2)
-        m = air_mass(np.minimum(zen, _BEYOND_ZENITH))[:, None]
+        m1, m2, m = mass(z1), mass(z2), mass(zen)
         power = np.clip(np.log(d2 / d1) / np.log(m2 / m1), 0.5, 1.0)
         d = d2 * (m / m2) ** power
         tau = np.exp(-d)
-        c1, c2 = np.cos(np.radians([z1, z2]))
-        c = np.cos(np.radians(np.minimum(zen, _BEYOND_ZENITH)))[:, None]
         with np.errstate(divide="ignore", invalid="ignore"):
             ok1, ok2 = 1.0 - t1 > 1e-3, 1.0 - t2 > 1e-3
             b2 = np.where(ok2, l2 / (1.0 - t2), 0.0)
             b1 = np.where(ok1, l1 / (1.0 - t1), b2)
             b2 = np.where(ok2, b2, b1)
-            source = np.maximum(b2 + (b2 - b1) * (c - c2) / (c2 - c1), 0.0)
+            source = np.maximum(b2 + (b2 - b1) * (1.0 / m - 1.0 / m2) / (1.0 / m2 - 1.0 / m1),
+                                0.0)
             rad = np.where(ok1 | ok2, source * (1.0 - tau), l2 * d / d2)
         return tau, rad
 
@@ -1550,6 +1589,10 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         if not sel.size or not np.any(refl):
             return
         w_ = wl[refl]  # scattered sunlight: the whole reflective range
+
+        def own_range(w):
+            return w < (self.axes["thermal_wavelength"][0] if self.thermal else np.inf)
+
         # the air at the top surface-altitude node stands for the air above it
         h, r = np.minimum(mid[sel], self.axes["surface_altitude"][-1]), length[sel]
         thin = 10.0
@@ -1564,9 +1607,12 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         else:
             gas = self._gas("gas_column", w_, h, mass)
         t_level = np.exp(-depth) * gas
+        if self.thermal and self.level:  # from 3 µm the level air's gases are the thermal tables'
+            t_level[:, ~own_range(w_)] = self._level_on(mid[sel], length[sel],
+                                                        w_[~own_range(w_)])
         wt = weight[sel][:, None]
         # transmittance below the thermal tables' range (there the thermal tables give it)
-        own = w_ < (self.axes["thermal_wavelength"][0] if self.thermal else np.inf)
+        own = own_range(w_)
         cols = np.flatnonzero(refl)[own]
         tau[np.ix_(sel, cols)] = (1.0 - wt) * tau[np.ix_(sel, cols)] + wt * t_level[:, own]
         if not sun_up:
@@ -1582,6 +1628,15 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             air[rows] = sky.solar.mean(axis=0) * (1.0 - t_level[rows])
         cols = np.flatnonzero(refl)
         scattered[np.ix_(sel, cols)] = ((1.0 - wt) * scattered[np.ix_(sel, cols)] + wt * air)
+
+    def _level_on(self, altitude, length, wl):
+        """Transmittance of level lines of sight (:meth:`_level_thermal`) at wavelengths
+        ``wl`` [um] within the thermal tables' range, (N, n): linear between their
+        wavelengths."""
+        tw = self.axes["thermal_wavelength"]
+        t, _ = self._level_thermal(altitude, length)
+        iw, fw = model.axis_weights(wl, tw)
+        return t[:, iw] * (1 - fw) + t[:, np.minimum(iw + 1, tw.size - 1)] * fw
 
     def _slant_thermal(self, dh, lower, zen, space):
         """(τ, L) on the thermal wavelengths, (N, λt), from the tables over (surface altitude,
@@ -1669,7 +1724,10 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         and of the sun's path from the top over the scattering tables' direct ones, so that
         the direct, the scattered and the coupling's light cross the gases that go with the
         thermal tables' path radiance (6S's gas model has neither water vapour's continuum
-        nor its HDO band); the gases without water keep their share of the total."""
+        nor its HDO band). The two-way gas transmittance keeps the scattering tables' ratio
+        to the product of the one-way ones (the lines a path down saturates absorb less on
+        the way up: 1.36-1.47 at 3.0-3.5 um from space), at most the smaller one-way one;
+        the gases without water keep their share of the total."""
         over = wl >= self.axes["thermal_wavelength"][0]
         if not np.any(over):
             return
@@ -1680,10 +1738,13 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         with np.errstate(divide="ignore", invalid="ignore"):
             up = np.clip(t_view / t_dir_up[:, over], 0.0, 1.0)
             down = np.clip(t_sun / t_dir_down[:, over], 0.0, 1.0)
+            product = g_up[:, over] * g_down[:, over]
+            correlation = np.where(product > 0, g_tot[:, over] / product, 1.0)
             dry = np.where(g_tot[:, over] > 0, g_nw[:, over] / g_tot[:, over], 1.0)
         g_up[:, over], g_down[:, over] = up, down
-        g_tot[:, over] = up * down
-        g_nw[:, over] = np.clip(up * down * dry, 0.0, 1.0)
+        g_tot[:, over] = np.minimum(up * down * np.maximum(correlation, 1.0),
+                                    np.minimum(up, down))
+        g_nw[:, over] = np.clip(g_tot[:, over] * dry, 0.0, 1.0)
 
     def _forward_fraction(self, wavelength) -> np.ndarray:
         """Share of the aerosol's scattered light that goes into the forward hemisphere."""
