@@ -60,16 +60,44 @@ def test_beyond_85_deg_a_line_is_continuous_in_its_span(zenith):
         assert above == pytest.approx(below, rel=1e-3), span
 
 
-def test_the_sun_beyond_89_deg_is_the_same_in_sun_and_components():
+@pytest.mark.parametrize("profile", ["midlatitude_summer", "subarctic_winter"])
+def test_the_sun_beyond_89_deg_is_the_same_in_sun_components_and_coupling(profile):
     """From 3 µm the sun's transmittance is the thermal tables' at the sun's own zenith, in
-    the spherical air mass, whichever query asks; and it falls towards the horizon."""
-    db = DatabaseAtmosphere(profile="midlatitude_summer", sun_zenith=40.0, visibility=23000.0)
+    the spherical air mass, whichever query asks (in dry air too, where it exceeds the
+    scattering tables' plane-parallel direct transmittance); and it falls towards the
+    horizon."""
+    db = DatabaseAtmosphere(profile=profile, sun_zenith=40.0, visibility=23000.0)
     wl = np.array([3.5, 3.8, 10.0])
     previous = None
     for sun_zenith in (88.0, 89.0, 89.5, 89.9):
         sun = db.sun(0.0, sun_zenith, wl, np.ones(3)).transmittance
         c = db.components(1e5, 0.0, 0.0, wl, sun_zenith=sun_zenith)["sun_transmittance"][0]
         assert c == pytest.approx(sun, rel=1e-9)
+        e_sun = np.cos(np.radians(sun_zenith)) * db._e0(wl[:2]) * sun[:2]
+        coupled = db.with_sun(sun_zenith, 0.0).coupling(1e5, 0.0, 0.0, wl[:2])
+        assert coupled.direct_irradiance == pytest.approx(e_sun, rel=1e-9)
         if previous is not None:
             assert np.all(sun <= previous)
         previous = sun
+
+
+def test_a_line_from_just_below_the_top_is_the_line_from_space():
+    """Beyond 85 deg the air mass goes from the flat scene's to the spherical shell's with the
+    observer's height between the tables' highest node under the top and the top: no step
+    there."""
+    db = DatabaseAtmosphere(profile="us_standard", sun_zenith=40.0, visibility=23000.0)
+    for zenith in (87.0, 89.0, 89.5):
+        below = db.path(1e5 - 1.0, 0.0, zenith, [3.8, 10.0]).transmittance
+        space = db.path(1e5, 0.0, zenith, [3.8, 10.0]).transmittance
+        assert below == pytest.approx(space, rel=1e-3)
+
+
+@pytest.mark.parametrize("zenith", [89.95, 89.99])
+def test_a_longer_span_is_no_clearer_even_at_the_horizon(zenith):
+    """Within a hundredth of a degree of the horizon a line spanning more altitude is at
+    least as long: its transmittance does not rise with the span across the level air's
+    100 and 300 m."""
+    db = DatabaseAtmosphere(profile="us_standard", sun_zenith=40.0, visibility=23000.0)
+    tau = [float(db.path(span, 0.0, zenith, [10.0]).transmittance[0])
+           for span in (99.99, 100.01, 150.0, 299.0, 301.0)]
+    assert np.all(np.diff(tau) <= 1e-12 + 1e-6 * np.array(tau[:-1]))

@@ -734,6 +734,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             heights = np.asarray(ds["thermal_observer_height"].values if
                                  "thermal_observer_height" in ds.coords else
                                  a["observer_height"], float)
+            self._thermal_heights = heights
             self._thermal_x = np.where(heights >= model.TOP_OF_ATMOSPHERE, 1.0,
                                        -np.expm1(-heights / AEROSOL_SCALE_HEIGHT))
             self.level = "thermal_level_transmittance" in ds
@@ -1471,11 +1472,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         (linear; at the surface node the next node's) times 1 - τ, which follows the path
         radiance's fast rise near the ground (linearly where 1 - τ < 1e-3). Beyond the tables'
         last view zenith a line of sight is extrapolated in air mass
-        (:meth:`_beyond_thermal`). Near the ground (an altitude span below
-        :data:`_LEVEL_SPAN`) the level lines of sight at the path's mean altitude and length
-        take over (:meth:`_level_thermal`); those spanning up to its upper end beyond the
-        last view zenith take the tables' value there and the level air of their extra
-        length, the part the span leaves to the tables."""
+        (:meth:`_beyond_thermal`); within the atmosphere, spanning up to the spans of
+        :data:`_BEYOND_SPAN`, it goes over to the tables' value there and the level air of
+        its extra length. Near the ground (an altitude span below :data:`_LEVEL_SPAN`) the
+        level lines of sight at the path's mean altitude and length take over
+        (:meth:`_level_thermal`)."""
         a = self.axes
         n = upper.size
         tw = a["thermal_wavelength"]
@@ -1504,7 +1505,9 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                 t_85, l_85 = self._slant_thermal(dh[far], lower[far], np.full(far.sum(), z_max),
                                                  space[far])
                 mid_f = lower[far] + 0.5 * dh[far]
-                length_f = dh[far] / np.cos(np.radians(np.minimum(zen[far], _BEYOND_ZENITH)))
+                # the level air's own length (uncapped, as that of the level blend below)
+                length_f = dh[far] / np.maximum(np.cos(np.radians(np.minimum(zen[far], 90.0))),
+                                                1e-12)
                 t_far, _ = self._level_thermal(mid_f, length_f)
                 t_edge, _ = self._level_thermal(mid_f, dh[far] / np.cos(np.radians(z_max)))
                 with np.errstate(divide="ignore", invalid="ignore"):
@@ -1551,9 +1554,17 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         def depth(t):
             return np.maximum(-np.log(np.clip(t, 1e-30, 1.0)), 1e-12)
 
+        # the shell's air mass from space, the flat scene's up to the thermal tables' highest
+        # observer height under the top, linearly in the observer's height above the target
+        # between (continuous at the top)
+        heights = self._thermal_heights
+        high = float(heights[-2]) if heights.size > 1 else 0.0
+        curved = np.where(space, 1.0, np.clip((dh - high) / (model.TOP_OF_ATMOSPHERE - high),
+                                              0.0, 1.0))
+
         def mass(z):
             z = np.broadcast_to(np.minimum(z, _BEYOND_ZENITH), dh.shape)
-            return np.where(space, _shell_air_mass(z), air_mass(z))[:, None]
+            return ((1.0 - curved) * air_mass(z) + curved * _shell_air_mass(z))[:, None]
 
         d1, d2 = depth(t1), depth(t2)
         m1, m2, m = mass(z1), mass(z2), mass(zen)
@@ -1736,14 +1747,16 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         t_sun, _, _, _ = self._thermal_path(np.full(lower.size, model.TOP_OF_ATMOSPHERE),
                                             lower, np.full(lower.size, sun_zenith), w)
         with np.errstate(divide="ignore", invalid="ignore"):
-            up = np.clip(t_view / t_dir_up[:, over], 0.0, 1.0)
-            down = np.clip(t_sun / t_dir_down[:, over], 0.0, 1.0)
+            # the direct beams are the thermal tables' exactly: above 1 where the scattering
+            # tables' extinction (plane-parallel, the sun held at 89 deg) is the larger
+            up = np.maximum(t_view / t_dir_up[:, over], 0.0)
+            down = np.maximum(t_sun / t_dir_down[:, over], 0.0)
             product = g_up[:, over] * g_down[:, over]
             correlation = np.where(product > 0, g_tot[:, over] / product, 1.0)
             dry = np.where(g_tot[:, over] > 0, g_nw[:, over] / g_tot[:, over], 1.0)
         g_up[:, over], g_down[:, over] = up, down
         g_tot[:, over] = np.minimum(up * down * np.maximum(correlation, 1.0),
-                                    np.minimum(up, down))
+                                    np.minimum(np.minimum(up, down), 1.0))
         g_nw[:, over] = np.clip(g_tot[:, over] * dry, 0.0, 1.0)
 
     def _forward_fraction(self, wavelength) -> np.ndarray:
@@ -1780,7 +1793,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                                   "or call set_sun()", key="atmosphere.sun_zenith")
             w = wl[refl]
             c = self.components(observer_altitude, target_altitude, view_zenith, w,
-                                sun_zenith=min(self.sun_zenith, 89.0))
+                                sun_zenith=min(self.sun_zenith, _BEYOND_ZENITH))
             out["t_d"][:, refl] = c["diffuse_transmittance_up"] * c["gas_transmittance_up"]
             out["s"][:, refl] = c["spherical_albedo"]
             lay_r = c["optical_depth_rayleigh"] * 0.5
