@@ -21,8 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radscene.atmosphere.database import DatabaseAtmosphere
-from radscene.atmosphere.lowtran import NOT_BUILT, LowtranAtmosphere, lowtran_available
+from radscene.atmosphere.lowtran import NOT_BUILT, lowtran_available
 from radscene.radiometry import spectral_radiance
 
 pytestmark = pytest.mark.skipif(not lowtran_available(), reason=NOT_BUILT)
@@ -43,20 +42,12 @@ CONDITIONS = [("midlatitude_summer", "rural", 0.3), ("subarctic_winter", "none",
               ("tropical", "urban", 0.6)]
 
 
-def _engines(profile, aerosol, aot550, sun_zenith=40.0):
-    db = DatabaseAtmosphere(profile=profile, aerosol=aerosol, sun_zenith=sun_zenith,
-                            **({"aot550": aot550} if aerosol != "none" else {}))
-    vis = (float(db.source["visibility"].values[db._nodes[-1][0]]) / 1000.0
-           if aerosol != "none" else None)
-    return db, LowtranAtmosphere(model=profile, aerosol=aerosol, visibility=vis, workers=2)
-
-
 def _band_radiance(spectra, wl):
     return np.trapezoid(spectra, wl, axis=-1)
 
 
 @pytest.mark.parametrize("condition", CONDITIONS, ids=[c[0] for c in CONDITIONS])
-def test_database_lines_of_sight_near_the_ground_are_lowtrans(condition):
+def test_database_lines_of_sight_near_the_ground_are_lowtrans(database_and_lowtran, condition):
     """Band path radiance within 5.5 % and band-mean transmittance within 0.02 of LOWTRAN's
     over 22 lines of sight from 2 m to space, 8-12 and 4.4-4.9 um, where the path radiance
     is more than 2 % of a 300 K blackbody's. Measured, every line of sight (8-12 / 4.4-4.9
@@ -65,7 +56,7 @@ def test_database_lines_of_sight_near_the_ground_are_lowtrans(condition):
     -3.3 to +1.8 / -3.0 to +1.2 %; transmittance within 0.0174. With the tables over the
     scattering's observer heights and view zenith alone the ground cameras' lines of sight
     were 70-99 % low."""
-    db, lo = _engines(*condition)
+    db, lo = database_and_lowtran(*condition)
     lines, bad = [], []
     for band, (w0, w1) in BANDS.items():
         wl = np.linspace(w0, w1, 41)
@@ -106,8 +97,8 @@ def _ground_camera(atmosphere):
 
 
 @pytest.mark.parametrize("engine", ["lowtran", "database"])
-def test_a_ground_cameras_image_has_lowtrans_air_in_every_pixel(render_scene, tmp_path,
-                                                                 engine):
+def test_a_ground_cameras_image_has_lowtrans_air_in_every_pixel(render_scene, database_and_lowtran,
+                                                                 tmp_path, engine):
     """A camera 2 m above flat ground sees it from 18 m to 1.8 km (view zenith 83.6 to 89.94
     deg); each pixel's rendered path radiance and transmittance against LOWTRAN at the
     pixel's own line of sight (its range and view zenith from the image's truth maps):
@@ -116,7 +107,7 @@ def test_a_ground_cameras_image_has_lowtrans_air_in_every_pixel(render_scene, tm
     (``lowtran``), +0.35 to +0.95 % and 0.004 (database); before, with path nodes that
     stopped at 89 deg and tables over view zenith alone, the database's was 73-99 % low."""
     profile, aerosol, aot550 = "midlatitude_summer", "rural", 0.3
-    db, lo = _engines(profile, aerosol, aot550)
+    _, lo = database_and_lowtran(profile, aerosol, aot550)
     atmosphere = ({"type": "database", "profile": profile, "aerosol": aerosol, "aot550": aot550}
                   if engine == "database" else
                   {"type": "lowtran", "model": profile, "aerosol": aerosol,

@@ -18,8 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radscene.atmosphere.database import DatabaseAtmosphere
-from radscene.atmosphere.lowtran import NOT_BUILT, LowtranAtmosphere, lowtran_available
+from radscene.atmosphere.lowtran import NOT_BUILT, lowtran_available
 from radscene.radiometry import spectral_radiance
 
 pytestmark = pytest.mark.skipif(not lowtran_available(), reason=NOT_BUILT)
@@ -35,27 +34,19 @@ CONDITIONS = [("midlatitude_summer", "rural", 0.3), ("tropical", "rural", 0.3),
               ("subarctic_winter", "none", 0.0)]
 
 
-def _engines(profile, aerosol, aot550, sun_zenith=40.0):
-    db = DatabaseAtmosphere(profile=profile, aerosol=aerosol, sun_zenith=sun_zenith,
-                            **({"aot550": aot550} if aerosol != "none" else {}))
-    vis = (float(db.source["visibility"].values[db._nodes[-1][0]]) / 1000.0
-           if aerosol != "none" else None)
-    return db, LowtranAtmosphere(model=profile, aerosol=aerosol, visibility=vis, workers=2)
-
-
 def _band(spectra, wl):
     return np.trapezoid(spectra, wl, axis=-1)
 
 
 @pytest.mark.parametrize("condition", CONDITIONS, ids=[c[0] for c in CONDITIONS])
-def test_database_mwir_window_is_lowtrans(condition):
+def test_database_mwir_window_is_lowtrans(database_and_lowtran, condition):
     """Band-mean transmittance within 0.01 and the apparent radiance of a 300 K blackbody
     ground (τ B + L_path) within 1.5 % of LOWTRAN's over 9 lines of sight from 1 km to space,
     3.0-3.5, 3.5-4.1 and 3.7-4.0 um. Measured: transmittance within 0.0046, apparent radiance
     -1.15 % (5 km at 60 deg, between the 4 and 7 km nodes) to +0.41 %. With the reflective
     tables' transmittance the apparent radiance was -14 to +26 % (3.7-4.0 um: +2.6 to +26 %)
     and the transmittance 0.07 low to 0.24 high."""
-    db, lo = _engines(*condition)
+    db, lo = database_and_lowtran(*condition)
     lines, bad = [], []
     for band, (w0, w1) in BANDS.items():
         wl = np.linspace(w0, w1, 61)
@@ -75,13 +66,14 @@ def test_database_mwir_window_is_lowtrans(condition):
 
 
 @pytest.mark.parametrize("sun_zenith", [0.0, 40.0, 70.0, 85.0, 88.0, 89.0])
-def test_database_sun_transmittance_in_the_mwir_window_is_lowtrans(sun_zenith):
+def test_database_sun_transmittance_in_the_mwir_window_is_lowtrans(database_and_lowtran,
+                                                                 sun_zenith):
     """The sun's direct transmittance to the ground, band mean over 3.5-4.1 um, within 0.015
     of LOWTRAN's path from the top of the atmosphere (midlatitude summer, rural AOT550 0.3).
     Measured: within 0.0003 at 0, 40 and 85 deg, 0.0105 at 70 deg (between the view-zenith
     nodes 60 and 75), 0.0027 and 0.0013 at 88 and 89 deg (beyond the last node, in the
     spherical air mass). With the reflective tables' it was 0.11-0.17 high at 0-85 deg."""
-    db, lo = _engines("midlatitude_summer", "rural", 0.3)
+    db, lo = database_and_lowtran("midlatitude_summer", "rural", 0.3)
     wl = np.linspace(3.5, 4.1, 61)
     got = db.sun(0.0, sun_zenith, wl, np.ones(wl.size)).transmittance.mean()
     want = lo.path(1e5, 0.0, sun_zenith, wl).transmittance.mean()
@@ -89,27 +81,8 @@ def test_database_sun_transmittance_in_the_mwir_window_is_lowtrans(sun_zenith):
     assert got == pytest.approx(want, abs=0.015)
 
 
-def _aircraft(atmosphere):
-    return {
-        "name": "mwir_aircraft",
-        "environment": {
-            "location": {"latitude": 40.0, "longitude": -105.0, "altitude": "0 m"},
-            "sun": {"zenith": 120.0, "azimuth": 180.0, "distance": 1.0},
-            "atmosphere": atmosphere,
-        },
-        "materials": {"black": {"reflectance": 0.0}},
-        "terrain": {"type": "flat", "size": ["40000 m", "600 m"], "spacing": "200 m",
-                    "material": "black", "temperature": "300 K"},
-        "bands": [{"name": name, "min": f"{lo} um", "max": f"{hi} um"}
-                  for name, (lo, hi) in BANDS.items() if name != "3.0-3.5"],
-        "observers": [{"name": "cam", "type": "perspective",
-                       "position": ["100 m", "300 m", "2500 m"],
-                       "look_at": ["3080 m", "300 m", "0 m"], "fov": "5 deg",
-                       "shape": [64, 4]}],
-    }
-
-
-def test_a_night_mwir_aircraft_image_has_lowtrans_air_in_every_pixel(render_scene, tmp_path):
+def test_a_night_mwir_aircraft_image_has_lowtrans_air_in_every_pixel(
+        render_scene, database_and_lowtran, night_over_black_ground, tmp_path):
     """An aircraft 2.5 km up at night sees flat black ground at 300 K from 15 to 85 deg off the
     nadir (``radscene render``, database engine, tropical, rural AOT550 0.3). Each pixel's
     rendered path radiance, transmittance and radiance against LOWTRAN at the pixel's own line
@@ -120,9 +93,14 @@ def test_a_night_mwir_aircraft_image_has_lowtrans_air_in_every_pixel(render_scen
     interpolation), transmittance within 0.013 (at 84.5 deg), radiance -0.07 to +0.37 %. With
     the reflective tables' transmittance the radiance was +16 to +59 %."""
     profile, aerosol, aot550 = "tropical", "rural", 0.3
-    db, lo = _engines(profile, aerosol, aot550)
+    _, lo = database_and_lowtran(profile, aerosol, aot550)
     atmosphere = {"type": "database", "profile": profile, "aerosol": aerosol, "aot550": aot550}
-    ds = render_scene(tmp_path / "db", _aircraft(atmosphere))
+    camera = {"position": ["100 m", "300 m", "2500 m"], "look_at": ["3080 m", "300 m", "0 m"],
+              "fov": "5 deg", "shape": [64, 4]}
+    bands = {name: band for name, band in BANDS.items() if name != "3.0-3.5"}
+    scene = night_over_black_ground("mwir_aircraft", atmosphere, bands, 300.0, (40000, 600), 200,
+                                    camera)
+    ds = render_scene(tmp_path / "db", scene)
     zen = ds["view_zenith"].values[:, 2]
     rows = np.flatnonzero(np.isfinite(zen))
     assert zen[rows].min() < 20.0 and zen[rows].max() > 80.0

@@ -21,8 +21,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from radscene.atmosphere.database import DatabaseAtmosphere
-from radscene.atmosphere.lowtran import NOT_BUILT, LowtranAtmosphere, lowtran_available
+from radscene.atmosphere.lowtran import NOT_BUILT, lowtran_available
 from radscene.radiometry import spectral_radiance
 
 pytestmark = pytest.mark.skipif(not lowtran_available(), reason=NOT_BUILT)
@@ -41,20 +40,12 @@ CONDITIONS = [("us_standard", "rural", 0.3), ("tropical", "rural", 0.3),
               ("subarctic_winter", "none", 0.0)]
 
 
-def _engines(profile, aerosol, aot550):
-    db = DatabaseAtmosphere(profile=profile, aerosol=aerosol, sun_zenith=40.0,
-                            **({"aot550": aot550} if aerosol != "none" else {}))
-    vis = (float(db.source["visibility"].values[db._nodes[-1][0]]) / 1000.0
-           if aerosol != "none" else None)
-    return db, LowtranAtmosphere(model=profile, aerosol=aerosol, visibility=vis, workers=2)
-
-
 def _apparent(p, blackbody):
     return np.mean(p.transmittance * blackbody + p.thermal_radiance)
 
 
 @pytest.mark.parametrize("condition", CONDITIONS, ids=[c[0] for c in CONDITIONS])
-def test_database_oblique_lines_of_sight_are_lowtrans(condition):
+def test_database_oblique_lines_of_sight_are_lowtrans(database_and_lowtran, condition):
     """The apparent radiance of a black ground at 290 K (near the air's temperature) and at
     320 K (where the transmittance shows), τ B + L_path, band mean, within 8 % and the
     band-mean transmittance within 0.02 of LOWTRAN's up to 115 km of range; 20 % and 0.06
@@ -64,7 +55,7 @@ def test_database_oblique_lines_of_sight_are_lowtrans(condition):
     within 0.045. Before (the 85 deg value for spans over 3 km, the level air at the mean
     altitude from 87 deg below), at 290 K: -5.4 to +46 % and +1.7 to +66 %, τ up to 0.21
     off."""
-    db, lo = _engines(*condition)
+    db, lo = database_and_lowtran(*condition)
     lines, bad = [], []
     for band, (w0, w1) in BANDS.items():
         wl = np.linspace(w0, w1, 41)
@@ -87,29 +78,8 @@ def test_database_oblique_lines_of_sight_are_lowtrans(condition):
     assert not bad, "\n".join(bad)
 
 
-def _stand_off(atmosphere):
-    depression = 90.0 - 86.75  # the boresight's zenith at the ground: 86.75 deg
-    return {
-        "name": "stand_off",
-        "environment": {
-            "location": {"latitude": 40.0, "longitude": -105.0, "altitude": "0 m"},
-            "sun": {"zenith": 120.0, "azimuth": 180.0, "distance": 1.0},
-            "atmosphere": atmosphere,
-        },
-        "materials": {"black": {"reflectance": 0.0}},
-        "terrain": {"type": "flat", "size": ["120000 m", "600 m"], "spacing": "1000 m",
-                    "material": "black", "temperature": "290 K"},
-        "bands": [{"name": name, "min": f"{lo} um", "max": f"{hi} um"}
-                  for name, (lo, hi) in BANDS.items()],
-        "observers": [{"name": "cam", "type": "perspective",
-                       "position": ["0 m", "300 m", "3500 m"],
-                       "look_at": [f"{3500.0 / np.tan(np.radians(depression)):.1f} m", "300 m",
-                                   "0 m"],
-                       "fov": "0.1563 deg", "shape": [64, 4]}],
-    }
-
-
-def test_a_stand_off_image_has_lowtrans_air_in_every_pixel(render_scene, tmp_path):
+def test_a_stand_off_image_has_lowtrans_air_in_every_pixel(render_scene, database_and_lowtran,
+                                                           night_over_black_ground, tmp_path):
     """An aircraft 3.5 km up at night sees flat black ground at 290 K from 85.5 to 88 deg off
     the nadir, 45-100 km away (``radscene render``, database engine, US standard, rural
     AOT550 0.3). Each pixel's rendered radiance against LOWTRAN's ∫ (τ B(290 K) + L_path) dλ
@@ -118,10 +88,16 @@ def test_a_stand_off_image_has_lowtrans_air_in_every_pixel(render_scene, tmp_pat
     Measured: +0.1 to +2.4 % (8-12 um), -0.4 to +5.0 % (3.5-4.1 um), +0.5 to +4.8 %
     (4.4-4.9 um), the largest at 88 deg. Before: +1.4 to +8.6, +2.7 to +24.9 and +2.2 to
     +12.9 %."""
-    db, lo = _engines("us_standard", "rural", 0.3)
+    _, lo = database_and_lowtran("us_standard", "rural", 0.3)
     atmosphere = {"type": "database", "profile": "us_standard", "aerosol": "rural",
                   "aot550": 0.3}
-    ds = render_scene(tmp_path / "db", _stand_off(atmosphere))
+    depression = 90.0 - 86.75  # the boresight's zenith at the ground: 86.75 deg
+    camera = {"position": ["0 m", "300 m", "3500 m"],
+              "look_at": [f"{3500.0 / np.tan(np.radians(depression)):.1f} m", "300 m", "0 m"],
+              "fov": "0.1563 deg", "shape": [64, 4]}
+    scene = night_over_black_ground("stand_off", atmosphere, BANDS, 290.0, (120000, 600), 1000,
+                                    camera)
+    ds = render_scene(tmp_path / "db", scene)
     zen = ds["view_zenith"].values[:, 2]
     rows = np.flatnonzero(np.isfinite(zen))
     assert zen[rows].min() < 85.7 and zen[rows].max() > 87.8
