@@ -1543,9 +1543,11 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         radiance comes from the air within an optical depth of its end, whose altitude span
         shrinks as 1/m; a thin one's is the air's mean, the same at every zenith),
         L = B (1 - τ). The air mass is the flat scene's 1/cos θ within the atmosphere, and
-        for lines from space that of a spherical shell of the absorbers' scale height
-        (:func:`_shell_air_mass`): the sun and views from space near the horizon cross the
-        curved atmosphere."""
+        for lines from space that of a spherical shell of the air's scale height
+        (:func:`_shell_air_mass`, :data:`_ABSORBER_SCALE_HEIGHT`): the sun and views from
+        space near the horizon cross the curved atmosphere. Observers between the thermal
+        tables' highest height under the top and the top go from one to the other linearly
+        in their height above the target."""
         nodes = self.axes["view_zenith"]
         z1, z2 = float(nodes[-2]), float(nodes[-1])
         t1, l1 = self._slant_thermal(dh, lower, np.full(dh.size, z1), space)
