@@ -194,13 +194,13 @@ def test_from_3_um_every_transmittance_is_the_thermal_tables(db):
         pytest.skip("this database holds no thermal tables (LOWTRAN was not built)")
     wl = np.array([2.2, 3.2, 3.77, 3.95])
     upper, lower, zen = (np.array([v]) for v in (2500.0, 0.0, 60.0))
-    t_thermal, _, inside, _ = db._thermal_path(upper, lower, zen, wl)
+    t_thermal, _, inside = db._thermal_path(upper, lower, zen, wl)
     assert list(inside) == [False, True, True, True]
     p = db.path(2500.0, 0.0, 60.0, wl)
     assert p.transmittance[inside] == pytest.approx(t_thermal[0, inside], rel=REL)
     c = db.components(2500.0, 0.0, 60.0, wl[:1])
     assert p.transmittance[0] == pytest.approx(c["transmittance"][0, 0], rel=REL)
-    top, _, _, _ = db._thermal_path(np.array([1e5]), lower, np.array([40.0]), wl)
+    top, _, _ = db._thermal_path(np.array([1e5]), lower, np.array([40.0]), wl)
     assert db.sun(0.0, 40.0, wl, np.ones(4)).transmittance[inside] == pytest.approx(
         top[0, inside], rel=REL)
     c = db.components(2500.0, 0.0, 60.0, wl)

@@ -1465,7 +1465,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
     # -- thermal tables -------------------------------------------------------------------------
     def _thermal_path(self, upper, lower, zen, wl):
         """(τ, L_thermal) from the thermal tables, (N, n), ones and zeros outside their range;
-        the wavelengths inside it; and each path's weight on the level lines of sight.
+        and the wavelengths inside it.
 
         Over observer height the tables are read in the aerosol fraction below the observer
         x: the transmittance log-linearly, the path radiance as the mean source B = L/(1 - τ)
@@ -1483,9 +1483,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         inside = (wl >= tw[0]) & (wl <= tw[-1])
         tau = np.ones((n, wl.size))
         rad = np.zeros((n, wl.size))
-        weight = np.zeros(n)
         if not self.thermal or not np.any(inside):
-            return tau, rad, inside, weight
+            return tau, rad, inside
         dh = np.maximum(upper - lower, 0.0)
         space = upper >= model.TOP_OF_ATMOSPHERE
         z_max = float(a["view_zenith"][-1])
@@ -1523,17 +1522,15 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                 w = weight[blend][:, None]
                 t_s[blend] = (1.0 - w) * t_s[blend] + w * t_l
                 l_s[blend] = (1.0 - w) * l_s[blend] + w * l_l
-        iw, fw = model.axis_weights(wl[inside], tw)
-        for acc, target in ((t_s, tau), (l_s, rad)):
-            target[:, inside] = (acc[:, iw] * (1 - fw)
-                                 + acc[:, np.minimum(iw + 1, tw.size - 1)] * fw)
+        tau[:, inside] = self._on_wavelengths(t_s, wl[inside])
+        rad[:, inside] = self._on_wavelengths(l_s, wl[inside])
         if self.level:  # a line of sight shorter than half a metre
             zero = ~space & (dh <= 0.5 * np.cos(np.radians(np.minimum(zen, 90.0))))
         else:
             zero = (dh <= 0.5) & ~space
         tau[zero] = 1.0
         rad[zero] = 0.0
-        return tau, rad, inside, weight
+        return tau, rad, inside
 
     def _beyond_thermal(self, dh, lower, zen, space):
         """(τ, L) on the thermal wavelengths, (N, λt), of lines of sight beyond the tables'
@@ -1621,8 +1618,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
             gas = self._gas("gas_column", w_, h, mass)
         t_level = np.exp(-depth) * gas
         if self.thermal and self.level:  # from 3 µm the level air's gases are the thermal tables'
-            t_level[:, ~own_range(w_)] = self._level_on(mid[sel], length[sel],
-                                                        w_[~own_range(w_)])
+            t_level[:, ~own_range(w_)] = self._on_wavelengths(
+                self._level_thermal(mid[sel], length[sel])[0], w_[~own_range(w_)])
         wt = weight[sel][:, None]
         # transmittance below the thermal tables' range (there the thermal tables give it)
         own = own_range(w_)
@@ -1642,14 +1639,12 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         cols = np.flatnonzero(refl)
         scattered[np.ix_(sel, cols)] = ((1.0 - wt) * scattered[np.ix_(sel, cols)] + wt * air)
 
-    def _level_on(self, altitude, length, wl):
-        """Transmittance of level lines of sight (:meth:`_level_thermal`) at wavelengths
-        ``wl`` [um] within the thermal tables' range, (N, n): linear between their
-        wavelengths."""
+    def _on_wavelengths(self, values, wl):
+        """``values`` (N, λt) on the thermal tables' wavelengths at wavelengths ``wl`` [um]
+        within their range, (N, n): linear between them."""
         tw = self.axes["thermal_wavelength"]
-        t, _ = self._level_thermal(altitude, length)
         iw, fw = model.axis_weights(wl, tw)
-        return t[:, iw] * (1 - fw) + t[:, np.minimum(iw + 1, tw.size - 1)] * fw
+        return values[:, iw] * (1 - fw) + values[:, np.minimum(iw + 1, tw.size - 1)] * fw
 
     def _slant_thermal(self, dh, lower, zen, space):
         """(τ, L) on the thermal wavelengths, (N, λt), from the tables over (surface altitude,
@@ -1745,8 +1740,8 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
         if not np.any(over):
             return
         w = wl[over]
-        t_view, _, _, _ = self._thermal_path(upper, lower, zen, w)
-        t_sun, _, _, _ = self._thermal_path(np.full(lower.size, model.TOP_OF_ATMOSPHERE),
+        t_view, _, _ = self._thermal_path(upper, lower, zen, w)
+        t_sun, _, _ = self._thermal_path(np.full(lower.size, model.TOP_OF_ATMOSPHERE),
                                             lower, np.full(lower.size, sun_zenith), w)
         with np.errstate(divide="ignore", invalid="ignore"):
             # the direct beams are the thermal tables' exactly: above 1 where the scattering
@@ -1838,7 +1833,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                                    zen.ravel(), view_azimuth, sun_up)
         thermal = np.zeros((n, wl.size))
         if self.thermal:
-            t_tau, t_rad, inside, level = self._thermal_path(upper.ravel(), lower.ravel(),
+            t_tau, t_rad, inside = self._thermal_path(upper.ravel(), lower.ravel(),
                                                              zen.ravel(), wl)
             # from the thermal tables' start on, their transmittance: the one their path
             # radiance goes with (6S's gases leave out water's continuum and HDO at 3-4 µm)
@@ -1863,7 +1858,7 @@ class DatabaseAtmosphere(SunDependentAtmosphere):
                                     sun_zenith=float(z[idx]), relative_azimuth=0.0)
                 row[refl] = c["sun_transmittance"][0]
             if self.thermal:
-                tau_t, _, inside, _ = self._thermal_path(np.array([model.TOP_OF_ATMOSPHERE]),
+                tau_t, _, inside = self._thermal_path(np.array([model.TOP_OF_ATMOSPHERE]),
                                                       np.array([t[idx]]), np.array([z[idx]]), wl)
                 row[inside] = tau_t[0, inside]
             out[idx] = row
