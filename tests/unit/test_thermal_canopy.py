@@ -114,7 +114,7 @@ def test_canopy_step_closes_energy_and_matches_the_numpy_reference():
     for r in runs:
         assert np.max(r.closure[1:]) <= CLOSURE  # measured 1e-13
         terms = {k: v[1:] for k, v in r.terms.items()}
-        np.testing.assert_allclose(sum(v for k, v in terms.items() if k != "q_d"), terms["q_d"], rtol=0, atol=1e-5)
+        np.testing.assert_allclose(sum(v for k, v in terms.items() if k != "q_d"), -terms["q_d"], rtol=0, atol=1e-5)
         assert np.all(np.isnan(r.canopy_temperature[:, 1])) and np.all(np.isfinite(r.canopy_temperature[:, [0, 2, 3]]))
         assert np.min(terms["q_v"][:, 0]) < -100.0  # the leaves transpire by day
     np.testing.assert_allclose(fast.surface_temperature, slow.surface_temperature, rtol=0, atol=1e-8)

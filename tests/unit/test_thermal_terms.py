@@ -80,7 +80,7 @@ def test_every_term_active_closes_energy_every_step():
     assert np.max(result.closure[1:]) <= CLOSURE  # measured 3e-10
     terms = {k: v[1:] for k, v in result.terms.items()}
     surface = sum(v for k, v in terms.items() if k != "q_d")
-    np.testing.assert_allclose(surface, terms["q_d"], rtol=0, atol=1e-5)  # W m-2: Newton's residual
+    np.testing.assert_allclose(surface, -terms["q_d"], rtol=0, atol=1e-5)  # W m-2: Newton's residual
     # every term is at work somewhere
     for name in TERMS:
         assert np.max(np.abs(terms[name])) > 1.0, name

@@ -139,13 +139,14 @@ def _read_weather_file(scene, spec, path, start, end):
                               "hour 0 with its UTC offset", key="thermal.weather.start")
         cloud = spec.cloud_cover if "cloud_cover" in spec.model_fields_set else None
         weather = wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=spec.start,
-                                  cloud_cover=cloud, fields=spec.fields)
+                                  cloud_cover=cloud, fields=spec.fields, max_gap=spec.max_gap,
+                                  tolerance_deg=spec.place_tolerance)
         if not weather.covers(start, end):
             raise ConfigError(f"{path} covers {weather.span_text()}, not the heat balance's {start} – {end}",
                               key="thermal.weather.file")
         return weather
     return wx.read_weather(path, latitude=loc.latitude, longitude=loc.longitude, start=start, end=end,
-                           fields=spec.fields)
+                           max_gap=spec.max_gap, tolerance_deg=spec.place_tolerance)
 
 
 def _weather(scene, start, end):
@@ -187,6 +188,20 @@ def _weather(scene, start, end):
     return wx.diurnal_weather(loc.latitude, loc.longitude, first, t_min=spec.t_min, t_max=spec.t_max,
                               relative_humidity=spec.relative_humidity, wind_speed=spec.wind_speed,
                               cloud_cover=spec.cloud_cover, pressure=pressure, days=(last - first).days + 1)
+
+
+def _initial_temperature(scene, used):
+    """``thermal.initial_temperature`` as the solver takes it: a temperature [K], one per used
+    material (NaN: not given), or None."""
+    given = scene.spec.thermal.initial_temperature
+    if given is None or not isinstance(given, dict):
+        return given
+    names = [scene.material_names[i] for i in used]
+    for name in given:
+        if name not in scene.material_names:
+            raise ConfigError(f"no material {name!r} in the scene; known: {', '.join(sorted(set(names)))}",
+                              key=f"thermal.initial_temperature.{name}")
+    return np.array([given.get(name, np.nan) for name in names], float)
 
 
 def _stacks(scene, used):
@@ -352,10 +367,12 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
         zenith = np.full(times.size, scene.sun.zenith)
     # solar absorptance against the ground's global spectrum summed over the run's sun positions
     alpha, eps = _optics(scene, used, stacks, (table.wavelength, table.daily_spectrum(zenith)))
-    options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval, spin_up=spec.spin_up,
+    options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval,
+                             spin_up=spec.spin_up and spec.initial_temperature is None,
                              spin_up_tolerance=spec.spin_up_tolerance, hemisphere_samples=spec.hemisphere_samples,
                              nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed,
-                             lateral=spec.lateral, exchange_reflections=spec.exchange_reflections)
+                             lateral=spec.lateral, exchange_reflections=spec.exchange_reflections,
+                             initial_temperature=_initial_temperature(scene, used), profiles=spec.profiles)
     tracer = RayTracer(meshes)
     shadow_tracer, sun_transmittance = _media_sun_transmittance(
         scene, tracer, table.wavelength, table.daily_spectrum(zenith))

@@ -971,11 +971,38 @@ class WeatherSpec(_Model):
         0.0, description="cloud cover, constant [0-1]; with a .wth file, given only to override "
         "the file")
     pressure: Pressure | None = Field(None, description="default: the standard atmosphere's at the scene's altitude")
+    max_gap: Duration | None = Field(
+        None, description="longest step between a file's rows that is bridged [s]; default three "
+        "times the file's most frequent step")
+    place_tolerance: Annotated[float, _quantity("angle", 0.0, exclusive=True)] = Field(
+        1.0, description="largest difference in latitude and in longitude between the file's stated "
+        "place and the scene's [deg]")
 
     @model_validator(mode="after")
     def _order(self):
         if self.t_min > self.t_max:
             raise ValueError(f"t_min {self.t_min:g} K is above t_max {self.t_max:g} K")
+        return self
+
+    @model_validator(mode="after")
+    def _with_a_file(self):
+        given = self.model_fields_set
+        if self.file is None:
+            extra = [k for k in ("start", "fields", "max_gap", "place_tolerance") if k in given]
+            if extra:
+                raise ValueError(f"{', '.join(extra)} apply to a weather file; no file is given")
+            return self
+        thermal_file = self.file.lower().endswith(".wth")
+        # a CSV or NetCDF file carries its own weather and dates; a .wth file its own weather,
+        # less the date and (in its short form) the cloud
+        ignored = ["t_min", "t_max", "relative_humidity", "wind_speed", "pressure"]
+        if not thermal_file:
+            ignored += ["cloud_cover", "start", "fields"]
+        extra = [k for k in ignored if k in given]
+        if extra:
+            raise ValueError(f"{', '.join(extra)} would be ignored: the weather file {self.file} gives "
+                             f"{'them' if len(extra) > 1 else 'it'}; remove {'them' if len(extra) > 1 else 'it'} "
+                             f"or the file")
         return self
 
 
@@ -1019,11 +1046,19 @@ class ThermalSpec(_Model):
     shadow_interval: Duration | None = Field(
         None, description="time between shadow traces [s]; default every step")
     spin_up: bool = Field(
-        True, description="repeat the first day until it repeats itself (runs of at least a day), "
-        "so the start's guess is forgotten")
+        True, description="repeat the first day until it repeats itself, so the start's guess is "
+        "forgotten (a run shorter than a day spins up on the day that begins at its start); off "
+        "where initial_temperature is given")
     spin_up_tolerance: Annotated[float, _quantity("temperature", 0.0, exclusive=True)] = Field(
         0.05, description="largest day-to-day change of a surface temperature at which the "
         "spin-up stops [K]")
+    initial_temperature: Temperature | dict[str, Temperature] | None = Field(
+        None, description="start every conduction node at this temperature [K], or per material "
+        "name (the others at the first day's mean air temperature), in place of the spin-up; "
+        "default: the spin-up, or the first day's mean air temperature without it")
+    profiles: bool = Field(
+        False, description="also write the temperature of every conduction node at every time "
+        "(node_temperature, node_depth); the layers' temperatures are always written")
     resolution: PositiveLength | None = Field(None, description="terrain thermal grid; default the terrain's spacing")
     hemisphere_samples: Annotated[int, Field(ge=1, le=4096)] = Field(
         64, description="hemisphere rays per element for its sky view and its view factors to the "
@@ -1055,6 +1090,15 @@ class ThermalSpec(_Model):
         if value is not None and value.tzinfo is None:
             raise ValueError("a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z'")
         return value
+
+    @model_validator(mode="after")
+    def _start_state(self):
+        if self.initial_temperature is not None:
+            if self.spin_up and "spin_up" in self.model_fields_set:
+                raise ValueError("initial_temperature and spin_up: true exclude each other: the spin-up "
+                                 "forgets the start's temperatures; set spin_up: false or drop "
+                                 "initial_temperature")
+        return self
 
 
 class TimeSpan(_Model):

@@ -516,7 +516,7 @@ class HeatBalance:
         terms["q_i"][k] = zero if p["q_i"] is None else p["q_i"]
         if "q_lat" in terms:
             terms["q_lat"][k] = -(self.lateral @ surface) / self.area
-        terms["q_d"][k] = into_stack
+        terms["q_d"][k] = -into_stack
         stored = np.einsum("ij,ij->j", self.grid.capacity.T, new - old) + self.grid.bottom_flux(new.T) * dt
         if leaf is not None:
             # the leaves: their emission to the sky (linearised as the step used it), their
@@ -526,7 +526,7 @@ class HeatBalance:
             terms["q_k"][k, c] += leaf["leaf_air"] * (leaf["air"] - tc)
             terms["q_v"][k, c] += leaf["v_c"] - leaf["v_s"] * tc
             held = self.canopy.capacity * (tc - tc0)
-            terms["q_d"][k, c] += held / dt
+            terms["q_d"][k, c] -= held / dt
             stored[c] += held
         supplied = sum(terms[name][k] for name in terms if name != "q_d")
         magnitude = sum(np.abs(terms[name][k]) for name in terms)
@@ -584,7 +584,7 @@ class HeatBalance:
         return f
 
     def run(self, forcing, initial_temperature=None, spin_up=False, spin_up_tolerance=0.01, max_spin_up_days=30, record_terms=False,
-            progress=None):
+            progress=None, probe_depth=None, spin_up_forcing=None):
         """Advance every element through the forcing.
 
         Parameters
@@ -595,7 +595,11 @@ class HeatBalance:
             element's mean air temperature over the first day.
         spin_up : bool, optional
             Repeat the first day first (module docstring); needs a forcing sample exactly one
-            day after the first.
+            day after the first, in ``forcing`` or in ``spin_up_forcing``.
+        spin_up_forcing : ThermalForcing, optional
+            The day the spin-up repeats, from the same start as ``forcing`` (default the first
+            day of ``forcing``): for runs shorter than a day, or whose steps miss the instant a
+            day after the start.
         spin_up_tolerance : float, optional
             [K] largest day-to-day change of a surface temperature to stop at.
         max_spin_up_days : int, optional
@@ -605,6 +609,10 @@ class HeatBalance:
         progress : callable(stage, done, total), optional
             Called after each spin-up day (``"spin-up days"``, out of ``max_spin_up_days``)
             and every 20 steps of the run (``"steps"``).
+        probe_depth : array_like, (n_elements, n_probes), optional
+            Depths below the surface [m] at which to record the temperature at every time,
+            linear in depth between the nodes; NaN where an element has no probe. Fills
+            ``ThermalResult.probe_temperature``.
 
         Returns
         -------
@@ -627,15 +635,17 @@ class HeatBalance:
         if spin_up:
             if not (np.isfinite(spin_up_tolerance) and spin_up_tolerance > 0):
                 raise ConfigError(f"must be > 0 K; got {spin_up_tolerance!r}", key="spin_up_tolerance")
-            end = np.flatnonzero(np.isclose(time, time[0] + DAY, rtol=0.0, atol=1e-6))
+            g, key = (f, "forcing.time") if spin_up_forcing is None else (self._checked(spin_up_forcing), "spin_up_forcing.time")
+            day_time = g["time"]
+            end = np.flatnonzero(np.isclose(day_time, day_time[0] + DAY, rtol=0.0, atol=1e-6))
             if end.size == 0:
-                raise ConfigError("spin-up needs a forcing sample exactly one day after the first", key="forcing.time")
+                raise ConfigError("spin-up needs a forcing sample exactly one day after the first", key=key)
             end = int(end[0])
             previous = None
             while True:
                 record = np.empty((end, n_el))
                 for k in range(1, end + 1):
-                    self._step(state, f, k, time[k] - time[k - 1], out=record[k - 1])
+                    self._step(state, g, k, day_time[k] - day_time[k - 1], out=record[k - 1])
                 days += 1
                 if progress is not None:
                     progress("spin-up days", days, max_spin_up_days)
@@ -643,7 +653,7 @@ class HeatBalance:
                     # the periodic state's daily mean is the same at every depth when no heat
                     # leaves through the bottom: start every node from the first day's mean
                     # surface temperature, which removes the slow transient of the deep nodes
-                    state[...] = self._internal(self._initial(record.mean(axis=0), f))
+                    state[...] = self._internal(self._initial(record.mean(axis=0), g))
                     if self.canopy is not None:
                         self._leaf[...] = record.mean(axis=0)[self.canopy.index]
                 if previous is not None:
@@ -662,6 +672,11 @@ class HeatBalance:
             recorder = {"terms": {t: np.full((time.size, n_el), np.nan) for t in names}, "closure": np.full(time.size, np.nan)}
         surface = np.empty((time.size, n_el))
         surface[0] = self._external(state[0])
+        probes = None
+        if probe_depth is not None:
+            probe = self._probes(probe_depth)
+            probes = np.full((time.size,) + probe[0].shape, np.nan, np.float32)
+            probes[0] = self._probed(state, probe)
         leaves = ground = None
         if self.canopy is not None:
             c = self.canopy.index
@@ -672,6 +687,8 @@ class HeatBalance:
             self._step(state, f, k, time[k] - time[k - 1], recorder, out=surface[k])
             if leaves is not None:
                 leaves[k, c], ground[k, c] = self._leaf, self._external(state[0])[c]
+            if probes is not None:
+                probes[k] = self._probed(state, probe)
             if progress is not None and (k % 20 == 0 or k == time.size - 1):
                 progress("steps", k, time.size - 1)
         return ThermalResult(
@@ -685,4 +702,31 @@ class HeatBalance:
             closure=None if recorder is None else recorder["closure"],
             canopy_temperature=leaves,
             ground_temperature=ground,
+            probe_temperature=probes,
         )
+
+    def _probes(self, probe_depth):
+        """Node index and weight of each probe depth (n_elements, n_probes), and where it holds."""
+        depth = self.grid.depth
+        given = np.asarray(probe_depth, float)
+        if given.ndim != 2 or given.shape[0] != depth.shape[0]:
+            raise ConfigError(f"must have shape (n_elements, n_probes) = ({depth.shape[0]}, n); got {given.shape}",
+                              key="probe_depth")
+        valid = np.isfinite(given)
+        if np.any(given[valid] < 0) or np.any(given > depth[:, -1:] * (1 + 1e-9)):
+            raise ConfigError("must lie between the surface and the bottom of each stack", key="probe_depth")
+        z = np.where(valid, given, 0.0)
+        below = (depth[:, None, :] <= z[:, :, None]).sum(axis=-1) - 1
+        index = np.clip(below, 0, depth.shape[1] - 2)
+        rows = np.arange(depth.shape[0])[:, None]
+        top, bottom = depth[rows, index], depth[rows, index + 1]
+        weight = np.clip((z - top) / (bottom - top), 0.0, 1.0)
+        return index, weight, valid
+
+    def _probed(self, state, probe):
+        """The temperatures [K] at the probes (:meth:`_probes`) of the state."""
+        index, weight, valid = probe
+        profile = self._external(state)
+        rows = np.arange(index.shape[0])[:, None]
+        value = (1.0 - weight) * profile[index, rows] + weight * profile[index + 1, rows]
+        return np.where(valid, value, np.nan)

@@ -178,12 +178,17 @@ class ThermalResult:
         [W m-2], over the step that ends at each time (row 0 NaN): ``q_a``, ``q_sky``,
         ``q_env``, ``q_t``, ``q_k``, ``q_v``, ``q_i`` into the surface positive, ``q_lat``
         (with lateral conduction) the heat from the neighbouring elements, and ``q_d`` the
-        heat that flows from the surface node into the stack (storage and conduction), so
-        that q_a + q_sky + q_env + q_t + q_k + q_v + q_i (+ q_lat) = q_d.
+        heat that flows from the stack into the surface node (minus the storage and
+        conduction below the surface), so that q_a + q_sky + q_env + q_t + q_k + q_v + q_i
+        (+ q_lat) + q_d = 0, the balance of seed eq. 5 with every term into the surface
+        positive.
     canopy_temperature, ground_temperature : ndarray, (n_times, n_elements), or None
         With leaves (``thermal.canopy``): the leaf layer's and the soil surface's temperatures
         [K], NaN for the elements without leaves, whose ``surface_temperature`` is then the
         nadir radiometric temperature of leaves and soil. None without leaves.
+    probe_temperature : ndarray, (n_times, n_elements, n_probes), float32, or None
+        With ``run(..., probe_depth=...)``: the temperature at the probe depths [K], NaN
+        where an element has no probe. None without probes.
     closure : ndarray, (n_times,), or None
         With ``record_terms``: the energy closure of the step that ends at each time (row 0
         NaN) [-], Σ_e a_e |Σ surface terms · Δt − (ΔΣ C_i T_i + bottom flux · Δt)| /
@@ -202,3 +207,4 @@ class ThermalResult:
     closure: np.ndarray | None = None
     canopy_temperature: np.ndarray | None = None
     ground_temperature: np.ndarray | None = None
+    probe_temperature: np.ndarray | None = None

@@ -26,7 +26,7 @@ from radscene.thermal.conduction import DAY
 from radscene.thermal.exposure import hemisphere_exposure, sunlit_fraction
 from radscene.thermal.irradiance import shortwave_table, sky_longwave_irradiance
 
-__all__ = ["ThermalOptions", "solve_elements", "sun_vectors", "time_axis", "time_steps"]
+__all__ = ["ThermalOptions", "layer_probes", "solve_elements", "sun_vectors", "time_axis", "time_steps"]
 
 
 @dataclass(frozen=True)
@@ -40,7 +40,8 @@ class ThermalOptions:
     shadow_interval : float or None
         Time between shadow traces [s]; None: every step.
     spin_up : bool
-        Repeat the first day until it repeats itself (needs a run of at least one day).
+        Repeat the first day until it repeats itself (the run's own first day, or, when it has
+        no time one day after its start, a day of its own from the start).
     spin_up_tolerance : float
         [K].
     max_spin_up_days : int
@@ -55,6 +56,12 @@ class ThermalOptions:
         Lateral conduction between neighbouring elements (``thermal.lateral``).
     exchange_reflections : int
         Reflections followed in Q_env.
+    initial_temperature : float or ndarray of float, or None
+        Start every node at this temperature [K], or per stack (NaN: the first day's mean air
+        temperature); None: that mean everywhere.
+    profiles : bool
+        Also write the temperature of every conduction node at every time
+        (``node_temperature``); the layers' temperatures are always written.
     """
 
     step: float = 600.0
@@ -68,6 +75,8 @@ class ThermalOptions:
     seed: int = 0
     lateral: bool = False
     exchange_reflections: int = 1
+    initial_temperature: float | np.ndarray | None = None
+    profiles: bool = False
 
 
 def time_axis(start, end, step):
@@ -117,6 +126,25 @@ def sun_vectors(zenith, azimuth):
 
 def _seconds(times):
     return (times - times[0]) / np.timedelta64(1, "s")
+
+
+def pd_index(times):
+    import pandas as pd
+
+    return pd.DatetimeIndex(times).tz_localize("UTC")
+
+
+def _sun(times, lat, lon, alt, sun_override):
+    """The sun's position at the times (the ephemeris, or a fixed sun)."""
+    from radscene.sun import sun_position
+
+    if sun_override is not None:
+        from types import SimpleNamespace
+
+        ones = np.ones(times.size)
+        return SimpleNamespace(zenith=sun_override[0] * ones, azimuth=sun_override[1] * ones,
+                               distance=sun_override[2] * ones)
+    return sun_position(pd_index(times), lat, lon, alt)
 
 
 def _shadow_history(tracer, elements, times, sun_dir, interval, progress, transmittance=None):
@@ -201,53 +229,74 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         ``surface_temperature(time, element)`` [K], ``q_<term>(time, element)`` [W m-2],
         element coordinates, the sky view factor, the spin-up's figures in the attributes.
     """
-    from radscene.sun import sun_position
-
     times = np.asarray(times, dtype="datetime64[ns]")
     if times.ndim != 1 or times.size < 2 or np.any(np.diff(times) <= np.timedelta64(0, "ns")):
         raise ConfigError("must be at least two strictly increasing times", key="thermal.time")
     if elements.size == 0:
         raise ConfigError("no surface to solve: every object has a fixed temperature", key="thermal")
-    import pandas as pd
-
     lat, lon, alt = location
-    index = pd.DatetimeIndex(times).tz_localize("UTC")
-    sun = sun_position(index, lat, lon, alt)
-    if sun_override is not None:
-        from types import SimpleNamespace
-
-        ones = np.ones(times.size)
-        sun = SimpleNamespace(zenith=sun_override[0] * ones, azimuth=sun_override[1] * ones,
-                              distance=sun_override[2] * ones)
-    sun_dir = sun_vectors(sun.zenith, sun.azimuth)
-    day = int(index[0].day_of_year)
-    table = shortwave_table(atmosphere, alt, day, float(np.mean(sun.distance)))
-    w = weather.at(times)
-    direct, diffuse = table.at(sun.zenith)
-    cloud = np.asarray(w.get("cloud_cover", np.zeros(times.size)), float)
-    direct, diffuse = _cloudy_shortwave(direct, diffuse, cloud, sun.zenith)
-    if w.get("global_shortwave") is not None and w.get("diffuse_shortwave") is not None:
-        mu = np.cos(np.radians(np.minimum(sun.zenith, 90.0)))
-        diffuse = np.asarray(w["diffuse_shortwave"], float)
-        beam = np.asarray(w["global_shortwave"], float) - diffuse
-        direct = np.where(mu > 0.05, np.maximum(beam, 0.0) / np.maximum(mu, 0.05), 0.0)
-    elif w.get("direct_normal_shortwave") is not None and w.get("diffuse_shortwave") is not None:
-        diffuse = np.asarray(w["diffuse_shortwave"], float)
-        direct = np.where(sun.zenith < 90.0, np.asarray(w["direct_normal_shortwave"], float), 0.0)
-    air = np.asarray(w["air_temperature"], float)
-    if w.get("longwave_down") is not None:
-        longwave = np.asarray(w["longwave_down"], float)
-    else:
-        clear = sky_longwave_irradiance(atmosphere, alt, air)
-        longwave = _cloudy_longwave(clear, air, np.asarray(w["relative_humidity"], float), cloud)
-
     hemisphere = hemisphere_exposure(tracer, elements, options.hemisphere_samples, options.seed,
                                      see_through=see_through)
     if progress is not None:
         progress("hemisphere", 1, 1)
-    lit = _shadow_history(tracer if shadow_tracer is None else shadow_tracer, elements, times, sun_dir, options.shadow_interval, progress,
-                          sun_transmittance)
-    cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
+    day = int(pd_index(times[:1])[0].day_of_year)
+    sun0 = _sun(times, lat, lon, alt, sun_override)
+    table = shortwave_table(atmosphere, alt, day, float(np.mean(sun0.distance)))
+
+    def drive(at, stage):
+        """The forcing at the times ``at``, and what the output keeps of it."""
+        sun = _sun(at, lat, lon, alt, sun_override)
+        sun_dir = sun_vectors(sun.zenith, sun.azimuth)
+        w = weather.at(at)
+        direct, diffuse = table.at(sun.zenith)
+        cloud = np.asarray(w.get("cloud_cover", np.zeros(at.size)), float)
+        direct, diffuse = _cloudy_shortwave(direct, diffuse, cloud, sun.zenith)
+        if w.get("global_shortwave") is not None and w.get("diffuse_shortwave") is not None:
+            mu = np.cos(np.radians(np.minimum(sun.zenith, 90.0)))
+            diffuse = np.asarray(w["diffuse_shortwave"], float)
+            beam = np.asarray(w["global_shortwave"], float) - diffuse
+            direct = np.where(mu > 0.05, np.maximum(beam, 0.0) / np.maximum(mu, 0.05), 0.0)
+        elif w.get("direct_normal_shortwave") is not None and w.get("diffuse_shortwave") is not None:
+            diffuse = np.asarray(w["diffuse_shortwave"], float)
+            direct = np.where(sun.zenith < 90.0, np.asarray(w["direct_normal_shortwave"], float), 0.0)
+        air = np.asarray(w["air_temperature"], float)
+        if w.get("longwave_down") is not None:
+            longwave = np.asarray(w["longwave_down"], float)
+        else:
+            clear = sky_longwave_irradiance(atmosphere, alt, air)
+            longwave = _cloudy_longwave(clear, air, np.asarray(w["relative_humidity"], float), cloud)
+        report = None if progress is None else (lambda name, done, total: progress(stage + name, done, total))
+        lit = _shadow_history(tracer if shadow_tracer is None else shadow_tracer, elements, at, sun_dir,
+                              options.shadow_interval, report, sun_transmittance)
+        cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
+        col = (slice(None), None)
+        forcing = ThermalForcing(
+            time=_seconds(at),
+            direct_irradiance=direct[col],
+            cos_incidence=cos_i,
+            diffuse_irradiance=diffuse[col],
+            sky_longwave=longwave[col],
+            air_temperature=air[col],
+            wind_speed=np.asarray(w["wind_speed"], float)[col],
+            lit=lit,
+            sky_view_fraction=hemisphere.sky_view,
+            sky_view_shortwave=hemisphere.sky_view_shortwave,
+            relative_humidity=np.asarray(w["relative_humidity"], float)[col],
+            pressure=np.asarray(w["pressure"], float)[col],
+            internal_flux=internal_flux,
+            air_speed=speed,
+            environment_irradiance=environment,
+        )
+        return forcing, (sun, direct, diffuse, longwave, air, lit, cos_i)
+
+    environment = 0.0
+    if fixed_face_exitance is not None and hemisphere.fixed.nnz:
+        environment = hemisphere.fixed @ np.asarray(fixed_face_exitance, float)
+    speed = None
+    if air_speed is not None and np.any(np.isfinite(air_speed)):
+        speed = np.asarray(air_speed, float)
+    forcing, kept = drive(times, "")
+    sun, direct, diffuse, longwave, air, lit, cos_i = kept
 
     lateral = _lateral(elements, stacks, np.asarray(stack_index), meshes) if options.lateral else None
     balance = HeatBalance(stacks, np.asarray(stack_index), absorptance=absorptance, emissivity=emissivity,
@@ -255,35 +304,78 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
                           exchange_reflections=options.exchange_reflections,
                           moisture_availability=moisture_availability, characteristic_length=characteristic_length,
                           lateral=lateral, area=elements.area if lateral is not None else None)
-    environment = 0.0
-    if fixed_face_exitance is not None and hemisphere.fixed.nnz:
-        environment = hemisphere.fixed @ np.asarray(fixed_face_exitance, float)
-    speed = None
-    if air_speed is not None and np.any(np.isfinite(air_speed)):
-        speed = np.asarray(air_speed, float)
-    col = (slice(None), None)
-    forcing = ThermalForcing(
-        time=_seconds(times),
-        direct_irradiance=direct[col],
-        cos_incidence=cos_i,
-        diffuse_irradiance=diffuse[col],
-        sky_longwave=longwave[col],
-        air_temperature=air[col],
-        wind_speed=np.asarray(w["wind_speed"], float)[col],
-        lit=lit,
-        sky_view_fraction=hemisphere.sky_view,
-        sky_view_shortwave=hemisphere.sky_view_shortwave,
-        relative_humidity=np.asarray(w["relative_humidity"], float)[col],
-        pressure=np.asarray(w["pressure"], float)[col],
-        internal_flux=internal_flux,
-        air_speed=speed,
-        environment_irradiance=environment,
-    )
-    spin = options.spin_up and _seconds(times)[-1] >= DAY - 1e-6
-    result = balance.run(forcing, spin_up=spin, spin_up_tolerance=options.spin_up_tolerance,
-                         max_spin_up_days=options.max_spin_up_days, record_terms=True, progress=progress)
-    return _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i,
-                    balance, names, spin)
+    spin, spin_forcing = options.spin_up, None
+    seconds = _seconds(times)
+    if spin and not np.any(np.isclose(seconds, DAY, rtol=0.0, atol=1e-6)):
+        # no sample a day after the start (a shorter run, or a step that does not divide the
+        # day): spin up on the day that begins at the start, at the nearest step that divides it
+        n = max(1, int(round(DAY / options.step)))
+        day_times = times[0] + (np.arange(n + 1) * (DAY / n) * 1e9).round().astype("timedelta64[ns]")
+        if hasattr(weather, "covers") and not weather.covers(day_times[0], day_times[-1]):
+            raise ConfigError(
+                f"the spin-up repeats the day from the start, {day_times[0]}Z to {day_times[-1]}Z, which the "
+                f"weather ({weather.span_text()}) does not cover; extend the weather, or set thermal.spin_up: "
+                f"false (with thermal.initial_temperature)", key="thermal.spin_up")
+        spin_forcing, _ = drive(day_times, "spin-up day: ")
+    initial = None
+    if options.initial_temperature is not None:
+        initial = np.asarray(options.initial_temperature, float)
+        if initial.ndim == 1:  # per stack, NaN: the first day's mean air temperature
+            mean_air = float(np.mean(air[seconds <= DAY + 1e-6]))
+            initial = np.where(np.isfinite(initial), initial, mean_air)[np.asarray(stack_index)]
+    layer_depth, layer_name = layer_probes(stacks, np.asarray(stack_index))
+    probe = layer_depth
+    if options.profiles:
+        probe = np.concatenate([layer_depth, balance.grid.depth], axis=1)
+    result = balance.run(forcing, initial_temperature=initial, spin_up=spin, spin_up_forcing=spin_forcing,
+                         spin_up_tolerance=options.spin_up_tolerance, max_spin_up_days=options.max_spin_up_days,
+                         record_terms=True, progress=progress, probe_depth=probe)
+    ds = _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave, air, lit, cos_i,
+                  balance, names, spin)
+    n_layers = layer_depth.shape[1]
+    ds["layer_temperature"] = (("time", "element", "layer"), result.probe_temperature[:, :, :n_layers], {
+        "units": "K", "long_name": "temperature of each layer of the element's stack: at the middle of a layer "
+        "of given thickness, one diurnal penetration depth below the top of a semi-infinite last layer "
+        "(NaN: the stack has fewer layers)"})
+    ds = ds.assign_coords(
+        layer_depth=(("element", "layer"), layer_depth, {"units": "m", "long_name": "depth of layer_temperature"}),
+        layer_name=(("element", "layer"), layer_name, {"long_name": "name of the layer"}))
+    if options.profiles:
+        ds["node_temperature"] = (("time", "element", "node"), result.probe_temperature[:, :, n_layers:], {
+            "units": "K", "long_name": "temperature of each conduction node of the element's stack"})
+        ds = ds.assign_coords(node_depth=(("element", "node"), balance.grid.depth,
+                                          {"units": "m", "long_name": "depth of the conduction node"}))
+    return ds
+
+
+def layer_probes(stacks, stack_index, period=DAY):
+    """Where each element's layer temperatures are read: the middle of every layer of given
+    thickness, and one diurnal penetration depth (the e-folding depth of the daily wave) below
+    the top of a semi-infinite last layer.
+
+    Returns
+    -------
+    depth : ndarray, (n_elements, n_layers)
+        [m], NaN beyond an element's last layer.
+    name : ndarray of str, (n_elements, n_layers)
+        The layers' names ("" beyond the last).
+    """
+    from radscene.thermal.conduction import penetration_depth
+
+    n = max(len(st.layers) for st in stacks)
+    depth, name = np.full((len(stacks), n), np.nan), np.full((len(stacks), n), "", dtype=object)
+    for i, st in enumerate(stacks):
+        top = 0.0
+        for j, layer in enumerate(st.layers):
+            last_open = j == len(st.layers) - 1 and st.bottom == "semi-infinite"
+            if last_open:
+                depth[i, j] = top + float(penetration_depth(layer.conductivity, layer.density,
+                                                            layer.specific_heat, period))
+            else:
+                depth[i, j] = top + 0.5 * layer.thickness
+                top += layer.thickness
+            name[i, j] = layer.name
+    return depth[stack_index], name[stack_index].astype(str)
 
 
 def _lateral(elements, stacks, stack_index, meshes):
@@ -380,7 +472,7 @@ def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave
                                                        "radiometric temperature of leaves and soil)")
     long_names = {"q_a": "absorbed short-wave", "q_sky": "absorbed sky long-wave", "q_env": "exchange with the scene",
                   "q_t": "emitted long-wave", "q_k": "convection", "q_v": "evaporation", "q_i": "internal sources",
-                  "q_lat": "lateral conduction from the neighbours", "q_d": "conduction into the stack"}
+                  "q_lat": "lateral conduction from the neighbours", "q_d": "conduction from the stack"}
     for name, value in terms.items():
         data[name] = (("time", "element"), np.asarray(value, np.float32),
                       {"units": "W m-2", "long_name": long_names.get(name, name) + " (into the surface positive)"})

@@ -143,7 +143,7 @@ def build_series(path, time, columns, labels, latitude, longitude, max_gap=None)
         rule = f"3 x the file's usual step ({_hours(usual)})" if max_gap is None else f"max_gap = {_hours(limit)}"
         raise ConfigError(
             f"{path}: gap of {_hours(steps[i] / 1e9)} between {labels[i]} ({format_time(time[i])}) and "
-            f"{labels[i + 1]} ({format_time(time[i + 1])}), longer than {rule}; fill the gap or give max_gap",
+            f"{labels[i + 1]} ({format_time(time[i + 1])}), longer than {rule}; fill the gap or give max_gap (a scene's thermal.weather.max_gap)",
             key="time",
         )
     if "dew_point" in columns:

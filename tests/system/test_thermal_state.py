@@ -1,0 +1,146 @@
+"""The heat balance's state through ``radscene.solve_thermal``: the layers' temperatures and the
+nodes' profiles in the output, the sign of every term, the spin-up of runs shorter than a day
+or whose steps miss the next day's instant, and a start from given temperatures."""
+
+import copy
+
+import numpy as np
+import pytest
+
+import radscene
+from radscene.errors import ConfigError
+from radscene.scene import load_scene
+
+_SCENE = {
+    "name": "yard",
+    "environment": {"location": {"latitude": 35.0, "longitude": 0.0}, "time": "2026-06-21T12:00:00Z"},
+    "terrain": {"type": "dem", "elevation": np.zeros((5, 5)).tolist(), "spacing": [4.0, 4.0],
+                "origin": [-8.0, -8.0], "material": "asphalt"},
+    "objects": [{"name": "van", "shape": {"type": "box", "size": [2.0, 4.0, 2.0]}, "position": [0.0, 0.0, 0.3],
+                 "material": "painted_metal"}],
+    "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+    "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "gsd": 1.0, "shape": [8, 8]}],
+    "thermal": {"step": "30 min", "hemisphere_samples": 8},
+}
+
+
+def _solve(**thermal):
+    scene = copy.deepcopy(_SCENE)
+    scene["thermal"].update(thermal)
+    return radscene.solve_thermal(load_scene(scene, base_dir="."))
+
+
+@pytest.fixture(scope="module")
+def day():
+    return _solve(profiles=True)
+
+
+def test_every_term_sums_to_zero_into_the_surface(day):
+    """Seed 001 eq. 5: Q_a + Q_sky + Q_env + Q_t + Q_k + Q_v + Q_i + Q_d = 0, every term into the
+    surface positive; q_d is the heat the stack gives back to the surface."""
+    names = [v for v in day.data_vars if v.startswith("q_")]
+    assert "q_d" in names
+    total = sum(day[v].isel(time=slice(1, None)).values.astype(float) for v in names)
+    scale = max(float(np.abs(day[v].isel(time=slice(1, None))).max()) for v in names)
+    assert np.max(np.abs(total)) < 1e-4 * scale
+    # the asphalt stores heat by day: its stack draws from the surface (q_d < 0) around noon
+    noon = day.time.values[-1]
+    asphalt = (day.object == "terrain").values
+    assert float(day.q_d.sel(time=noon).values[asphalt].mean()) < -50.0
+
+
+def test_layers_are_written_at_their_middles(day):
+    """layer_temperature(time, element, layer) at the middle of each layer of given thickness;
+    NaN where a stack has fewer layers; read from the node profile linearly in depth."""
+    ds = day
+    assert ds.layer_temperature.dims == ("time", "element", "layer")
+    assert ds.layer_temperature.attrs["units"] == "K"
+    van = np.flatnonzero(ds.object.values == "van")
+    ground = np.flatnonzero(ds.object.values == "terrain")
+    depth, names = ds.layer_depth.values, ds.layer_name.values
+    n_van = int(np.sum(np.isfinite(depth[van[0]])))
+    assert n_van >= 2  # paint and steel at least
+    assert np.all(np.diff(depth[van[0], :n_van]) > 0)
+    assert all(names[van[0], j] for j in range(n_van))
+    # each layer's temperature is the node profile's at its depth
+    z, profile = ds.node_depth.values, ds.node_temperature.values
+    for e in (van[0], ground[0]):
+        for j in np.flatnonzero(np.isfinite(depth[e])):
+            want = np.array([np.interp(depth[e, j], z[e], p[e]) for p in profile])
+            np.testing.assert_allclose(ds.layer_temperature.values[:, e, j], want, atol=2e-3)
+    # fewer layers: NaN
+    short = [e for e in (van[0], ground[0]) if not np.all(np.isfinite(depth[e]))]
+    for e in short:
+        assert np.all(np.isnan(ds.layer_temperature.values[:, e, ~np.isfinite(depth[e])]))
+    # the node at the surface is the surface temperature
+    np.testing.assert_allclose(profile[:, :, 0], ds.surface_temperature.values, atol=1e-3)
+
+
+def test_a_run_shorter_than_a_day_is_spun_up_on_its_own_day(day):
+    """Two hours before noon, spun up on the day that begins at their start, give what the whole
+    spun-up day gives at the same instants."""
+    short = _solve(start="2026-06-21T10:00:00Z")
+    assert short.attrs["spin_up_days"] >= 2
+    assert short.attrs["spin_up_change_K"] < 0.05
+    same = day.sel(time=short.time.values)
+    assert float(np.max(np.abs(short.surface_temperature - same.surface_temperature))) < 0.3
+
+
+def test_a_step_that_misses_the_next_day_still_spins_up():
+    ds = _solve(start="2026-06-20T00:00:00Z", step="7 min", spin_up_tolerance="0.2 K")
+    assert ds.attrs["spin_up_days"] >= 2
+
+
+def test_a_start_from_given_temperatures():
+    ds = _solve(start="2026-06-21T10:00:00Z", initial_temperature={"asphalt": "30 degC"})
+    assert ds.attrs["spin_up_days"] == 0
+    first = ds.isel(time=0)
+    asphalt = first.object.values == "terrain"
+    np.testing.assert_allclose(first.surface_temperature.values[asphalt], 303.15, atol=1e-3)
+    np.testing.assert_allclose(first.layer_temperature.values[asphalt, 0], 303.15, atol=1e-3)
+    van = first.surface_temperature.values[~asphalt]
+    assert np.all(np.abs(van - 303.15) > 1.0)  # the others from the mean air temperature
+
+
+@pytest.mark.parametrize("thermal, key, message", [
+    ({"initial_temperature": "300 K", "spin_up": True}, "thermal", "exclude each other"),
+    ({"initial_temperature": {"granite": "300 K"}}, "thermal.initial_temperature.granite", "no material"),
+])
+def test_bad_start_states_are_refused(thermal, key, message):
+    with pytest.raises(ConfigError) as err:
+        _solve(start="2026-06-21T10:00:00Z", **thermal)
+    assert err.value.key.startswith(key) and message in str(err.value)
+
+
+def _hourly_file(tmp_path, skip=()):
+    rows = ["# latitude: 35.0", "# longitude: 0.0",
+            "time [UTC],air_temperature [degC],relative_humidity [%],wind_speed [m/s],cloud_cover [%],pressure [hPa]"]
+    for hour in range(48):  # hourly from 2026-06-20T00:00
+        if hour in skip:
+            continue
+        d, hh = divmod(hour, 24)
+        rows.append(f"2026-06-{20 + d}T{hh:02d}:00,{15 + 8 * np.sin((hh - 9) * np.pi / 12):.2f},50,2,0,1013")
+    path = tmp_path / "site.csv"
+    path.write_text("\n".join(rows) + "\n")
+    return str(path)
+
+
+@pytest.mark.parametrize("extra", [{"t_max": "30 degC"}, {"wind_speed": 5.0}, {"cloud_cover": 0.5},
+                                   {"start": "2026-06-20T00:00:00Z"}])
+def test_a_weather_files_own_figures_cannot_be_given_beside_it(tmp_path, extra):
+    """A figure the file gives, or a .wth file's date, beside a CSV file would be ignored: refused."""
+    scene = copy.deepcopy(_SCENE)
+    scene["thermal"]["weather"] = {"file": _hourly_file(tmp_path), **extra}
+    with pytest.raises(ConfigError) as err:
+        load_scene(scene, base_dir=".")
+    assert "thermal.weather" in err.value.key and "ignored" in str(err.value)
+
+
+def test_a_weather_gap_is_bridged_up_to_max_gap(tmp_path):
+    path = _hourly_file(tmp_path, skip=(14, 15, 16))  # a 4 h gap, beyond 3 x the hourly step
+    with pytest.raises(ConfigError, match="gap of 4"):
+        _solve(start="2026-06-20T12:00:00Z", end="2026-06-20T18:00:00Z", spin_up=False,
+               weather={"file": path})
+    ds = _solve(start="2026-06-20T12:00:00Z", end="2026-06-20T18:00:00Z", spin_up=False,
+                weather={"file": path, "max_gap": "4 h"})
+    assert ds.sizes["time"] == 13
