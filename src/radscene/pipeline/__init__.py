@@ -126,7 +126,7 @@ def check_thermal_size(scene, start=None, end=None, step=None, elements=None) ->
     if elements is None:
         elements = _thermal_elements(scene)
     return check_thermal_memory(elements.size, steps, spec.nodes, spec.hemisphere_samples,
-                                scene.memory_limit or memory_limit(scene.spec))
+                                scene.memory_limit or memory_limit(scene.spec), profiles=spec.profiles)
 
 
 def _read_weather_file(scene, spec, path, start, end):

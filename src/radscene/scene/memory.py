@@ -107,6 +107,8 @@ DISK_PIXEL_BAND_BYTES = 100.0
 #: and hemisphere ray.
 THERMAL_ELEMENT_STEP_BYTES = 200.0
 THERMAL_ELEMENT_NODE_BYTES = 100.0
+#: ``thermal.profiles``: per element, time step and node (float32, recorded and written).
+THERMAL_PROFILE_NODE_STEP_BYTES = 8.0
 THERMAL_ELEMENT_RAY_BYTES = 100.0
 #: An image a scene names, while it is read: per texel, and a multiple of the bytes of its
 #: decoded values (PNG/JPEG: 4 B a channel, a palette as four channels; .npy and GeoTIFF: its
@@ -585,11 +587,13 @@ def check_cube_memory(channels: int, pixels: int, limit: tuple[float, str], key:
 
 
 def check_thermal_memory(elements: int, steps: int, nodes: int, rays: int,
-                         limit: tuple[float, str], key: str = "thermal.step") -> float:
+                         limit: tuple[float, str], key: str = "thermal.step", profiles: bool = False) -> float:
     """Refuse a heat balance of ``elements`` surface elements over ``steps`` time steps, with
-    ``nodes`` conduction nodes and ``rays`` hemisphere rays per element, whose arrays exceed
-    ``limit`` ((bytes, source)); returns the bytes estimated."""
-    need = BASE_BYTES + float(elements) * (float(steps) * THERMAL_ELEMENT_STEP_BYTES
+    ``nodes`` conduction nodes and ``rays`` hemisphere rays per element (and, with
+    ``profiles``, every node's temperature at every step), whose arrays exceed ``limit``
+    ((bytes, source)); returns the bytes estimated."""
+    per_step = THERMAL_ELEMENT_STEP_BYTES + (THERMAL_PROFILE_NODE_STEP_BYTES * nodes if profiles else 0.0)
+    need = BASE_BYTES + float(elements) * (float(steps) * per_step
                                            + nodes * THERMAL_ELEMENT_NODE_BYTES
                                            + rays * THERMAL_ELEMENT_RAY_BYTES)
     _refuse(need, limit, key, f"the heat balance of {elements:,} elements × {steps:,} time "
