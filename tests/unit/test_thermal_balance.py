@@ -39,6 +39,50 @@ def test_thin_insulated_plate_reaches_radiative_convective_equilibrium():
     assert abs(expected - T_AIR) > 5.0
 
 
+@pytest.mark.parametrize("cos_tilt, wind", [(1.0, 0.0), (0.0, 0.0), (-1.0, 0.0), (1.0, 2.0), (0.5, 1.0)])
+@pytest.mark.parametrize("e_dir", [E_DIR, 0.0])
+def test_free_and_forced_convection_reach_their_equilibrium(cos_tilt, wind, e_dir):
+    """``convection="mixed"``: the thin insulated plate settles where its balance, with Walton's
+    free convection of the plate's own temperature plus 3.0 u, is zero (brentq), warm in the sun
+    and below the air under the night sky, facing up, sideways or down."""
+    from radscene.thermal.convection import free_convection
+
+    plate = get_thermal_properties("bare_aluminium")
+    hb = HeatBalance([plate], absorptance=ALPHA, emissivity=EPS, convection="mixed", cos_tilt=cos_tilt)
+    time = np.arange(0.0, DAY / 4 + 1, 300.0)
+    cos_i = COS_I if cos_tilt > 0 else 0.0
+    forcing = ThermalForcing(time, e_dir, cos_i, E_DIF, E_SKY, T_AIR, wind)
+    result = hb.run(forcing, initial_temperature=T_AIR, record_terms=True)
+
+    def g(t):
+        h = free_convection(t - T_AIR, cos_tilt) + 3.0 * wind
+        return ALPHA * (e_dir * cos_i + E_DIF) + EPS * E_SKY - EPS * SIGMA * t**4 + h * (T_AIR - t)
+
+    expected = brentq(g, 150.0, 500.0, xtol=1e-12)
+    assert result.surface_temperature[-1, 0] == pytest.approx(expected, abs=1e-3)
+    if e_dir and cos_tilt > 0:
+        assert expected > T_AIR + 5.0
+    if not e_dir:
+        assert expected < T_AIR
+    # the coefficient recorded is the one of the step's start: h = q_k / (T_air - T)
+    t_prev, t_now = result.surface_temperature[-2, 0], result.surface_temperature[-1, 0]
+    h_used = result.terms["q_k"][-1, 0] / (T_AIR - t_now)
+    assert h_used == pytest.approx(free_convection(t_prev - T_AIR, cos_tilt) + 3.0 * wind, rel=1e-9)
+
+
+def test_free_convection_follows_walton():
+    from radscene.thermal.convection import free_convection, mixed
+
+    dt = np.array([1.0, 8.0, 27.0])
+    np.testing.assert_allclose(free_convection(dt, 0.0), 1.31 * np.cbrt(dt), rtol=2e-3)  # vertical
+    np.testing.assert_allclose(free_convection(-dt, 0.0), 1.31 * np.cbrt(dt), rtol=2e-3)
+    np.testing.assert_allclose(free_convection(dt, 1.0), 1.52 * np.cbrt(dt), rtol=2e-3)  # warm face up
+    np.testing.assert_allclose(free_convection(-dt, -1.0), 1.52 * np.cbrt(dt), rtol=2e-3)  # cool face down
+    np.testing.assert_allclose(free_convection(-dt, 1.0), 1.810 / 2.382 * np.cbrt(dt), rtol=1e-12)  # stable
+    assert float(free_convection(0.0, 1.0)) == 0.0
+    np.testing.assert_allclose(mixed(3.0, 8.0, 0.0), 9.0 + 2.0 * 1.31, rtol=1e-3)
+
+
 def test_newton_matches_brentq_everywhere():
     rng = np.random.default_rng(3)
     c = 500.0 + 20000.0 * rng.random(1000)

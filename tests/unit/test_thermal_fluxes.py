@@ -57,11 +57,12 @@ def test_convection_correlations():
     assert convection_coefficient(2.0, "watmuff") == pytest.approx(8.8, rel=1e-12)
     np.testing.assert_allclose(convection_coefficient(np.array([0.0, 1.0, 5.0])), [5.7, 9.5, 24.7], rtol=1e-12)
     assert convective_flux(10.0, 300.0, 310.0) == pytest.approx(-100.0, rel=1e-12)
-    assert set(CONVECTION_MODELS) == {"mcadams", "none", "watmuff"}
+    assert set(CONVECTION_MODELS) == {"mcadams", "mixed", "none", "watmuff"}
+    assert convection_coefficient(2.0, "mixed", 8.0, 1.0) == pytest.approx(6.0 + 9.482 * 2.0 / 6.238, rel=1e-12)
 
 
 def test_convection_rejects_bad_input():
-    with pytest.raises(ConfigError, match="unknown convection model 'jurges'; known: mcadams, none, watmuff"):
+    with pytest.raises(ConfigError, match="unknown convection model 'jurges'; known: mcadams, mixed, none, watmuff"):
         convection_coefficient(1.0, "jurges")
     with pytest.raises(ConfigError, match="wind_speed: wind speed must be >= 0"):
         convection_coefficient(np.array([1.0, -0.5]))

@@ -167,6 +167,8 @@ SITES = {
         materials={"asphalt": {"solar_absorptance": 0.92}, "concrete": {"solar_absorptance": 0.72}}),
 }
 SITES["davis_watmuff"] = Site(**{**SITES["davis"].__dict__, "name": "davis_watmuff", "convection": "watmuff"})
+#: The Gothenburg day with free and forced convection apart (``convection: mixed``).
+SITES["gothenburg_mixed"] = Site(**{**SITES["gothenburg"].__dict__, "name": "gothenburg_mixed", "convection": "mixed"})
 
 
 # ---------------------------------------------------------------------------------------------
@@ -229,6 +231,10 @@ PUBLISHED = (
               LINDBERG_2016),
     Published("water_gbg_excess", "gothenburg", "pond", "water (still)", "excess", None, DT,
               LINDBERG_2016, at=12.0, k=0.0, t_start=0.0),
+    Published("asphalt_gbg_excess_mixed", "gothenburg_mixed", "terrain", "asphalt (dark), mixed convection",
+              "excess", None, DT, LINDBERG_2016, at=15.0, k=0.58, t_start=-9.78),
+    Published("soil_gbg_excess_mixed", "gothenburg_mixed", "soil", "bare soil, mixed convection", "excess", None, DT,
+              LINDBERG_2016, at=14.0, k=0.33, t_start=-3.01),
     Published("asphalt_concrete_davis", "davis", "terrain", "asphalt - concrete", "contrast", 15.0, DT,
               LI_2013, at=15.0, other="slab"),
     Published("asphalt_concrete_davis_watmuff", "davis_watmuff", "terrain", "asphalt - concrete", "contrast",
@@ -393,7 +399,8 @@ def table() -> str:
     """Markdown: per surface and site, radscene's peak, time, minimum, time against the published."""
     lines = ["| surface | site, day (clock) | | peak [degC] | time of peak | minimum [degC] | time of minimum | source |",
              "|---|---|---|---|---|---|---|---|"]
-    clocks = {"neustift": "UTC+1", "gothenburg": "UTC+2", "davis": "UTC-7", "davis_watmuff": "UTC-7"}
+    clocks = {"neustift": "UTC+1", "gothenburg": "UTC+2", "gothenburg_mixed": "UTC+2", "davis": "UTC-7",
+              "davis_watmuff": "UTC-7"}
     seen = []
     for row in PUBLISHED:
         key = (row.site, row.element)

@@ -1066,8 +1066,9 @@ class ThermalSpec(_Model):
     nodes: Annotated[int, Field(ge=3, le=200)] = Field(
         20, description="conduction nodes through the depth of each element")
     convection: str = Field(
-        "mcadams", description="wind correlation of the convection coefficient: mcadams (h = 5.7 "
-        "+ 3.8 u), watmuff (2.8 + 3.0 u) or none")
+        "mcadams", description="correlation of the convection coefficient: mcadams (h = 5.7 + 3.8 u), "
+        "watmuff (2.8 + 3.0 u), mixed (free convection by the surface-to-air difference and the "
+        "orientation, Walton 1983, plus 3.0 u) or none")
     lateral: bool = Field(False, description="lateral conduction between neighbouring elements")
     interpolate: bool = Field(True, description="render the terrain's temperature as a limited linear "
                               "reconstruction across its thermal cells (each cell's mean kept); false: "

@@ -78,7 +78,7 @@ from radscene.thermal.canopy import (
     transpiration_availability,
 )
 from radscene.thermal.conduction import DAY, ImplicitConduction, build_grid
-from radscene.thermal.convection import convection_coefficient
+from radscene.thermal.convection import FREE_CONVECTION_MODELS, convection_coefficient
 from radscene.thermal.evaporation import linearised_evaporative_flux
 from radscene.thermal.exchange import (
     check_view_factors,
@@ -179,6 +179,9 @@ class HeatBalance:
         Grid options, see :func:`radscene.thermal.conduction.build_grid`.
     convection : str, optional
         Wind correlation for h (``thermal.convection.CONVECTION_MODELS``); default McAdams.
+    cos_tilt : array_like, optional
+        Vertical component of each element's outward normal, for the correlations with free
+        convection (``thermal.convection.FREE_CONVECTION_MODELS``); default 1 (facing up).
     exchange : scipy.sparse matrix, (n_elements, n_elements), optional
         View factors F_ij from element i to element j [-] (row sums ≤ 1 − sky view), which
         switch on Q_env (``thermal.exchange``); default none.
@@ -228,6 +231,7 @@ class HeatBalance:
         penetration_depths=5.0,
         deep_temperature=None,
         convection="mcadams",
+        cos_tilt=1.0,
         exchange=None,
         exchange_reflections=1,
         moisture_availability=None,
@@ -247,6 +251,14 @@ class HeatBalance:
         self.emissivity = self._optical(emissivity, stacks, index, "longwave_emissivity", "emissivity", n)
         convection_coefficient(0.0, convection)  # fail early on an unknown name
         self.convection = convection
+        self._free = str(convection).strip().lower() in FREE_CONVECTION_MODELS
+        try:
+            self.cos_tilt = np.broadcast_to(np.asarray(cos_tilt, float), (n,)).copy()
+        except ValueError:
+            raise ConfigError(f"shape {np.shape(cos_tilt)} does not broadcast to (n_elements,) = ({n},)",
+                              key="cos_tilt") from None
+        if not np.all(np.isfinite(self.cos_tilt) & (np.abs(self.cos_tilt) <= 1.0 + 1e-9)):
+            raise ConfigError("must lie in [-1, 1]", key="cos_tilt")
         self.exchange = None if exchange is None else check_view_factors(exchange, n)
         if isinstance(exchange_reflections, bool) or not isinstance(exchange_reflections, (int, np.integer)) or exchange_reflections < 0:
             raise ConfigError(f"must be an integer >= 0; got {exchange_reflections!r}", key="exchange_reflections")
@@ -345,7 +357,10 @@ class HeatBalance:
         air = f["air_temperature"][k]
         q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
         q_sky = absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], view)
-        h = convection_coefficient(f["wind_speed"][k], self.convection)
+        if self._free:
+            h = convection_coefficient(f["wind_speed"][k], self.convection, previous - air, self.cos_tilt)
+        else:
+            h = convection_coefficient(f["wind_speed"][k], self.convection)
         if self._rough is not None:
             r, height = self._rough
             h = np.array(np.broadcast_to(h, shape), dtype=float)
@@ -399,7 +414,7 @@ class HeatBalance:
         if given): the radiometric temperature of canopy elements (``thermal.canopy``)."""
         solver = self._solver(dt)
         needs_previous = (not self.compiled or self.exchange is not None or self._wet.size or self.lateral is not None
-                          or self._rough is not None
+                          or self._rough is not None or self._free
                           or self.canopy is not None)
         previous = np.array(self._external(state[0])) if needs_previous else None
         old = np.array(self._external(state)) if record is not None else None

@@ -10,11 +10,28 @@ name         h [W m-2 K-1], u [m s-1]        source
                                              Beckman (2013) §3.15; Jürges' plate data
 ``watmuff``  2.8 + 3.0 u                     Watmuff, Charters & Proctor (1977), as
                                              quoted by Duffie & Beckman (2013) §3.15
+``mixed``    h_n(ΔT, tilt) + 3.0 u            free convection of Walton (1983) plus the
+                                             wind term of Watmuff et al. (1977)
 ============ ============================== ==========================================
 
 Duffie & Beckman note that the McAdams form, from a 0.5 m plate in a wind tunnel, probably
 includes some radiative exchange, and that Watmuff et al. removed it; both are fits for wind
-speeds of 0–7 m s⁻¹ measured near the surface. Free convection (no wind) is not separated.
+speeds of 0–7 m s⁻¹ measured near the surface, whose still-air intercept stands for the free
+convection whatever the surface's temperature and orientation.
+
+``mixed`` separates the two: the forced part is Watmuff's wind term alone and the free part
+depends on the surface-to-air difference ΔT = T − T_air and on the surface's orientation, as in
+the TARP algorithm (Walton 1983), the sum of the two as there. With cos Σ the vertical
+component of the outward normal (1 facing up, −1 facing down):
+
+* buoyancy away from the surface (a warm face up, or a cool face down):
+  h_n = 9.482 |ΔT|^⅓ / (7.238 − |cos Σ|);
+* buoyancy against it (a cool face up, or a warm face down):
+  h_n = 1.810 |ΔT|^⅓ / (1.382 + |cos Σ|);
+
+both 1.31 |ΔT|^⅓ on a vertical face, the turbulent free convection of air at a vertical plate,
+and 1.52 |ΔT|^⅓ on a warm face up (the simplified air correlations tabulated by Holman 2010,
+Table 7-2). The free part is taken at the surface temperature of the start of each step.
 
 References
 ----------
@@ -23,6 +40,9 @@ Watmuff, J. H., Charters, W. W. S. and Proctor, D. (1977). Solar and wind induce
 coefficients for solar collectors. *COMPLES* 2, 56.
 Duffie, J. A. and Beckman, W. A. (2013). *Solar Engineering of Thermal Processes*, 4th ed.
 Wiley. doi:10.1002/9781118671603
+Walton, G. N. (1983). *Thermal Analysis Research Program Reference Manual*. NBSIR 83-2655,
+National Bureau of Standards.
+Holman, J. P. (2010). *Heat Transfer*, 10th ed. McGraw-Hill.
 """
 
 from __future__ import annotations
@@ -31,7 +51,8 @@ import numpy as np
 
 from radscene.errors import ConfigError, did_you_mean
 
-__all__ = ["CONVECTION_MODELS", "convection_coefficient", "convective_flux", "mcadams", "no_convection", "watmuff"]
+__all__ = ["CONVECTION_MODELS", "FREE_CONVECTION_MODELS", "convection_coefficient", "convective_flux", "free_convection",
+           "mcadams", "mixed", "no_convection", "watmuff"]
 
 
 def _wind(wind_speed):
@@ -74,11 +95,53 @@ def no_convection(wind_speed):
     return np.zeros_like(_wind(wind_speed))
 
 
+def free_convection(temperature_difference, cos_tilt):
+    """Free-convection coefficient h_n [W m-2 K-1] of Walton (1983) (module docstring).
+
+    Parameters
+    ----------
+    temperature_difference : array_like
+        ΔT = T_surface − T_air [K].
+    cos_tilt : array_like
+        Vertical component of the surface's outward unit normal, in [−1, 1].
+
+    Examples
+    --------
+    >>> round(float(free_convection(8.0, 1.0)), 2)  # warm face up: 1.52 ΔT^(1/3)
+    3.04
+    >>> round(float(free_convection(8.0, 0.0)), 2)  # vertical: 1.31 ΔT^(1/3)
+    2.62
+    >>> round(float(free_convection(-8.0, 1.0)), 2)  # cool face up: stable, reduced
+    1.52
+    """
+    dt = np.asarray(temperature_difference, float)
+    c = np.clip(np.asarray(cos_tilt, float), -1.0, 1.0)
+    root = np.cbrt(np.abs(dt))
+    away = dt * c > 0.0  # warm face up or cool face down: the buoyant air leaves the surface
+    return np.where(away, 9.482 * root / (7.238 - np.abs(c)), 1.810 * root / (1.382 + np.abs(c)))
+
+
+def mixed(wind_speed, temperature_difference=0.0, cos_tilt=1.0):
+    """h = h_n(ΔT, tilt) + 3.0 u [W m-2 K-1]: Walton's (1983) free convection plus the wind term
+    of Watmuff et al. (1977) (module docstring).
+
+    Examples
+    --------
+    >>> round(float(mixed(2.0, 8.0, 1.0)), 2)
+    9.04
+    >>> float(mixed(0.0))  # no wind, no temperature difference: no exchange
+    0.0
+    """
+    return 3.0 * _wind(wind_speed) + free_convection(temperature_difference, cos_tilt)
+
+
 #: Registered wind-speed correlations, by lower-case name.
-CONVECTION_MODELS = {"mcadams": mcadams, "watmuff": watmuff, "none": no_convection}
+CONVECTION_MODELS = {"mcadams": mcadams, "watmuff": watmuff, "mixed": mixed, "none": no_convection}
+#: The correlations that also depend on the surface-to-air difference and the orientation.
+FREE_CONVECTION_MODELS = frozenset({"mixed"})
 
 
-def convection_coefficient(wind_speed, model="mcadams"):
+def convection_coefficient(wind_speed, model="mcadams", temperature_difference=0.0, cos_tilt=1.0):
     """Convective heat-transfer coefficient h [W m-2 K-1] from the wind speed [m s-1].
 
     Parameters
@@ -87,6 +150,9 @@ def convection_coefficient(wind_speed, model="mcadams"):
         u ≥ 0 [m s-1].
     model : str, optional
         A name in ``CONVECTION_MODELS`` (case-insensitive).
+    temperature_difference, cos_tilt : array_like, optional
+        T_surface − T_air [K] and the outward normal's vertical component, for the models in
+        ``FREE_CONVECTION_MODELS``; the others ignore them.
 
     Returns
     -------
@@ -102,6 +168,8 @@ def convection_coefficient(wind_speed, model="mcadams"):
     if fn is None:
         raise ConfigError(f"unknown convection model {model!r}; known: {', '.join(sorted(CONVECTION_MODELS))}"
                           f"{did_you_mean(model, sorted(CONVECTION_MODELS))}", key="convection")
+    if fn is mixed:
+        return fn(wind_speed, temperature_difference, cos_tilt)
     return fn(wind_speed)
 
 

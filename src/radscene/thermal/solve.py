@@ -300,7 +300,8 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
 
     lateral = _lateral(elements, stacks, np.asarray(stack_index), meshes) if options.lateral else None
     balance = HeatBalance(stacks, np.asarray(stack_index), absorptance=absorptance, emissivity=emissivity,
-                          n_nodes=options.nodes, convection=options.convection, exchange=hemisphere.exchange,
+                          n_nodes=options.nodes, convection=options.convection, cos_tilt=elements.normal[:, 2],
+                          exchange=hemisphere.exchange,
                           exchange_reflections=options.exchange_reflections,
                           moisture_availability=moisture_availability, characteristic_length=characteristic_length,
                           lateral=lateral, area=elements.area if lateral is not None else None)
