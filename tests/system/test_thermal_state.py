@@ -144,3 +144,18 @@ def test_a_weather_gap_is_bridged_up_to_max_gap(tmp_path):
     ds = _solve(start="2026-06-20T12:00:00Z", end="2026-06-20T18:00:00Z", spin_up=False,
                 weather={"file": path, "max_gap": "4 h"})
     assert ds.sizes["time"] == 13
+
+
+def test_a_key_under_an_object_named_like_a_shape_is_named_in_full():
+    """An object called 'box': the refusal names thermal.objects.box.layers, and does not
+    suggest the refused key itself."""
+    scene = copy.deepcopy(_SCENE)
+    scene["objects"][0]["name"] = "box"
+    scene["thermal"]["objects"] = {"box": {"wetness": 0.5}}
+    with pytest.raises(ConfigError) as err:
+        load_scene(scene, base_dir=".")
+    assert err.value.key == "thermal.objects.box.wetness"
+    scene["objects"][0]["shape"]["sise"] = [1.0, 1.0, 1.0]
+    with pytest.raises(ConfigError) as err:
+        load_scene(scene, base_dir=".")
+    assert err.value.key == "objects[0].shape.sise"  # the shape's tag is still left out

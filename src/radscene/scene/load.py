@@ -151,18 +151,25 @@ class Scene:
 # ---------------------------------------------------------------------------------------------
 
 
-def _key(loc: tuple) -> str:
+_TAGS = ("flat", "procedural", "dem", "sea", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
+         "perspective", "file", "noise", "function-after", "function-before", "image", "tile")
+
+
+def _key(loc: tuple, data=None) -> str:
+    """The dotted key of a pydantic error location. Pydantic inserts the tag of a tagged union
+    into the path; with the scene's ``data`` a part is a tag only where the data at that point
+    has no such key (an object or material may be named like a tag)."""
     out = ""
+    node = data
     for part in loc:
         if isinstance(part, int):
             out += f"[{part}]"
-        elif isinstance(part, str) and part.endswith("]") is False and part in (
-            "flat", "procedural", "dem", "sea", "box", "cylinder", "plate", "mesh", "ellipsoid", "orthographic",
-            "perspective", "file", "noise", "function-after", "function-before", "image", "tile",
-        ):
-            continue  # discriminator tags pydantic inserts into the path
-        else:
-            out += f".{part}" if out else str(part)
+            node = node[part] if isinstance(node, list) and -len(node) <= part < len(node) else None
+            continue
+        if part in _TAGS and not (isinstance(node, dict) and part in node):
+            continue  # a discriminator tag pydantic inserted into the path
+        out += f".{part}" if out else str(part)
+        node = node.get(part) if isinstance(node, dict) else None
     return out
 
 
@@ -179,16 +186,17 @@ def _schema_keys() -> list[str]:
     return sorted(keys)
 
 
-def _validation_error(err: ValidationError) -> ConfigError:
+def _validation_error(err: ValidationError, data=None) -> ConfigError:
     first = err.errors()[0]
-    key = _key(first.get("loc", ()))
+    key = _key(first.get("loc", ()), data)
     msg = first.get("msg", "invalid value")
     msg = msg.removeprefix("Value error, ")
     if first.get("type") == "extra_forbidden":
         msg = "unknown key"
         loc = first.get("loc", ())
         if loc and isinstance(loc[-1], str):
-            msg += did_you_mean(loc[-1], _schema_keys(), cutoff=0.75)
+            known = _schema_keys()
+            msg = "not accepted here" if loc[-1] in known else msg + did_you_mean(loc[-1], known, cutoff=0.75)
     elif first.get("type") == "missing":
         msg = "required key is missing"
     elif first.get("type") == "union_tag_invalid":
@@ -197,7 +205,7 @@ def _validation_error(err: ValidationError) -> ConfigError:
         known = [t.strip().strip("'\"") for t in expected.split(",") if t.strip()]
         field_name = str(ctx.get("discriminator", "type")).strip("'\"")
         msg = f"unknown {field_name} {tag!r}; known: {', '.join(known)}{did_you_mean(tag, known)}"
-        key = _key((*first.get("loc", ()), field_name))
+        key = _key((*first.get("loc", ()), field_name), data)
     elif first.get("type") == "union_tag_not_found":
         msg = f"a 'type' key is needed, one of: {first.get('ctx', {}).get('discriminator')}"
     more = len(err.errors()) - 1
@@ -274,7 +282,7 @@ def load_scene(source: str | Path | dict, base_dir: str | Path | None = None, *,
     try:
         spec = schema.SceneSpec.model_validate(data)
     except ValidationError as err:
-        raise _validation_error(err) from None
+        raise _validation_error(err, data) from None
     from radscene.scene.memory import check_memory, memory_limit, parse_memory
 
     limit = None if max_memory is None else parse_memory(max_memory, "--max-memory")
