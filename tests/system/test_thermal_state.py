@@ -159,3 +159,62 @@ def test_a_key_under_an_object_named_like_a_shape_is_named_in_full():
     with pytest.raises(ConfigError) as err:
         load_scene(scene, base_dir=".")
     assert err.value.key == "objects[0].shape.sise"  # the shape's tag is still left out
+
+
+def _two_vans(**thermal):
+    scene = copy.deepcopy(_SCENE)
+    scene["objects"].append({"name": "twin", "shape": {"type": "box", "size": [2.0, 4.0, 2.0]},
+                             "position": [6.0, 0.0, 0.3], "material": "painted_metal"})
+    scene["thermal"].update({"start": "2026-06-21T06:00:00Z", "spin_up": False, **thermal})
+    return radscene.solve_thermal(load_scene(scene, base_dir="."))
+
+
+def _roof(ds, name, time=-1):
+    sel = (ds.object.values == name) & (ds.normal_z.values > 0.9)
+    return float(ds.surface_temperature.isel(time=time).values[sel].mean())
+
+
+def test_an_object_keeps_its_own_stack_optics_and_wetness():
+    """Two vans of one paint: the one with a white coat of its own (absorptance 0.2), or a thick
+    insulating skin, or wet, ends the morning at another temperature than its twin."""
+    base = _two_vans()
+    assert abs(_roof(base, "van") - _roof(base, "twin")) < 1.0
+    white = _two_vans(objects={"van": {"solar_absorptance": 0.2}})
+    assert _roof(white, "van") < _roof(white, "twin") - 5.0
+    assert float(white.absorptance.values[white.object.values == "van"].max()) == pytest.approx(0.2)
+    skin = [{"thickness": 0.05, "conductivity": 1.0, "density": 2000.0, "specific_heat": 900.0}]
+    thick = _two_vans(objects={"van": {"layers": skin, "bottom": "insulated"}})
+    van = thick.object.values == "van"
+    assert set(thick.layer_name.values[van, 0]) != set(thick.layer_name.values[~van & (thick.object.values == "twin"), 0])
+    np.testing.assert_allclose(thick.layer_depth.values[van, 0], 0.025)
+    assert abs(_roof(thick, "van") - _roof(thick, "twin")) > 2.0
+    wet = _two_vans(objects={"van": {"moisture_availability": 1.0}})
+    assert float(wet.q_v.isel(time=-1).values[wet.object.values == "van"].mean()) < -50.0
+    assert float(np.abs(wet.q_v.isel(time=-1).values[wet.object.values == "twin"]).max()) == 0.0
+
+
+def test_internal_sources_on_a_group_of_faces():
+    """5 kW on the van's top faces only: the roof warms, the sides do not take it."""
+    ds = _two_vans(objects={"van": {"internal_power": "5 kW", "internal_faces": "top"}})
+    van = ds.object.values == "van"
+    top, sides = van & (ds.normal_z.values > 0.5), van & (np.abs(ds.normal_z.values) <= 0.5)
+    q_i = ds.q_i.isel(time=-1).values
+    np.testing.assert_allclose((q_i[top] * ds.area.values[top]).sum(), 5000.0, rtol=1e-6)
+    assert np.all(q_i[sides] == 0.0)
+    assert _roof(ds, "van") > _roof(ds, "twin") + 5.0
+
+
+def test_a_material_temperature_fixes_its_surfaces():
+    scene = copy.deepcopy(_SCENE)
+    scene["objects"][0]["temperature"] = "350 K"  # the van's own stays
+    scene["thermal"].update({"start": "2026-06-21T06:00:00Z", "spin_up": False,
+                             "materials": {"painted_metal": {"temperature": "300 K"}}})
+    scene["objects"].append({"name": "twin", "shape": {"type": "box", "size": [2.0, 4.0, 2.0]},
+                             "position": [6.0, 0.0, 0.3], "material": "painted_metal"})
+    loaded = load_scene(scene, base_dir=".")
+    twin = next(o for o in loaded.objects if o.name == "twin")
+    van = next(o for o in loaded.objects if o.name == "van")
+    assert np.all(twin.face_fixed) and np.all(twin.face_temperature == 300.0)
+    assert np.all(van.face_temperature == 350.0)
+    ds = radscene.solve_thermal(loaded)
+    assert set(np.unique(ds.object.values)) == {"terrain"}

@@ -191,8 +191,8 @@ def _weather(scene, start, end):
 
 
 def _initial_temperature(scene, used):
-    """``thermal.initial_temperature`` as the solver takes it: a temperature [K], one per used
-    material (NaN: not given), or None."""
+    """``thermal.initial_temperature`` as the solver takes it: a temperature [K], one per stack
+    from its material (``used``: each stack's material index; NaN: not given), or None."""
     given = scene.spec.thermal.initial_temperature
     if given is None or not isinstance(given, dict):
         return given
@@ -263,14 +263,60 @@ def _optics(scene, used, stacks, table):
     return np.array(alpha), np.array(eps)
 
 
-def _sources(scene, elements, used, stacks, index):
+def _object_stacks(scene, elements, used, stack_index, stacks, alpha, eps):
+    """Split off a stack of its own for each object whose ``thermal.objects`` entry gives a stack,
+    optics or wetness of its own (per material of the object's elements).
+
+    Returns the stacks, their absorptance and emissivity, each element's stack, and each stack's
+    material (index) and object (index, −1: the material's own)."""
+    from dataclasses import replace
+
+    from radscene.materials.thermal import make_layers
+
+    spec = scene.spec.thermal
+    stacks, alpha, eps = list(stacks), list(alpha), list(eps)
+    material, owner = list(used), [-1] * len(stacks)
+    index = np.asarray(stack_index).ravel().copy()
+    own = ("layers", "bottom", "solar_absorptance", "longwave_emissivity", "moisture_availability")
+    for k, obj in enumerate(scene.objects):
+        settings = spec.objects.get(obj.name)
+        if settings is None or all(getattr(settings, name) is None for name in own):
+            continue
+        key = f"thermal.objects.{obj.name}"
+        mine = elements.object == k
+        if not np.any(mine):
+            raise ConfigError(f"object {obj.name!r} has no solved surface (it keeps a fixed temperature)", key=key)
+        for s in np.unique(index[mine]):
+            changes = {}
+            if settings.layers is not None:
+                changes["layers"] = make_layers(settings.layers, key=f"{key}.layers")
+            if settings.bottom is not None:
+                changes["bottom"] = settings.bottom
+            stacks.append(replace(stacks[s], **changes) if changes else stacks[s])
+            alpha.append(alpha[s] if settings.solar_absorptance is None else settings.solar_absorptance)
+            eps.append(eps[s] if settings.longwave_emissivity is None else settings.longwave_emissivity)
+            material.append(material[s])
+            owner.append(k)
+            index[mine & (index == s)] = len(stacks) - 1
+    return stacks, np.array(alpha), np.array(eps), index, np.array(material), np.array(owner)
+
+
+#: ``internal_faces``: the faces by their outward normal's vertical component (60 deg from up
+#: or down).
+_FACES = {"all": lambda nz: np.ones(nz.shape, bool), "top": lambda nz: nz > 0.5,
+          "bottom": lambda nz: nz < -0.5, "sides": lambda nz: np.abs(nz) <= 0.5}
+
+
+def _sources(scene, elements, stack_material, stack_object, stacks, index):
     """Moisture availability, internal flux, airspeed and length per element from the stacks and
     the scene file's ``thermal.materials`` and ``thermal.objects``."""
     spec = scene.spec.thermal
     beta, flux = [], []
-    for m, stack in zip(used, stacks, strict=True):
+    for m, k, stack in zip(stack_material, stack_object, stacks, strict=True):
         override = spec.materials.get(scene.material_names[m])
         given = None if override is None else override.moisture_availability
+        if k >= 0 and spec.objects[scene.objects[k].name].moisture_availability is not None:
+            given = spec.objects[scene.objects[k].name].moisture_availability
         beta.append(given if given is not None else float(getattr(stack, "moisture_availability", 0.0) or 0.0))
         flux.append(0.0 if override is None else override.internal_flux)
     internal = np.array(flux)[index]
@@ -281,8 +327,13 @@ def _sources(scene, elements, used, stacks, index):
         if settings is None:
             continue
         mine = elements.object == k
-        area = float(elements.area[mine].sum())
-        internal[mine] += settings.internal_flux + (settings.internal_power / area if area > 0 else 0.0)
+        if settings.internal_flux or settings.internal_power:
+            heated = mine & _FACES[settings.internal_faces](elements.normal[:, 2])
+            area = float(elements.area[heated].sum())
+            if area <= 0:
+                raise ConfigError(f"object {obj.name!r} has no solved {settings.internal_faces} faces to carry "
+                                  "its internal sources", key=f"thermal.objects.{obj.name}.internal_faces")
+            internal[heated] += settings.internal_flux + settings.internal_power / area
         if settings.air_speed > 0:
             speed[mine] = settings.air_speed
             length[mine] = settings.length
@@ -367,18 +418,20 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
         zenith = np.full(times.size, scene.sun.zenith)
     # solar absorptance against the ground's global spectrum summed over the run's sun positions
     alpha, eps = _optics(scene, used, stacks, (table.wavelength, table.daily_spectrum(zenith)))
+    stacks, alpha, eps, index, stack_material, stack_object = _object_stacks(
+        scene, elements, used, stack_index, stacks, alpha, eps)
     options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval,
                              spin_up=spec.spin_up and spec.initial_temperature is None,
                              spin_up_tolerance=spec.spin_up_tolerance, hemisphere_samples=spec.hemisphere_samples,
                              nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed,
                              lateral=spec.lateral, exchange_reflections=spec.exchange_reflections,
-                             initial_temperature=_initial_temperature(scene, used), profiles=spec.profiles)
+                             initial_temperature=_initial_temperature(scene, stack_material),
+                             profiles=spec.profiles)
     tracer = RayTracer(meshes)
     shadow_tracer, sun_transmittance = _media_sun_transmittance(
         scene, tracer, table.wavelength, table.daily_spectrum(zenith))
     see_through = _sheet_see_through(scene, table.wavelength, table.daily_spectrum(zenith))
-    index = stack_index.ravel()
-    sources = _sources(scene, elements, used, stacks, index)
+    sources = _sources(scene, elements, stack_material, stack_object, stacks, index)
     with progress_callback(progress, "heat balance", stages=True) as report:
         ds = solve_elements(tracer, elements, stacks, index, times,
                             (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,

@@ -315,6 +315,23 @@ class _Resolver:
             raise ConfigError(f"file not found: {p}", key=key)
         return p
 
+    def _material_temperatures(self, objects) -> None:
+        """``thermal.materials.<name>.temperature``: fix the faces of that material that have no
+        temperature of their own."""
+        for name, settings in self.spec.thermal.materials.items():
+            if settings.temperature is None:
+                continue
+            if name.lower() not in self.material_names:
+                raise ConfigError(f"no surface of the scene is made of {name!r}; the scene's materials: "
+                                  f"{', '.join(self.material_names)}", key=f"thermal.materials.{name}.temperature")
+            idx = self.material_names.index(name.lower())
+            for obj in objects:
+                if obj.face_fixed is None:
+                    continue
+                free = (obj.face_material == idx) & ~obj.face_fixed
+                obj.face_temperature[free] = settings.temperature
+                obj.face_fixed[free] = True
+
     def material_index(self, name: str, key: str) -> int:
         from radscene.materials import get_material, list_materials
 
@@ -989,6 +1006,7 @@ class _Resolver:
             hf, terrain_obj = self.terrain()
             objects.append(terrain_obj)
         objects.extend(self.objects(hf))
+        self._material_temperatures(objects)
         volumes = self.volumes()
         bands = self.bands()
         observers = self.observers([b.name for b in bands])

@@ -1024,13 +1024,29 @@ class ThermalMaterialSpec(_Model):
         "default the material's (0 when it has none)")
     internal_flux: Irradiance = Field(
         0.0, description="heat flux from within into the surface [W m-2]; 0: none")
+    temperature: Temperature | None = Field(
+        None, description="a fixed temperature [K] for every surface of this material that has no "
+        "temperature of its own (an object's, or the terrain's); such surfaces are not solved")
 
 
 class ThermalObjectSpec(_Model):
-    """Heat sources of an object."""
+    """An object's own thermal description and heat sources (over its material's)."""
 
-    internal_flux: Irradiance = Field(0.0, description="W m-2 over the object's surface")
-    internal_power: Power = Field(0.0, description="W spread over the object's surface")
+    layers: list[dict[str, Any]] | None = Field(
+        None, description="the object's own stack, top first: thickness, conductivity, density, "
+        "specific_heat; default its material's")
+    bottom: str | dict[str, Any] | None = Field(
+        None, description="below the object's last layer: semi-infinite, insulated, or "
+        "{interior_air: T [K], h [W m-2 K-1]}; default its material's")
+    solar_absorptance: Fraction | None = Field(None, description="the object's own [0-1]; default its material's")
+    longwave_emissivity: Fraction | None = Field(None, description="the object's own [0-1]; default its material's")
+    moisture_availability: Fraction | None = Field(
+        None, description="β of the object's evaporation [0-1]; default its material's")
+    internal_flux: Irradiance = Field(0.0, description="W m-2 over the object's faces (internal_faces)")
+    internal_power: Power = Field(0.0, description="W spread over the object's faces (internal_faces)")
+    internal_faces: Literal["all", "top", "bottom", "sides"] = Field(
+        "all", description="which faces carry internal_flux and internal_power: all, top (outward "
+        "normal within 60 deg of up), bottom (within 60 deg of down) or sides (the rest)")
     air_speed: Speed = Field(0.0, description="speed through the air, for aerodynamic heating")
     length: PositiveLength = Field(1.0, description="length along the airflow, for the airspeed's convection")
 
@@ -1083,7 +1099,8 @@ class ThermalSpec(_Model):
         default_factory=dict, description="overrides of materials' thermal descriptions, by "
         "material name")
     objects: dict[str, ThermalObjectSpec] = Field(
-        default_factory=dict, description="heat sources of objects, by object name")
+        default_factory=dict, description="objects' own stacks, optics, wetness and heat sources, by "
+        "object name")
 
     @field_validator("start", "end")
     @classmethod
