@@ -218,3 +218,24 @@ def test_a_material_temperature_fixes_its_surfaces():
     assert np.all(van.face_temperature == 350.0)
     ds = radscene.solve_thermal(loaded)
     assert set(np.unique(ds.object.values)) == {"terrain"}
+
+
+def test_an_object_on_a_trajectory_is_heated_by_its_own_speed():
+    """A drone flying at 200 m/s from the scene's instant on (and parked before): the heat
+    balance takes its speed from the trajectory, with the recovery temperature's ram heating,
+    and none while it stands."""
+    scene = copy.deepcopy(_SCENE)
+    scene["objects"].append({"name": "drone", "shape": {"type": "box", "size": [1.0, 1.0, 0.3]},
+                             "position": [0.0, 0.0, 50.0], "material": "painted_metal",
+                             "trajectory": {"waypoints": [[0, 0, 0, 50], [600, 120000, 0, 50]]}})
+    scene["thermal"].update({"start": "2026-06-21T11:00:00Z", "end": "2026-06-21T12:10:00Z", "step": "5 min",
+                             "spin_up": False})
+    ds = radscene.solve_thermal(load_scene(scene, base_dir="."))
+    drone = ds.object.values == "drone"
+    before = ds.q_i.sel(time=np.datetime64("2026-06-21T11:55")).values[drone]
+    flying = ds.q_i.sel(time=np.datetime64("2026-06-21T12:05")).values[drone]
+    assert np.all(before == 0.0)
+    # h (T_r - T_air) with T_r - T_air = r u^2 / (2 c_p), r = Pr^(1/3): about 18 K at 200 m/s
+    assert np.all(flying > 18.0 * 50.0)
+    van = ds.object.values == "van"
+    assert np.all(ds.q_i.values[:, van][1:] == 0.0)

@@ -307,9 +307,10 @@ _FACES = {"all": lambda nz: np.ones(nz.shape, bool), "top": lambda nz: nz > 0.5,
           "bottom": lambda nz: nz < -0.5, "sides": lambda nz: np.abs(nz) <= 0.5}
 
 
-def _sources(scene, elements, stack_material, stack_object, stacks, index):
-    """Moisture availability, internal flux, airspeed and length per element from the stacks and
-    the scene file's ``thermal.materials`` and ``thermal.objects``."""
+def _sources(scene, elements, stack_material, stack_object, stacks, index, times):
+    """Moisture availability, internal flux, airspeed and length per element from the stacks, the
+    scene file's ``thermal.materials`` and ``thermal.objects``, and the objects' trajectories
+    (their speed over the ground at ``times``, where no ``air_speed`` is given)."""
     spec = scene.spec.thermal
     beta, flux = [], []
     for m, k, stack in zip(stack_material, stack_object, stacks, strict=True):
@@ -337,8 +338,44 @@ def _sources(scene, elements, stack_material, stack_object, stacks, index):
         if settings.air_speed > 0:
             speed[mine] = settings.air_speed
             length[mine] = settings.length
+    moving = _trajectory_speeds(scene, elements, times)
+    if moving:
+        speed = np.broadcast_to(speed, (len(times), elements.size)).copy()
+        for k, value in moving.items():
+            settings = spec.objects.get(scene.objects[k].name)
+            if settings is not None and "air_speed" in settings.model_fields_set:
+                continue  # a speed through the air given: it holds (e.g. against a head wind)
+            mine = elements.object == k
+            speed[:, mine] = np.where(value > 0, value, np.nan)[:, None]
+            length[mine] = 1.0 if settings is None else settings.length
     return {"moisture_availability": np.array(beta)[index], "internal_flux": internal, "air_speed": speed,
             "characteristic_length": length}
+
+
+def _trajectory_speeds(scene, elements, times):
+    """Speed over the ground [m s-1] at ``times`` of each object (index) with solved elements
+    that moves on a trajectory (its own or a parent's): the trajectory's velocity at each time
+    from the scene's instant (t = 0), 0 outside the trajectory's samples (held at its ends)."""
+    if not getattr(scene, "motions", None) or scene.time is None:
+        return {}
+    t = (np.asarray(times, "datetime64[ns]") - np.datetime64(
+        scene.time.astimezone(_dt.UTC).replace(tzinfo=None), "ns")) / np.timedelta64(1, "s")
+    out = {}
+    for k, obj in enumerate(scene.objects):
+        motion = scene.motions.get(obj.name)
+        while motion is not None and motion.trajectory is None and motion.parent is not None:
+            motion = scene.motions.get(motion.parent)
+        if motion is None or motion.trajectory is None or not np.any(elements.object == k):
+            continue
+        traj = motion.trajectory
+        lo, hi = traj.span
+        inside = (t >= lo) & (t <= hi)
+        value = np.zeros(t.size)
+        if np.any(inside):
+            value[inside] = np.linalg.norm(traj.velocity(t[inside]), axis=-1)
+        if np.any(value > 0):
+            out[k] = value
+    return out
 
 
 def _fixed_exitance(scene, elements):
@@ -431,7 +468,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     shadow_tracer, sun_transmittance = _media_sun_transmittance(
         scene, tracer, table.wavelength, table.daily_spectrum(zenith))
     see_through = _sheet_see_through(scene, table.wavelength, table.daily_spectrum(zenith))
-    sources = _sources(scene, elements, stack_material, stack_object, stacks, index)
+    sources = _sources(scene, elements, stack_material, stack_object, stacks, index, times)
     with progress_callback(progress, "heat balance", stages=True) as report:
         ds = solve_elements(tracer, elements, stacks, index, times,
                             (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,

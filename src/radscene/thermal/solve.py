@@ -128,6 +128,23 @@ def _seconds(times):
     return (times - times[0]) / np.timedelta64(1, "s")
 
 
+def _at_times(value, times, at):
+    """A per-element value, or a (n_times, n_elements) series over ``times``, at the times
+    ``at`` (linear in time, held beyond the ends)."""
+    if value is None or np.ndim(value) < 2 or at is times:
+        return value
+    x, xp = np.clip(_seconds_from(at, times[0]), 0.0, None), _seconds(times)
+    x = np.minimum(x, xp[-1])
+    i = np.clip(np.searchsorted(xp, x, side="right") - 1, 0, xp.size - 2)
+    w = ((x - xp[i]) / (xp[i + 1] - xp[i]))[:, None]
+    value = np.asarray(value, float)
+    return (1.0 - w) * value[i] + w * value[i + 1]
+
+
+def _seconds_from(times, origin):
+    return (np.asarray(times, "datetime64[ns]") - origin) / np.timedelta64(1, "s")
+
+
 def pd_index(times):
     import pandas as pd
 
@@ -201,7 +218,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         β of Q_v [-]; default 0.
     internal_flux : ndarray, (n_elements,) or scalar, optional
         Q_i of internal sources [W m-2].
-    air_speed : ndarray, (n_elements,), optional
+    air_speed : ndarray, (n_elements,) or (n_times, n_elements), optional
         Speed through the air of airborne elements [m s-1], NaN elsewhere.
     characteristic_length : ndarray or float, optional
         Length along the airflow of airborne elements [m].
@@ -284,7 +301,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
             relative_humidity=np.asarray(w["relative_humidity"], float)[col],
             pressure=np.asarray(w["pressure"], float)[col],
             internal_flux=internal_flux,
-            air_speed=speed,
+            air_speed=_at_times(speed, times, at),
             environment_irradiance=environment,
         )
         return forcing, (sun, direct, diffuse, longwave, air, lit, cos_i)
