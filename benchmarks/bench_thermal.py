@@ -13,7 +13,9 @@ figure the solver's target is stated for (10 s for 100 000 elements × 10 nodes 
 in wall-clock and in CPU time of the process (on a machine shared with other work the two
 differ), with the load average.
 
-Run ``python benchmarks/bench_thermal.py``; figures go to ``out/bench/bench_thermal.json`` and
+Run ``python benchmarks/bench_thermal.py`` (the step figures at 30 nodes) and ``python
+benchmarks/bench_thermal.py --day --nodes 10`` (the target case); ``make bench`` runs both.
+Figures go to ``out/bench/bench_thermal_<elements>x<nodes>[_day].json`` (one file per case) and
 a Markdown table to stdout.
 """
 
@@ -101,7 +103,8 @@ def main(argv=None):
         "load_average": os.getloadavg()[0],
     }
     OUT.mkdir(parents=True, exist_ok=True)
-    (OUT / "bench_thermal.json").write_text(json.dumps(figures, indent=2))
+    case = f"{args.elements}x{args.nodes}" + ("_day" if args.day else "")
+    (OUT / f"bench_thermal_{case}.json").write_text(json.dumps(figures, indent=2))
     print("| elements x nodes | setup [s] | conduction step (numpy) [s] | balance step [s] | balance step, numpy [s] "
           "| day at 60 s, wall (CPU) [s] |\n|---|---|---|---|---|---|\n"
           f"| {args.elements} x {args.nodes} | {setup:.3f} | {min(sweeps):.4f} | {min(whole):.4f} | {min(numpy_path):.4f} "

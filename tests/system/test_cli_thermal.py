@@ -62,6 +62,57 @@ def test_thermal_bad_input_exits_2_and_writes_nothing(scene_file, tmp_path, args
     assert not out.exists()
 
 
+def test_thermal_maps_at_chosen_times_and_the_spin_up_report(scene_file, tmp_path):
+    """--map-time (repeatable, any UTC offset) draws the maps at the solved steps nearest to
+    the times given instead of the four automatic ones; the last line reports the spin-up."""
+    out = tmp_path / "out" / "yard_thermal.nc"
+    result = runner.invoke(app, ["thermal", str(scene_file), "-o", str(out),
+                                 "--map-time", "2026-06-21T06:00:00Z",
+                                 "--map-time", "2026-06-21T14:00:00+02:00",  # the end, 12:00 UTC
+                                 "--map-time", "2026-06-20T18:10:00Z"])  # nearest step 18:00
+    assert result.exit_code == 0, result.output
+    maps = sorted(p.name for p in (tmp_path / "out" / "yard_thermal_maps").glob("*.png"))
+    assert maps == ["thermal_map_2026-06-20T1800.png", "thermal_map_2026-06-21T0600.png",
+                    "thermal_map_2026-06-21T1200.png"]
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    days, change = int(ds.attrs["spin_up_days"]), float(ds.attrs["spin_up_change_K"])
+    assert days >= 1 and 0.0 <= change <= 0.05  # thermal.spin_up_tolerance
+    last = result.output.strip().splitlines()[-1]
+    assert last == f"spin-up: {days} day{'' if days == 1 else 's'}, last day-to-day change {change:.2g} K"
+    # a run shorter than a day has no spin-up, and says so
+    short = runner.invoke(app, ["thermal", str(scene_file), "-o", str(tmp_path / "short.nc"),
+                                "--start", "2026-06-21T06:00:00Z", "--no-plots"])
+    assert short.exit_code == 0, short.output
+    assert short.output.strip().splitlines()[-1] == "spin-up: none (the run is shorter than a day)"
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--map-time", "2026-06-21T12:30:00Z"], "lies outside the heat balance's span"),
+    (["--map-time", "2026-06-20T13:00:00+02:00"], "lies outside the heat balance's span"),
+    (["--start", "2026-06-21T06:00:00Z", "--map-time", "2026-06-21T05:00:00Z"],
+     "2026-06-21T06:00:00+00:00 – 2026-06-21T12:00:00+00:00"),
+    (["--map-time", "2026-06-21T10:00"], "UTC offset"),
+    (["--map-time", "noon"], "not an ISO 8601 time"),
+    (["--map-time", "2026-06-21T10:00:00Z", "--no-plots"], "no maps are drawn with --no-plots"),
+])
+def test_thermal_map_time_refused_before_the_balance_runs(scene_file, tmp_path, monkeypatch, args, message,
+                                                          one_line_refusal):
+    """A --map-time outside the span (a day up to the scene's 12:00 UTC, or --start to it), or
+    unreadable, or with --no-plots: one line naming --map-time, exit code 2, no heat balance
+    and no file."""
+    import radscene.pipeline
+
+    def no_balance(*args, **kwargs):
+        raise AssertionError("the heat balance ran")
+
+    monkeypatch.setattr(radscene.pipeline, "solve_thermal", no_balance)
+    out = tmp_path / "out" / "bad.nc"
+    result = runner.invoke(app, ["thermal", str(scene_file), "-o", str(out), *args])
+    assert result.exit_code == 2, result.output
+    one_line_refusal(result.output, "--map-time", message)
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
 def _write(tmp_path, changes):
     import copy
 

@@ -24,6 +24,33 @@ def test_example_loads(name):
     assert scene.bands or all(o.spectral is not None for o in scene.observers)
 
 
+
+def _reaches_thermal(scene):
+    """Whether a band or a spectral grid of the scene reaches beyond 2.5 µm."""
+    from radscene.pipeline import THERMAL_FROM
+
+    return (any(b.response.support[1] > THERMAL_FROM for b in scene.bands)
+            or any(o.spectral is not None and o.spectral.wavelength[-1] > THERMAL_FROM
+                   for o in scene.observers))
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_thermal_channels_come_from_the_heat_balance(name):
+    """An example whose bands or channels reach the thermal infrared fixes no surface's
+    temperature: the heat balance sets them all (README, "Temperatures")."""
+    import numpy as np
+
+    from radscene.pipeline import thermal_active
+
+    scene = radscene.load_scene(radscene.example_path(name))
+    if not _reaches_thermal(scene):
+        pytest.skip(f"{name} has no band beyond 2.5 µm")
+    assert thermal_active(scene)
+    fixed = {obj.name: int(np.sum(obj.face_fixed)) for obj in scene.objects
+             if obj.face_fixed is not None and np.any(obj.face_fixed)}
+    assert not fixed, fixed
+
+
 def _object_id_map(scene, setup):
     """The object_id truth map of an observer's render (the object each pixel's centre ray
     meets first, -1 for none), traced without rendering: the render's heat balance and

@@ -1,4 +1,4 @@
-"""``radscene atmosphere los | sky | build`` and the Python functions behind them."""
+"""``radscene atmosphere los | sky | build | build-lowtran`` and the Python functions behind them."""
 
 from __future__ import annotations
 
@@ -193,3 +193,55 @@ def test_an_engine_failure_is_one_line_and_exit_code_1(tmp_path, monkeypatch):
     assert "error:" in res.output and "exit code 3 for the case wavelength=0.55" in res.output
     assert "Traceback" not in res.output and isinstance(res.exception, SystemExit)
     assert not out.exists()
+
+
+def test_build_lowtran_builds_then_checks(tmp_path, monkeypatch):
+    """``radscene atmosphere build-lowtran`` hands its options to the build, prints the
+    executable, then the self-check's line; a failed check is one line and exit code 1."""
+    from radscene.atmosphere.lowtran import build as build_module
+    from radscene.atmosphere.lowtran import runner as runner_module
+    from radscene.cli import app as main_app
+    from radscene.errors import EngineError
+
+    calls = {}
+
+    def fake_build(output=None, source=None, compiler="gfortran", flags=(), verbose=False):
+        calls.update(output=output, source=source, compiler=compiler)
+        return output
+
+    monkeypatch.setattr(build_module, "build_executable", fake_build)
+    monkeypatch.setattr(runner_module, "self_check", lambda exe: f"self-check passed for {exe}")
+    exe, source = tmp_path / "radscene-lowtran7", tmp_path / "lowtran7.f"
+    res = runner.invoke(main_app, ["atmosphere", "build-lowtran", "-o", str(exe), "--source",
+                                   str(source), "--compiler", "gfortran-13", "--check"])
+    assert res.exit_code == 0, res.output
+    assert calls == {"output": exe, "source": source, "compiler": "gfortran-13"}
+    assert " ".join(res.output.split()) == f"built {exe} self-check passed for {exe}"
+
+    def failed(exe):
+        raise EngineError("LOWTRAN self-check failed: transmittance 0.5 at 11110 cm-1, expected 0.8772")
+
+    monkeypatch.setattr(runner_module, "self_check", failed)
+    res = runner.invoke(main_app, ["atmosphere", "build-lowtran", "-o", str(exe), "--check"])
+    assert res.exit_code == 1
+    assert "error: LOWTRAN self-check failed" in res.output and "Traceback" not in res.output
+
+
+def test_build_lowtran_refuses_a_missing_compiler_or_source(tmp_path):
+    """No compiler: exit code 1 and how to install one; a --source that is no file: exit code
+    2 naming it. Both before anything is compiled or written."""
+    import sys
+
+    from radscene.cli import app as main_app
+
+    exe = tmp_path / "out" / "radscene-lowtran7"
+    res = runner.invoke(main_app, ["atmosphere", "build-lowtran", "-o", str(exe),
+                                   "--compiler", "no-such-fortran"])
+    assert res.exit_code == 1
+    assert "Fortran compiler 'no-such-fortran' not found" in res.output
+    missing = tmp_path / "lowtran7.f"
+    res = runner.invoke(main_app, ["atmosphere", "build-lowtran", "-o", str(exe), "--source",
+                                   str(missing), "--compiler", sys.executable])
+    assert res.exit_code == 2
+    assert f"error: source: no such file: {missing}" in " ".join(res.output.split())
+    assert not exe.exists() and not exe.parent.exists()

@@ -1,16 +1,26 @@
 """The conduction solver against closed forms and its promised orders of accuracy: a step of
 surface temperature on a semi-infinite solid (the erfc solution, Carslaw & Jaeger 1959 §2.5),
-second order under refinement of the layers, first order in time (backward Euler); and a thin
-plate cooling by convection and radiation against an independent ODE solve."""
+second order under refinement of the layers, first order in time (backward Euler); a periodic
+surface temperature on a semi-infinite solid against the figures of reference case
+``heat_semi_infinite_periodic_surface_T`` (Carslaw & Jaeger 1959 §2.6); and a thin plate
+cooling by convection and radiation against an independent ODE solve."""
 
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import erf
 
 from radscene.materials.thermal import Layer
-from radscene.thermal import SIGMA, HeatBalance, ImplicitConduction, ThermalForcing, build_grid
+from radscene.thermal import (
+    SIGMA,
+    HeatBalance,
+    ImplicitConduction,
+    ThermalForcing,
+    build_grid,
+    penetration_depth,
+)
 
 K, RHO, C = 1.0, 2000.0, 1000.0  # W m-1 K-1, kg m-3, J kg-1 K-1
 KAPPA = K / (RHO * C)
@@ -64,6 +74,82 @@ def test_first_order_in_time():
     errors = [_error_at(1001, dt) for dt in (240.0, 120.0, 60.0)]
     ratios = [errors[0] / errors[1], errors[1] / errors[2]]
     assert all(1.7 < r < 2.3 for r in ratios), (errors, ratios)
+
+
+
+#: Reference case heat_semi_infinite_periodic_surface_T (Carslaw & Jaeger, *Conduction of Heat
+#: in Solids*, 2nd ed. 1959, §2.6): T(z, t) = T_m + A exp(-z/d) cos(ωt - z/d), d = sqrt(2α/ω),
+#: a concrete-like solid. Inputs and expected figures as the case gives them.
+PERIODIC_CASE = {
+    "mean": 290.0,  # T_m [K]
+    "amplitude": 10.0,  # A [K]
+    "period": 86400.0,  # [s]
+    "diffusivity": 7e-7,  # α [m2 s-1]
+    "conductivity": 1.4,  # k [W m-1 K-1]
+    "damping_depth": 0.138749,  # d [m]
+    "amplitude_at_depth": {0.0: 10.0, 0.05: 6.97424, 0.1: 4.864, 0.2: 2.36585, 0.3: 1.15075},  # [m]: [K]
+    "lag_at_depth": {0.0: 0.0, 0.05: 1.37648, 0.1: 2.75296, 0.2: 5.50593, 0.3: 8.25889},  # [m]: [h]
+    "surface_flux_amplitude": 142.6961,  # q_0 = k A sqrt(ω/α) [W m-2]
+    "flux_lead": 3.0,  # [h]: π/4 of the period
+}
+#: The case's tolerance: relative 1 % for a 1-D finite-volume solver with dz <= d/10, dt <= P/500.
+PERIODIC_REL = 0.01
+#: The rounding of the case's damping depth (six figures).
+DEPTH_ROUNDING_REL = 1e-5
+
+
+def _periodic_surface_run(dz=0.005, depth=0.75, dt=60.0, periods=7):
+    """The case's solid on a uniform grid (dz = d/28, every depth of the case a node; held at
+    T_m at 0.75 m = 5.4 d) from T_m everywhere, its surface held at T_m + A cos ωt by a penalty
+    (q_s = H (T_s - T_0)) for ``periods`` periods, one-minute steps (P/1440). Returns the node
+    depths [m], and fitted over the last period the amplitude [K] and lag [h] of every node,
+    and the amplitude [W m-2] and lead [h] of the flux into the surface."""
+    case = PERIODIC_CASE
+    heat_capacity = case["conductivity"] / case["diffusivity"]  # ρ c [J m-3 K-1]
+    density = 2000.0  # [kg m-3]; only ρ c enters
+    layer = Layer("concrete-like", None, case["conductivity"], density, heat_capacity / density)
+    d = float(penetration_depth(layer.conductivity, layer.density, layer.specific_heat,
+                                period=case["period"]))
+    stack = SimpleNamespace(layers=(layer,), bottom="semi-infinite")
+    grid = build_grid([stack], n_nodes=int(round(depth / dz)) + 1, growth=1.0, period=case["period"],
+                      penetration_depths=depth / d, deep_temperature=case["mean"])
+    solver = ImplicitConduction(grid, dt)
+    omega = 2 * np.pi / case["period"]
+    steps = int(round(case["period"] / dt))
+    temperature = np.full((1, grid.n_nodes), case["mean"])
+    t = np.arange(1, periods * steps + 1) * dt
+    record, flux = np.empty((steps, grid.n_nodes)), np.empty(steps)
+    for i, now in enumerate(t):
+        surface = case["mean"] + case["amplitude"] * np.cos(omega * now)
+        temperature = solver.step(temperature, PENALTY * surface, -PENALTY)
+        if i >= (periods - 1) * steps:
+            record[i - (periods - 1) * steps] = temperature[0]
+            flux[i - (periods - 1) * steps] = PENALTY * (surface - temperature[0, 0])
+    last = t[(periods - 1) * steps:]
+    design = np.column_stack([np.cos(omega * last), np.sin(omega * last)])
+    (a, b), *_ = np.linalg.lstsq(design, record - case["mean"], rcond=None)
+    (fa, fb), *_ = np.linalg.lstsq(design, flux, rcond=None)
+    hours = 1.0 / (omega * 3600.0)
+    return (grid.depth[0], d, np.hypot(a, b), np.arctan2(b, a) * hours, np.hypot(fa, fb),
+            -np.arctan2(fb, fa) * hours)
+
+
+def test_periodic_surface_temperature_matches_the_reference_case():
+    """Reference case heat_semi_infinite_periodic_surface_T: damping depth, amplitude and lag
+    at five depths, and the surface flux's amplitude and lead, within the case's 1 %. Measured
+    (seven periods from a uniform start): amplitude -0.04 % at 5 cm to -0.41 % at 30 cm, lag
+    -0.12 % to -0.15 %, flux amplitude -9e-6, lead 2.9972 h."""
+    case = PERIODIC_CASE
+    z, d, amplitude, lag, flux_amplitude, flux_lead = _periodic_surface_run()
+    assert d == pytest.approx(case["damping_depth"], rel=DEPTH_ROUNDING_REL)
+    for depth, expected in case["amplitude_at_depth"].items():
+        node = int(np.argmin(np.abs(z - depth)))
+        assert z[node] == pytest.approx(depth, abs=1e-12), "each depth of the case is a node"
+        assert amplitude[node] == pytest.approx(expected, rel=PERIODIC_REL), depth
+        # at the surface, held by the penalty, the lag is 0 to within 1e-6 h
+        assert lag[node] == pytest.approx(case["lag_at_depth"][depth], rel=PERIODIC_REL, abs=1e-6), depth
+    assert flux_amplitude == pytest.approx(case["surface_flux_amplitude"], rel=PERIODIC_REL)
+    assert flux_lead == pytest.approx(case["flux_lead"], rel=PERIODIC_REL)
 
 
 def test_thin_plate_cooling_matches_an_ode_solve():

@@ -89,3 +89,60 @@ def test_lateral_conduction_softens_the_shadow_edge():
     far = np.hypot(b.x.values, b.y.values) > 25.0
     assert diff[shade & ~far].max() > 0.05  # some shaded cell next to the sun gains
     assert np.abs(diff[far & ~shade]).max() < 0.05
+
+
+#: A block on 40 m × 40 m of asphalt for two hours of an afternoon at 10 min steps (no
+#: spin-up: the run is shorter than a day), few hemisphere rays: a solve takes 1-2 s.
+_INTERVAL_SCENE = {
+    "name": "shadow_interval",
+    "environment": {"location": {"latitude": 35.0, "longitude": 0.0, "altitude": 0.0},
+                    "time": "2026-06-21T16:00:00Z", "atmosphere": {"type": "none"}},
+    "terrain": {"type": "dem", "elevation": np.zeros((41, 41)).tolist(), "spacing": [1.0, 1.0],
+                "origin": [-20.0, -20.0], "material": "asphalt"},
+    "objects": [{"name": "block", "shape": {"type": "box", "size": [6.0, 6.0, 12.0]},
+                 "position": [0.0, 0.0, 0.0], "material": "concrete", "temperature": "300 K"}],
+    "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+    "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "gsd": 1.0,
+                   "shape": [8, 8]}],
+    "thermal": {"start": "2026-06-21T14:00:00Z", "step": "10 min", "hemisphere_samples": 8,
+                "weather": {"t_min": "18 degC", "t_max": "30 degC", "relative_humidity": 0.4,
+                            "wind_speed": 1.5}},
+}
+
+
+def _solve_with_shadow_interval(interval):
+    """The solution and the number of sun positions traced for the shadows."""
+    traced = []
+
+    def progress(stage, done, total):
+        if stage == "shadows":
+            traced.append(total)
+
+    spec = {**_INTERVAL_SCENE, "thermal": {**_INTERVAL_SCENE["thermal"], "shadow_interval": interval}}
+    ds = radscene.solve_thermal(load_scene(spec, base_dir="."), progress=progress)
+    return ds, set(traced)
+
+
+def test_shadow_interval_traces_less_often_and_interpolates_between():
+    """thermal.shadow_interval of 1 h on 10 min steps traces the shadows at 14:00, 15:00 and
+    16:00 only; at the steps between, the sunlit fraction is the linear interpolation in time
+    of those traces, which differs from tracing every step where the shadow's edge moved."""
+    every_step, traced_every = _solve_with_shadow_interval(None)
+    hourly, traced_hourly = _solve_with_shadow_interval("1 h")
+    assert every_step.sizes["time"] == 13
+    assert traced_every == {13} and traced_hourly == {3}
+    exact, lit = every_step.sunlit.values, hourly.sunlit.values
+    tol = 1e-6  # the sunlit fraction is stored as float32
+    hours = [0, 6, 12]
+    np.testing.assert_allclose(lit[hours], exact[hours], rtol=0, atol=tol)
+    for k in range(13):
+        before, w = 6 * (k // 6), (k % 6) / 6.0
+        after = min(before + 6, 12)
+        expected = (1.0 - w) * exact[before] + w * exact[after]
+        np.testing.assert_allclose(lit[k], expected, rtol=0, atol=tol, err_msg=f"step {k}")
+    # half-way between traces (14:30) cells that the moving shadow entered or left are half lit,
+    # where the trace of that step has them in the sun or in the shade
+    assert np.sum(np.abs(lit[3] - exact[3]) > 0.25) > 10
+    # and the heat balance uses the interpolated fraction
+    change = np.abs(hourly.surface_temperature.values[-1] - every_step.surface_temperature.values[-1])
+    assert change.max() > 0.5

@@ -409,7 +409,7 @@ def _register_subcommands() -> None:
     app.command(name="sweep")(_guarded(sweep))
 
     add_subcommands(atmosphere_app, "atmosphere",
-                    "Atmospheric databases, lines of sight and skies.")
+                    "Atmospheric databases, lines of sight and skies; the LOWTRAN7 build.")
     add_subcommands(materials_app, "materials", "Built-in materials and spectral libraries.")
     add_subcommands(sensor_app, "sensor",
                     "Sensor models: optics, detector, noise, electronics, processing.")

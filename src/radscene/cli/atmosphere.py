@@ -1,4 +1,5 @@
-"""``radscene atmosphere``: build a database, look along one line of sight, look at the sky.
+"""``radscene atmosphere``: build a database, look along one line of sight, look at the sky,
+compile LOWTRAN7 (``build-lowtran``, :mod:`radscene.cli.lowtran`).
 
 Registered by :mod:`radscene.cli` as ``radscene atmosphere`` (``add_subcommands(app,
 "atmosphere", ...)``); bad input raises :class:`radscene.errors.ConfigError` naming the option
@@ -30,9 +31,11 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from radscene.cli.lowtran import build_lowtran
 from radscene.errors import ConfigError
 
-app = typer.Typer(name="atmosphere", help="Atmospheric databases, lines of sight and skies.",
+app = typer.Typer(name="atmosphere", help="Atmospheric databases, lines of sight and skies; "
+                  "the LOWTRAN7 build.",
                   no_args_is_help=True, add_completion=False, pretty_exceptions_enable=False)
 console = Console()
 err_console = Console(stderr=True)
@@ -566,3 +569,7 @@ def sky(
             table.add_row(f"{z:g}", *((f"{v:.2f}" if thermal else f"{v:.4g}")
                                       for v in values[i]))
         console.print(table)
+
+
+# -- LOWTRAN ----------------------------------------------------------------------------------
+app.command(name="build-lowtran")(build_lowtran)

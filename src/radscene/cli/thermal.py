@@ -25,6 +25,35 @@ def _when(text, key):
     return value
 
 
+def _check_map_times(map_times, start, end):
+    """Refuse a map time (aware datetime) outside the heat balance's [``start``, ``end``]."""
+    for when in map_times:
+        if not start <= when <= end:
+            raise ConfigError(f"{when.isoformat()} lies outside the heat balance's span "
+                              f"{start.isoformat()} – {end.isoformat()}", key="--map-time")
+
+
+def _map_steps(map_times, times):
+    """Indices into the solved ``times`` (datetime64, UTC) of the steps nearest to each of
+    ``map_times`` (aware datetimes)."""
+    import numpy as np
+
+    utc = np.array([when.astimezone(_dt.UTC).replace(tzinfo=None) for when in map_times],
+                   "datetime64[ns]")
+    return [int(i) for i in np.argmin(np.abs(times[None, :] - utc[:, None]), axis=1)]
+
+
+def _spin_up_line(ds, spin_up) -> str:
+    """The spin-up's report: the days it repeated and the last day-to-day change."""
+    import math
+
+    days, change = int(ds.attrs["spin_up_days"]), float(ds.attrs["spin_up_change_K"])
+    if math.isnan(change):
+        return ("spin-up: none (the run is shorter than a day)" if spin_up
+                else "spin-up: none (thermal.spin_up: false)")
+    return f"spin-up: {days} day{'' if days == 1 else 's'}, last day-to-day change {change:.2g} K"
+
+
 def thermal(
     scene_file: Path = typer.Argument(..., help="Scene YAML file."),
     output: Path = typer.Option(..., "-o", "--output", help="NetCDF file to write."),
@@ -34,6 +63,9 @@ def thermal(
                             "scene's time."),
     step: str = typer.Option(None, "--step", help="Time step, e.g. 60s or 10 min; default thermal.step."),
     plots: bool = typer.Option(True, help="Write the diurnal curves and temperature maps beside the file."),
+    map_time: list[str] = typer.Option(
+        None, "--map-time", help="ISO 8601 time with offset of a temperature map (repeatable); the "
+        "map shows the solved step nearest to it. Default: four times spread over the run."),
     overwrite: bool = typer.Option(False, "--overwrite", help="Replace an existing OUTPUT."),
     max_memory: str = typer.Option(None, "--max-memory",
                                    help="Refuse a heat balance (or a scene) that needs more, e.g. "
@@ -51,14 +83,15 @@ def thermal(
     and time (CF NetCDF), with PNGs of the diurnal curves and of the terrain's temperature. Its
     size (elements × time steps) is checked against the memory limit before the first step.
     The plots are written first and OUTPUT last, each whole or not at all: a run stopped midway
-    leaves no OUTPUT."""
+    leaves no OUTPUT. A --map-time outside the heat balance's span is refused before the
+    balance runs. Prints the files written and the spin-up's days and last day-to-day change."""
     import time
 
     from rich.progress import BarColumn, TextColumn, TimeElapsedColumn
 
     from radscene.cli import Report
     from radscene.io import write_netcdf
-    from radscene.pipeline import check_thermal_size, solve_thermal
+    from radscene.pipeline import _span, check_thermal_size, solve_thermal
     from radscene.radiometry.units import parse_quantity
     from radscene.scene import load_scene
 
@@ -69,6 +102,9 @@ def thermal(
         raise ConfigError(f"must be > 0; got {step!r}", key="--step")
     if output.suffix.lower() != ".nc":
         raise ConfigError(f"give a .nc file; got {output}", key="--output")
+    map_times = [_when(text, "--map-time") for text in map_time or ()]
+    if map_times and not plots:
+        raise ConfigError("no maps are drawn with --no-plots", key="--map-time")
     from radscene.io.files import check_output_file, remove_stale_temporaries
 
     check_output_file(output, overwrite)
@@ -84,6 +120,7 @@ def thermal(
         if given.get(err.key) is None:
             raise
         raise ConfigError(err.message, key=err.key.replace("thermal.", "--")) from None
+    _check_map_times(map_times, *_span(scene, t0, t1))
     t = time.perf_counter()
     with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
                          TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),
@@ -105,10 +142,12 @@ def thermal(
 
         t = time.perf_counter()
         written.append(diurnal_figure(ds, output.with_name(output.stem + "_diurnal.png")))
-        written.extend(temperature_maps(ds, output.parent / (output.stem + "_maps")))
+        steps = _map_steps(map_times, ds.time.values) if map_times else None
+        written.extend(temperature_maps(ds, output.parent / (output.stem + "_maps"), times=steps))
         report.stage(f"{len(written)} plot(s)", time.perf_counter() - t)
     t = time.perf_counter()
     written.insert(0, report.wrote(write_netcdf(ds, output), t))
     if not quiet:
         for path in written:
             typer.echo(str(path))
+        typer.echo(_spin_up_line(ds, scene.spec.thermal.spin_up))

