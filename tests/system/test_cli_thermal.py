@@ -79,11 +79,18 @@ def test_thermal_maps_at_chosen_times_and_the_spin_up_report(scene_file, tmp_pat
     assert days >= 1 and 0.0 <= change <= 0.05  # thermal.spin_up_tolerance
     last = result.output.strip().splitlines()[-1]
     assert last == f"spin-up: {days} day{'' if days == 1 else 's'}, last day-to-day change {change:.2g} K"
-    # a run shorter than a day has no spin-up, and says so
+    # a run shorter than a day spins up on the day from its start, and says so
     short = runner.invoke(app, ["thermal", str(scene_file), "-o", str(tmp_path / "short.nc"),
                                 "--start", "2026-06-21T06:00:00Z", "--no-plots"])
     assert short.exit_code == 0, short.output
-    assert short.output.strip().splitlines()[-1] == "spin-up: none (the run is shorter than a day)"
+    assert short.output.strip().splitlines()[-1].startswith("spin-up: ")
+    assert "day-to-day change" in short.output.strip().splitlines()[-1]
+    # a start from given temperatures says so
+    started = _write(tmp_path, {"initial_temperature": "20 degC"})
+    given = runner.invoke(app, ["thermal", str(started), "-o", str(tmp_path / "given.nc"),
+                                "--start", "2026-06-21T06:00:00Z", "--no-plots"])
+    assert given.exit_code == 0, given.output
+    assert given.output.strip().splitlines()[-1] == "spin-up: none (started from thermal.initial_temperature)"
 
 
 @pytest.mark.parametrize("args, message", [

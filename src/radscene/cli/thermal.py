@@ -43,13 +43,13 @@ def _map_steps(map_times, times):
     return [int(i) for i in np.argmin(np.abs(times[None, :] - utc[:, None]), axis=1)]
 
 
-def _spin_up_line(ds, spin_up) -> str:
+def _spin_up_line(ds, spec) -> str:
     """The spin-up's report: the days it repeated and the last day-to-day change."""
     import math
 
     days, change = int(ds.attrs["spin_up_days"]), float(ds.attrs["spin_up_change_K"])
     if math.isnan(change):
-        return ("spin-up: none (the run is shorter than a day)" if spin_up
+        return ("spin-up: none (started from thermal.initial_temperature)" if spec.initial_temperature is not None
                 else "spin-up: none (thermal.spin_up: false)")
     return f"spin-up: {days} day{'' if days == 1 else 's'}, last day-to-day change {change:.2g} K"
 
@@ -150,4 +150,4 @@ def thermal(
     if not quiet:
         for path in written:
             typer.echo(str(path))
-        typer.echo(_spin_up_line(ds, scene.spec.thermal.spin_up))
+        typer.echo(_spin_up_line(ds, scene.spec.thermal))
