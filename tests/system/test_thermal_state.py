@@ -239,3 +239,48 @@ def test_an_object_on_a_trajectory_is_heated_by_its_own_speed():
     assert np.all(flying > 18.0 * 50.0)
     van = ds.object.values == "van"
     assert np.all(ds.q_i.values[:, van][1:] == 0.0)
+
+
+def _field(**thermal):
+    scene = {
+        "name": "field",
+        "environment": {"location": {"latitude": 45.0, "longitude": 0.0}, "time": "2026-06-21T12:00:00Z",
+                        "atmosphere": {"type": "database", "profile": "midlatitude_summer", "aerosol": "rural",
+                                       "visibility": "23 km"}},
+        "terrain": {"type": "dem", "elevation": np.zeros((3, 3)).tolist(), "spacing": [4.0, 4.0],
+                    "origin": [-4.0, -4.0], "material": "green_vegetation"},
+        "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
+        "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "gsd": 1.0, "shape": [4, 4]}],
+        "thermal": {"step": "30 min", "hemisphere_samples": 8, "spin_up": False, **thermal},
+    }
+    ds = radscene.solve_thermal(load_scene(scene, base_dir="."))
+    e = 0
+    light = (ds.direct_irradiance.values * np.cos(np.radians(ds.sun_zenith.values)).clip(0) * ds.sunlit.values[:, e]
+             + ds.diffuse_irradiance.values * ds.sky_view_shortwave.values[e])
+    day = (light > 50.0) & (np.arange(light.size) > 0)  # row 0: the start, no step yet
+    return ds, ds.q_a.values[day, e] / light[day], ds.sun_zenith.values[day]
+
+
+def test_the_absorptance_follows_the_spectra_of_the_beam_and_the_sky():
+    """Vegetation's absorptance of sunlight changes with the sun's height, as the spectra of the
+    beam and the sky at the ground change (from the engine, at each step); a given absorptance
+    stays itself."""
+    from radscene.atmosphere import make_atmosphere
+    from radscene.materials import get_material
+    from radscene.materials.thermal import solar_absorptance
+    from radscene.thermal.irradiance import shortwave_table
+
+    ds, alpha, zenith = _field()
+    assert np.ptp(alpha) > 0.003
+    assert alpha[np.argmin(zenith)] > alpha[np.argmax(zenith)]  # the low sun's redder beam
+    # at the highest sun, the beam's and the sky's absorptance from the table's node spectra
+    atm = make_atmosphere({"type": "database", "profile": "midlatitude_summer", "aerosol": "rural",
+                           "visibility": "23 km"})
+    table = shortwave_table(atm, 0.0, 172, 1.016)
+    leaf = get_material("green_vegetation")
+    a_dir = [solar_absorptance(leaf, irradiance=(table.wavelength, s)) for s in table.direct_spectrum[:3]]
+    a_dif = [solar_absorptance(leaf, irradiance=(table.wavelength, s)) for s in table.diffuse_spectrum[:3]]
+    lo, hi = min(a_dir + a_dif), max(a_dir + a_dif)
+    assert lo - 1e-3 <= alpha[np.argmin(zenith)] <= hi + 1e-3
+    given, alpha_given, _ = _field(materials={"green_vegetation": {"solar_absorptance": 0.7}})
+    np.testing.assert_allclose(alpha_given, 0.7, rtol=1e-6)  # q_a is written in single precision

@@ -301,6 +301,38 @@ def _object_stacks(scene, elements, used, stack_index, stacks, alpha, eps):
     return stacks, np.array(alpha), np.array(eps), index, np.array(material), np.array(owner)
 
 
+def _spectral_absorptance(scene, stack_material, stack_object, alpha, table):
+    """Each stack's solar absorptance of the beam and of the diffuse sky at every sun-zenith node
+    of ``table`` (n_nodes, n_stacks), from its material's spectrum against each one's spectrum
+    at the ground; the given (or daily) ``alpha`` where the scene file sets it or a node has no
+    light."""
+    from radscene.materials.thermal import solar_absorptance
+
+    spec = scene.spec.thermal
+    n = table.zenith.size
+    direct, diffuse = np.tile(alpha, (n, 1)), np.tile(alpha, (n, 1))
+    if table.direct_spectrum is None:
+        return direct, diffuse
+    wl = table.wavelength
+    done = {}
+    for s, (m, k) in enumerate(zip(stack_material, stack_object, strict=True)):
+        name = scene.material_names[m]
+        material_given = spec.materials.get(name) is not None and spec.materials[name].solar_absorptance is not None
+        object_given = k >= 0 and spec.objects[scene.objects[k].name].solar_absorptance is not None
+        if material_given or object_given:
+            continue
+        if m not in done:
+            values = np.full((2, n), np.nan)
+            for j in range(n):
+                for row, spectra in enumerate((table.direct_spectrum, table.diffuse_spectrum)):
+                    if np.trapezoid(spectra[j], wl) > 1e-6:
+                        values[row, j] = solar_absorptance(scene.materials[m], irradiance=(wl, spectra[j]))
+            done[m] = values
+        direct[:, s] = np.where(np.isfinite(done[m][0]), done[m][0], alpha[s])
+        diffuse[:, s] = np.where(np.isfinite(done[m][1]), done[m][1], alpha[s])
+    return direct, diffuse
+
+
 #: ``internal_faces``: the faces by their outward normal's vertical component (60 deg from up
 #: or down).
 _FACES = {"all": lambda nz: np.ones(nz.shape, bool), "top": lambda nz: nz > 0.5,
@@ -469,6 +501,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
         scene, tracer, table.wavelength, table.daily_spectrum(zenith))
     see_through = _sheet_see_through(scene, table.wavelength, table.daily_spectrum(zenith))
     sources = _sources(scene, elements, stack_material, stack_object, stacks, index, times)
+    spectral = _spectral_absorptance(scene, stack_material, stack_object, alpha, table)
     with progress_callback(progress, "heat balance", stages=True) as report:
         ds = solve_elements(tracer, elements, stacks, index, times,
                             (loc.latitude, loc.longitude, loc.altitude), scene.atmosphere, weather,
@@ -477,7 +510,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
                             **sources, names={"material": scene.material_names, "object": names},
                             sun_override=override, progress=report,
                             sun_transmittance=sun_transmittance, shadow_tracer=shadow_tracer,
-                            see_through=see_through)
+                            see_through=see_through, node_absorptance=spectral)
     ds.attrs.update({"scene": scene.name, "weather": getattr(weather, "source", "")})
     stamp(ds, scene)
     scene.render_cache["thermal_elements"] = elements

@@ -355,7 +355,13 @@ class HeatBalance:
         shape = (self.grid.n_elements,)
         lit, view, view_sw = f["lit"][k], f["sky_view_fraction"][k], f["sky_view_shortwave"][k]
         air = f["air_temperature"][k]
-        q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
+        if f["direct_absorptance"] is None and f["diffuse_absorptance"] is None:
+            q_a = absorbed_shortwave(self.absorptance, f["direct_irradiance"][k], f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw)
+        else:
+            a_dir = self.absorptance if f["direct_absorptance"] is None else f["direct_absorptance"][k]
+            a_dif = self.absorptance if f["diffuse_absorptance"] is None else f["diffuse_absorptance"][k]
+            q_a = (absorbed_shortwave(a_dir, f["direct_irradiance"][k], f["cos_incidence"][k], 0.0, lit, view_sw)
+                   + absorbed_shortwave(a_dif, 0.0, f["cos_incidence"][k], f["diffuse_irradiance"][k], lit, view_sw))
         q_sky = absorbed_sky_longwave(self.emissivity, f["sky_longwave"][k], view)
         if self._free:
             h = convection_coefficient(f["wind_speed"][k], self.convection, previous - air, self.cos_tilt)

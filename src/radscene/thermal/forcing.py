@@ -83,6 +83,10 @@ class ThermalForcing:
         Long-wave irradiance on the element from surfaces that are not in the balance (objects
         of fixed temperature: Σ_f F_if ε_f σ T_f⁴) [W m-2], absorbed with the element's
         emissivity and counted in Q_env; default 0.
+    direct_absorptance, diffuse_absorptance : array_like, optional
+        The element's solar absorptance of the beam and of the diffuse sky at each time [-],
+        from its spectrum against each one's spectrum at that time; default the heat
+        balance's broadband ``absorptance`` for both.
     """
 
     time: np.ndarray
@@ -100,6 +104,8 @@ class ThermalForcing:
     air_speed: np.ndarray | None = None
     environment_irradiance: np.ndarray = 0.0
     sky_view_shortwave: np.ndarray | None = None
+    direct_absorptance: np.ndarray | None = None
+    diffuse_absorptance: np.ndarray | None = None
 
     def checked(self, n_elements):
         """Validated arrays broadcast to (n_times, n_elements), as a dict (views, no copies).
@@ -146,6 +152,12 @@ class ThermalForcing:
                                                           "sky_view_shortwave", shape)
             if not np.all(np.isfinite(value) & (value >= 0) & (value <= 1)):
                 raise ConfigError("must lie in [0, 1]", key="forcing.sky_view_shortwave")
+        for name in ("direct_absorptance", "diffuse_absorptance"):
+            out[name] = None
+            if getattr(self, name) is not None:
+                value, out[name] = _broadcast(getattr(self, name), name, shape)
+                if not np.all(np.isfinite(value) & (value >= 0) & (value <= 1)):
+                    raise ConfigError("must lie in [0, 1]", key=f"forcing.{name}")
         out["air_speed"] = None
         if self.air_speed is not None:
             value, out["air_speed"] = _broadcast(self.air_speed, "air_speed", shape)

@@ -25,8 +25,10 @@ Where the engine's range stops short of 0.3-4 µm (the ``uniform`` engine's tabl
 0.4 µm), the ratio of its irradiance to the top-of-atmosphere spectrum at the end of its range
 is held beyond it.
 
-The solar absorptance of each material is weighted by the engine's global irradiance spectrum
-at the ground, integrated over the day (``spectrum`` of :class:`ShortwaveTable`), not by a fixed
+The solar absorptance of each material is weighted by the engine's irradiance spectra at the
+ground: the beam's and the diffuse sky's at each sun-zenith node (``direct_spectrum`` and
+``diffuse_spectrum`` of :class:`ShortwaveTable`), interpolated to the sun of each step, and the
+global spectrum integrated over the day (``spectrum``) for the run's mean, not a fixed
 reference spectrum.
 """
 
@@ -71,6 +73,9 @@ class ShortwaveTable:
         [um].
     spectrum : ndarray, (n, m)
         Global irradiance on a horizontal plane per node [W m-2 um-1].
+    direct_spectrum, diffuse_spectrum : ndarray, (n, m), optional
+        The beam's irradiance normal to it and the diffuse irradiance on a horizontal plane
+        per node [W m-2 um-1], the weights of the beam's and the sky's absorptance.
     """
 
     zenith: np.ndarray
@@ -78,6 +83,16 @@ class ShortwaveTable:
     diffuse: np.ndarray
     wavelength: np.ndarray
     spectrum: np.ndarray
+    direct_spectrum: np.ndarray | None = None
+    diffuse_spectrum: np.ndarray | None = None
+
+    def weights(self, sun_zenith):
+        """(n_times, n) weights of the zenith nodes at the sun zeniths [deg], linear in cos θ_s
+        as :meth:`at` (held at the last node below it)."""
+        mu = np.cos(np.radians(np.minimum(np.asarray(sun_zenith, float).ravel(), 90.0)))
+        nodes = np.cos(np.radians(self.zenith))[::-1]
+        eye = np.eye(nodes.size)
+        return np.stack([np.interp(mu, nodes, eye[j]) for j in range(nodes.size)], axis=1)[:, ::-1]
 
     def at(self, sun_zenith):
         """(direct normal, diffuse horizontal) [W m-2] at sun zeniths [deg]; zero below the
@@ -147,7 +162,7 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
         raise ConfigError(f"the {atmosphere.name!r} atmosphere covers {lo:g}-{hi:g} µm: no short-wave for the heat balance",
                           key="environment.atmosphere")
     wl = full[inside]
-    direct, diffuse, spectrum = [], [], []
+    direct, diffuse, spectrum, beams, skies = [], [], [], [], []
     for z in ZENITH_NODES:
         atm = atmosphere.with_sun(float(z), float(sun_azimuth), day_of_year=day_of_year,
                                   earth_sun_distance=earth_sun_distance)
@@ -161,10 +176,13 @@ def shortwave_table(atmosphere, altitude, day_of_year, earth_sun_distance, sun_a
         direct.append(np.trapezoid(beam, full))
         diffuse.append(np.trapezoid(dif, full))
         spectrum.append(beam * np.cos(np.radians(z)) + dif)
+        beams.append(beam)
+        skies.append(dif)
     direct, diffuse = np.array(direct), np.array(diffuse)
     if not (np.all(np.isfinite(direct)) and np.all(np.isfinite(diffuse)) and direct.min() >= 0 and diffuse.min() >= 0):
         raise ConfigError("the atmosphere engine gave a negative or non-finite ground irradiance", key="environment.atmosphere")
-    return ShortwaveTable(ZENITH_NODES.copy(), direct, diffuse, full, np.array(spectrum))
+    return ShortwaveTable(ZENITH_NODES.copy(), direct, diffuse, full, np.array(spectrum), np.array(beams),
+                          np.array(skies))
 
 
 def _extend(full, inside, toa, values):

@@ -187,7 +187,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
                    *, absorptance=None, emissivity=None, fixed_face_exitance=None, moisture_availability=None,
                    internal_flux=0.0, air_speed=None, characteristic_length=1.0, meshes=None,
                    options=ThermalOptions(), names=None, sun_override=None, progress=None,
-                   sun_transmittance=None, shadow_tracer=None, see_through=None):
+                   sun_transmittance=None, shadow_tracer=None, see_through=None, node_absorptance=None):
     """Surface temperatures and flux terms of every element at every time.
 
     Parameters
@@ -239,6 +239,11 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
     see_through : callable(object, primitive, position), optional
         The share of the hemisphere a face of ``tracer`` passes (a sheet's long-wave Δτ τ;
         :func:`radscene.thermal.exposure.hemisphere_exposure`); default every face opaque.
+    node_absorptance : (ndarray, ndarray), optional
+        Each stack's solar absorptance of the beam and of the diffuse sky at the short-wave
+        table's sun-zenith nodes, (n_nodes, n_stacks) each: interpolated to the sun of every
+        step (the spectra at the ground change with the sun's height); default ``absorptance``
+        at every step.
 
     Returns
     -------
@@ -286,6 +291,11 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
         lit = _shadow_history(tracer if shadow_tracer is None else shadow_tracer, elements, at, sun_dir,
                               options.shadow_interval, report, sun_transmittance)
         cos_i = np.clip(sun_dir @ elements.normal.T, -1.0, 1.0)
+        a_dir = a_dif = None
+        if node_absorptance is not None:
+            nodes = table.weights(sun.zenith)
+            a_dir = (nodes @ np.asarray(node_absorptance[0], float))[:, stack_index]
+            a_dif = (nodes @ np.asarray(node_absorptance[1], float))[:, stack_index]
         col = (slice(None), None)
         forcing = ThermalForcing(
             time=_seconds(at),
@@ -303,6 +313,8 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
             internal_flux=internal_flux,
             air_speed=_at_times(speed, times, at),
             environment_irradiance=environment,
+            direct_absorptance=a_dir,
+            diffuse_absorptance=a_dif,
         )
         return forcing, (sun, direct, diffuse, longwave, air, lit, cos_i)
 
@@ -478,7 +490,8 @@ def _dataset(elements, hemisphere, times, result, sun, direct, diffuse, longwave
         "diffuse_irradiance": (("time",), diffuse, {"units": "W m-2", "long_name": "diffuse short-wave irradiance, horizontal"}),
         "sky_longwave": (("time",), longwave, {"units": "W m-2", "long_name": "downwelling long-wave irradiance, horizontal"}),
         "air_temperature": (("time",), air, {"units": "K", "standard_name": "air_temperature"}),
-        "absorptance": (el, alpha, {"units": "1", "long_name": "broadband solar absorptance"}),
+        "absorptance": (el, alpha, {"units": "1", "long_name": "broadband solar absorptance over the run's sun (the balance "
+                                                     "takes the beam's and the sky's at each step from their spectra)"}),
         "emissivity": (el, eps, {"units": "1", "long_name": "broadband long-wave emissivity"}),
     }
     if result.canopy_temperature is not None:
