@@ -173,9 +173,15 @@ def test_bad_stack_and_step_rejected():
         ImplicitConduction(build_grid([get_thermal_properties("asphalt")]), 0.0)
 
 
-def test_overflowing_growth_rejected():
-    with pytest.raises(ConfigError, match="growth: growth 10.0 over 999 cells overflows"):
-        build_grid([get_thermal_properties("asphalt")], n_nodes=1000, growth=10.0)
+def test_a_steep_growth_over_many_cells_is_bounded():
+    """growth 10 over 999 cells would overflow; the template's last cell is bounded to
+    MAX_STRETCH times its first, and every cell has a thickness double precision can hold."""
+    from radscene.thermal.conduction import MAX_STRETCH
+
+    grid = build_grid([get_thermal_properties("sand")], n_nodes=1000, growth=10.0)
+    cells = np.diff(grid.depth[0])
+    assert np.all(cells > 0)
+    assert cells[-1] / cells[0] == pytest.approx(MAX_STRETCH, rel=1e-6)
 
 
 def test_semi_infinite_sinusoidal_flux_thermal_inertia():
