@@ -104,7 +104,7 @@ def test_a_start_from_given_temperatures():
 
 @pytest.mark.parametrize("thermal, key, message", [
     ({"initial_temperature": "300 K", "spin_up": True}, "thermal", "exclude each other"),
-    ({"initial_temperature": {"granite": "300 K"}}, "thermal.initial_temperature.granite", "no material"),
+    ({"initial_temperature": {"granite": "300 K"}}, "thermal.initial_temperature.granite", "no solved surface"),
 ])
 def test_bad_start_states_are_refused(thermal, key, message):
     with pytest.raises(ConfigError) as err:
@@ -284,3 +284,50 @@ def test_the_absorptance_follows_the_spectra_of_the_beam_and_the_sky():
     assert lo - 1e-3 <= alpha[np.argmin(zenith)] <= hi + 1e-3
     given, alpha_given, _ = _field(materials={"green_vegetation": {"solar_absorptance": 0.7}})
     np.testing.assert_allclose(alpha_given, 0.7, rtol=1e-6)  # q_a is written in single precision
+
+
+def test_a_tag_that_is_also_a_key_is_left_out_of_a_refused_key():
+    """A material map of type 'file' has a 'file' key too: a bad 'classes' is
+    terrain.material_map.classes."""
+    scene = copy.deepcopy(_SCENE)
+    scene["terrain"]["material_map"] = {"type": "file", "file": "classes.tif", "classes": "asphalt"}
+    with pytest.raises(ConfigError) as err:
+        load_scene(scene, base_dir=".")
+    assert err.value.key == "terrain.material_map.classes"
+
+
+def test_an_objects_own_layers_stand_for_a_material_without_a_thermal_description():
+    scene = copy.deepcopy(_SCENE)
+    scene["materials"] = {"mypaint": {"reflectance": 0.3}}
+    scene["objects"][0]["material"] = "mypaint"
+    scene["thermal"].update({"start": "2026-06-21T10:00:00Z", "spin_up": False})
+    with pytest.raises(ConfigError) as err:
+        radscene.solve_thermal(load_scene(scene, base_dir="."))
+    assert err.value.key == "thermal.materials.mypaint"
+    scene["thermal"]["objects"] = {"van": {"layers": [{"thickness": 0.002, "conductivity": 50.0, "density": 7800.0,
+                                                       "specific_heat": 450.0}], "bottom": "insulated"}}
+    ds = radscene.solve_thermal(load_scene(scene, base_dir="."))
+    van = ds.object.values == "van"
+    assert van.any() and np.all(np.isfinite(ds.surface_temperature.values[:, van]))
+    np.testing.assert_allclose(ds.layer_depth.values[van, 0], 0.001)
+
+
+def test_the_spin_up_day_must_be_in_the_weather(tmp_path):
+    """A 6 h run spun up on its own day needs the weather of that day: a file of the run's
+    hours alone is refused, naming thermal.spin_up, before any solve."""
+    rows = ["# latitude: 35.0", "# longitude: 0.0",
+            "time [UTC],air_temperature [degC],relative_humidity [%],wind_speed [m/s],cloud_cover [%],pressure [hPa]"]
+    rows += [f"2026-06-21T{hh:02d}:00,20,50,2,0,1013" for hh in range(6, 13)]
+    (tmp_path / "six.csv").write_text("\n".join(rows) + "\n")
+    with pytest.raises(ConfigError) as err:
+        _solve(start="2026-06-21T06:00:00Z", weather={"file": str(tmp_path / "six.csv")})
+    assert err.value.key == "thermal.spin_up" and "does not cover" in str(err.value)
+    ds = _solve(start="2026-06-21T06:00:00Z", spin_up=False, weather={"file": str(tmp_path / "six.csv")})
+    assert ds.sizes["time"] == 13
+
+
+def test_a_place_tolerance_beside_a_wth_file_is_refused():
+    scene = copy.deepcopy(_SCENE)
+    scene["thermal"]["weather"] = {"file": "site.wth", "start": "2026-06-20T00:00:00Z", "place_tolerance": 2.0}
+    with pytest.raises(ConfigError, match="place_tolerance would be ignored"):
+        load_scene(scene, base_dir=".")

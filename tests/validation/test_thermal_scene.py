@@ -91,8 +91,8 @@ def test_lateral_conduction_softens_the_shadow_edge():
     assert np.abs(diff[far & ~shade]).max() < 0.05
 
 
-#: A block on 40 m × 40 m of asphalt for two hours of an afternoon at 10 min steps (no
-#: spin-up: the run is shorter than a day), few hemisphere rays: a solve takes 1-2 s.
+#: A block on 40 m × 40 m of asphalt for two hours of an afternoon at 10 min steps, no spin-up
+#: (its own day would trace shadows too), few hemisphere rays: a solve takes 1-2 s.
 _INTERVAL_SCENE = {
     "name": "shadow_interval",
     "environment": {"location": {"latitude": 35.0, "longitude": 0.0, "altitude": 0.0},
@@ -104,7 +104,7 @@ _INTERVAL_SCENE = {
     "bands": [{"name": "lwir", "min": "8 um", "max": "12 um"}],
     "observers": [{"name": "map", "type": "orthographic", "center": [0.0, 0.0], "gsd": 1.0,
                    "shape": [8, 8]}],
-    "thermal": {"start": "2026-06-21T14:00:00Z", "step": "10 min", "hemisphere_samples": 8,
+    "thermal": {"start": "2026-06-21T14:00:00Z", "step": "10 min", "hemisphere_samples": 8, "spin_up": False,
                 "weather": {"t_min": "18 degC", "t_max": "30 degC", "relative_humidity": 0.4,
                             "wind_speed": 1.5}},
 }

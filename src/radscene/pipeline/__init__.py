@@ -11,6 +11,9 @@ from radscene.errors import ConfigError
 from radscene.pipeline.progress import progress_callback
 from radscene.pipeline.provenance import stamp
 
+#: One day [s].
+DAY = 86400.0
+
 if TYPE_CHECKING:  # the renderer, and xarray with it, are imported by the functions that use them
     import xarray as xr
 
@@ -123,10 +126,22 @@ def check_thermal_size(scene, start=None, end=None, step=None, elements=None) ->
     step = spec.step if step is None else float(step)
     steps = time_steps(np.datetime64(start.astimezone(_dt.UTC).replace(tzinfo=None), "ns"),
                        np.datetime64(end.astimezone(_dt.UTC).replace(tzinfo=None), "ns"), step)
+    if _own_spin_up_day(spec, start, end, step):
+        steps += max(1, int(round(DAY / step))) + 1  # the forcing of the spin-up's own day
     if elements is None:
         elements = _thermal_elements(scene)
     return check_thermal_memory(elements.size, steps, spec.nodes, spec.hemisphere_samples,
                                 scene.memory_limit or memory_limit(scene.spec), profiles=spec.profiles)
+
+
+def _own_spin_up_day(spec, start, end, step) -> bool:
+    """Whether the spin-up repeats a day of its own (the run has no time a day after its start:
+    shorter than a day, or a step that misses that instant)."""
+    if not spec.spin_up or spec.initial_temperature is not None:
+        return False
+    span = (end - start).total_seconds()
+    whole = DAY / step
+    return span < DAY - 1e-6 or abs(whole - round(whole)) > 1e-9
 
 
 def _read_weather_file(scene, spec, path, start, end):
@@ -164,7 +179,7 @@ def _weather(scene, start, end):
         if not path.is_file():
             raise ConfigError(f"no such weather file: {path}", key="thermal.weather.file")
         try:
-            return _read_weather_file(scene, spec, path, start, end)
+            weather = _read_weather_file(scene, spec, path, start, end)
         except ConfigError as err:
             if err.key and err.key.startswith("thermal."):
                 raise
@@ -176,6 +191,15 @@ def _weather(scene, start, end):
                     else str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__)
             raise ConfigError(f"cannot read weather file {path.name}: {what}",
                               key="thermal.weather.file") from None
+        thermal = scene.spec.thermal
+        day_end = start + _dt.timedelta(days=1)
+        if (thermal.spin_up and thermal.initial_temperature is None and end < day_end
+                and not weather.covers(start, day_end)):
+            raise ConfigError(
+                f"the spin-up repeats the day from the start, {start.isoformat()} to {day_end.isoformat()}, "
+                f"which {path.name} ({weather.span_text()}) does not cover; extend the file, or set "
+                "thermal.spin_up: false (with thermal.initial_temperature)", key="thermal.spin_up")
+        return weather
     pressure = spec.pressure
     if pressure is None:
         import pvlib
@@ -198,14 +222,26 @@ def _initial_temperature(scene, used):
         return given
     names = [scene.material_names[i] for i in used]
     for name in given:
-        if name not in scene.material_names:
-            raise ConfigError(f"no material {name!r} in the scene; known: {', '.join(sorted(set(names)))}",
-                              key=f"thermal.initial_temperature.{name}")
+        if name not in names:
+            raise ConfigError(f"no solved surface is made of {name!r}; the solved materials: "
+                              f"{', '.join(sorted(set(names)))}", key=f"thermal.initial_temperature.{name}")
     return np.array([given.get(name, np.nan) for name in names], float)
 
 
-def _stacks(scene, used):
-    """The thermal stack and optical figures of each material in ``used`` (material indices)."""
+def _object_layered(scene, elements, used):
+    """The materials (indices in ``used``) whose every solved element belongs to an object that
+    gives its own ``layers``: they need no thermal description of their own."""
+    spec = scene.spec.thermal
+    layered = np.array([spec.objects.get(o.name) is not None and spec.objects[o.name].layers is not None
+                        for o in scene.objects] + [False])
+    owner = np.where(elements.object >= 0, elements.object, len(scene.objects))
+    return {int(m) for m in used if np.all(layered[owner[elements.material == m]])}
+
+
+def _stacks(scene, used, layered_by_objects=frozenset()):
+    """The thermal stack and optical figures of each material in ``used`` (material indices);
+    a material in ``layered_by_objects`` without a description gets an empty placeholder, which
+    :func:`_object_stacks` replaces."""
     from dataclasses import replace
 
     from radscene.materials import get_thermal_properties
@@ -224,7 +260,7 @@ def _stacks(scene, used):
         try:
             stack = get_thermal_properties(name)
         except ConfigError:
-            if override is None or override.layers is None:
+            if (override is None or override.layers is None) and m not in layered_by_objects:
                 raise ConfigError(
                     f"material {name!r} has no thermal description: give its layers under {key}.layers "
                     "(thickness, conductivity, density, specific_heat), or fixed temperatures to the "
@@ -298,7 +334,9 @@ def _object_stacks(scene, elements, used, stack_index, stacks, alpha, eps):
             material.append(material[s])
             owner.append(k)
             index[mine & (index == s)] = len(stacks) - 1
-    return stacks, np.array(alpha), np.array(eps), index, np.array(material), np.array(owner)
+    kept, index = np.unique(index, return_inverse=True)  # drop the stacks no element has left
+    return ([stacks[j] for j in kept], np.array(alpha)[kept], np.array(eps)[kept], index.ravel(),
+            np.array(material)[kept], np.array(owner)[kept])
 
 
 def _spectral_absorptance(scene, stack_material, stack_object, alpha, table):
@@ -384,14 +422,28 @@ def _sources(scene, elements, stack_material, stack_object, stacks, index, times
             "characteristic_length": length}
 
 
+def _motion_epoch(scene):
+    """The instant of the trajectories' t = 0: a simulation's start, else the scene file's
+    instant (``environment.time``, or a sequence's ``time.start``), not the clock a simulation
+    moves."""
+    epoch = getattr(scene, "render_cache", {}).get("motion_epoch")
+    if epoch is not None:
+        return epoch
+    spec = scene.spec
+    if spec.environment.time is not None:
+        return spec.environment.time
+    return spec.time.start if spec.time is not None else None
+
+
 def _trajectory_speeds(scene, elements, times):
     """Speed over the ground [m s-1] at ``times`` of each object (index) with solved elements
     that moves on a trajectory (its own or a parent's): the trajectory's velocity at each time
     from the scene's instant (t = 0), 0 outside the trajectory's samples (held at its ends)."""
-    if not getattr(scene, "motions", None) or scene.time is None:
+    epoch = _motion_epoch(scene)
+    if not getattr(scene, "motions", None) or epoch is None:
         return {}
     t = (np.asarray(times, "datetime64[ns]") - np.datetime64(
-        scene.time.astimezone(_dt.UTC).replace(tzinfo=None), "ns")) / np.timedelta64(1, "s")
+        epoch.astimezone(_dt.UTC).replace(tzinfo=None), "ns")) / np.timedelta64(1, "s")
     out = {}
     for k, obj in enumerate(scene.objects):
         motion = scene.motions.get(obj.name)
@@ -466,7 +518,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     times = time_axis(np.datetime64(start.astimezone(_dt.UTC).replace(tzinfo=None), "ns"),
                       np.datetime64(end.astimezone(_dt.UTC).replace(tzinfo=None), "ns"), step)
     used, stack_index = np.unique(elements.material, return_inverse=True)
-    stacks = _stacks(scene, used)
+    stacks = _stacks(scene, used, _object_layered(scene, elements, used))
     loc = scene.location
     weather = _weather(scene, start, end)
     first = times[0].astype("datetime64[D]")

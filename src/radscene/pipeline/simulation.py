@@ -209,6 +209,8 @@ class Simulation:
         self.scene = as_scene(scene)
         self.thermal_horizon = parse_duration(thermal_horizon, key="thermal_horizon")
         self._start = self.scene.time
+        if self._start is not None:
+            self.scene.render_cache["motion_epoch"] = self._start  # the trajectories' t = 0
         self._elapsed = 0.0
         self._index = 0
         self._thermal = thermal_active(self.scene)

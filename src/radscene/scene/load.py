@@ -157,8 +157,9 @@ _TAGS = ("flat", "procedural", "dem", "sea", "box", "cylinder", "plate", "mesh",
 
 def _key(loc: tuple, data=None) -> str:
     """The dotted key of a pydantic error location. Pydantic inserts the tag of a tagged union
-    into the path; with the scene's ``data`` a part is a tag only where the data at that point
-    has no such key (an object or material may be named like a tag)."""
+    into the path; with the scene's ``data`` a part is a tag where the data at that point is a
+    mapping whose ``type`` is that tag (an object or material named like a tag is a key), and
+    without it wherever it is a tag's name."""
     out = ""
     node = data
     for part in loc:
@@ -166,7 +167,7 @@ def _key(loc: tuple, data=None) -> str:
             out += f"[{part}]"
             node = node[part] if isinstance(node, list) and -len(node) <= part < len(node) else None
             continue
-        if part in _TAGS and not (isinstance(node, dict) and part in node):
+        if part in _TAGS and (node.get("type") == part if isinstance(node, dict) else data is None):
             continue  # a discriminator tag pydantic inserted into the path
         out += f".{part}" if out else str(part)
         node = node.get(part) if isinstance(node, dict) else None
@@ -321,10 +322,10 @@ class _Resolver:
         for name, settings in self.spec.thermal.materials.items():
             if settings.temperature is None:
                 continue
-            if name.lower() not in self.material_names:
+            if name not in self.material_names:
                 raise ConfigError(f"no surface of the scene is made of {name!r}; the scene's materials: "
                                   f"{', '.join(self.material_names)}", key=f"thermal.materials.{name}.temperature")
-            idx = self.material_names.index(name.lower())
+            idx = self.material_names.index(name)
             for obj in objects:
                 if obj.face_fixed is None:
                     continue

@@ -103,9 +103,10 @@ FRAME_CACHE_SAMPLE_BYTES = 170.0
 #: 1, against 900 B estimated (2026-11-26).
 DISK_PIXEL_BYTES = 100.0
 DISK_PIXEL_BAND_BYTES = 100.0
-#: A heat balance: per element and time step, per element and conduction node, per element
-#: and hemisphere ray.
-THERMAL_ELEMENT_STEP_BYTES = 200.0
+#: A heat balance: per element and time step (the terms, the forcing, the beam's and the sky's
+#: absorptance, the layers' temperatures), per element and conduction node, per element and
+#: hemisphere ray.
+THERMAL_ELEMENT_STEP_BYTES = 240.0
 THERMAL_ELEMENT_NODE_BYTES = 100.0
 #: ``thermal.profiles``: per element, time step and node (float32, recorded and written).
 THERMAL_PROFILE_NODE_STEP_BYTES = 8.0

@@ -993,10 +993,12 @@ class WeatherSpec(_Model):
                 raise ValueError(f"{', '.join(extra)} apply to a weather file; no file is given")
             return self
         thermal_file = self.file.lower().endswith(".wth")
-        # a CSV or NetCDF file carries its own weather and dates; a .wth file its own weather,
-        # less the date and (in its short form) the cloud
+        # a CSV or NetCDF file carries its own weather, dates and place; a .wth file its own
+        # weather, less the date, the place and (in its short form) the cloud
         ignored = ["t_min", "t_max", "relative_humidity", "wind_speed", "pressure"]
-        if not thermal_file:
+        if thermal_file:
+            ignored += ["place_tolerance"]
+        else:
             ignored += ["cloud_cover", "start", "fields"]
         extra = [k for k in ignored if k in given]
         if extra:

@@ -8,7 +8,8 @@ Q_env of eq. 3; sign: into the surface positive)
 
 where Q_d, the heat that goes into storage in the surface node and conduction into the stack,
 comes from :mod:`radscene.thermal.conduction`: after the backward-Euler system is eliminated
-from the bottom up, Q_d = A T_0' − B with A, B known per element and step. The terms
+from the bottom up, Q_d = A T_0' − B with A, B known per element and step (the recorded
+``q_d`` is −Q_d, into the surface positive like the other terms, so that they sum to zero). The terms
 (docs/thermal.md has the table, with their modules and sources):
 
 * Q_a, Q_sky absorbed short-wave and sky long-wave, Q_t = −εσT⁴ (``radiation``);
@@ -505,7 +506,9 @@ class HeatBalance:
         direct = np.broadcast_to(f["direct_irradiance"][k], shape)[c] * np.maximum(np.broadcast_to(f["cos_incidence"][k], shape)[c], 0.0) * lit
         diffuse = np.broadcast_to(f["diffuse_irradiance"][k], shape)[c] * view_sw
         gap = beam_transmittance(cl.lai, np.broadcast_to(f["cos_incidence"][k], shape)[c])
-        q_a = self.absorptance[c] * (direct * (1.0 - gap) + diffuse * (1.0 - tau))
+        a_dir = self.absorptance[c] if f["direct_absorptance"] is None else np.broadcast_to(f["direct_absorptance"][k], shape)[c]
+        a_dif = self.absorptance[c] if f["diffuse_absorptance"] is None else np.broadcast_to(f["diffuse_absorptance"][k], shape)[c]
+        q_a = a_dir * direct * (1.0 - gap) + a_dif * diffuse * (1.0 - tau)
         q_sky = eps * (1.0 - tau) * view * np.broadcast_to(f["sky_longwave"][k], shape)[c]
         q_env = np.zeros(c.size) if p["q_env"] is None else np.broadcast_to(p["q_env"], shape)[c]
         air = np.broadcast_to(f["air_temperature"][k], shape)[c]

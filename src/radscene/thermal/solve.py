@@ -9,8 +9,9 @@ engine (:mod:`radscene.thermal.exposure`), and the time stepper
 temperature and every flux term of every element at every step.
 
 Shadows are traced every ``shadow_interval`` (default: every step) and the sunlit fraction is
-interpolated linearly in time between traces. The spin-up repeats the first day (which must be
-in the run) until the surface temperatures repeat from one day to the next.
+interpolated linearly in time between traces. The spin-up repeats the run's first day, or,
+when the run has no time one day after its start, a day of its own from the start, until the
+surface temperatures repeat from one day to the next.
 """
 
 from __future__ import annotations
