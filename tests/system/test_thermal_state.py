@@ -331,3 +331,13 @@ def test_a_place_tolerance_beside_a_wth_file_is_refused():
     scene["thermal"]["weather"] = {"file": "site.wth", "start": "2026-06-20T00:00:00Z", "place_tolerance": 2.0}
     with pytest.raises(ConfigError, match="place_tolerance would be ignored"):
         load_scene(scene, base_dir=".")
+
+
+def test_a_resolved_scene_loads_again(tmp_path):
+    """The resolved scene (every key with its default, as the outputs record it) loads again,
+    the weather's and the start state's keys included."""
+    scene = copy.deepcopy(_SCENE)
+    scene["thermal"]["initial_temperature"] = "20 degC"
+    spec = load_scene(scene, base_dir=".").spec
+    again = load_scene(spec.model_dump(mode="json"), base_dir=".").spec
+    assert again.thermal == spec.thermal and not again.thermal.spins_up

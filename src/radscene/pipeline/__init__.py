@@ -137,7 +137,7 @@ def check_thermal_size(scene, start=None, end=None, step=None, elements=None) ->
 def _own_spin_up_day(spec, start, end, step) -> bool:
     """Whether the spin-up repeats a day of its own (the run has no time a day after its start:
     shorter than a day, or a step that misses that instant)."""
-    if not spec.spin_up or spec.initial_temperature is not None:
+    if not spec.spins_up:
         return False
     span = (end - start).total_seconds()
     whole = DAY / step
@@ -193,7 +193,7 @@ def _weather(scene, start, end):
                               key="thermal.weather.file") from None
         thermal = scene.spec.thermal
         day_end = start + _dt.timedelta(days=1)
-        if (thermal.spin_up and thermal.initial_temperature is None and end < day_end
+        if (thermal.spins_up and end < day_end
                 and not weather.covers(start, day_end)):
             raise ConfigError(
                 f"the spin-up repeats the day from the start, {start.isoformat()} to {day_end.isoformat()}, "
@@ -542,7 +542,7 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     stacks, alpha, eps, index, stack_material, stack_object = _object_stacks(
         scene, elements, used, stack_index, stacks, alpha, eps)
     options = ThermalOptions(step=step, shadow_interval=spec.shadow_interval,
-                             spin_up=spec.spin_up and spec.initial_temperature is None,
+                             spin_up=spec.spins_up,
                              spin_up_tolerance=spec.spin_up_tolerance, hemisphere_samples=spec.hemisphere_samples,
                              nodes=spec.nodes, convection=spec.convection, seed=scene.settings.seed,
                              lateral=spec.lateral, exchange_reflections=spec.exchange_reflections,

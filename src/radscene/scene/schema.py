@@ -986,7 +986,9 @@ class WeatherSpec(_Model):
 
     @model_validator(mode="after")
     def _with_a_file(self):
-        given = self.model_fields_set
+        # a key counts as given where it differs from its default (a resolved scene, which
+        # writes every key, loads again)
+        given = {k for k in self.model_fields_set if getattr(self, k) != type(self).model_fields[k].default}
         if self.file is None:
             extra = [k for k in ("start", "fields", "max_gap", "place_tolerance") if k in given]
             if extra:
@@ -1063,10 +1065,10 @@ class ThermalSpec(_Model):
     step: Duration = Field(600.0, description="time step of the heat balance [s]")
     shadow_interval: Duration | None = Field(
         None, description="time between shadow traces [s]; default every step")
-    spin_up: bool = Field(
-        True, description="repeat the first day until it repeats itself, so the start's guess is "
-        "forgotten (a run shorter than a day spins up on the day that begins at its start); off "
-        "where initial_temperature is given")
+    spin_up: bool | None = Field(
+        None, description="repeat the first day until it repeats itself, so the start's guess is "
+        "forgotten (a run shorter than a day spins up on the day that begins at its start); "
+        "default: on, off where initial_temperature is given")
     spin_up_tolerance: Annotated[float, _quantity("temperature", 0.0, exclusive=True)] = Field(
         0.05, description="largest day-to-day change of a surface temperature at which the "
         "spin-up stops [K]")
@@ -1111,10 +1113,15 @@ class ThermalSpec(_Model):
             raise ValueError("a time with a UTC offset, e.g. '2026-06-21T10:30:00+02:00' or '...Z'")
         return value
 
+    @property
+    def spins_up(self) -> bool:
+        """Whether the spin-up runs: as given, else unless initial temperatures are given."""
+        return self.initial_temperature is None if self.spin_up is None else self.spin_up
+
     @model_validator(mode="after")
     def _start_state(self):
         if self.initial_temperature is not None:
-            if self.spin_up and "spin_up" in self.model_fields_set:
+            if self.spin_up:
                 raise ValueError("initial_temperature and spin_up: true exclude each other: the spin-up "
                                  "forgets the start's temperatures; set spin_up: false or drop "
                                  "initial_temperature")
