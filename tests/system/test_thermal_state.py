@@ -341,3 +341,61 @@ def test_a_resolved_scene_loads_again(tmp_path):
     spec = load_scene(scene, base_dir=".").spec
     again = load_scene(spec.model_dump(mode="json"), base_dir=".").spec
     assert again.thermal == spec.thermal and not again.thermal.spins_up
+
+
+def test_lateral_conduction_runs_through_a_painted_skin():
+    """thermal.lateral across the van's faces goes through its paint and its steel (Σ k t of the
+    stack's layers), not the 50 µm of paint alone: the roof feeds the shaded sides."""
+    ds = _solve(start="2026-06-21T06:00:00Z", spin_up=False, lateral=True)
+    van = ds.object.values == "van"
+    q_lat = ds.q_lat.values[1:].astype(float)
+    assert np.max(np.abs(q_lat[:, van])) > 0.1  # 0.87 W m-2; 2.5e-4 through the paint alone
+    np.testing.assert_allclose((q_lat * ds.area.values).sum(axis=1), 0.0, atol=1e-3)
+
+
+@pytest.mark.parametrize("thermal, key", [
+    ({"objects": {"van": {"bottom": {"interior_air": 295, "h": -1}}}}, "thermal.objects.van.bottom.h"),
+    ({"materials": {"asphalt": {"bottom": "granite"}}}, "thermal.materials.asphalt.bottom"),
+    ({"convection": "jurges"}, "thermal.convection"),
+    ({"start": "2026-06-20T00:00:00Z", "end": "2026-06-21T06:00:00Z"}, "thermal.end"),
+    ({"objects": {"truck": {"internal_power": 10}}}, "thermal.objects.truck"),
+])
+def test_check_and_render_refuse_a_bad_heat_balance_before_writing(tmp_path, thermal, key, one_line_refusal):
+    import yaml
+    from typer.testing import CliRunner
+
+    from radscene.cli import app
+
+    scene = copy.deepcopy(_SCENE)
+    scene["thermal"].update(thermal)
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    runner = CliRunner()
+    checked = runner.invoke(app, ["check", str(path)])
+    assert checked.exit_code == 2
+    one_line_refusal(checked.output, key)
+    out = tmp_path / "out"
+    rendered = runner.invoke(app, ["render", str(path), "-o", str(out)])
+    assert rendered.exit_code == 2
+    one_line_refusal(rendered.output, key)
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_map_times_need_a_solved_terrain_and_thicknesses_take_units(tmp_path, one_line_refusal):
+    import yaml
+    from typer.testing import CliRunner
+
+    from radscene.cli import app
+
+    scene = copy.deepcopy(_SCENE)
+    scene["terrain"]["temperature"] = "300 K"
+    path = tmp_path / "fixed.yaml"
+    path.write_text(yaml.safe_dump(scene))
+    out = tmp_path / "t.nc"
+    result = CliRunner().invoke(app, ["thermal", str(path), "-o", str(out), "--map-time", "2026-06-21T10:00:00Z"])
+    assert result.exit_code == 2
+    one_line_refusal(result.output, "--map-time")
+    assert not out.exists()
+    skin = [{"thickness": "5 cm", "conductivity": 1.0, "density": 2000.0, "specific_heat": 900.0}]
+    ds = _solve(start="2026-06-21T10:00:00Z", spin_up=False, materials={"asphalt": {"layers": skin, "bottom": "insulated"}})
+    np.testing.assert_allclose(ds.layer_depth.values[ds.object.values == "terrain", 0], 0.025)

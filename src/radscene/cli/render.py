@@ -264,6 +264,8 @@ def render(
             done = run_record.finished(output, scene_file, variant) if resume else []
             todo = [n for n in names if n not in done]
             check_output_folder(output, formats.sequence_files(todo), overwrite or resume)
+            if todo:  # the heat balance's description, weather and size, before the folder is touched
+                check_thermal_inputs(scene)
         else:
             sequence = False
             done = run_record.finished(output, scene_file) if resume else []

@@ -121,6 +121,10 @@ def thermal(
             raise
         raise ConfigError(err.message, key=err.key.replace("thermal.", "--")) from None
     _check_map_times(map_times, *_span(scene, t0, t1))
+    if map_times and not any(o.is_terrain and o.face_fixed is not None and not o.face_fixed.all()
+                             for o in scene.objects):
+        raise ConfigError("the maps are of the terrain's solved temperatures, and this scene has no terrain "
+                          "without a fixed temperature", key="--map-time")
     t = time.perf_counter()
     with report.progress(TextColumn("[bold]{task.description}"), BarColumn(),
                          TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(),

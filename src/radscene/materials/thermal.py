@@ -69,6 +69,15 @@ LONGWAVE_BAND = (3.0, 20.0)
 _LAYER_KEYS = {"name", "thickness", "conductivity", "density", "specific_heat", "source"}
 
 
+def _length(value, key):
+    """A thickness given with a unit ('2 mm') in metres; other values as they are."""
+    if isinstance(value, str):
+        from radscene.radiometry.units import parse_quantity
+
+        return parse_quantity(value, "length", key=key)
+    return value
+
+
 def _positive(value, key, allow_none=False):
     if value is None and allow_none:
         return None
@@ -125,7 +134,8 @@ def make_layers(spec, key: str = "layers") -> tuple[Layer, ...]:
     Parameters
     ----------
     spec : sequence of mapping
-        Top first; keys ``name``, ``thickness`` [m] (None/absent only for the last layer),
+        Top first; keys ``name``, ``thickness`` [m, or a string with a length unit] (None/absent
+        only for the last layer),
         ``conductivity`` [W m-1 K-1], ``density`` [kg m-3], ``specific_heat`` [J kg-1 K-1],
         ``source``.
     key : str
@@ -157,7 +167,7 @@ def make_layers(spec, key: str = "layers") -> tuple[Layer, ...]:
         layers.append(
             Layer(
                 name=str(item.get("name", f"layer {i}")),
-                thickness=_positive(item.get("thickness"), f"{k}.thickness", allow_none=last),
+                thickness=_positive(_length(item.get("thickness"), f"{k}.thickness"), f"{k}.thickness", allow_none=last),
                 conductivity=_positive(item["conductivity"], f"{k}.conductivity"),
                 density=_positive(item["density"], f"{k}.density"),
                 specific_heat=_positive(item["specific_heat"], f"{k}.specific_heat"),

@@ -77,6 +77,43 @@ def _span(scene, start=None, end=None):
     return start, end
 
 
+def check_thermal_description(scene, elements=None) -> None:
+    """Refuse, naming the scene file's key, what the heat balance would refuse only when it
+    builds its stacks: an unknown object under ``thermal.objects``, a material without a thermal
+    description, a bad layer or bottom (of a material's or an object's own stack), too few
+    nodes for the layers."""
+    from radscene.thermal.conduction import build_grid
+
+    spec = scene.spec.thermal
+    names = [o.name for o in scene.objects]
+    for name in spec.objects:
+        if name not in names:
+            raise ConfigError(f"unknown object {name!r}; the scene's: {', '.join(names)}", key=f"thermal.objects.{name}")
+    if elements is None:
+        elements = _thermal_elements(scene)
+    if elements.size == 0:
+        return
+    used, stack_index = np.unique(elements.material, return_inverse=True)
+    stacks = _stacks(scene, used, _object_layered(scene, elements, used))
+    zeros = np.zeros(len(stacks))
+    stacks, _, _, _, material, owner = _object_stacks(scene, elements, used, stack_index, stacks, zeros, zeros)
+    try:
+        build_grid(stacks, n_nodes=spec.nodes)
+    except ConfigError as err:
+        import re
+
+        key = err.key or ""
+        found = re.match(r"stacks\[(\d+)\](.*)", key)
+        if found:
+            j, rest = int(found.group(1)), found.group(2)
+            where = (f"thermal.objects.{scene.objects[owner[j]].name}" if owner[j] >= 0
+                     else f"thermal.materials.{scene.material_names[material[j]]}")
+            raise ConfigError(err.message, key=where + rest) from None
+        if key == "n_nodes":
+            raise ConfigError(err.message, key="thermal.nodes") from None
+        raise
+
+
 def check_thermal_inputs(scene) -> None:
     """Read what the heat balance will read — its span and its weather file — and size it
     against the scene's memory limit (:func:`check_thermal_size`) when it runs
@@ -91,8 +128,14 @@ def check_thermal_inputs(scene) -> None:
             # first frame (or thermal.start) to its last (or thermal.end), as the frames ask
             start = scene.spec.thermal.start or (span.start - _dt.timedelta(days=1))
             end = max(span.end, scene.spec.thermal.end or span.end)
+        check_thermal_description(scene)
         check_thermal_size(scene, start, end)
-        _weather(scene, *_span(scene, start, end))
+        first, last = _span(scene, start, end)
+        if span is None and scene.time is not None and not first <= scene.time <= last:
+            raise ConfigError(f"the heat balance runs {first.isoformat()} to {last.isoformat()}, which does not hold "
+                              f"the scene's time {scene.time.isoformat()}",
+                              key="thermal.end" if scene.time > last else "thermal.start")
+        _weather(scene, first, last)
 
 
 def _thermal_elements(scene):
@@ -509,11 +552,9 @@ def solve_thermal(scene, *, start=None, end=None, step=None, progress=None) -> x
     start, end = _span(scene, start, end)
     step = spec.step if step is None else float(step)
     names = [o.name for o in scene.objects]
-    for name in spec.objects:
-        if name not in names:
-            raise ConfigError(f"unknown object {name!r}; the scene's: {', '.join(names)}", key=f"thermal.objects.{name}")
     meshes = [o.mesh for o in scene.objects]
     elements = _thermal_elements(scene)
+    check_thermal_description(scene, elements)
     check_thermal_size(scene, start, end, step, elements)
     times = time_axis(np.datetime64(start.astimezone(_dt.UTC).replace(tzinfo=None), "ns"),
                       np.datetime64(end.astimezone(_dt.UTC).replace(tzinfo=None), "ns"), step)

@@ -1054,6 +1054,13 @@ class ThermalObjectSpec(_Model):
     air_speed: Speed = Field(0.0, description="speed through the air, for aerodynamic heating")
     length: PositiveLength = Field(1.0, description="length along the airflow, for the airspeed's convection")
 
+    @model_validator(mode="after")
+    def _faces_carry_something(self):
+        if self.internal_faces != "all" and not (self.internal_flux or self.internal_power):
+            raise ValueError(f"internal_faces: {self.internal_faces} would carry nothing: give internal_flux "
+                             "or internal_power")
+        return self
+
 
 class ThermalSpec(_Model):
     """The heat balance that sets the temperatures of surfaces without a fixed one."""
@@ -1090,6 +1097,14 @@ class ThermalSpec(_Model):
         "watmuff (2.8 + 3.0 u), mixed (free convection by the surface-to-air difference and the "
         "orientation, Walton 1983, plus 3.0 u) or none")
     lateral: bool = Field(False, description="lateral conduction between neighbouring elements")
+
+    @field_validator("convection")
+    @classmethod
+    def _convection(cls, value):
+        known = ("mcadams", "watmuff", "mixed", "none")
+        if str(value).strip().lower() not in known:
+            raise ValueError(f"unknown convection {value!r}; known: {', '.join(known)}")
+        return str(value).strip().lower()
     interpolate: bool = Field(True, description="render the terrain's temperature as a limited linear "
                               "reconstruction across its thermal cells (each cell's mean kept); false: "
                               "one temperature per cell")

@@ -410,8 +410,11 @@ def layer_probes(stacks, stack_index, period=DAY):
 
 
 def _lateral(elements, stacks, stack_index, meshes):
-    """Lateral conductances between elements that share edges: k and t of each element's top
-    layer (a semi-infinite top layer conducts over its diurnal penetration depth)."""
+    """Lateral conductances between elements that share edges, from each element's stack:
+    Σ k_i t_i over its layers of given thickness, each layer counted to its diurnal penetration
+    depth at most (a painted sheet conducts through its paint and its metal; a thick layer
+    only through what the day's wave reaches), or k d of a stack that is one semi-infinite
+    layer."""
     import trimesh
     from scipy import sparse
 
@@ -420,10 +423,18 @@ def _lateral(elements, stacks, stack_index, meshes):
 
     if meshes is None:
         raise ConfigError("lateral conduction needs the scene's meshes", key="thermal.lateral")
-    top = [st.layers[0] for st in stacks]
-    k = np.array([layer.conductivity for layer in top])[stack_index]
-    t = np.array([layer.thickness if layer.thickness is not None else
-                  penetration_depth(layer.conductivity, layer.density, layer.specific_heat) for layer in top])[stack_index]
+    kt = []
+    for st in stacks:
+        reach = [min(layer.thickness, penetration_depth(layer.conductivity, layer.density, layer.specific_heat))
+                 for layer in st.layers if layer.thickness is not None]
+        if reach:
+            kt.append(sum(layer.conductivity * r for layer, r in
+                          zip([la for la in st.layers if la.thickness is not None], reach, strict=True)))
+        else:
+            top = st.layers[0]
+            kt.append(top.conductivity * float(penetration_depth(top.conductivity, top.density, top.specific_heat)))
+    k = np.array(kt)[stack_index]  # k t as one conductance-thickness product, t = 1 m
+    t = np.ones(elements.size)
     total = sparse.csr_array((elements.size, elements.size))
     offset = 0
     for mesh in meshes:
