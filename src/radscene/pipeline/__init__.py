@@ -128,7 +128,6 @@ def check_thermal_inputs(scene) -> None:
             # first frame (or thermal.start) to its last (or thermal.end), as the frames ask
             start = scene.spec.thermal.start or (span.start - _dt.timedelta(days=1))
             end = max(span.end, scene.spec.thermal.end or span.end)
-        check_thermal_description(scene)
         check_thermal_size(scene, start, end)
         first, last = _span(scene, start, end)
         if span is None and scene.time is not None and not first <= scene.time <= last:
@@ -136,6 +135,7 @@ def check_thermal_inputs(scene) -> None:
                               f"the scene's time {scene.time.isoformat()}",
                               key="thermal.end" if scene.time > last else "thermal.start")
         _weather(scene, first, last)
+        check_thermal_description(scene)
 
 
 def _thermal_elements(scene):
