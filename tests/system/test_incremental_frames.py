@@ -9,6 +9,7 @@ import copy
 import datetime as dt
 
 import numpy as np
+import pytest
 import yaml
 
 import radscene
@@ -79,6 +80,7 @@ def _demo(supersample=2):
     return scene, path.parent
 
 
+@pytest.mark.slow  # about 100 s on 2 cores: make validate runs it
 def test_the_demo_with_a_moving_truck_at_supersample_2_equals_full_frames():
     scene, base = _demo()
     sim, _, traced = _run(scene, [0, 0.5, 0.5], base_dir=base)
@@ -147,7 +149,7 @@ def test_the_heat_balance_between_frames_equals_full_frames():
                              "position": [90, 100, 0], "material": "painted_metal"})
     for obj in scene["objects"]:
         obj.pop("temperature", None)
-    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min",
+    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min", "spin_up": False,
                         "hemisphere_samples": 4, "resolution": "8 m"}
     scene["render"]["background_bounces"] = 0
 

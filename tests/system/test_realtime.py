@@ -380,7 +380,7 @@ def test_the_heat_balance_gives_the_key_frames_temperatures_to_every_frame():
     scene["objects"] = scene["objects"][:1]
     del scene["objects"][0]["temperature"]
     scene["objects"][0]["material"] = "asphalt"
-    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min",
+    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min", "spin_up": False,
                         "hemisphere_samples": 4}
     fast = radscene.Simulation(scene, thermal_horizon="2 h", realtime=True)
     full = radscene.Simulation(scene, thermal_horizon="2 h")

@@ -149,7 +149,7 @@ def test_the_heat_balance_gives_each_frame_the_temperatures_of_its_instant():
     scene["bands"] = [{"name": "lwir", "min": 8.0, "max": 12.0}]
     del scene["objects"][0]["temperature"]
     scene["objects"][0]["material"] = "asphalt"
-    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min",
+    scene["thermal"] = {"enabled": True, "start": "2026-06-20T09:00:00+00:00", "step": "30 min", "spin_up": False,
                         "hemisphere_samples": 4}
     sim = radscene.Simulation(scene, thermal_horizon="2 h")
     frames = [sim.step("1 h"), sim.step("3 h")]  # the second runs past the first solution
