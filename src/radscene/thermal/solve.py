@@ -126,7 +126,7 @@ def sun_vectors(zenith, azimuth):
 
 
 def _seconds(times):
-    return (times - times[0]) / np.timedelta64(1, "s")
+    return _seconds_from(times, times[0])
 
 
 def _at_times(value, times, at):
@@ -146,7 +146,7 @@ def _seconds_from(times, origin):
     return (np.asarray(times, "datetime64[ns]") - origin) / np.timedelta64(1, "s")
 
 
-def pd_index(times):
+def _utc_index(times):
     import pandas as pd
 
     return pd.DatetimeIndex(times).tz_localize("UTC")
@@ -162,7 +162,7 @@ def _sun(times, lat, lon, alt, sun_override):
         ones = np.ones(times.size)
         return SimpleNamespace(zenith=sun_override[0] * ones, azimuth=sun_override[1] * ones,
                                distance=sun_override[2] * ones)
-    return sun_position(pd_index(times), lat, lon, alt)
+    return sun_position(_utc_index(times), lat, lon, alt)
 
 
 def _shadow_history(tracer, elements, times, sun_dir, interval, progress, transmittance=None):
@@ -262,7 +262,7 @@ def solve_elements(tracer, elements, stacks, stack_index, times, location, atmos
                                      see_through=see_through)
     if progress is not None:
         progress("hemisphere", 1, 1)
-    day = int(pd_index(times[:1])[0].day_of_year)
+    day = int(_utc_index(times[:1])[0].day_of_year)
     sun0 = _sun(times, lat, lon, alt, sun_override)
     table = shortwave_table(atmosphere, alt, day, float(np.mean(sun0.distance)))
 
